@@ -1,0 +1,26 @@
+//! The verb trait every line extractor implements.
+
+use crate::line::Line;
+use crate::scan::Scan;
+
+/// A line extraction algorithm.
+///
+/// Implementations keep their working memory between calls, so that steady-state extraction
+/// allocates nothing: call [`LineExtractor::extract_into`] with a buffer you reuse. Any scan is
+/// accepted, valid or not: invalid ranges are no returns, and a scan with broken geometry
+/// yields no lines rather than a panic. Random algorithms take their seed in their parameters
+/// and reseed for every scan, so that the same scan gives the same lines.
+pub trait LineExtractor {
+    /// The algorithm's name as the command line knows it (e.g. `hough-split`).
+    fn name(&self) -> &'static str;
+
+    /// Extracts the lines of `scan` into `out` (cleared first), ordered by first beam.
+    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>);
+
+    /// Allocating convenience wrapper around [`LineExtractor::extract_into`].
+    fn extract(&mut self, scan: &Scan) -> Vec<Line> {
+        let mut out = Vec::new();
+        self.extract_into(scan, &mut out);
+        out
+    }
+}

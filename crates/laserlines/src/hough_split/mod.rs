@@ -1,0 +1,273 @@
+//! The paper's extractor: g-weighted Hough transform, grouping into data segments with removal
+//! of sparse and cluttered points, and the recursive split `Linseg`.
+//!
+//! ```
+//! use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, Scan};
+//! // A wall at x = 2 m seen by 181 beams from -45 to +45 deg.
+//! let inc = 0.5_f64.to_radians();
+//! let ranges = (0..181)
+//!     .map(|i| 2.0 / (-45.0_f64.to_radians() + i as f64 * inc).cos())
+//!     .collect();
+//! let scan = Scan::new(-45.0_f64.to_radians(), inc, 0.02, 5.6, ranges).unwrap();
+//! let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+//! let lines = hs.extract(&scan);
+//! assert_eq!(lines.len(), 1);
+//! assert!((lines[0].r - 2.0).abs() < 1e-9 && lines[0].alpha.abs() < 1e-9);
+//! ```
+
+mod accumulator;
+mod linseg;
+mod params;
+mod segment;
+
+pub use accumulator::Cell;
+pub use params::{HoughSplitParams, ParamsError, Weight};
+
+use crate::extractor::LineExtractor;
+use crate::line::Line;
+use crate::scan::{Scan, ScanPoint};
+use accumulator::{Accumulator, BeamTable};
+use linseg::SplitScratch;
+use segment::{Components, SegmentRun};
+
+/// The paper's line extractor (see the module docs). Reuse one value across scans: its
+/// working memory is kept, so that steady-state extraction allocates nothing.
+#[derive(Debug, Clone)]
+pub struct HoughSplit {
+    params: HoughSplitParams,
+    table: BeamTable,
+    points: Vec<ScanPoint>,
+    acc: Accumulator,
+    uf: Components,
+    kept: Vec<u32>,
+    segments: Vec<SegmentRun>,
+    scratch: SplitScratch,
+    /// Split-tree end points of all segments (beam indices), with per-segment ranges.
+    split_points: Vec<usize>,
+    split_ranges: Vec<(u32, u32)>,
+}
+
+impl HoughSplit {
+    /// An extractor with validated parameters.
+    ///
+    /// # Errors
+    /// [`ParamsError`] when a parameter is out of its domain.
+    pub fn new(params: HoughSplitParams) -> Result<Self, ParamsError> {
+        params.validate()?;
+        Ok(Self {
+            params,
+            table: BeamTable::default(),
+            points: Vec::new(),
+            acc: Accumulator::default(),
+            uf: Components::default(),
+            kept: Vec::new(),
+            segments: Vec::new(),
+            scratch: SplitScratch::default(),
+            split_points: Vec::new(),
+            split_ranges: Vec::new(),
+        })
+    }
+
+    /// The parameters in use.
+    #[must_use]
+    pub fn params(&self) -> &HoughSplitParams {
+        &self.params
+    }
+
+    /// Converts the valid beams to points (step 0).
+    fn convert(&mut self, scan: &Scan) {
+        let p = &self.params;
+        self.table.prepare(
+            scan.angle_min,
+            scan.angle_increment,
+            scan.ranges.len(),
+            p.sector_step,
+        );
+        let window = scan.range_window(p.range_limits);
+        self.points.clear();
+        for (i, (&r, beam)) in scan.ranges.iter().zip(&self.table.beams).enumerate() {
+            if !window.contains(r) {
+                continue;
+            }
+            let point = crate::math::Point2::new(r * beam.cos, r * beam.sin);
+            if point.x.is_finite() && point.y.is_finite() {
+                self.points.push(ScanPoint {
+                    index: i,
+                    range: r,
+                    angle: scan.angle(i),
+                    point,
+                });
+            }
+        }
+    }
+
+    /// The intermediate stages of the last extraction, for pictures and tests.
+    #[must_use]
+    pub fn stages(&self) -> Stages<'_> {
+        Stages { hs: self }
+    }
+}
+
+impl LineExtractor for HoughSplit {
+    fn name(&self) -> &'static str {
+        "hough-split"
+    }
+
+    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+        out.clear();
+        self.split_points.clear();
+        self.split_ranges.clear();
+        // 0. valid beams to points; 1-2. accumulator and criterion.
+        self.convert(scan);
+        self.acc.build(&self.points, &self.table, &self.params);
+        // 3. radius grouping and merging of touching groups.
+        segment::connect_cells(&self.acc, &self.params, &mut self.uf);
+        if self.params.bridge_beams {
+            segment::bridge_beams(&self.points, &self.acc, &self.params, &mut self.uf);
+        }
+        // 4. data segments; everything else is removed.
+        segment::cut_segments(
+            &self.acc,
+            &self.params,
+            &mut self.uf,
+            &mut self.kept,
+            &mut self.segments,
+        );
+        // 5-6. Linseg on each segment, then the least-squares lines.
+        for run in &self.segments {
+            let seg = &self.kept[run.start as usize..run.end as usize];
+            linseg::linseg(&self.points, seg, &self.params, &mut self.scratch);
+            let from = self.split_points.len() as u32;
+            self.split_points.extend(
+                self.scratch
+                    .breaks
+                    .iter()
+                    .map(|&b| self.points[seg[b as usize] as usize].index),
+            );
+            self.split_ranges.push((from, self.split_points.len() as u32));
+            linseg::emit_lines(&self.points, seg, &mut self.scratch.breaks, &self.params, out);
+        }
+    }
+}
+
+/// A data segment: the paper's `SA[t]`, start and end beam of a run of surviving points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DataSegment {
+    /// First beam index (`SA[t][0]`).
+    pub first: usize,
+    /// Last beam index (`SA[t][1]`).
+    pub last: usize,
+    /// Number of surviving points in the segment.
+    pub points: usize,
+}
+
+/// A radius group: a run of kept cells along one ring (paper Fig. 4a).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RadiusGroup {
+    /// Ring index (centre distance `ring * ring_step`).
+    pub ring: u32,
+    /// First sector of the run.
+    pub first_sector: u32,
+    /// Last sector of the run (inclusive).
+    pub last_sector: u32,
+}
+
+/// Read-only view of the intermediate stages of the last [`HoughSplit`] extraction.
+#[derive(Debug, Clone, Copy)]
+pub struct Stages<'a> {
+    hs: &'a HoughSplit,
+}
+
+impl<'a> Stages<'a> {
+    /// The valid points the pipeline started from, in beam order.
+    #[must_use]
+    pub fn points(&self) -> &'a [ScanPoint] {
+        &self.hs.points
+    }
+
+    /// Every accumulator cell that received a vote, sector by sector in ring order.
+    #[must_use]
+    pub fn cells(&self) -> &'a [Cell] {
+        &self.hs.acc.cells
+    }
+
+    /// The distance `d` of a ring's centre line, m.
+    #[must_use]
+    pub fn ring_distance(&self, ring: u32) -> f64 {
+        f64::from(ring) * self.hs.params.ring_step
+    }
+
+    /// The direction `gamma` of a sector's centre, rad, in the scan's frame.
+    #[must_use]
+    pub fn sector_angle(&self, scan: &Scan, sector: u32) -> f64 {
+        let sign = if scan.angle_increment < 0.0 { -1.0 } else { 1.0 };
+        scan.angle_min + sign * (f64::from(sector) + 0.5) * self.hs.params.sector_step
+    }
+
+    /// Radius groups: runs of kept cells along each ring, bridging `group_gap` empty sectors.
+    #[must_use]
+    pub fn radius_groups(&self) -> Vec<RadiusGroup> {
+        let mut kept: Vec<(u32, u32)> = self
+            .cells()
+            .iter()
+            .filter(|c| c.kept)
+            .map(|c| (c.ring, c.sector))
+            .collect();
+        kept.sort_unstable();
+        let gap = self.hs.params.group_gap as u32;
+        let mut out: Vec<RadiusGroup> = Vec::new();
+        for (ring, sector) in kept {
+            match out.last_mut() {
+                Some(g) if g.ring == ring && sector <= g.last_sector + 1 + gap => {
+                    g.last_sector = sector;
+                }
+                _ => out.push(RadiusGroup {
+                    ring,
+                    first_sector: sector,
+                    last_sector: sector,
+                }),
+            }
+        }
+        out
+    }
+
+    /// The data segments, in beam order.
+    pub fn segments(&self) -> impl Iterator<Item = DataSegment> + 'a {
+        let hs = self.hs;
+        hs.segments.iter().map(move |run| DataSegment {
+            first: hs.points[hs.kept[run.start as usize] as usize].index,
+            last: hs.points[hs.kept[run.end as usize - 1] as usize].index,
+            points: (run.end - run.start) as usize,
+        })
+    }
+
+    /// Beam indices of the surviving points (the paper's non-zero `Pm[i]`).
+    pub fn kept(&self) -> impl Iterator<Item = usize> + 'a {
+        let hs = self.hs;
+        hs.kept.iter().map(move |&k| hs.points[k as usize].index)
+    }
+
+    /// Beam indices of valid points removed as sparse or cluttered (the paper's `Pm[i] = 0`).
+    #[must_use]
+    pub fn removed(&self) -> Vec<usize> {
+        let mut keep = self.hs.kept.iter().peekable();
+        let mut out = Vec::new();
+        for (k, p) in self.hs.points.iter().enumerate() {
+            if keep.peek().is_some_and(|&&x| x as usize == k) {
+                keep.next();
+            } else {
+                out.push(p.index);
+            }
+        }
+        out
+    }
+
+    /// The split tree's end points of each data segment (beam indices, ascending, the
+    /// segment's first and last beam included), before the collinear merge.
+    pub fn split_points(&self) -> impl Iterator<Item = &'a [usize]> + 'a {
+        let hs = self.hs;
+        hs.split_ranges
+            .iter()
+            .map(move |&(a, b)| &hs.split_points[a as usize..b as usize])
+    }
+}

@@ -1,0 +1,165 @@
+//! Step 3-4: radius grouping, merging of touching groups into data segments, and removal of
+//! the points outside every segment (paper section II-B, ALGORITHM section 2).
+//!
+//! Grouping along a ring and merging groups that touch in a neighbouring ring is computed in
+//! one union-find pass over the kept cells: two kept cells are joined when they lie in the same
+//! ring at most `1 + group_gap` sectors apart, or in neighbouring rings of the same or of
+//! neighbouring sectors (the 8-neighbourhood). Each connected component is one group of the
+//! paper's Fig. 4b. A data segment is then a maximal run of surviving points, in beam order,
+//! whose cells belong to one component: this resolves interleaved components (a box in front
+//! of a wall) so that every point belongs to exactly one segment, and segments never overlap.
+
+use super::accumulator::Accumulator;
+use super::params::HoughSplitParams;
+use crate::scan::ScanPoint;
+
+/// A data segment: a run of surviving points `kept[start..end]` in beam order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct SegmentRun {
+    pub(crate) start: u32,
+    pub(crate) end: u32,
+}
+
+/// Union-find over cell indices.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct Components {
+    parent: Vec<u32>,
+}
+
+impl Components {
+    fn reset(&mut self, n: usize) {
+        self.parent.clear();
+        self.parent.extend(0..n as u32);
+    }
+
+    pub(crate) fn find(&mut self, mut x: usize) -> usize {
+        while self.parent[x] as usize != x {
+            let grand = self.parent[self.parent[x] as usize];
+            self.parent[x] = grand;
+            x = grand as usize;
+        }
+        x
+    }
+
+    fn union(&mut self, a: usize, b: usize) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            // Smaller index becomes the root: roots are then deterministic and in scan order.
+            let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
+            self.parent[hi] = lo as u32;
+        }
+    }
+}
+
+/// Joins touching kept cells (grouping along rings and merging across rings).
+pub(crate) fn connect_cells(acc: &Accumulator, p: &HoughSplitParams, uf: &mut Components) {
+    uf.reset(acc.cells.len());
+    let sectors = acc.sector_start.len().saturating_sub(1);
+    for k in 0..sectors {
+        let here = acc.sector_cells(k);
+        // Same sector: neighbouring rings.
+        for c in here.clone().skip(1) {
+            let (a, b) = (&acc.cells[c - 1], &acc.cells[c]);
+            if a.kept && b.kept && b.ring - a.ring <= 1 {
+                uf.union(c - 1, c);
+            }
+        }
+        // Earlier sectors: the neighbouring one in the 8-neighbourhood, farther ones (up to the
+        // grouping gap) along the same ring only.
+        for back in 1..=(1 + p.group_gap) {
+            if back > k {
+                break;
+            }
+            let there = acc.sector_cells(k - back);
+            let reach = u32::from(back == 1);
+            let mut lo = there.start;
+            for c in here.clone() {
+                let cell = acc.cells[c];
+                if !cell.kept {
+                    continue;
+                }
+                while lo < there.end && acc.cells[lo].ring + reach < cell.ring {
+                    lo += 1;
+                }
+                let mut o = lo;
+                while o < there.end && acc.cells[o].ring <= cell.ring + reach {
+                    if acc.cells[o].kept {
+                        uf.union(c, o);
+                    }
+                    o += 1;
+                }
+            }
+        }
+    }
+}
+
+/// Joins the cells of consecutive surviving points closer than the adaptive breakpoint
+/// distance `r sin(dphi) / sin(lambda - dphi) + 3 sigma` (Borges & Aldon 2004).
+pub(crate) fn bridge_beams(
+    points: &[ScanPoint],
+    acc: &Accumulator,
+    p: &HoughSplitParams,
+    uf: &mut Components,
+) {
+    let mut prev: Option<usize> = None;
+    for pi in 0..points.len() {
+        if !acc.point_kept(pi) {
+            continue;
+        }
+        if let Some(q) = prev {
+            let dphi = (points[pi].angle - points[q].angle).abs();
+            let denom = (p.bridge_incidence - dphi).sin();
+            if dphi.is_finite() && p.bridge_incidence > dphi && denom > 0.0 {
+                let limit = points[q].range * dphi.sin() / denom + 3.0 * p.bridge_noise;
+                if (points[pi].point - points[q].point).norm() <= limit {
+                    uf.union(acc.kept_cell(pi), acc.kept_cell(q));
+                }
+            }
+        }
+        prev = Some(pi);
+    }
+}
+
+/// Cuts the surviving points into data segments (runs of one component) and drops runs
+/// shorter than `min_segment_points`. Fills `kept` with the indices of the points that remain.
+pub(crate) fn cut_segments(
+    acc: &Accumulator,
+    p: &HoughSplitParams,
+    uf: &mut Components,
+    kept: &mut Vec<u32>,
+    segments: &mut Vec<SegmentRun>,
+) {
+    kept.clear();
+    segments.clear();
+    let n = acc.point_cells.len();
+    let mut run_root = usize::MAX;
+    let mut run_start = 0usize;
+    let min = p.min_segment_points.max(1);
+    let close = |kept: &mut Vec<u32>, segments: &mut Vec<SegmentRun>, start: usize| {
+        if kept.len() - start >= min {
+            segments.push(SegmentRun {
+                start: start as u32,
+                end: kept.len() as u32,
+            });
+        } else {
+            kept.truncate(start);
+        }
+    };
+    for pi in 0..n {
+        if !acc.point_kept(pi) {
+            continue;
+        }
+        let root = uf.find(acc.kept_cell(pi));
+        if root != run_root {
+            if run_root != usize::MAX {
+                close(kept, segments, run_start);
+            }
+            run_root = root;
+            run_start = kept.len();
+        }
+        kept.push(pi as u32);
+    }
+    if run_root != usize::MAX {
+        close(kept, segments, run_start);
+    }
+}

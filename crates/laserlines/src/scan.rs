@@ -1,0 +1,301 @@
+//! The scan model, shaped like ROS `sensor_msgs/LaserScan`, and its conversion to points.
+
+use crate::math::Point2;
+
+/// Errors found when validating a [`Scan`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ScanError {
+    /// `angle_min` is NaN or infinite.
+    #[error("angle_min must be finite, got {0}")]
+    AngleMinNotFinite(f64),
+    /// `angle_increment` is zero, NaN or infinite.
+    #[error("angle_increment must be finite and non-zero, got {0}")]
+    BadAngleIncrement(f64),
+    /// The beams span more than one full turn.
+    #[error("{beams} beams of {increment} rad span more than a full turn")]
+    SpanTooLarge {
+        /// number of beams
+        beams: usize,
+        /// angle increment, rad
+        increment: f64,
+    },
+    /// `range_min`/`range_max` are not finite, negative, or out of order.
+    #[error("range limits must satisfy 0 <= range_min < range_max (finite), got {min}..{max}")]
+    BadRangeLimits {
+        /// range_min, m
+        min: f64,
+        /// range_max, m
+        max: f64,
+    },
+    /// `intensities` is present but not as long as `ranges`.
+    #[error("intensities has {intensities} values but ranges has {ranges}")]
+    IntensityLength {
+        /// number of ranges
+        ranges: usize,
+        /// number of intensities
+        intensities: usize,
+    },
+}
+
+/// One 2D laser scan, like ROS `sensor_msgs/LaserScan`.
+///
+/// Beam `i` points at `angle_min + i * angle_increment` (radians, counter-clockwise, x forward
+/// in the sensor frame). `angle_increment` may be negative: reversed scans exist. A range is a
+/// measurement only if it is valid by [`RangeWindow::contains`]; everything else (NaN, inf,
+/// 0, out of limits) is "no return".
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Scan {
+    /// Angle of the first beam, rad.
+    pub angle_min: f64,
+    /// Angle between consecutive beams, rad (non-zero; negative for clockwise scans).
+    pub angle_increment: f64,
+    /// Smallest valid range, m.
+    pub range_min: f64,
+    /// Largest valid range, m.
+    pub range_max: f64,
+    /// Ranges, m; invalid values mean "no return".
+    pub ranges: Vec<f64>,
+    /// Optional intensities, one per range.
+    pub intensities: Option<Vec<f64>>,
+    /// Optional time stamp, seconds (epoch or log-relative, as the source gives it).
+    pub stamp: Option<f64>,
+}
+
+impl Scan {
+    /// Builds and validates a scan without intensities or stamp.
+    ///
+    /// # Errors
+    /// Any [`ScanError`] found by [`Scan::validate`].
+    pub fn new(
+        angle_min: f64,
+        angle_increment: f64,
+        range_min: f64,
+        range_max: f64,
+        ranges: Vec<f64>,
+    ) -> Result<Self, ScanError> {
+        let scan = Self {
+            angle_min,
+            angle_increment,
+            range_min,
+            range_max,
+            ranges,
+            intensities: None,
+            stamp: None,
+        };
+        scan.validate()?;
+        Ok(scan)
+    }
+
+    /// Checks the scan's geometry and limits.
+    ///
+    /// # Errors
+    /// A [`ScanError`] naming the first problem found.
+    pub fn validate(&self) -> Result<(), ScanError> {
+        if !self.angle_min.is_finite() {
+            return Err(ScanError::AngleMinNotFinite(self.angle_min));
+        }
+        if !self.angle_increment.is_finite() || self.angle_increment == 0.0 {
+            return Err(ScanError::BadAngleIncrement(self.angle_increment));
+        }
+        let n = self.ranges.len();
+        if n > 1 && (n - 1) as f64 * self.angle_increment.abs() > std::f64::consts::TAU + 1e-9 {
+            return Err(ScanError::SpanTooLarge {
+                beams: n,
+                increment: self.angle_increment,
+            });
+        }
+        if !(self.range_min.is_finite()
+            && self.range_max.is_finite()
+            && self.range_min >= 0.0
+            && self.range_min < self.range_max)
+        {
+            return Err(ScanError::BadRangeLimits {
+                min: self.range_min,
+                max: self.range_max,
+            });
+        }
+        if let Some(int) = &self.intensities {
+            if int.len() != n {
+                return Err(ScanError::IntensityLength {
+                    ranges: n,
+                    intensities: int.len(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Number of beams.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.ranges.len()
+    }
+
+    /// True when the scan has no beams.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.ranges.is_empty()
+    }
+
+    /// Angle of beam `i`, rad.
+    #[must_use]
+    pub fn angle(&self, i: usize) -> f64 {
+        self.angle_min + i as f64 * self.angle_increment
+    }
+
+    /// Angle of the last beam, rad (`angle_min` for an empty scan), as in ROS.
+    #[must_use]
+    pub fn angle_max(&self) -> f64 {
+        self.angle(self.ranges.len().saturating_sub(1))
+    }
+
+    /// The window of valid ranges for this scan: its own limits, narrowed by `extra`.
+    #[must_use]
+    pub fn range_window(&self, extra: Option<RangeWindow>) -> RangeWindow {
+        let own = RangeWindow::new(self.range_min, self.range_max);
+        match extra {
+            Some(e) => own.intersect(e),
+            None => own,
+        }
+    }
+
+    /// Number of valid ranges in `window`.
+    #[must_use]
+    pub fn count_valid(&self, window: RangeWindow) -> usize {
+        self.ranges.iter().filter(|r| window.contains(**r)).count()
+    }
+
+    /// Converts the valid beams to points in the sensor frame, keeping beam indices.
+    ///
+    /// Clears `out` first; beams whose range is invalid in `window`, or whose point is not
+    /// finite (e.g. a NaN angle), are left out. Points stay in beam order.
+    pub fn points_into(&self, window: RangeWindow, out: &mut Vec<ScanPoint>) {
+        out.clear();
+        for (i, &r) in self.ranges.iter().enumerate() {
+            if !window.contains(r) {
+                continue;
+            }
+            let phi = self.angle(i);
+            let (s, c) = phi.sin_cos();
+            let p = Point2::new(r * c, r * s);
+            if p.x.is_finite() && p.y.is_finite() {
+                out.push(ScanPoint {
+                    index: i,
+                    range: r,
+                    angle: phi,
+                    point: p,
+                });
+            }
+        }
+    }
+
+    /// Convenience wrapper around [`Scan::points_into`] that allocates.
+    #[must_use]
+    pub fn points(&self, window: RangeWindow) -> Vec<ScanPoint> {
+        let mut out = Vec::with_capacity(self.ranges.len());
+        self.points_into(window, &mut out);
+        out
+    }
+}
+
+/// The one definition of a valid range, used by every algorithm: finite, strictly positive,
+/// and within `[min, max]` (inclusive, as in ROS).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RangeWindow {
+    /// Smallest valid range, m.
+    pub min: f64,
+    /// Largest valid range, m.
+    pub max: f64,
+}
+
+impl RangeWindow {
+    /// A window `[min, max]`, metres.
+    #[must_use]
+    pub const fn new(min: f64, max: f64) -> Self {
+        Self { min, max }
+    }
+
+    /// The window that accepts every finite positive range.
+    pub const UNLIMITED: Self = Self::new(0.0, f64::INFINITY);
+
+    /// The paper's window: ranges outside (0.03 m, 3.00 m) are noise and never used.
+    pub const PAPER: Self = Self::new(0.03, 3.00);
+
+    /// True when `r` is a measurement: finite, `> 0` and within `[min, max]`.
+    #[must_use]
+    pub fn contains(self, r: f64) -> bool {
+        r.is_finite() && r > 0.0 && r >= self.min && r <= self.max
+    }
+
+    /// The intersection of two windows (empty windows simply contain nothing).
+    #[must_use]
+    pub fn intersect(self, other: Self) -> Self {
+        Self::new(self.min.max(other.min), self.max.min(other.max))
+    }
+}
+
+/// A valid beam converted to a point in the sensor frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScanPoint {
+    /// Beam index in the scan.
+    pub index: usize,
+    /// Measured range, m.
+    pub range: f64,
+    /// Beam angle, rad.
+    pub angle: f64,
+    /// The point, m, sensor frame.
+    pub point: Point2,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn validation_names_the_problem() {
+        assert_eq!(
+            Scan::new(0.0, 0.0, 0.0, 1.0, vec![1.0]).unwrap_err(),
+            ScanError::BadAngleIncrement(0.0)
+        );
+        assert!(matches!(
+            Scan::new(0.0, 0.1, 2.0, 1.0, vec![]),
+            Err(ScanError::BadRangeLimits { .. })
+        ));
+        assert!(matches!(
+            Scan::new(f64::NAN, 0.1, 0.0, 1.0, vec![]),
+            Err(ScanError::AngleMinNotFinite(_))
+        ));
+        assert!(matches!(
+            Scan::new(0.0, 0.1, 0.0, 1.0, vec![1.0; 100]),
+            Err(ScanError::SpanTooLarge { .. })
+        ));
+        let mut s = Scan::new(0.0, 0.1, 0.0, 1.0, vec![1.0; 3]).unwrap();
+        s.intensities = Some(vec![1.0]);
+        assert!(matches!(s.validate(), Err(ScanError::IntensityLength { .. })));
+    }
+
+    #[test]
+    fn reversed_scans_have_decreasing_angles() {
+        let s = Scan::new(1.0, -0.5, 0.0, 10.0, vec![1.0, 1.0, 1.0]).unwrap();
+        assert!((s.angle_max() - 0.0).abs() < 1e-12);
+        let pts = s.points(s.range_window(None));
+        assert!((pts[2].point.x - 1.0).abs() < 1e-12 && pts[2].point.y.abs() < 1e-12);
+    }
+
+    #[test]
+    fn invalid_ranges_never_become_points() {
+        let s = Scan::new(
+            0.0,
+            0.1,
+            0.02,
+            5.6,
+            vec![f64::NAN, f64::INFINITY, 0.0, -1.0, 0.01, 6.0, 1.0, 5.6],
+        )
+        .unwrap();
+        let pts = s.points(s.range_window(None));
+        let idx: Vec<usize> = pts.iter().map(|p| p.index).collect();
+        assert_eq!(idx, vec![6, 7]);
+        let narrowed = s.range_window(Some(RangeWindow::PAPER));
+        assert_eq!(s.count_valid(narrowed), 1);
+    }
+}
