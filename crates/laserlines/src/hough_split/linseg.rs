@@ -71,7 +71,13 @@ fn sums(points: &[ScanPoint], seg: &[u32], from: usize, to: usize) -> FitSums {
 
 /// True when every point of `seg[from..to]` lies within its split threshold of the pieces'
 /// joint least-squares line.
-fn collinear(points: &[ScanPoint], seg: &[u32], from: usize, to: usize, p: &HoughSplitParams) -> bool {
+fn collinear(
+    points: &[ScanPoint],
+    seg: &[u32],
+    from: usize,
+    to: usize,
+    p: &HoughSplitParams,
+) -> bool {
     let Some(fit) = sums(points, seg, from, to).fit() else {
         return false;
     };
@@ -133,7 +139,8 @@ pub(crate) fn emit_lines(
             if let Some(fit) = sums(points, seg, lo, hi).fit() {
                 let first = &points[seg[lo] as usize];
                 let last = &points[seg[hi - 1] as usize];
-                let line = Line::from_fit(&fit, (first.index, first.point), (last.index, last.point));
+                let line =
+                    Line::from_fit(&fit, (first.index, first.point), (last.index, last.point));
                 if line.length() >= p.min_line_length {
                     out.push(line);
                 }

@@ -144,8 +144,15 @@ impl LineExtractor for HoughSplit {
                     .iter()
                     .map(|&b| self.points[seg[b as usize] as usize].index),
             );
-            self.split_ranges.push((from, self.split_points.len() as u32));
-            linseg::emit_lines(&self.points, seg, &mut self.scratch.breaks, &self.params, out);
+            self.split_ranges
+                .push((from, self.split_points.len() as u32));
+            linseg::emit_lines(
+                &self.points,
+                seg,
+                &mut self.scratch.breaks,
+                &self.params,
+                out,
+            );
         }
     }
 }
@@ -200,7 +207,11 @@ impl<'a> Stages<'a> {
     /// The direction `gamma` of a sector's centre, rad, in the scan's frame.
     #[must_use]
     pub fn sector_angle(&self, scan: &Scan, sector: u32) -> f64 {
-        let sign = if scan.angle_increment < 0.0 { -1.0 } else { 1.0 };
+        let sign = if scan.angle_increment < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
         scan.angle_min + sign * (f64::from(sector) + 0.5) * self.hs.params.sector_step
     }
 

@@ -1,0 +1,167 @@
+//! Invariants of `HoughSplit` on arbitrary scans: no panic, indices in range, every point in
+//! at most one line, identical results on a second run, both weight functions.
+
+use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, Scan, Weight};
+use proptest::prelude::*;
+
+fn any_range() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        4 => 0.02f64..6.0,
+        1 => Just(f64::NAN),
+        1 => Just(f64::INFINITY),
+        1 => Just(f64::NEG_INFINITY),
+        1 => Just(0.0),
+        1 => -10.0f64..0.0,
+        1 => Just(1e300),
+        1 => Just(f64::MIN_POSITIVE),
+    ]
+}
+
+fn any_increment() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        4 => 0.001f64..0.05,
+        2 => -0.05f64..-0.001,
+        1 => Just(0.0),
+        1 => Just(f64::NAN),
+        1 => Just(1e-300),
+    ]
+}
+
+/// Scans with arbitrary values in every public field, valid or not.
+fn any_scan() -> impl Strategy<Value = Scan> {
+    (
+        prop_oneof![4 => -3.2f64..3.2, 1 => Just(f64::NAN), 1 => Just(1e10)],
+        any_increment(),
+        prop_oneof![3 => Just(0.02), 1 => Just(0.0), 1 => Just(-1.0), 1 => Just(f64::NAN)],
+        prop_oneof![3 => Just(5.6), 1 => Just(1e308), 1 => Just(f64::INFINITY), 1 => Just(0.01)],
+        prop::collection::vec(any_range(), 0..700),
+    )
+        .prop_map(
+            |(angle_min, angle_increment, range_min, range_max, ranges)| Scan {
+                angle_min,
+                angle_increment,
+                range_min,
+                range_max,
+                ranges,
+                intensities: None,
+                stamp: None,
+            },
+        )
+}
+
+/// Piecewise-smooth scans: runs of walls with noise, so that lines really come out.
+fn wall_scan() -> impl Strategy<Value = Scan> {
+    (
+        (0.5f64..5.0, -0.8f64..0.8, 60usize..150),
+        prop::collection::vec((0.3f64..5.0, -1.2f64..1.2, 5usize..120), 0..7),
+        any::<u64>(),
+        prop::bool::ANY,
+    )
+        .prop_map(|(long_wall, mut walls, seed, reversed)| {
+            // At least one long, clearly visible wall.
+            walls.insert(0, long_wall);
+            let inc = 0.3515625f64.to_radians();
+            let mut ranges = Vec::new();
+            let mut state = seed;
+            let mut i = 0usize;
+            for (r, alpha, n) in walls {
+                // The wall's normal is given relative to the middle beam of its run.
+                let alpha = alpha + (-2.0 + (i + n / 2) as f64 * inc);
+                for _ in 0..n {
+                    let phi = -2.0 + i as f64 * inc;
+                    state = state
+                        .wrapping_mul(6364136223846793005)
+                        .wrapping_add(1442695040888963407);
+                    let noise = ((state >> 33) as f64 / (1u64 << 31) as f64 - 0.5) * 0.01;
+                    let c = (phi - alpha).cos();
+                    ranges.push(if c > 0.05 { r / c + noise } else { f64::NAN });
+                    i += 1;
+                }
+            }
+            let (angle_min, angle_increment) = if reversed {
+                (-2.0 + (ranges.len().max(1) - 1) as f64 * inc, -inc)
+            } else {
+                (-2.0, inc)
+            };
+            if reversed {
+                ranges.reverse();
+            }
+            Scan {
+                angle_min,
+                angle_increment,
+                range_min: 0.02,
+                range_max: 5.6,
+                ranges,
+                intensities: None,
+                stamp: None,
+            }
+        })
+}
+
+fn check_invariants(scan: &Scan, lines: &[Line]) {
+    let mut prev_last: Option<usize> = None;
+    for l in lines {
+        assert!(l.first <= l.last, "first > last: {l:?}");
+        assert!(l.last < scan.len(), "index out of range: {l:?}");
+        assert!(l.points >= 2 && l.points <= l.last - l.first + 1, "{l:?}");
+        if let Some(p) = prev_last {
+            assert!(l.first > p, "lines share or reorder beams: {lines:?}");
+        }
+        prev_last = Some(l.last);
+        for v in [l.r, l.alpha, l.rms, l.start.x, l.start.y, l.end.x, l.end.y] {
+            assert!(v.is_finite(), "non-finite value in {l:?}");
+        }
+        assert!(l.r >= 0.0);
+        // Every supporting beam is a valid measurement.
+        assert!(
+            (l.first..=l.last)
+                .filter(|&i| scan.range_window(None).contains(scan.ranges[i]))
+                .count()
+                >= l.points
+        );
+    }
+}
+
+fn params_for(weight: Weight) -> HoughSplitParams {
+    HoughSplitParams {
+        weight,
+        criterion: match weight {
+            Weight::One => 1.0,
+            Weight::Range => 0.5,
+        },
+        ..HoughSplitParams::default()
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn arbitrary_scans_never_break_invariants(scan in any_scan(), g_one in prop::bool::ANY) {
+        let weight = if g_one { Weight::One } else { Weight::Range };
+        let mut hs = HoughSplit::new(params_for(weight)).unwrap();
+        let first = hs.extract(&scan);
+        check_invariants(&scan, &first);
+        let second = hs.extract(&scan);
+        prop_assert_eq!(&first, &second);
+        // A fresh extractor agrees with a reused one.
+        let fresh = HoughSplit::new(params_for(weight)).unwrap().extract(&scan);
+        prop_assert_eq!(first, fresh);
+    }
+
+    #[test]
+    fn wall_scans_give_lines_under_both_weights(scan in wall_scan()) {
+        for weight in [Weight::One, Weight::Range] {
+            let mut hs = HoughSplit::new(params_for(weight)).unwrap();
+            let lines = hs.extract(&scan);
+            check_invariants(&scan, &lines);
+            prop_assert!(!lines.is_empty(), "no line from a scan of walls ({weight:?})");
+            // Stages are consistent: kept and removed partition the valid points.
+            let st = hs.stages();
+            prop_assert_eq!(st.kept().count() + st.removed().len(), st.points().len());
+            for l in &lines {
+                prop_assert!(st.segments().any(|s| s.first <= l.first && l.last <= s.last));
+            }
+        }
+    }
+}
