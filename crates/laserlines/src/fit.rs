@@ -96,7 +96,11 @@ impl FitSums {
         let mxx = (self.sxx - self.sx * cx).max(0.0);
         let myy = (self.syy - self.sy * cy).max(0.0);
         let mxy = self.sxy - self.sx * cy;
-        if !(cx.is_finite() && cy.is_finite() && mxx.is_finite() && myy.is_finite() && mxy.is_finite())
+        if !(cx.is_finite()
+            && cy.is_finite()
+            && mxx.is_finite()
+            && myy.is_finite()
+            && mxy.is_finite())
         {
             return None;
         }
@@ -184,7 +188,9 @@ mod tests {
     #[test]
     fn fits_a_known_line_exactly() {
         // Points on x = 2 (r = 2, alpha = 0).
-        let pts: Vec<Point2> = (0..10).map(|i| Point2::new(2.0, -1.0 + 0.2 * i as f64)).collect();
+        let pts: Vec<Point2> = (0..10)
+            .map(|i| Point2::new(2.0, -1.0 + 0.2 * i as f64))
+            .collect();
         let f = fit_points(&pts).unwrap();
         assert!((f.r - 2.0).abs() < 1e-12);
         assert!(f.alpha.abs() < 1e-12);

@@ -271,7 +271,10 @@ mod tests {
         ));
         let mut s = Scan::new(0.0, 0.1, 0.0, 1.0, vec![1.0; 3]).unwrap();
         s.intensities = Some(vec![1.0]);
-        assert!(matches!(s.validate(), Err(ScanError::IntensityLength { .. })));
+        assert!(matches!(
+            s.validate(),
+            Err(ScanError::IntensityLength { .. })
+        ));
     }
 
     #[test]

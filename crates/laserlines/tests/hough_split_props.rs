@@ -52,7 +52,7 @@ fn any_scan() -> impl Strategy<Value = Scan> {
 /// Piecewise-smooth scans: runs of walls with noise, so that lines really come out.
 fn wall_scan() -> impl Strategy<Value = Scan> {
     (
-        (0.5f64..5.0, -0.8f64..0.8, 60usize..150),
+        (0.5f64..2.5, -0.5f64..0.5, 60usize..150),
         prop::collection::vec((0.3f64..5.0, -1.2f64..1.2, 5usize..120), 0..7),
         any::<u64>(),
         prop::bool::ANY,

@@ -87,6 +87,9 @@ pub struct Cell {
     pub kept: bool,
 }
 
+/// Marks a point without a kept cell.
+pub(crate) const NONE: u32 = u32::MAX;
+
 /// A vote of one point into one cell.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Vote {
@@ -107,6 +110,24 @@ pub(crate) struct Accumulator {
 }
 
 const MAX_RING: f64 = (u32::MAX / 4) as f64;
+
+/// `floor(v)` clamped to `0..=MAX_RING` (NaN gives 0), without a libm call.
+#[inline]
+fn floor_ring(v: f64) -> u32 {
+    let c = v.clamp(0.0, MAX_RING);
+    if c.is_nan() { 0 } else { c as u32 }
+}
+
+/// `ceil(v)` clamped to `0..=MAX_RING` (NaN gives 0), without a libm call.
+#[inline]
+fn ceil_ring(v: f64) -> u32 {
+    let c = v.clamp(0.0, MAX_RING);
+    if c.is_nan() {
+        return 0;
+    }
+    let t = c as u32;
+    if f64::from(t) < c { t + 1 } else { t }
+}
 
 impl Accumulator {
     /// Builds the accumulator of `points` (valid points in beam order) and applies the
@@ -134,9 +155,7 @@ impl Accumulator {
             self.votes.clear();
             for (pi, sp) in points.iter().enumerate().take(end).skip(start) {
                 let x = sp.range * table.beams[sp.index].cos_to_sector;
-                let lo = ((x - a) / dd).ceil().clamp(0.0, MAX_RING);
-                let hi = ((x + a) / dd).floor().clamp(0.0, MAX_RING);
-                let (lo, hi) = (lo as u32, hi as u32);
+                let (lo, hi) = (ceil_ring((x - a) / dd), floor_ring((x + a) / dd));
                 let mut j = lo;
                 while j <= hi {
                     self.votes.push(Vote {
@@ -192,19 +211,20 @@ impl Accumulator {
         self.sector_start[k] as usize..self.sector_start[k + 1] as usize
     }
 
-    /// True when point `pi` lies in at least one kept cell.
-    pub(crate) fn point_kept(&self, pi: usize) -> bool {
-        let (a, b) = self.point_cells[pi];
-        a != u32::MAX && (self.cells[a as usize].kept || self.cells[b as usize].kept)
-    }
-
-    /// A kept cell of point `pi` (call only when [`Self::point_kept`]).
-    pub(crate) fn kept_cell(&self, pi: usize) -> usize {
-        let (a, b) = self.point_cells[pi];
-        if self.cells[a as usize].kept {
-            a as usize
-        } else {
-            b as usize
-        }
+    /// Fills `out` with a kept cell of each point, or `NONE` when the point lies in no kept
+    /// cell (it is removed as noise).
+    pub(crate) fn kept_cells(&self, out: &mut Vec<u32>) {
+        out.clear();
+        out.extend(self.point_cells.iter().map(|&(a, b)| {
+            if a == u32::MAX {
+                NONE
+            } else if self.cells[a as usize].kept {
+                a
+            } else if self.cells[b as usize].kept {
+                b
+            } else {
+                NONE
+            }
+        }));
     }
 }

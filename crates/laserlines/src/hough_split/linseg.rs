@@ -45,14 +45,25 @@ pub(crate) fn linseg(
     while let Some((a, b)) = scratch.stack.pop() {
         let pa = points[seg[a as usize] as usize].point;
         let pb = points[seg[b as usize] as usize].point;
+        // Farthest point from the chord, compared by |cross product| (distance times chord
+        // length) so that only the winner needs a division.
+        // When the chord's ends coincide, the farthest point from them is taken instead.
+        let ab = pb - pa;
+        let degenerate = ab.norm_squared() <= f64::EPSILON;
         let mut best = (0.0f64, a);
-        for m in (a + 1)..b {
-            let d = chord_distance(points[seg[m as usize] as usize].point, pa, pb);
-            if d > best.0 {
-                best = (d, m);
+        for (m, &i) in seg.iter().enumerate().take(b as usize).skip(a as usize + 1) {
+            let ap = points[i as usize].point - pa;
+            let c = if degenerate {
+                ap.norm_squared()
+            } else {
+                (ab.x * ap.y - ab.y * ap.x).abs()
+            };
+            if c > best.0 {
+                best = (c, m as u32);
             }
         }
-        let (dist, middle) = best;
+        let middle = best.1;
+        let dist = chord_distance(points[seg[middle as usize] as usize].point, pa, pb);
         let range = points[seg[middle as usize] as usize].range;
         if middle == a || dist <= p.split_threshold(range) {
             if b != 0 {

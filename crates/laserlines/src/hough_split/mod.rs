@@ -39,6 +39,7 @@ pub struct HoughSplit {
     points: Vec<ScanPoint>,
     acc: Accumulator,
     uf: Components,
+    cell_of: Vec<u32>,
     kept: Vec<u32>,
     segments: Vec<SegmentRun>,
     scratch: SplitScratch,
@@ -60,6 +61,7 @@ impl HoughSplit {
             points: Vec::new(),
             acc: Accumulator::default(),
             uf: Components::default(),
+            cell_of: Vec::new(),
             kept: Vec::new(),
             segments: Vec::new(),
             scratch: SplitScratch::default(),
@@ -121,13 +123,20 @@ impl LineExtractor for HoughSplit {
         self.convert(scan);
         self.acc.build(&self.points, &self.table, &self.params);
         // 3. radius grouping and merging of touching groups.
+        self.acc.kept_cells(&mut self.cell_of);
         segment::connect_cells(&self.acc, &self.params, &mut self.uf);
         if self.params.bridge_beams {
-            segment::bridge_beams(&self.points, &self.acc, &self.params, &mut self.uf);
+            segment::bridge_beams(
+                &self.points,
+                &self.cell_of,
+                &self.params,
+                scan.angle_increment,
+                &mut self.uf,
+            );
         }
         // 4. data segments; everything else is removed.
         segment::cut_segments(
-            &self.acc,
+            &self.cell_of,
             &self.params,
             &mut self.uf,
             &mut self.kept,

@@ -9,7 +9,7 @@
 //! whose cells belong to one component: this resolves interleaved components (a box in front
 //! of a wall) so that every point belongs to exactly one segment, and segments never overlap.
 
-use super::accumulator::Accumulator;
+use super::accumulator::{Accumulator, NONE};
 use super::params::HoughSplitParams;
 use crate::scan::ScanPoint;
 
@@ -94,25 +94,35 @@ pub(crate) fn connect_cells(acc: &Accumulator, p: &HoughSplitParams, uf: &mut Co
 }
 
 /// Joins the cells of consecutive surviving points closer than the adaptive breakpoint
-/// distance `r sin(dphi) / sin(lambda - dphi) + 3 sigma` (Borges & Aldon 2004).
+/// distance `r sin(dphi) / sin(lambda - dphi) + 3 sigma` (Borges & Aldon 2004), where `dphi`
+/// is the angle between the two beams (larger across dropped beams).
 pub(crate) fn bridge_beams(
     points: &[ScanPoint],
-    acc: &Accumulator,
+    cell_of: &[u32],
     p: &HoughSplitParams,
+    increment: f64,
     uf: &mut Components,
 ) {
+    let step = increment.abs();
+    // The factor sin(dphi) / sin(lambda - dphi) for a gap of one beam, computed once.
+    let one_beam = breakpoint_factor(step, p.bridge_incidence);
+    let noise = 3.0 * p.bridge_noise;
     let mut prev: Option<usize> = None;
-    for pi in 0..points.len() {
-        if !acc.point_kept(pi) {
+    for (pi, &cell) in cell_of.iter().enumerate() {
+        if cell == NONE {
             continue;
         }
         if let Some(q) = prev {
-            let dphi = (points[pi].angle - points[q].angle).abs();
-            let denom = (p.bridge_incidence - dphi).sin();
-            if dphi.is_finite() && p.bridge_incidence > dphi && denom > 0.0 {
-                let limit = points[q].range * dphi.sin() / denom + 3.0 * p.bridge_noise;
-                if (points[pi].point - points[q].point).norm() <= limit {
-                    uf.union(acc.kept_cell(pi), acc.kept_cell(q));
+            let gap = points[pi].index - points[q].index;
+            let factor = if gap == 1 {
+                one_beam
+            } else {
+                breakpoint_factor(step * gap as f64, p.bridge_incidence)
+            };
+            if let Some(f) = factor {
+                let limit = points[q].range * f + noise;
+                if (points[pi].point - points[q].point).norm_squared() <= limit * limit {
+                    uf.union(cell as usize, cell_of[q] as usize);
                 }
             }
         }
@@ -120,10 +130,16 @@ pub(crate) fn bridge_beams(
     }
 }
 
+/// `sin(dphi) / sin(lambda - dphi)`, or `None` when beams `dphi` apart cannot be bridged.
+fn breakpoint_factor(dphi: f64, lambda: f64) -> Option<f64> {
+    let denom = (lambda - dphi).sin();
+    (dphi.is_finite() && lambda > dphi && denom > 0.0).then(|| dphi.sin() / denom)
+}
+
 /// Cuts the surviving points into data segments (runs of one component) and drops runs
 /// shorter than `min_segment_points`. Fills `kept` with the indices of the points that remain.
 pub(crate) fn cut_segments(
-    acc: &Accumulator,
+    cell_of: &[u32],
     p: &HoughSplitParams,
     uf: &mut Components,
     kept: &mut Vec<u32>,
@@ -131,7 +147,6 @@ pub(crate) fn cut_segments(
 ) {
     kept.clear();
     segments.clear();
-    let n = acc.point_cells.len();
     let mut run_root = usize::MAX;
     let mut run_start = 0usize;
     let min = p.min_segment_points.max(1);
@@ -145,11 +160,11 @@ pub(crate) fn cut_segments(
             kept.truncate(start);
         }
     };
-    for pi in 0..n {
-        if !acc.point_kept(pi) {
+    for (pi, &cell) in cell_of.iter().enumerate() {
+        if cell == NONE {
             continue;
         }
-        let root = uf.find(acc.kept_cell(pi));
+        let root = uf.find(cell as usize);
         if root != run_root {
             if run_root != usize::MAX {
                 close(kept, segments, run_start);
