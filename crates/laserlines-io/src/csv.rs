@@ -1,0 +1,293 @@
+//! CSV scans: `index,angle_rad,range_m`, one scan per file.
+//!
+//! ```text
+//! # range_min: 0.02
+//! # range_max: 5.6
+//! index,angle_rad,range_m
+//! 0,-0.5,1.25
+//! 1,0,
+//! 2,0.5,nan
+//! ```
+//!
+//! - The header is `index,angle_rad,range_m`, or `index,angle_rad,range_m,intensity` with a
+//!   fourth column of intensities. Spaces around fields are ignored; blank lines are skipped.
+//! - `index` counts the rows from 0 and must do so without gaps.
+//! - `angle_rad` must be uniform: `angle_min` is the first row's angle and
+//!   `angle_increment = (last - first) / (n - 1)`; every row must lie within 1 % of an
+//!   increment of `angle_min + index * angle_increment`. So at least 2 rows are needed.
+//! - `range_m` in metres; empty or `nan` is "no return" (kept as NaN).
+//! - A CSV carries no range limits: unless given in the comments, the scan gets
+//!   `range_min = 0` and `range_max = f64::MAX`, so that every finite positive range counts
+//!   as a measurement (narrow it with the extractor's range limits).
+//! - Comment lines start with `#`. Comments of the form `# key: value` with the keys
+//!   `range_min`, `range_max` (m), `stamp` (s), `pose_x`, `pose_y` (m) and `pose_theta` (rad)
+//!   set those values (the pose needs all three); other comments are ignored. The CSV writer
+//!   writes these, so that a scan survives a round trip.
+//!
+//! Any error (a missing column, a bad number, non-uniform angles) ends the reader: the file
+//! holds only one scan.
+
+use laserlines::Scan;
+
+use crate::error::{ReadError, SourcePos, shown};
+use crate::reader::{Input, LineItem, Lines, ScanSource};
+use crate::record::{Pose2, ScanRecord};
+use crate::skip::SkipCounts;
+
+/// The header of a CSV scan.
+pub const HEADER: &str = "index,angle_rad,range_m";
+/// The header of a CSV scan with intensities.
+pub const HEADER_WITH_INTENSITY: &str = "index,angle_rad,range_m,intensity";
+/// Non-uniform angles are accepted up to this fraction of the increment.
+pub const ANGLE_TOLERANCE: f64 = 0.01;
+/// The `range_min` given to a CSV scan without a `# range_min:` comment, m.
+pub const DEFAULT_RANGE_MIN: f64 = 0.0;
+/// The `range_max` given to a CSV scan without a `# range_max:` comment, m.
+pub const DEFAULT_RANGE_MAX: f64 = f64::MAX;
+
+/// Values set by `# key: value` comments.
+#[derive(Default)]
+struct Meta {
+    range_min: Option<f64>,
+    range_max: Option<f64>,
+    stamp: Option<f64>,
+    pose: [Option<f64>; 3],
+    pose_line: usize,
+}
+
+/// Reads a CSV scan.
+pub(crate) struct CsvSource {
+    name: String,
+    lines: Lines,
+    done: bool,
+}
+
+impl CsvSource {
+    pub(crate) fn new(name: &str, input: Input) -> Self {
+        Self {
+            name: name.to_owned(),
+            lines: Lines::new(name, input),
+            done: false,
+        }
+    }
+
+    fn read_scan(&mut self) -> Result<ScanRecord, ReadError> {
+        let name = self.name.clone();
+        let mut meta = Meta::default();
+        let mut header: Option<(usize, usize)> = None; // (line, columns)
+        let mut angles: Vec<f64> = Vec::new();
+        let mut ranges: Vec<f64> = Vec::new();
+        let mut intensities: Vec<f64> = Vec::new();
+        let mut row_lines: Vec<usize> = Vec::new();
+
+        while let Some(item) = self.lines.next_line() {
+            let (line, text) = match item? {
+                LineItem::Text(line, text) => (line, text),
+                LineItem::NotUtf8(e) => return Err(e),
+            };
+            let trimmed = text.trim();
+            if trimmed.is_empty() {
+                continue;
+            }
+            if let Some(comment) = trimmed.strip_prefix('#') {
+                parse_comment(&name, line, comment, &mut meta)?;
+                continue;
+            }
+            let fields: Vec<&str> = trimmed.split(',').map(str::trim).collect();
+            let Some((_, columns)) = header else {
+                let columns = if fields == ["index", "angle_rad", "range_m"] {
+                    3
+                } else if fields == ["index", "angle_rad", "range_m", "intensity"] {
+                    4
+                } else {
+                    return Err(ReadError::Syntax {
+                        pos: SourcePos::line(&name, line),
+                        expected: format!("the header `{HEADER}` (or `{HEADER_WITH_INTENSITY}`)"),
+                        found: shown(trimmed),
+                    });
+                };
+                header = Some((line, columns));
+                continue;
+            };
+            if fields.len() != columns {
+                let names = if columns == 3 {
+                    HEADER
+                } else {
+                    HEADER_WITH_INTENSITY
+                };
+                return Err(ReadError::Syntax {
+                    pos: SourcePos::line(&name, line),
+                    expected: format!("{columns} columns ({names})"),
+                    found: format!("{} columns: {}", fields.len(), shown(trimmed)),
+                });
+            }
+            let row = angles.len();
+            let field = |field: &str, expected: String, found: &str| ReadError::Field {
+                pos: SourcePos::line(&name, line),
+                field: field.to_owned(),
+                expected,
+                found: shown(found),
+            };
+            match fields[0].parse::<usize>() {
+                Ok(i) if i == row => {}
+                _ => {
+                    return Err(field(
+                        "index",
+                        format!("{row} (rows are numbered from 0 without gaps)"),
+                        fields[0],
+                    ));
+                }
+            }
+            let angle = match fields[1].parse::<f64>() {
+                Ok(a) if a.is_finite() => a,
+                _ => {
+                    return Err(field(
+                        "angle_rad",
+                        "a finite angle in radians".to_owned(),
+                        fields[1],
+                    ));
+                }
+            };
+            let range = if fields[2].is_empty() {
+                f64::NAN
+            } else {
+                fields[2].parse::<f64>().map_err(|_| {
+                    field(
+                        "range_m",
+                        "a range in metres, or empty or `nan` for no return".to_owned(),
+                        fields[2],
+                    )
+                })?
+            };
+            if columns == 4 {
+                let intensity = if fields[3].is_empty() {
+                    f64::NAN
+                } else {
+                    fields[3].parse::<f64>().map_err(|_| {
+                        field(
+                            "intensity",
+                            "a number, or empty or `nan`".to_owned(),
+                            fields[3],
+                        )
+                    })?
+                };
+                intensities.push(intensity);
+            }
+            angles.push(angle);
+            ranges.push(range);
+            row_lines.push(line);
+        }
+
+        let Some((header_line, columns)) = header else {
+            return Err(ReadError::Syntax {
+                pos: SourcePos::line(&name, self.lines.line_number() + 1),
+                expected: format!("the header `{HEADER}`"),
+                found: "the end of the input".to_owned(),
+            });
+        };
+        let n = angles.len();
+        if n < 2 {
+            return Err(ReadError::Syntax {
+                pos: SourcePos::line(&name, self.lines.line_number() + 1),
+                expected: "at least 2 data rows (to derive angle_increment)".to_owned(),
+                found: format!("{n} rows and then the end of the input"),
+            });
+        }
+        let angle_min = angles[0];
+        let increment = (angles[n - 1] - angle_min) / (n - 1) as f64;
+        if !increment.is_finite() || increment == 0.0 {
+            return Err(ReadError::Field {
+                pos: SourcePos::line(&name, row_lines[n - 1]),
+                field: "angle_rad".to_owned(),
+                expected: "angles that change from row to row".to_owned(),
+                found: format!("the last row at the first row's angle {angle_min}"),
+            });
+        }
+        let tolerance = ANGLE_TOLERANCE * increment.abs();
+        for (i, (&a, &line)) in angles.iter().zip(&row_lines).enumerate() {
+            let want = angle_min + i as f64 * increment;
+            if (a - want).abs().is_nan() || (a - want).abs() > tolerance {
+                return Err(ReadError::Field {
+                    pos: SourcePos::line(&name, line),
+                    field: "angle_rad".to_owned(),
+                    expected: format!(
+                        "uniform angles: {want} (= {angle_min} + {i} * {increment}) within \
+                         {tolerance}"
+                    ),
+                    found: format!("{a}"),
+                });
+            }
+        }
+        let pose = match meta.pose {
+            [None, None, None] => None,
+            [Some(x), Some(y), Some(theta)] => Some(Pose2::new(x, y, theta)),
+            _ => {
+                return Err(ReadError::Syntax {
+                    pos: SourcePos::line(&name, meta.pose_line),
+                    expected: "all of `# pose_x:`, `# pose_y:` and `# pose_theta:`".to_owned(),
+                    found: "only some of them".to_owned(),
+                });
+            }
+        };
+        let scan = Scan {
+            angle_min,
+            angle_increment: increment,
+            range_min: meta.range_min.unwrap_or(DEFAULT_RANGE_MIN),
+            range_max: meta.range_max.unwrap_or(DEFAULT_RANGE_MAX),
+            ranges,
+            intensities: (columns == 4).then_some(intensities),
+            stamp: meta.stamp,
+        };
+        scan.validate().map_err(|source| ReadError::InvalidScan {
+            pos: SourcePos::line(&name, header_line),
+            source,
+        })?;
+        Ok(ScanRecord {
+            scan,
+            pose,
+            line: Some(row_lines[0]),
+        })
+    }
+}
+
+fn parse_comment(name: &str, line: usize, comment: &str, meta: &mut Meta) -> Result<(), ReadError> {
+    let Some((key, value)) = comment.split_once(':') else {
+        return Ok(());
+    };
+    let key = key.trim();
+    let slot = match key {
+        "range_min" => &mut meta.range_min,
+        "range_max" => &mut meta.range_max,
+        "stamp" => &mut meta.stamp,
+        "pose_x" => &mut meta.pose[0],
+        "pose_y" => &mut meta.pose[1],
+        "pose_theta" => &mut meta.pose[2],
+        _ => return Ok(()),
+    };
+    let value = value.trim();
+    match value.parse::<f64>() {
+        Ok(v) if v.is_finite() => *slot = Some(v),
+        _ => {
+            return Err(ReadError::Field {
+                pos: SourcePos::line(name, line),
+                field: format!("# {key}"),
+                expected: "a finite number".to_owned(),
+                found: shown(value),
+            });
+        }
+    }
+    if key.starts_with("pose_") {
+        meta.pose_line = line;
+    }
+    Ok(())
+}
+
+impl ScanSource for CsvSource {
+    fn next_record(&mut self, _skipped: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
+        if self.done {
+            return None;
+        }
+        self.done = true;
+        Some(self.read_scan())
+    }
+}

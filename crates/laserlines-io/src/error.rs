@@ -1,0 +1,277 @@
+//! Errors of the readers and writers, each naming the file, the place in it and what was wrong.
+
+use std::fmt;
+
+use laserlines::ScanError;
+
+/// A place in an input: which line (and column), or which byte for binary formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum At {
+    /// A 1-based line number.
+    Line(usize),
+    /// A 1-based line number and a 1-based column (in bytes).
+    LineColumn {
+        /// 1-based line number.
+        line: usize,
+        /// 1-based column, counted in bytes.
+        column: usize,
+    },
+    /// A 0-based byte offset into the (decompressed) input.
+    Byte(u64),
+}
+
+impl At {
+    /// The line number, when this place is a line.
+    #[must_use]
+    pub fn line(self) -> Option<usize> {
+        match self {
+            Self::Line(line) | Self::LineColumn { line, .. } => Some(line),
+            Self::Byte(_) => None,
+        }
+    }
+}
+
+/// A file name and a place in it, shown as `exp1.dat:17`, `scan.json:3:15` or
+/// `log.bag: byte 1234`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SourcePos {
+    /// The input's name as the user gave it (a path, or `-` for standard input).
+    pub file: String,
+    /// The place in the input.
+    pub at: At,
+}
+
+impl SourcePos {
+    /// A position at a 1-based line.
+    #[must_use]
+    pub fn line(file: &str, line: usize) -> Self {
+        Self {
+            file: file.to_owned(),
+            at: At::Line(line),
+        }
+    }
+
+    /// A position at a 1-based line and column.
+    #[must_use]
+    pub fn line_column(file: &str, line: usize, column: usize) -> Self {
+        Self {
+            file: file.to_owned(),
+            at: At::LineColumn { line, column },
+        }
+    }
+
+    /// A position at a 0-based byte offset.
+    #[must_use]
+    pub fn byte(file: &str, offset: u64) -> Self {
+        Self {
+            file: file.to_owned(),
+            at: At::Byte(offset),
+        }
+    }
+}
+
+impl fmt::Display for SourcePos {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.at {
+            At::Line(line) => write!(f, "{}:{line}", self.file),
+            At::LineColumn { line, column } => write!(f, "{}:{line}:{column}", self.file),
+            At::Byte(offset) => write!(f, "{}: byte {offset}", self.file),
+        }
+    }
+}
+
+/// Why reading scans failed. Every variant names the input; all but [`ReadError::Open`] and
+/// [`ReadError::UnknownFormat`] also name the line (or byte offset) and what was expected.
+///
+/// After an error, a [`crate::ScanReader`] goes on with the next record where the format
+/// allows it (a JSONL line, a `.dat` line, an element of a JSON array); after an error that
+/// leaves it lost (a read failure, broken JSON framing, any CSV error) it ends. So a caller can
+/// stop at the first error, or count the error and keep iterating.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    /// The input could not be opened.
+    #[error("{file}: cannot open: {source}")]
+    Open {
+        /// The input's name.
+        file: String,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// No format was given and none could be told from the name.
+    #[error(
+        "{file}: cannot tell the scan format from the name (found {found}); expected a name \
+         ending in .json, .jsonl, .ndjson, .csv or .dat (optionally followed by .gz), or an \
+         explicit format (one of: json, jsonl, csv, dat)"
+    )]
+    UnknownFormat {
+        /// The input's name.
+        file: String,
+        /// What the name ends with, e.g. `extension .txt` or `no extension`.
+        found: String,
+    },
+    /// Reading failed part way (I/O error, corrupt or truncated gzip stream, invalid UTF-8
+    /// where text is required, a line too long). Ends the reader.
+    #[error("{pos}: read failed: {source}")]
+    Io {
+        /// Where reading failed (the line being read).
+        pos: SourcePos,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The text does not have the shape the format requires.
+    #[error("{pos}: expected {expected}, found {found}")]
+    Syntax {
+        /// Where.
+        pos: SourcePos,
+        /// What the format requires there.
+        expected: String,
+        /// What the input holds there.
+        found: String,
+    },
+    /// A JSON text is malformed (the message is `serde_json`'s, without its position).
+    #[error("{pos}: malformed JSON: {message}")]
+    Json {
+        /// Where the JSON parser stopped.
+        pos: SourcePos,
+        /// The parser's description of the problem.
+        message: String,
+    },
+    /// A field holds a value of the wrong kind or out of range.
+    #[error("{pos}: {field}: expected {expected}, found {found}")]
+    Field {
+        /// Where the field is.
+        pos: SourcePos,
+        /// The field's name (e.g. `ranges`, `ranges[3]`, `token 0 (timestamp)`).
+        field: String,
+        /// What the field must hold.
+        expected: String,
+        /// What it holds.
+        found: String,
+    },
+    /// The record parsed but is not a valid scan ([`laserlines::Scan::validate`]).
+    #[error("{pos}: invalid scan: {source}")]
+    InvalidScan {
+        /// Where the record is.
+        pos: SourcePos,
+        /// The validation error.
+        source: ScanError,
+    },
+}
+
+impl ReadError {
+    /// The input's name.
+    #[must_use]
+    pub fn file(&self) -> &str {
+        match self {
+            Self::Open { file, .. } | Self::UnknownFormat { file, .. } => file,
+            Self::Io { pos, .. }
+            | Self::Syntax { pos, .. }
+            | Self::Json { pos, .. }
+            | Self::Field { pos, .. }
+            | Self::InvalidScan { pos, .. } => &pos.file,
+        }
+    }
+
+    /// The place in the input, when the error has one.
+    #[must_use]
+    pub fn pos(&self) -> Option<&SourcePos> {
+        match self {
+            Self::Open { .. } | Self::UnknownFormat { .. } => None,
+            Self::Io { pos, .. }
+            | Self::Syntax { pos, .. }
+            | Self::Json { pos, .. }
+            | Self::Field { pos, .. }
+            | Self::InvalidScan { pos, .. } => Some(pos),
+        }
+    }
+
+    /// The 1-based line of the error, when it has one.
+    #[must_use]
+    pub fn line(&self) -> Option<usize> {
+        self.pos().and_then(|p| p.at.line())
+    }
+
+    /// A short reason, used as the key of [`crate::SkipCounts`] (e.g. `malformed JSON`).
+    #[must_use]
+    pub fn reason(&self) -> &'static str {
+        match self {
+            Self::Open { .. } => "cannot open",
+            Self::UnknownFormat { .. } => "unknown format",
+            Self::Io { .. } => "read failed",
+            Self::Syntax { .. } => "malformed record",
+            Self::Json { .. } => "malformed JSON",
+            Self::Field { .. } => "bad field",
+            Self::InvalidScan { .. } => "invalid scan",
+        }
+    }
+}
+
+/// Why writing scans or lines failed.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    /// The output could not be created or written.
+    #[error("{file}: {source}")]
+    Io {
+        /// The output's name.
+        file: String,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The format cannot be written (e.g. BreezySLAM `.dat`, whose extra fields are unknown).
+    #[error("{file}: writing the {format} format is not supported")]
+    Unsupported {
+        /// The output's name.
+        file: String,
+        /// The format's name.
+        format: &'static str,
+    },
+    /// The format holds one scan per file and a second one was written.
+    #[error("{file}: the {format} format holds one scan per file; got scan number {count}")]
+    OneScanPerFile {
+        /// The output's name.
+        file: String,
+        /// The format's name.
+        format: &'static str,
+        /// 1-based number of the scan that did not fit.
+        count: usize,
+    },
+    /// No format was given and none could be told from the name.
+    #[error(
+        "{file}: cannot tell the output format from the name; expected a name ending in \
+         .json, .jsonl, .ndjson or .csv (optionally followed by .gz), or an explicit format"
+    )]
+    UnknownFormat {
+        /// The output's name.
+        file: String,
+    },
+}
+
+/// Human description of a JSON value's kind, for "found ..." messages.
+pub(crate) fn json_kind(v: &serde_json::Value) -> String {
+    use serde_json::Value;
+    match v {
+        Value::Null => "null".to_owned(),
+        Value::Bool(b) => format!("a boolean ({b})"),
+        Value::Number(n) => format!("a number ({n})"),
+        Value::String(s) => {
+            let shown: String = s.chars().take(20).collect();
+            if shown.len() < s.len() {
+                format!("a string (\"{shown}...\")")
+            } else {
+                format!("a string (\"{shown}\")")
+            }
+        }
+        Value::Array(a) => format!("an array of {} values", a.len()),
+        Value::Object(_) => "an object".to_owned(),
+    }
+}
+
+/// Shows a piece of input text in a message: quoted and cut to a sensible length.
+pub(crate) fn shown(text: &str) -> String {
+    const MAX: usize = 40;
+    let mut out: String = text.chars().take(MAX).collect();
+    if out.len() < text.len() {
+        out.push_str("...");
+    }
+    format!("`{}`", out.escape_debug())
+}

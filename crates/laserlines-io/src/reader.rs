@@ -1,0 +1,363 @@
+//! Opening inputs (files, standard input, gzip) and the streaming [`ScanReader`].
+
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, Cursor, Read};
+use std::path::Path;
+
+use crate::error::{ReadError, SourcePos};
+use crate::format::{Format, describe_extension, has_gz_extension};
+use crate::record::ScanRecord;
+use crate::skip::SkipCounts;
+
+/// A boxed, sendable buffered input: what every [`ScanSource`] reads from.
+pub type Input = Box<dyn BufRead + Send>;
+
+/// Longest line (or JSON element) a text reader accepts, bytes. Longer input ends the reader
+/// with an error instead of exhausting memory.
+pub const MAX_LINE_BYTES: usize = 64 * 1024 * 1024;
+
+/// The first two bytes of every gzip stream.
+const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
+
+/// A format's parser behind a [`ScanReader`]: yields records one at a time.
+///
+/// Each format implements this on top of an [`Input`]. New formats (binary logs, other text
+/// logs) slot in by implementing it and wrapping the source with [`ScanReader::from_source`].
+pub trait ScanSource: Send {
+    /// The next record, `None` at the end of the input.
+    ///
+    /// After `Some(Err(_))` the reader may be called again: it then goes on with the next
+    /// record when the format allows it, or returns `None`. Records skipped by design (not
+    /// returned as errors) are counted in `skipped`.
+    fn next_record(&mut self, skipped: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>>;
+}
+
+/// A streaming reader of scans: an iterator of records (or errors) that reads its input
+/// piece by piece, so memory stays flat on long inputs.
+///
+/// It counts what it skipped ([`ScanReader::skipped`]): every error item it returned, under
+/// [`ReadError::reason`], and anything its format skips by design.
+pub struct ScanReader {
+    name: String,
+    format: Format,
+    source: Box<dyn ScanSource>,
+    skipped: SkipCounts,
+    records: u64,
+    finished: bool,
+}
+
+impl std::fmt::Debug for ScanReader {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ScanReader")
+            .field("name", &self.name)
+            .field("format", &self.format)
+            .field("records", &self.records)
+            .field("skipped", &self.skipped)
+            .field("finished", &self.finished)
+            .finish_non_exhaustive()
+    }
+}
+
+impl ScanReader {
+    /// Wraps a format's parser. `name` is the input's name used in messages.
+    #[must_use]
+    pub fn from_source(name: &str, format: Format, source: Box<dyn ScanSource>) -> Self {
+        Self {
+            name: name.to_owned(),
+            format,
+            source,
+            skipped: SkipCounts::new(),
+            records: 0,
+            finished: false,
+        }
+    }
+
+    /// The input's name as given (a path, or `-`).
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The format being read.
+    #[must_use]
+    pub fn format(&self) -> Format {
+        self.format
+    }
+
+    /// What was skipped so far, by reason.
+    #[must_use]
+    pub fn skipped(&self) -> &SkipCounts {
+        &self.skipped
+    }
+
+    /// Number of records returned so far (not counting errors).
+    #[must_use]
+    pub fn records(&self) -> u64 {
+        self.records
+    }
+}
+
+impl Iterator for ScanReader {
+    type Item = Result<ScanRecord, ReadError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.finished {
+            return None;
+        }
+        match self.source.next_record(&mut self.skipped) {
+            None => {
+                self.finished = true;
+                None
+            }
+            Some(Ok(record)) => {
+                self.records += 1;
+                Some(Ok(record))
+            }
+            Some(Err(e)) => {
+                self.skipped.add(e.reason());
+                Some(Err(e))
+            }
+        }
+    }
+}
+
+/// Opens a scan file, gzipped or not, as a streaming [`ScanReader`].
+///
+/// `format` overrides the choice by extension ([`Format::from_path`], ignoring `.gz`). The
+/// path `-` reads standard input (then `format` is required). The input is decompressed when
+/// its name ends in `.gz` or it starts with the gzip magic bytes.
+///
+/// # Errors
+/// [`ReadError::UnknownFormat`] when no format is given and none can be told from the name;
+/// [`ReadError::Open`] when the file cannot be opened or its first bytes cannot be read.
+pub fn open(path: &Path, format: Option<Format>) -> Result<ScanReader, ReadError> {
+    let name = path.display().to_string();
+    if path == Path::new("-") {
+        let format = format.ok_or_else(|| ReadError::UnknownFormat {
+            file: name.clone(),
+            found: "standard input, which has no name".to_owned(),
+        })?;
+        return from_reader(&name, BufReader::new(io::stdin()), format);
+    }
+    let format = match format {
+        Some(f) => f,
+        None => Format::from_path(path).ok_or_else(|| ReadError::UnknownFormat {
+            file: name.clone(),
+            found: describe_extension(path),
+        })?,
+    };
+    let file = File::open(path).map_err(|source| ReadError::Open {
+        file: name.clone(),
+        source,
+    })?;
+    let input = open_input(
+        &name,
+        Box::new(BufReader::with_capacity(1 << 16, file)),
+        has_gz_extension(path),
+    )?;
+    Ok(reader_for(&name, input, format))
+}
+
+/// Reads scans of `format` from any buffered reader (e.g. standard input); `name` is used in
+/// messages. Gzip input is recognised by its magic bytes and decompressed.
+///
+/// # Errors
+/// [`ReadError::Open`] when the first bytes cannot be read.
+pub fn from_reader(
+    name: &str,
+    reader: impl BufRead + Send + 'static,
+    format: Format,
+) -> Result<ScanReader, ReadError> {
+    let input = open_input(name, Box::new(reader), false)?;
+    Ok(reader_for(name, input, format))
+}
+
+fn reader_for(name: &str, input: Input, format: Format) -> ScanReader {
+    let source: Box<dyn ScanSource> = match format {
+        Format::Json => Box::new(crate::json::JsonSource::new(name, input)),
+        Format::Jsonl => Box::new(crate::json::JsonlSource::new(name, input)),
+        Format::Csv => Box::new(crate::csv::CsvSource::new(name, input)),
+        Format::BreezyDat => Box::new(crate::breezy::DatSource::new(name, input)),
+    };
+    ScanReader::from_source(name, format, source)
+}
+
+/// Wraps `input` in a gzip decoder when `gz` is set or it starts with the gzip magic.
+///
+/// # Errors
+/// [`ReadError::Open`] when the first bytes cannot be read.
+pub fn open_input(name: &str, mut input: Input, gz: bool) -> Result<Input, ReadError> {
+    let mut head = [0u8; 2];
+    let mut got = 0;
+    while got < head.len() {
+        match input.read(&mut head[got..]) {
+            Ok(0) => break,
+            Ok(n) => got += n,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            Err(source) => {
+                return Err(ReadError::Open {
+                    file: name.to_owned(),
+                    source,
+                });
+            }
+        }
+    }
+    let is_gzip = got == head.len() && head == GZIP_MAGIC;
+    let restored: Input = Box::new(Cursor::new(head[..got].to_vec()).chain(input));
+    if is_gzip || (gz && got > 0) {
+        let decoder = flate2::bufread::MultiGzDecoder::new(restored);
+        Ok(Box::new(BufReader::with_capacity(1 << 16, decoder)))
+    } else {
+        Ok(restored)
+    }
+}
+
+/// One line of text read by [`Lines`].
+pub(crate) enum LineItem<'a> {
+    /// A line (without its `\n` or `\r\n`) and its 1-based number.
+    Text(usize, &'a str),
+    /// A line that is not UTF-8: a recoverable error.
+    NotUtf8(ReadError),
+}
+
+/// Reads an input line by line, with line numbers, a length limit, and clear errors.
+pub(crate) struct Lines {
+    name: String,
+    input: Input,
+    buf: Vec<u8>,
+    line: usize,
+    done: bool,
+}
+
+impl Lines {
+    pub(crate) fn new(name: &str, input: Input) -> Self {
+        Self {
+            name: name.to_owned(),
+            input,
+            buf: Vec::new(),
+            line: 0,
+            done: false,
+        }
+    }
+
+    /// The number of the last line read (0 before the first).
+    pub(crate) fn line_number(&self) -> usize {
+        self.line
+    }
+
+    /// The next line; `Err` is fatal (the reader is then done).
+    pub(crate) fn next_line(&mut self) -> Option<Result<LineItem<'_>, ReadError>> {
+        if self.done {
+            return None;
+        }
+        self.buf.clear();
+        let limit = MAX_LINE_BYTES as u64 + 1;
+        let read = loop {
+            match (&mut self.input)
+                .take(limit)
+                .read_until(b'\n', &mut self.buf)
+            {
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                other => break other,
+            }
+        };
+        self.line += 1;
+        match read {
+            Err(source) => {
+                self.done = true;
+                Some(Err(ReadError::Io {
+                    pos: SourcePos::line(&self.name, self.line),
+                    source,
+                }))
+            }
+            Ok(0) => {
+                self.done = true;
+                self.line -= 1;
+                None
+            }
+            Ok(_) => {
+                if self.buf.len() > MAX_LINE_BYTES && self.buf.last() != Some(&b'\n') {
+                    self.done = true;
+                    return Some(Err(ReadError::Io {
+                        pos: SourcePos::line(&self.name, self.line),
+                        source: io::Error::new(
+                            io::ErrorKind::InvalidData,
+                            format!("line longer than {MAX_LINE_BYTES} bytes"),
+                        ),
+                    }));
+                }
+                let mut end = self.buf.len();
+                if end > 0 && self.buf[end - 1] == b'\n' {
+                    end -= 1;
+                    if end > 0 && self.buf[end - 1] == b'\r' {
+                        end -= 1;
+                    }
+                }
+                let bytes = &self.buf[..end];
+                let bytes = if self.line == 1 {
+                    bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes)
+                } else {
+                    bytes
+                };
+                match std::str::from_utf8(bytes) {
+                    Ok(text) => Some(Ok(LineItem::Text(self.line, text))),
+                    Err(e) => Some(Ok(LineItem::NotUtf8(ReadError::Syntax {
+                        pos: SourcePos::line_column(&self.name, self.line, e.valid_up_to() + 1),
+                        expected: "UTF-8 text".to_owned(),
+                        found: format!("the byte 0x{:02x}", bytes[e.valid_up_to()]),
+                    }))),
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lines_of(data: &'static [u8]) -> Vec<String> {
+        let mut lines = Lines::new("t", Box::new(data));
+        let mut out = Vec::new();
+        while let Some(item) = lines.next_line() {
+            match item {
+                Ok(LineItem::Text(n, t)) => out.push(format!("{n}:{t}")),
+                Ok(LineItem::NotUtf8(e)) => out.push(e.to_string()),
+                Err(e) => out.push(format!("fatal {e}")),
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn lines_strip_newlines_bom_and_report_bad_utf8() {
+        assert_eq!(
+            lines_of(b"\xEF\xBB\xBFa\r\nb\n\nc"),
+            vec!["1:a", "2:b", "3:", "4:c"]
+        );
+        assert_eq!(
+            lines_of(b"ok\nx\xffy\nz\n"),
+            vec![
+                "1:ok",
+                "t:2:2: expected UTF-8 text, found the byte 0xff",
+                "3:z"
+            ]
+        );
+    }
+
+    #[test]
+    fn gzip_is_detected_by_magic() {
+        use std::io::Write;
+        let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+        enc.write_all(b"hello\n").unwrap();
+        let gz = enc.finish().unwrap();
+        let mut input = open_input("t", Box::new(Cursor::new(gz)), false).unwrap();
+        let mut s = String::new();
+        input.read_to_string(&mut s).unwrap();
+        assert_eq!(s, "hello\n");
+        let mut plain = open_input("t", Box::new(&b"x"[..]), false).unwrap();
+        s.clear();
+        plain.read_to_string(&mut s).unwrap();
+        assert_eq!(s, "x");
+    }
+}
