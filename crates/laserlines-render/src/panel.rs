@@ -1,0 +1,1079 @@
+//! A panel: one plot area with its axes, drawn in world (or data) coordinates.
+//!
+//! Maps use metres with equal scales on both axes, y up: the sensor frame of REP 103 lies
+//! with x (forward) pointing right on the page and y (left) pointing up, as the axis labels
+//! say. Charts use independent, optionally logarithmic axes.
+
+use laserlines::math::Point2;
+
+use crate::geometry::{Extent, PxRect, Scale, decimals_for, nice_floor, nice_step, ticks};
+use crate::style::{Anchor, Color, Marker, Style, TextStyle, text_width};
+use crate::svg::{Attrs, SvgWriter, fmt_fixed, fmt_px, fmt_trimmed};
+
+/// Font size of tick labels, px.
+const TICK_FONT: f64 = 11.0;
+/// Font size of axis labels, px.
+const LABEL_FONT: f64 = 12.0;
+/// Font size of panel titles, px.
+const TITLE_FONT: f64 = 13.5;
+/// Line height of panel titles, px.
+const TITLE_LINE: f64 = 17.0;
+/// Length of tick marks, px.
+const TICK_LEN: f64 = 4.0;
+/// Geometry is clipped to the plot area grown by this much, px (the SVG clip path does the
+/// exact cut; this only keeps coordinates small).
+const CLIP_MARGIN: f64 = 12.0;
+/// Target spacing of major ticks, px.
+const TICK_SPACING: f64 = 60.0;
+
+/// One axis of a chart panel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Axis {
+    /// Smallest value shown.
+    pub min: f64,
+    /// Largest value shown.
+    pub max: f64,
+    /// Base-10 logarithmic scale (then `0 < min < max`).
+    pub log: bool,
+    /// Axis label, with its unit, e.g. `time per scan [us]`.
+    pub label: String,
+}
+
+impl Axis {
+    /// A linear axis over `[min, max]`.
+    #[must_use]
+    pub fn linear(min: f64, max: f64, label: impl Into<String>) -> Self {
+        Self {
+            min,
+            max,
+            log: false,
+            label: label.into(),
+        }
+    }
+
+    /// A logarithmic axis over `[min, max]`, `0 < min < max`.
+    #[must_use]
+    pub fn log(min: f64, max: f64, label: impl Into<String>) -> Self {
+        Self {
+            min,
+            max,
+            log: true,
+            label: label.into(),
+        }
+    }
+
+    /// The axis with its bounds repaired: finite, ordered, non-degenerate, positive on a log
+    /// scale.
+    fn sanitized(&self) -> Self {
+        let mut a = self.clone();
+        if a.log {
+            if !(a.min.is_finite() && a.min > 0.0) {
+                a.min = 1.0;
+            }
+            if !(a.max.is_finite() && a.max > a.min * 1.0001) {
+                a.max = a.min * 10.0;
+            }
+        } else {
+            if !a.min.is_finite() || a.min.abs() > 1e12 {
+                a.min = 0.0;
+            }
+            if !(a.max.is_finite() && a.max.abs() <= 1e12 && a.max - a.min > 1e-12) {
+                a.max = a.min + 1.0;
+            }
+        }
+        a
+    }
+}
+
+/// What kind of plot a panel is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    /// Equal scales, metres, scale bar.
+    Map,
+    /// Independent axes.
+    Chart,
+}
+
+/// One plot area with axes, ticks, grid, an optional scale bar, a title and notes.
+///
+/// Drawing calls take world coordinates (metres on maps, data units on charts); sizes of
+/// markers, strokes and text are in pixels. Geometry that falls outside the plot is clipped;
+/// anything non-finite is silently left out, so no input can break the document.
+#[derive(Debug, Clone)]
+pub struct Panel {
+    kind: Kind,
+    width: f64,
+    height: f64,
+    x: Scale,
+    y: Scale,
+    title: Option<String>,
+    x_label: String,
+    y_label: String,
+    grid: bool,
+    scale_bar: bool,
+    body: SvgWriter,
+    notes: Vec<String>,
+    /// Pixels covered by drawn data (samples), to keep the scale bar off the data.
+    ink: Vec<[f64; 2]>,
+}
+
+impl Panel {
+    /// A map of `view` (metres) whose plot area is about `plot_width` px wide, with equal
+    /// scales on both axes (y up).
+    ///
+    /// The plot's height follows the view's aspect ratio within 0.5..1.25 times the width;
+    /// beyond that the view is widened on the short side, centred. An invalid view (not
+    /// finite, empty) falls back to 2 m x 2 m around the origin.
+    #[must_use]
+    pub fn map(view: Extent, plot_width: f64) -> Self {
+        let view = if view.is_valid() {
+            view
+        } else {
+            Extent::new(-1.0, -1.0, 1.0, 1.0)
+        };
+        let width = sane_px(plot_width, 400.0);
+        let mut height = width * view.height() / view.width();
+        let mut v = view;
+        if !(height.is_finite() && height <= 1.25 * width) {
+            height = 1.25 * width;
+            let half = 0.5 * view.height() * width / height;
+            let c = view.center().x;
+            v.min_x = c - half;
+            v.max_x = c + half;
+        } else if height < 0.5 * width {
+            height = 0.5 * width;
+            let half = 0.5 * view.width() * height / width;
+            let c = view.center().y;
+            v.min_y = c - half;
+            v.max_y = c + half;
+        }
+        Self {
+            kind: Kind::Map,
+            width,
+            height,
+            x: Scale {
+                min: v.min_x,
+                max: v.max_x,
+                log: false,
+                px0: 0.0,
+                px1: width,
+            },
+            y: Scale {
+                min: v.min_y,
+                max: v.max_y,
+                log: false,
+                px0: height,
+                px1: 0.0,
+            },
+            title: None,
+            x_label: "x [m], forward".to_owned(),
+            y_label: "y [m], left".to_owned(),
+            grid: true,
+            scale_bar: true,
+            body: SvgWriter::new(),
+            notes: Vec::new(),
+            ink: Vec::new(),
+        }
+    }
+
+    /// A chart with independent axes and a plot area of `plot_width` x `plot_height` px.
+    #[must_use]
+    pub fn chart(x: &Axis, y: &Axis, plot_width: f64, plot_height: f64) -> Self {
+        let (x, y) = (x.sanitized(), y.sanitized());
+        let width = sane_px(plot_width, 480.0);
+        let height = sane_px(plot_height, 320.0);
+        Self {
+            kind: Kind::Chart,
+            width,
+            height,
+            x: Scale {
+                min: x.min,
+                max: x.max,
+                log: x.log,
+                px0: 0.0,
+                px1: width,
+            },
+            y: Scale {
+                min: y.min,
+                max: y.max,
+                log: y.log,
+                px0: height,
+                px1: 0.0,
+            },
+            title: None,
+            x_label: x.label,
+            y_label: y.label,
+            grid: true,
+            scale_bar: false,
+            body: SvgWriter::new(),
+            notes: Vec::new(),
+            ink: Vec::new(),
+        }
+    }
+
+    /// Sets the title written above the plot (wrapped to the panel's width).
+    pub fn set_title(&mut self, title: impl Into<String>) {
+        self.title = Some(title.into());
+    }
+
+    /// Sets the axis labels.
+    pub fn set_labels(&mut self, x: impl Into<String>, y: impl Into<String>) {
+        self.x_label = x.into();
+        self.y_label = y.into();
+    }
+
+    /// Shows or hides the grid lines at the major ticks (shown by default).
+    pub fn show_grid(&mut self, on: bool) {
+        self.grid = on;
+    }
+
+    /// Shows or hides the scale bar (maps show one by default; charts never do).
+    pub fn show_scale_bar(&mut self, on: bool) {
+        self.scale_bar = on && self.kind == Kind::Map;
+    }
+
+    /// Size of the plot area, px.
+    #[must_use]
+    pub fn plot_size(&self) -> [f64; 2] {
+        [self.width, self.height]
+    }
+
+    /// The world rectangle the plot area shows (for log axes, the data bounds).
+    #[must_use]
+    pub fn view(&self) -> Extent {
+        Extent::new(self.x.min, self.y.min, self.x.max, self.y.max)
+    }
+
+    /// Pixels per metre on a map (per data unit on a linear chart's x axis).
+    #[must_use]
+    pub fn px_per_unit(&self) -> f64 {
+        self.x.px_per_unit()
+    }
+
+    /// The pixel of a world point, relative to the plot's top-left corner, or `None` when it
+    /// has none (non-finite, or `<= 0` on a log axis).
+    #[must_use]
+    pub fn to_px(&self, p: Point2) -> Option<[f64; 2]> {
+        Some([self.x.map(p.x)?, self.y.map(p.y)?])
+    }
+
+    fn clip_rect(&self) -> PxRect {
+        PxRect {
+            x0: -CLIP_MARGIN,
+            y0: -CLIP_MARGIN,
+            x1: self.width + CLIP_MARGIN,
+            y1: self.height + CLIP_MARGIN,
+        }
+    }
+
+    fn plot_rect(&self) -> PxRect {
+        PxRect {
+            x0: 0.0,
+            y0: 0.0,
+            x1: self.width,
+            y1: self.height,
+        }
+    }
+
+    /// A straight segment from `a` to `b`.
+    pub fn line(&mut self, a: Point2, b: Point2, style: &Style) {
+        let (Some(pa), Some(pb)) = (self.to_px(a), self.to_px(b)) else {
+            return;
+        };
+        let Some((pa, pb)) = self.clip_rect().clip_segment(pa, pb) else {
+            return;
+        };
+        self.add_ink(pa, pb);
+        self.body.leaf(
+            "line",
+            Attrs::new()
+                .px("x1", pa[0])
+                .px("y1", pa[1])
+                .px("x2", pb[0])
+                .px("y2", pb[1])
+                .style(&Style {
+                    fill: None,
+                    ..style.clone()
+                }),
+        );
+    }
+
+    /// A polyline through `points`; pieces outside the plot and around non-finite points are
+    /// left out (the line breaks there).
+    pub fn polyline(&mut self, points: &[Point2], style: &Style) {
+        let d = self.path_data(points);
+        if !d.is_empty() {
+            self.body.leaf(
+                "path",
+                Attrs::new().str("d", d).style(&Style {
+                    fill: None,
+                    ..style.clone()
+                }),
+            );
+        }
+    }
+
+    /// Records samples along a drawn segment (every 6 px, at most 400).
+    fn add_ink(&mut self, a: [f64; 2], b: [f64; 2]) {
+        let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+        let n = ((len / 6.0).ceil() as usize).clamp(1, 400);
+        for k in 0..=n {
+            let t = k as f64 / n as f64;
+            self.ink
+                .push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
+        }
+    }
+
+    fn path_data(&mut self, points: &[Point2]) -> String {
+        let rect = self.clip_rect();
+        let mut d = String::new();
+        let mut pen: Option<[f64; 2]> = None;
+        let px: Vec<Option<[f64; 2]>> = points.iter().map(|&p| self.to_px(p)).collect();
+        for w in px.windows(2) {
+            let (Some(a), Some(b)) = (w[0], w[1]) else {
+                pen = None;
+                continue;
+            };
+            let Some((ca, cb)) = rect.clip_segment(a, b) else {
+                pen = None;
+                continue;
+            };
+            if pen != Some(ca) {
+                push_cmd(&mut d, 'M', ca);
+            }
+            self.add_ink(ca, cb);
+            push_cmd(&mut d, 'L', cb);
+            pen = Some(cb);
+        }
+        d
+    }
+
+    /// A closed polygon (filled by the style's fill), clipped to the plot.
+    pub fn polygon(&mut self, points: &[Point2], style: &Style) {
+        let px: Vec<[f64; 2]> = points.iter().filter_map(|&p| self.to_px(p)).collect();
+        self.polygon_px(&px, style);
+    }
+
+    fn polygon_px(&mut self, px: &[[f64; 2]], style: &Style) {
+        let clipped = self.clip_rect().clip_polygon(px);
+        if clipped.len() < 3 {
+            return;
+        }
+        let mut pts = String::new();
+        for (i, p) in clipped.iter().enumerate() {
+            if i > 0 {
+                pts.push(' ');
+            }
+            pts.push_str(&fmt_px(p[0]));
+            pts.push(',');
+            pts.push_str(&fmt_px(p[1]));
+        }
+        self.body
+            .leaf("polygon", Attrs::new().str("points", pts).style(style));
+    }
+
+    /// A circle of `radius` world units around `center` (an ellipse on a chart with unequal
+    /// scales).
+    pub fn circle(&mut self, center: Point2, radius: f64, style: &Style) {
+        if !(radius.is_finite() && radius > 0.0) {
+            return;
+        }
+        if self.kind == Kind::Map {
+            let Some(c) = self.to_px(center) else { return };
+            let r = radius * self.px_per_unit();
+            // Left out when it cannot touch the plot.
+            let rect = self.clip_rect();
+            let near = c[0] + r >= rect.x0
+                && c[0] - r <= rect.x1
+                && c[1] + r >= rect.y0
+                && c[1] - r <= rect.y1;
+            if near && r < 1e6 {
+                self.body.leaf(
+                    "circle",
+                    Attrs::new()
+                        .px("cx", c[0])
+                        .px("cy", c[1])
+                        .px("r", r)
+                        .style(style),
+                );
+            }
+        } else {
+            let pts = arc_points(center, radius, 0.0, std::f64::consts::TAU);
+            self.polygon(&pts, style);
+        }
+    }
+
+    /// An arc of `radius` around `center` from angle `from` to `to` (rad, counter-clockwise
+    /// from +x; `to < from` draws clockwise).
+    pub fn arc(&mut self, center: Point2, radius: f64, from: f64, to: f64, style: &Style) {
+        if !(radius.is_finite() && radius > 0.0) {
+            return;
+        }
+        self.polyline(&arc_points(center, radius, from, to), style);
+    }
+
+    /// An annular sector around `center` between radii `inner` and `outer` and angles `from`
+    /// to `to` (rad, counter-clockwise from +x). `inner = 0` gives a pie slice, e.g. the
+    /// navigation sectors around the robot.
+    pub fn wedge(
+        &mut self,
+        center: Point2,
+        inner: f64,
+        outer: f64,
+        from: f64,
+        to: f64,
+        style: &Style,
+    ) {
+        if !(inner.is_finite() && outer.is_finite() && outer > 0.0 && inner >= 0.0) {
+            return;
+        }
+        let mut pts = arc_points(center, outer, from, to);
+        if inner > 0.0 {
+            let mut back = arc_points(center, inner, from, to);
+            back.reverse();
+            pts.extend(back);
+        } else {
+            pts.push(center);
+        }
+        self.polygon(&pts, style);
+    }
+
+    /// Text anchored at a world point (left out when the point lies outside the plot).
+    pub fn text(&mut self, at: Point2, text: &str, style: &TextStyle) {
+        let Some(p) = self.to_px(at) else { return };
+        if !self.plot_rect().contains(p) {
+            return;
+        }
+        self.text_px(p, text, style);
+    }
+
+    fn text_px(&mut self, p: [f64; 2], text: &str, style: &TextStyle) {
+        write_text(&mut self.body, p, text, style);
+    }
+
+    /// One point marker of `size` px at a world point.
+    pub fn marker(&mut self, at: Point2, marker: Marker, size: f64, style: &Style) {
+        self.markers(std::slice::from_ref(&at), marker, size, style);
+    }
+
+    /// Point markers of `size` px at world points, written as one group that carries the
+    /// style (markers outside the plot are left out; nothing is written when none remains).
+    pub fn markers(&mut self, points: &[Point2], marker: Marker, size: f64, style: &Style) {
+        let size = sane_px(size, 4.0).min(100.0);
+        let rect = self.clip_rect();
+        let inside: Vec<[f64; 2]> = points
+            .iter()
+            .filter_map(|&p| self.to_px(p))
+            .filter(|p| rect.contains(*p))
+            .collect();
+        if inside.is_empty() {
+            return;
+        }
+        self.ink.extend(inside.iter().copied());
+        self.body
+            .open("g", Attrs::new().style(&marker_style(marker, style)));
+        for p in inside {
+            write_marker(&mut self.body, p, marker, size);
+        }
+        self.body.close();
+    }
+
+    /// The robot: a triangle of `size` px at `at`, pointing along `heading` (rad,
+    /// counter-clockwise from +x), as in the paper's Fig. 3a.
+    pub fn robot(&mut self, at: Point2, heading: f64, size: f64, style: &Style) {
+        let Some(c) = self.to_px(at) else { return };
+        if !heading.is_finite() || !self.clip_rect().contains(c) {
+            return;
+        }
+        let size = sane_px(size, 12.0).min(100.0);
+        // Pixel y points down: a world direction (cos, sin) is (cos, -sin) on the page.
+        let dir = |a: f64, r: f64| [c[0] + r * a.cos(), c[1] - r * a.sin()];
+        let tip = dir(heading, 0.65 * size);
+        let left = dir(heading + 2.5, 0.5 * size);
+        let right = dir(heading - 2.5, 0.5 * size);
+        self.polygon_px(&[tip, left, right], style);
+    }
+
+    /// A note centred in the plot (e.g. "no valid points").
+    pub fn note(&mut self, text: impl Into<String>) {
+        self.notes.push(text.into());
+    }
+
+    fn title_lines(&self) -> Vec<String> {
+        match &self.title {
+            Some(t) => wrap(t, TITLE_FONT, true, self.width.max(120.0)),
+            None => Vec::new(),
+        }
+    }
+
+    /// Ticks of the x axis: (value, label, major).
+    fn x_ticks(&self) -> Vec<(f64, String, bool)> {
+        axis_ticks(&self.x, self.width)
+    }
+
+    fn y_ticks(&self) -> Vec<(f64, String, bool)> {
+        axis_ticks(&self.y, self.height)
+    }
+
+    /// Space around the plot area for ticks, labels and title: `[left, right, top, bottom]`,
+    /// px.
+    #[must_use]
+    pub fn margins(&self) -> [f64; 4] {
+        let label_w = self
+            .y_ticks()
+            .iter()
+            .map(|(_, l, _)| text_width(l, TICK_FONT, false))
+            .fold(0.0, f64::max);
+        let left = TICK_LEN + 4.0 + label_w + 8.0 + LABEL_FONT + 2.0;
+        // The last x tick label may stick out to the right.
+        let right = 14.0;
+        let top = 8.0 + TITLE_LINE * self.title_lines().len() as f64;
+        let bottom = TICK_LEN + 4.0 + TICK_FONT + 8.0 + LABEL_FONT + 4.0;
+        [left, right, top, bottom]
+    }
+
+    /// Writes the panel with its plot area's top-left corner at `origin` (px in the
+    /// document); `id` must be unique in the document.
+    pub(crate) fn write(&self, w: &mut SvgWriter, origin: [f64; 2], id: usize) {
+        let clip_id = format!("clip-{id}");
+        w.open(
+            "g",
+            Attrs::new().str("class", "panel").str(
+                "transform",
+                format!("translate({},{})", fmt_px(origin[0]), fmt_px(origin[1])),
+            ),
+        );
+        w.open("defs", Attrs::new());
+        w.open("clipPath", Attrs::new().str("id", clip_id.clone()));
+        w.leaf(
+            "rect",
+            Attrs::new()
+                .px("x", 0.0)
+                .px("y", 0.0)
+                .px("width", self.width)
+                .px("height", self.height),
+        );
+        w.close();
+        w.close();
+        let (xt, yt) = (self.x_ticks(), self.y_ticks());
+        if self.grid {
+            let major = Style::stroke(Color::GRID, 1.0).with_class("grid");
+            let mut d = String::new();
+            for (v, _, is_major) in &xt {
+                if let (true, Some(px)) = (*is_major, self.x.map(*v)) {
+                    push_cmd(&mut d, 'M', [px, 0.0]);
+                    push_cmd(&mut d, 'L', [px, self.height]);
+                }
+            }
+            for (v, _, is_major) in &yt {
+                if let (true, Some(py)) = (*is_major, self.y.map(*v)) {
+                    push_cmd(&mut d, 'M', [0.0, py]);
+                    push_cmd(&mut d, 'L', [self.width, py]);
+                }
+            }
+            if !d.is_empty() {
+                w.leaf("path", Attrs::new().str("d", d).style(&major));
+            }
+        }
+        w.open(
+            "g",
+            Attrs::new()
+                .str("class", "plot")
+                .str("clip-path", format!("url(#{clip_id})")),
+        );
+        w.append(&self.body);
+        w.close();
+        // Frame.
+        w.leaf(
+            "rect",
+            Attrs::new()
+                .px("x", 0.0)
+                .px("y", 0.0)
+                .px("width", self.width)
+                .px("height", self.height)
+                .style(&Style::stroke(Color::INK, 1.0).with_class("frame")),
+        );
+        self.write_axes(w, &xt, &yt);
+        if self.scale_bar {
+            self.write_scale_bar(w);
+        }
+        for (i, note) in self.notes.iter().enumerate() {
+            let y = 0.5 * self.height + 18.0 * (i as f64 - 0.5 * (self.notes.len() as f64 - 1.0));
+            write_text(
+                w,
+                [0.5 * self.width, y],
+                note,
+                &TextStyle::size(13.0)
+                    .italic()
+                    .colored(Color::GREY)
+                    .anchored(Anchor::Middle)
+                    .with_halo()
+                    .with_class("note"),
+            );
+        }
+        let lines = self.title_lines();
+        let n = lines.len() as f64;
+        for (i, line) in lines.iter().enumerate() {
+            write_text(
+                w,
+                [0.0, -6.0 - TITLE_LINE * (n - 1.0 - i as f64) - 3.0],
+                line,
+                &TextStyle::size(TITLE_FONT).bold().with_class("panel-title"),
+            );
+        }
+        w.close();
+    }
+
+    fn write_axes(
+        &self,
+        w: &mut SvgWriter,
+        xt: &[(f64, String, bool)],
+        yt: &[(f64, String, bool)],
+    ) {
+        let mut d = String::new();
+        let tick_style = TextStyle::size(TICK_FONT).with_class("tick-label");
+        w.open("g", Attrs::new().str("class", "axes"));
+        for (v, label, major) in xt {
+            let Some(px) = self.x.map(*v) else { continue };
+            let len = if *major { TICK_LEN } else { 0.6 * TICK_LEN };
+            push_cmd(&mut d, 'M', [px, self.height]);
+            push_cmd(&mut d, 'L', [px, self.height + len]);
+            if !label.is_empty() {
+                write_text(
+                    w,
+                    [px, self.height + TICK_LEN + 3.0 + TICK_FONT * 0.8],
+                    label,
+                    &tick_style.clone().anchored(Anchor::Middle),
+                );
+            }
+        }
+        for (v, label, major) in yt {
+            let Some(py) = self.y.map(*v) else { continue };
+            let len = if *major { TICK_LEN } else { 0.6 * TICK_LEN };
+            push_cmd(&mut d, 'M', [0.0, py]);
+            push_cmd(&mut d, 'L', [-len, py]);
+            if !label.is_empty() {
+                write_text(
+                    w,
+                    [-TICK_LEN - 3.0, py + 0.35 * TICK_FONT],
+                    label,
+                    &tick_style.clone().anchored(Anchor::End),
+                );
+            }
+        }
+        if !d.is_empty() {
+            w.leaf(
+                "path",
+                Attrs::new()
+                    .str("d", d)
+                    .style(&Style::stroke(Color::INK, 1.0)),
+            );
+        }
+        let [left, _, _, bottom] = self.margins();
+        write_text(
+            w,
+            [0.5 * self.width, self.height + bottom - 5.0],
+            &self.x_label,
+            &TextStyle::size(LABEL_FONT)
+                .anchored(Anchor::Middle)
+                .with_class("axis-label"),
+        );
+        let (x, y) = (-left + LABEL_FONT, 0.5 * self.height);
+        w.text(
+            "text",
+            Attrs::new()
+                .str("class", "axis-label")
+                .px("x", x)
+                .px("y", y)
+                .str("font-size", fmt_px(LABEL_FONT))
+                .str("text-anchor", "middle")
+                .str("fill", Color::INK.hex())
+                .str(
+                    "transform",
+                    format!("rotate(-90 {} {})", fmt_px(x), fmt_px(y)),
+                ),
+            &self.y_label,
+        );
+        w.close();
+    }
+
+    fn write_scale_bar(&self, w: &mut SvgWriter) {
+        let ppm = self.px_per_unit();
+        let len_m = nice_floor(0.2 * self.width / ppm);
+        let len_px = len_m * ppm;
+        if !(len_px.is_finite() && len_px > 4.0) {
+            return;
+        }
+        let label = format!("{} m", fmt_trimmed(len_m, 6));
+        let label_w = text_width(&label, TICK_FONT, false);
+        let box_w = len_px.max(label_w) + 12.0;
+        let box_h = 28.0;
+        // The corner whose box covers the fewest drawn samples (bottom right on ties).
+        let corners = [
+            [self.width - 8.0 - box_w, self.height - 8.0 - box_h],
+            [8.0, self.height - 8.0 - box_h],
+            [self.width - 8.0 - box_w, 8.0],
+            [8.0, 8.0],
+        ];
+        let covered = |c: &[f64; 2]| {
+            self.ink
+                .iter()
+                .filter(|p| {
+                    p[0] >= c[0] - 4.0
+                        && p[0] <= c[0] + box_w + 4.0
+                        && p[1] >= c[1] - 4.0
+                        && p[1] <= c[1] + box_h + 4.0
+                })
+                .count()
+        };
+        let mut best = (usize::MAX, corners[0]);
+        for c in corners {
+            let n = covered(&c);
+            if n < best.0 {
+                best = (n, c);
+            }
+        }
+        let [x0, y0] = best.1;
+        w.open("g", Attrs::new().str("class", "scale-bar"));
+        w.leaf(
+            "rect",
+            Attrs::new()
+                .px("x", x0)
+                .px("y", y0)
+                .px("width", box_w)
+                .px("height", box_h)
+                .style(
+                    &Style::stroke(Color::LIGHT_GREY, 0.8)
+                        .with_fill(Color::WHITE)
+                        .with_opacity(0.9),
+                ),
+        );
+        let bx = x0 + 0.5 * (box_w - len_px);
+        let by = y0 + box_h - 7.0;
+        let mut d = String::new();
+        push_cmd(&mut d, 'M', [bx, by - 4.0]);
+        push_cmd(&mut d, 'L', [bx, by]);
+        push_cmd(&mut d, 'L', [bx + len_px, by]);
+        push_cmd(&mut d, 'L', [bx + len_px, by - 4.0]);
+        w.leaf(
+            "path",
+            Attrs::new()
+                .str("d", d)
+                .style(&Style::stroke(Color::INK, 1.6)),
+        );
+        write_text(
+            w,
+            [x0 + 0.5 * box_w, by - 6.0],
+            &label,
+            &TextStyle::size(TICK_FONT).anchored(Anchor::Middle),
+        );
+        w.close();
+    }
+}
+
+/// Replaces a non-finite, tiny or huge pixel size by `fallback` or clamps it.
+pub(crate) fn sane_px(v: f64, fallback: f64) -> f64 {
+    if v.is_finite() && v > 0.0 {
+        v.clamp(1.0, 20_000.0)
+    } else {
+        fallback
+    }
+}
+
+fn push_cmd(d: &mut String, cmd: char, p: [f64; 2]) {
+    if !d.is_empty() {
+        d.push(' ');
+    }
+    d.push(cmd);
+    d.push_str(&fmt_px(p[0]));
+    d.push(' ');
+    d.push_str(&fmt_px(p[1]));
+}
+
+/// Points along an arc, at most 1 deg apart (at most 3600 of them).
+fn arc_points(center: Point2, radius: f64, from: f64, to: f64) -> Vec<Point2> {
+    let sweep = to - from;
+    if !(sweep.is_finite() && from.is_finite() && radius.is_finite()) {
+        return Vec::new();
+    }
+    let n = ((sweep.abs().to_degrees()).ceil() as usize).clamp(1, 3600);
+    (0..=n)
+        .map(|i| {
+            let a = from + sweep * i as f64 / n as f64;
+            Point2::new(center.x + radius * a.cos(), center.y + radius * a.sin())
+        })
+        .collect()
+}
+
+/// Greedy word wrap to `max_px` (a single word longer than that stays on its own line).
+pub(crate) fn wrap(text: &str, size: f64, bold: bool, max_px: f64) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut cur = String::new();
+    for word in text.split_whitespace() {
+        let candidate = if cur.is_empty() {
+            word.to_owned()
+        } else {
+            format!("{cur} {word}")
+        };
+        if !cur.is_empty() && text_width(&candidate, size, bold) > max_px {
+            lines.push(std::mem::take(&mut cur));
+            cur = word.to_owned();
+        } else {
+            cur = candidate;
+        }
+    }
+    if !cur.is_empty() {
+        lines.push(cur);
+    }
+    lines
+}
+
+/// Writes a `<text>` element at pixel `p`.
+pub(crate) fn write_text(w: &mut SvgWriter, p: [f64; 2], text: &str, style: &TextStyle) {
+    if !(p[0].is_finite() && p[1].is_finite()) {
+        return;
+    }
+    let mut a = Attrs::new();
+    if let Some(c) = &style.class {
+        a = a.str("class", c.clone());
+    }
+    a = a
+        .px("x", p[0] + style.offset[0])
+        .px("y", p[1] + style.offset[1])
+        .str("font-size", fmt_px(style.size));
+    if style.anchor != Anchor::Start {
+        a = a.str("text-anchor", style.anchor.svg());
+    }
+    if style.bold {
+        a = a.str("font-weight", "bold");
+    }
+    if style.italic {
+        a = a.str("font-style", "italic");
+    }
+    a = a.str("fill", style.color.hex());
+    if style.halo {
+        a = a
+            .str("stroke", "#ffffff")
+            .str("stroke-width", "3")
+            .str("stroke-opacity", "0.85")
+            .str("paint-order", "stroke");
+    }
+    w.text("text", a, text);
+}
+
+/// The style a marker is painted with: filled shapes take the fill (or else the stroke
+/// colour), line shapes take the stroke (or else the fill colour).
+pub(crate) fn marker_style(marker: Marker, style: &Style) -> Style {
+    let color = style.stroke.or(style.fill).unwrap_or(Color::INK);
+    match marker {
+        Marker::Dot => Style {
+            fill: Some(style.fill.unwrap_or(color)),
+            stroke: None,
+            ..style.clone()
+        },
+        Marker::Cross | Marker::Plus => Style {
+            stroke: Some(style.stroke.unwrap_or(color)),
+            fill: None,
+            ..style.clone()
+        },
+        Marker::Circle | Marker::Square | Marker::Diamond | Marker::Triangle => style.clone(),
+    }
+}
+
+/// Writes one marker of `size` px centred on `p` (no style: the caller's group has it).
+pub(crate) fn write_marker(w: &mut SvgWriter, p: [f64; 2], marker: Marker, size: f64) {
+    let h = 0.5 * size;
+    match marker {
+        Marker::Dot | Marker::Circle => w.leaf(
+            "circle",
+            Attrs::new().px("cx", p[0]).px("cy", p[1]).px("r", h),
+        ),
+        Marker::Square => w.leaf(
+            "rect",
+            Attrs::new()
+                .px("x", p[0] - h)
+                .px("y", p[1] - h)
+                .px("width", size)
+                .px("height", size),
+        ),
+        Marker::Cross | Marker::Plus => {
+            let mut d = String::new();
+            let (a, b) = if marker == Marker::Cross {
+                ([-h, -h, h, h], [-h, h, h, -h])
+            } else {
+                ([-h, 0.0, h, 0.0], [0.0, -h, 0.0, h])
+            };
+            push_cmd(&mut d, 'M', [p[0] + a[0], p[1] + a[1]]);
+            push_cmd(&mut d, 'L', [p[0] + a[2], p[1] + a[3]]);
+            push_cmd(&mut d, 'M', [p[0] + b[0], p[1] + b[1]]);
+            push_cmd(&mut d, 'L', [p[0] + b[2], p[1] + b[3]]);
+            w.leaf("path", Attrs::new().str("d", d));
+        }
+        Marker::Diamond | Marker::Triangle => {
+            let pts: Vec<[f64; 2]> = if marker == Marker::Diamond {
+                vec![
+                    [p[0], p[1] - h],
+                    [p[0] + h, p[1]],
+                    [p[0], p[1] + h],
+                    [p[0] - h, p[1]],
+                ]
+            } else {
+                vec![
+                    [p[0], p[1] - h],
+                    [p[0] + h, p[1] + 0.8 * h],
+                    [p[0] - h, p[1] + 0.8 * h],
+                ]
+            };
+            let s: Vec<String> = pts
+                .iter()
+                .map(|q| format!("{},{}", fmt_px(q[0]), fmt_px(q[1])))
+                .collect();
+            w.leaf("polygon", Attrs::new().str("points", s.join(" ")));
+        }
+    }
+}
+
+/// Ticks of one axis: (value, label, major). Linear axes get nice steps about
+/// [`TICK_SPACING`] px apart; log axes get decades (labelled) and 2..9 (unlabelled, or
+/// labelled 2 and 5 when the axis spans less than two decades).
+fn axis_ticks(s: &Scale, len_px: f64) -> Vec<(f64, String, bool)> {
+    if s.log {
+        let lo = s.min.log10().floor();
+        let hi = s.max.log10().ceil();
+        if !(lo.is_finite() && hi.is_finite()) || hi - lo > 60.0 {
+            return Vec::new();
+        }
+        let few = hi - lo <= 2.0;
+        let mut out = Vec::new();
+        let mut k = lo;
+        while k <= hi {
+            for m in 1..10 {
+                let v = f64::from(m) * 10f64.powf(k);
+                if v < s.min * (1.0 - 1e-9) || v > s.max * (1.0 + 1e-9) {
+                    continue;
+                }
+                let labelled = m == 1 || (few && (m == 2 || m == 5));
+                let label = if labelled {
+                    fmt_log_tick(v, k)
+                } else {
+                    String::new()
+                };
+                out.push((v, label, m == 1));
+            }
+            k += 1.0;
+        }
+        out
+    } else {
+        let span = s.max - s.min;
+        let step = nice_step(span * TICK_SPACING / len_px.max(1.0));
+        let decimals = decimals_for(step);
+        ticks(s.min, s.max, step)
+            .into_iter()
+            .map(|v| (v, fmt_fixed(v, decimals), true))
+            .collect()
+    }
+}
+
+fn fmt_log_tick(v: f64, k: f64) -> String {
+    if (-3.0..=5.0).contains(&k) {
+        fmt_trimmed(v, 3)
+    } else {
+        let m = (v / 10f64.powf(k)).round();
+        if m == 1.0 {
+            format!("1e{k}")
+        } else {
+            format!("{m}e{k}")
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn map_keeps_equal_scales() {
+        let p = Panel::map(Extent::new(0.0, 0.0, 4.0, 1.0), 400.0);
+        let v = p.view();
+        let [w, h] = p.plot_size();
+        assert!((w / v.width() - h / v.height()).abs() < 1e-9);
+        assert!((h - 200.0).abs() < 1e-9);
+        let tall = Panel::map(Extent::new(0.0, 0.0, 1.0, 10.0), 400.0);
+        let v = tall.view();
+        let [w, h] = tall.plot_size();
+        assert!((w / v.width() - h / v.height()).abs() < 1e-9);
+        assert!((h - 500.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn y_points_up() {
+        let p = Panel::map(Extent::new(0.0, 0.0, 2.0, 2.0), 200.0);
+        let a = p.to_px(Point2::new(0.0, 0.0)).unwrap();
+        let b = p.to_px(Point2::new(0.0, 1.0)).unwrap();
+        assert!(b[1] < a[1]);
+        assert_eq!(a, [0.0, 200.0]);
+    }
+
+    #[test]
+    fn log_ticks_label_decades() {
+        let s = Scale {
+            min: 1.0,
+            max: 1000.0,
+            log: true,
+            px0: 0.0,
+            px1: 300.0,
+        };
+        let t = axis_ticks(&s, 300.0);
+        let labels: Vec<&str> = t
+            .iter()
+            .filter(|x| !x.1.is_empty())
+            .map(|x| x.1.as_str())
+            .collect();
+        assert_eq!(labels, ["1", "10", "100", "1000"]);
+        assert_eq!(fmt_log_tick(1e7, 7.0), "1e7");
+    }
+
+    #[test]
+    fn primitives_skip_non_finite_input() {
+        let mut p = Panel::map(Extent::new(-1.0, -1.0, 1.0, 1.0), 200.0);
+        let nan = Point2::new(f64::NAN, 0.0);
+        p.line(nan, Point2::origin(), &Style::default());
+        p.polyline(&[nan, nan], &Style::default());
+        p.polygon(&[nan], &Style::default());
+        p.circle(nan, 1.0, &Style::default());
+        p.markers(&[nan], Marker::Dot, 3.0, &Style::default());
+        p.text(nan, "x", &TextStyle::default());
+        p.robot(nan, 0.0, 10.0, &Style::default());
+        p.arc(Point2::origin(), f64::INFINITY, 0.0, 1.0, &Style::default());
+        assert!(p.body.is_empty());
+        p.line(
+            Point2::new(-1e300, 0.0),
+            Point2::new(1e300, 0.0),
+            &Style::default(),
+        );
+        let s = p.body.clone().finish();
+        assert!(s.contains("x1=\"-12\"") && s.contains("x2=\"212\""), "{s}");
+    }
+
+    #[test]
+    fn polyline_breaks_around_gaps() {
+        let mut p = Panel::map(Extent::new(0.0, 0.0, 10.0, 10.0), 100.0);
+        let pts = [
+            Point2::new(1.0, 1.0),
+            Point2::new(2.0, 1.0),
+            Point2::new(f64::NAN, 1.0),
+            Point2::new(3.0, 1.0),
+            Point2::new(4.0, 1.0),
+        ];
+        p.polyline(&pts, &Style::default());
+        let s = p.body.finish();
+        assert_eq!(s.matches('M').count(), 2, "{s}");
+    }
+
+    #[test]
+    fn wrap_splits_long_titles() {
+        let lines = wrap("one two three four five six", 10.0, false, 60.0);
+        assert!(lines.len() > 1);
+        assert_eq!(lines.join(" "), "one two three four five six");
+    }
+}
