@@ -7,6 +7,9 @@
 //! - **Hough-based segmentation + split**: [`HoughSplit`], the paper's g-weighted Hough
 //!   transform, data segments with removal of sparse and cluttered points, and recursive
 //!   split (`Linseg`).
+//! - **Classic extractors compared by Nguyen et al.** ([`extractors`], selectable by name):
+//!   iterative Hough on the full accumulator ([`hough`]), split-and-merge, iterative end-point
+//!   fit, incremental line tracking, line regression, RANSAC and EM.
 //!
 //! Every extractor implements [`LineExtractor`] and returns [`Line`]s fitted by the same
 //! least-squares fit ([`fit`]), in polar form with covariance.
@@ -15,7 +18,9 @@
 //! counter-clockwise).
 
 pub mod extractor;
+pub mod extractors;
 pub mod fit;
+pub mod hough;
 pub mod hough_split;
 pub mod line;
 pub mod math;

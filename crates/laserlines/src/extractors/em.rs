@@ -1,0 +1,336 @@
+//! Expectation-maximisation of line hypotheses (as compared by Nguyen et al.), seeded.
+//!
+//! One hypothesis at a time, against an outlier class, on the points not yet taken:
+//!
+//! 1. Initialise: pick a random free point and fit a line to it and the next `init_points - 1`
+//!    free points in beam order.
+//! 2. E step: the probability that point `i` belongs to the line rather than to the outliers,
+//!    `w_i = pi N(d_i; 0, sigma_i) / (pi N(d_i; 0, sigma_i) + (1 - pi) u)`, with `d_i` its
+//!    distance to the line, `sigma_i = noise_sigma + noise_sigma_per_metre * range_i` (the
+//!    sensor's noise grows with range), `u = outlier_density` and `pi` the line's share.
+//! 3. M step: the weighted total-least-squares line, and `pi` the mean weight.
+//! 4. Repeat 2-3 until the line stops moving or after `iterations` steps.
+//! 5. Points with `w_i >= inlier_probability` are cut into runs of consecutive free beams
+//!    (broken at breakpoints and after more than `max_skipped` non-members); each run with at
+//!    least `min_line_points` members becomes a line and its beams are taken. A hypothesis that
+//!    yields none is a failure.
+//!
+//! The loop ends after `max_trials` hypotheses, or `max_failures` failures in a row. Then the
+//! common final step. The generator is SplitMix64 seeded with `seed` at the start of every
+//! scan, so the same scan gives the same lines.
+
+use super::ParamsError;
+use super::common::{self, Breakpoints, Hypothesis, LineFilter, Run, SplitMix64};
+use crate::extractor::LineExtractor;
+use crate::fit::FitSums;
+use crate::line::Line;
+use crate::math::Vector2;
+use crate::scan::{RangeWindow, Scan, ScanPoint};
+
+/// Parameters of [`Em`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct EmParams {
+    /// Seed of the generator, reset for every scan. Default `0x5EED`.
+    pub seed: u64,
+    /// Most hypotheses tried per scan. Default 100. At least 1. Sensible: 20..500.
+    pub max_trials: usize,
+    /// Consecutive failed hypotheses after which the scan is done. Default 20. At least 1.
+    /// Sensible: 5..50.
+    pub max_failures: usize,
+    /// Consecutive free points whose least-squares line starts a hypothesis. Default 7.
+    /// At least 2. Sensible: 3..15.
+    pub init_points: usize,
+    /// Most E-M steps per hypothesis. Default 20. At least 1. Sensible: 5..50.
+    pub iterations: usize,
+    /// Range noise standard deviation at zero range, m. Default 0.005. Sensible: 0.001..0.02.
+    pub noise_sigma: f64,
+    /// Growth of the noise standard deviation with range, m per m. Default 0.005 (the
+    /// URG-04LX's +-1 % read as two standard deviations). Sensible: 0..0.02.
+    pub noise_sigma_per_metre: f64,
+    /// Density of the uniform outlier class over distances to the line, 1/m. Default 0.2
+    /// (outliers spread over about 5 m). Sensible: 0.05..5. A point then joins the line when
+    /// it lies within about 2.7 standard deviations of it (with `pi = 0.1`).
+    pub outlier_density: f64,
+    /// Smallest posterior probability for a point to be a member of the line. Default 0.5.
+    /// In (0, 1).
+    pub inlier_probability: f64,
+    /// Consecutive non-members tolerated inside a run (kept in its beam range, not used in its
+    /// fit). Default 2. Sensible: 0..5.
+    pub max_skipped: usize,
+    /// Smallest incidence angle between beam and surface that still joins two consecutive
+    /// members into one run, rad (`lambda` of Borges and Aldon). Default 10 deg.
+    /// Sensible: 5..20 deg.
+    pub breakpoint_incidence: f64,
+    /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
+    /// Sensible: 0..0.05.
+    pub breakpoint_noise: f64,
+    /// Lines with fewer supporting points are dropped, and runs with fewer members do not count
+    /// as found. Default 6. At least 2 is enforced.
+    pub min_line_points: usize,
+    /// Lines shorter than this are dropped, m. Default 0.10. Sensible: 0..0.5.
+    pub min_line_length: f64,
+    /// Extra limits on valid ranges, on top of the scan's own `range_min..range_max`.
+    /// Default none.
+    pub range_limits: Option<RangeWindow>,
+}
+
+impl Default for EmParams {
+    fn default() -> Self {
+        Self {
+            seed: 0x5EED,
+            max_trials: 100,
+            max_failures: 20,
+            init_points: 7,
+            iterations: 20,
+            noise_sigma: 0.005,
+            noise_sigma_per_metre: 0.005,
+            outlier_density: 0.2,
+            inlier_probability: 0.5,
+            max_skipped: 2,
+            breakpoint_incidence: 10.0_f64.to_radians(),
+            breakpoint_noise: 0.01,
+            min_line_points: 6,
+            min_line_length: 0.10,
+            range_limits: None,
+        }
+    }
+}
+
+impl EmParams {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// A [`ParamsError`] naming the first bad field.
+    pub fn validate(&self) -> Result<(), ParamsError> {
+        common::at_least("max_trials", self.max_trials, 1)?;
+        common::at_least("max_failures", self.max_failures, 1)?;
+        common::at_least("init_points", self.init_points, 2)?;
+        common::at_least("iterations", self.iterations, 1)?;
+        common::check_scaled(
+            ("noise_sigma", self.noise_sigma),
+            ("noise_sigma_per_metre", self.noise_sigma_per_metre),
+        )?;
+        common::positive("outlier_density", self.outlier_density)?;
+        common::inside("inlier_probability", self.inlier_probability, 0.0, 1.0)?;
+        common::check_breakpoints(self.breakpoint_incidence, self.breakpoint_noise)?;
+        common::check_filter(self.min_line_length)
+    }
+}
+
+/// Smallest standard deviation used, m (guards against ranges so small that the noise model
+/// gives zero).
+const MIN_SIGMA: f64 = 1e-6;
+/// The line has stopped moving when neither its distance nor its normal changes by more.
+const CONVERGED: f64 = 1e-9;
+
+/// Weighted total least squares, two-pass; `None` for a degenerate or non-finite set.
+fn weighted_fit(points: &[ScanPoint], weights: &[f64], free: &[usize]) -> Option<Hypothesis> {
+    let (mut w, mut sx, mut sy) = (0.0, 0.0, 0.0);
+    for &i in free {
+        let wi = weights[i];
+        if wi > 0.0 {
+            w += wi;
+            sx += wi * points[i].point.x;
+            sy += wi * points[i].point.y;
+        }
+    }
+    if w.is_nan() || w <= 0.0 {
+        return None;
+    }
+    let (cx, cy) = (sx / w, sy / w);
+    let (mut mxx, mut myy, mut mxy) = (0.0, 0.0, 0.0);
+    for &i in free {
+        let wi = weights[i];
+        if wi > 0.0 {
+            let (dx, dy) = (points[i].point.x - cx, points[i].point.y - cy);
+            mxx += wi * dx * dx;
+            myy += wi * dy * dy;
+            mxy += wi * dx * dy;
+        }
+    }
+    if !(cx.is_finite() && cy.is_finite() && mxx.is_finite() && myy.is_finite() && mxy.is_finite())
+    {
+        return None;
+    }
+    let half_tr = 0.5 * (mxx + myy);
+    let disc = (0.25 * (mxx - myy) * (mxx - myy) + mxy * mxy).sqrt();
+    let spread = half_tr + disc;
+    if spread.is_nan() || spread <= f64::EPSILON * w * (1.0 + cx.abs() + cy.abs()) {
+        return None;
+    }
+    let alpha = 0.5 * (-2.0 * mxy).atan2(myy - mxx);
+    let normal = Vector2::new(alpha.cos(), alpha.sin());
+    Some(Hypothesis {
+        normal,
+        d: cx * normal.x + cy * normal.y,
+    })
+}
+
+/// EM line extraction (see the module docs). Reuse one value across scans: its working memory
+/// is kept.
+#[derive(Debug, Clone)]
+pub struct Em {
+    params: EmParams,
+    points: Vec<ScanPoint>,
+    free: Vec<usize>,
+    taken: Vec<bool>,
+    weight: Vec<f64>,
+    member: Vec<bool>,
+    found: Vec<Run>,
+    runs: Vec<Run>,
+}
+
+impl Em {
+    /// An extractor with validated parameters.
+    ///
+    /// # Errors
+    /// [`ParamsError`] when a parameter is out of its domain.
+    pub fn new(params: EmParams) -> Result<Self, ParamsError> {
+        params.validate()?;
+        Ok(Self {
+            params,
+            points: Vec::new(),
+            free: Vec::new(),
+            taken: Vec::new(),
+            weight: Vec::new(),
+            member: Vec::new(),
+            found: Vec::new(),
+            runs: Vec::new(),
+        })
+    }
+
+    /// The parameters in use.
+    #[must_use]
+    pub fn params(&self) -> &EmParams {
+        &self.params
+    }
+
+    /// E step: posterior weights of the free points for line `h` with share `pi`; returns the
+    /// sum of the weights.
+    fn expect(&mut self, h: &Hypothesis, pi: f64) -> f64 {
+        let p = &self.params;
+        let norm = (2.0 * std::f64::consts::PI).sqrt();
+        let mut total = 0.0;
+        for &i in &self.free {
+            let sp = &self.points[i];
+            let sigma = (p.noise_sigma + p.noise_sigma_per_metre * sp.range).max(MIN_SIGMA);
+            let d = h.distance(sp.point) / sigma;
+            let line = pi * (-0.5 * d * d).exp() / (norm * sigma);
+            let w = line / (line + (1.0 - pi) * p.outlier_density);
+            let w = if w.is_finite() { w } else { 0.0 };
+            self.weight[i] = w;
+            total += w;
+        }
+        total
+    }
+
+    /// Runs EM from hypothesis `h`; returns the final line (weights left in `self.weight`).
+    fn converge(&mut self, mut h: Hypothesis) -> Option<Hypothesis> {
+        let mut pi = 0.5;
+        for _ in 0..self.params.iterations {
+            let total = self.expect(&h, pi);
+            let next = weighted_fit(&self.points, &self.weight, &self.free)?;
+            pi = (total / self.free.len() as f64).clamp(1e-9, 1.0 - 1e-9);
+            // Compare in the same orientation of the normal.
+            let (n, d) = if next.normal.dot(&h.normal) < 0.0 {
+                (-next.normal, -next.d)
+            } else {
+                (next.normal, next.d)
+            };
+            let moved = (d - h.d).abs() + (n - h.normal).norm();
+            h = Hypothesis { normal: n, d };
+            if moved < CONVERGED {
+                break;
+            }
+        }
+        self.expect(&h, pi);
+        Some(h)
+    }
+}
+
+impl LineExtractor for Em {
+    fn name(&self) -> &'static str {
+        "em"
+    }
+
+    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+        out.clear();
+        let p = self.params.clone();
+        scan.points_into(scan.range_window(p.range_limits), &mut self.points);
+        let n = self.points.len();
+        let rule = Breakpoints {
+            incidence: p.breakpoint_incidence,
+            noise: p.breakpoint_noise,
+        };
+        self.taken.clear();
+        self.taken.resize(n, false);
+        self.member.clear();
+        self.member.resize(n, false);
+        self.weight.clear();
+        self.weight.resize(n, 0.0);
+        self.runs.clear();
+        let min_members = p.min_line_points.max(2);
+        let mut rng = SplitMix64::new(p.seed);
+        let mut failures = 0;
+        for _ in 0..p.max_trials {
+            self.free.clear();
+            self.free.extend((0..n).filter(|&i| !self.taken[i]));
+            let len = self.free.len();
+            if len < min_members.max(p.init_points) {
+                break;
+            }
+            let start = rng.below(len).min(len - p.init_points);
+            let init = FitSums::from_points(
+                self.free[start..start + p.init_points]
+                    .iter()
+                    .map(|&i| self.points[i].point),
+            )
+            .fit();
+            let line = init.and_then(|fit| self.converge(Hypothesis::from_fit(&fit)));
+            self.found.clear();
+            if line.is_some() {
+                let member = |i: usize| self.weight[i] >= p.inlier_probability;
+                let found = &mut self.found;
+                common::for_each_run(
+                    &self.points,
+                    |i| !self.taken[i],
+                    member,
+                    &rule,
+                    p.max_skipped,
+                    |r, m| {
+                        if m >= min_members {
+                            found.push(r);
+                        }
+                    },
+                );
+            }
+            if self.found.is_empty() {
+                failures += 1;
+                if failures >= p.max_failures {
+                    break;
+                }
+                continue;
+            }
+            failures = 0;
+            for &r in &self.found {
+                for i in r.start..r.end {
+                    self.member[i] = self.weight[i] >= p.inlier_probability;
+                    self.taken[i] = true;
+                }
+                self.runs.push(r);
+            }
+        }
+        let filter = LineFilter {
+            min_points: p.min_line_points,
+            min_length: p.min_line_length,
+        };
+        common::finish(
+            &self.points,
+            &mut self.runs,
+            &self.member,
+            &rule,
+            filter,
+            out,
+        );
+    }
+}

@@ -1,0 +1,170 @@
+//! Iterative end-point fit on breakpoint clusters: the paper's recursive split `Linseg`
+//! without its Hough segmentation, so that what the Hough stage adds can be measured.
+//!
+//! 1. Cut the valid points into clusters at breakpoints (Borges and Aldon's adaptive detector)
+//!    and drop clusters of fewer than `min_cluster_points`.
+//! 2. In each cluster, find the point farthest from the chord between the piece's end points;
+//!    split there when it lies farther than the split threshold, recursively.
+//! 3. Optionally merge neighbouring pieces whose points all lie within the split threshold of
+//!    their joint least-squares line.
+//! 4. The common final step (least-squares fit, minimum points and length).
+//!
+//! The defaults match [`crate::HoughSplitParams`] where the two share a meaning (split
+//! threshold, merge, line filters), so that the comparison isolates the segmentation.
+
+use super::ParamsError;
+use super::common::{self, Breakpoints, LineFilter, Run, Scaled, SplitLine};
+use crate::extractor::LineExtractor;
+use crate::line::Line;
+use crate::scan::{RangeWindow, Scan, ScanPoint};
+
+/// Parameters of [`Iepf`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct IepfParams {
+    /// Smallest incidence angle between beam and surface that still joins two consecutive
+    /// points into one cluster, rad (`lambda` of Borges and Aldon). Default 10 deg.
+    /// Sensible: 5..20 deg.
+    pub breakpoint_incidence: f64,
+    /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
+    /// Sensible: 0..0.05.
+    pub breakpoint_noise: f64,
+    /// Clusters with fewer points are dropped. Default 5. Sensible: 2..10.
+    pub min_cluster_points: usize,
+    /// Split threshold at zero range, m: a piece is split where the farthest point from its
+    /// chord lies farther than `split_distance + split_distance_per_metre * range`.
+    /// Default 0.02. Sensible: 0.01..0.05.
+    pub split_distance: f64,
+    /// Growth of the split threshold with the range of the farthest point, m per m.
+    /// Default 0.01 (the URG-04LX's 1 %). Sensible: 0..0.03.
+    pub split_distance_per_metre: f64,
+    /// Merge neighbouring pieces whose points all lie within the split threshold of their joint
+    /// least-squares line. Default `true`.
+    pub merge_collinear: bool,
+    /// Lines with fewer supporting points are dropped. Default 6. At least 2 is enforced.
+    pub min_line_points: usize,
+    /// Lines shorter than this are dropped, m. Default 0.10. Sensible: 0..0.5.
+    pub min_line_length: f64,
+    /// Extra limits on valid ranges, on top of the scan's own `range_min..range_max`.
+    /// Default none.
+    pub range_limits: Option<RangeWindow>,
+}
+
+impl Default for IepfParams {
+    fn default() -> Self {
+        Self {
+            breakpoint_incidence: 10.0_f64.to_radians(),
+            breakpoint_noise: 0.01,
+            min_cluster_points: 5,
+            split_distance: 0.02,
+            split_distance_per_metre: 0.01,
+            merge_collinear: true,
+            min_line_points: 6,
+            min_line_length: 0.10,
+            range_limits: None,
+        }
+    }
+}
+
+impl IepfParams {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// A [`ParamsError`] naming the first bad field.
+    pub fn validate(&self) -> Result<(), ParamsError> {
+        common::check_breakpoints(self.breakpoint_incidence, self.breakpoint_noise)?;
+        common::check_scaled(
+            ("split_distance", self.split_distance),
+            ("split_distance_per_metre", self.split_distance_per_metre),
+        )?;
+        common::check_filter(self.min_line_length)
+    }
+}
+
+/// Iterative end-point fit on breakpoint clusters (see the module docs). Reuse one value
+/// across scans: its working memory is kept.
+#[derive(Debug, Clone)]
+pub struct Iepf {
+    params: IepfParams,
+    points: Vec<ScanPoint>,
+    clusters: Vec<Run>,
+    pieces: Vec<Run>,
+    runs: Vec<Run>,
+    stack: Vec<(usize, usize)>,
+    member: Vec<bool>,
+}
+
+impl Iepf {
+    /// An extractor with validated parameters.
+    ///
+    /// # Errors
+    /// [`ParamsError`] when a parameter is out of its domain.
+    pub fn new(params: IepfParams) -> Result<Self, ParamsError> {
+        params.validate()?;
+        Ok(Self {
+            params,
+            points: Vec::new(),
+            clusters: Vec::new(),
+            pieces: Vec::new(),
+            runs: Vec::new(),
+            stack: Vec::new(),
+            member: Vec::new(),
+        })
+    }
+
+    /// The parameters in use.
+    #[must_use]
+    pub fn params(&self) -> &IepfParams {
+        &self.params
+    }
+}
+
+impl LineExtractor for Iepf {
+    fn name(&self) -> &'static str {
+        "iepf"
+    }
+
+    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+        out.clear();
+        let p = &self.params;
+        scan.points_into(scan.range_window(p.range_limits), &mut self.points);
+        let rule = Breakpoints {
+            incidence: p.breakpoint_incidence,
+            noise: p.breakpoint_noise,
+        };
+        let threshold = Scaled {
+            base: p.split_distance,
+            per_metre: p.split_distance_per_metre,
+        };
+        rule.clusters(&self.points, p.min_cluster_points, &mut self.clusters);
+        self.runs.clear();
+        for &cluster in &self.clusters {
+            self.pieces.clear();
+            common::split(
+                &self.points,
+                cluster,
+                SplitLine::Chord,
+                threshold,
+                &mut self.stack,
+                &mut self.pieces,
+            );
+            if p.merge_collinear {
+                common::merge_collinear(&self.points, &mut self.pieces, threshold);
+            }
+            self.runs.extend_from_slice(&self.pieces);
+        }
+        self.member.clear();
+        self.member.resize(self.points.len(), true);
+        let filter = LineFilter {
+            min_points: p.min_line_points,
+            min_length: p.min_line_length,
+        };
+        common::finish(
+            &self.points,
+            &mut self.runs,
+            &self.member,
+            &rule,
+            filter,
+            out,
+        );
+    }
+}

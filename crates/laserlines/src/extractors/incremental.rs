@@ -1,0 +1,201 @@
+//! Incremental line extraction (line tracking), as compared by Nguyen et al.
+//!
+//! 1. Cut the valid points into clusters at breakpoints (Borges and Aldon's adaptive detector).
+//! 2. In each cluster, start a line on `seed_points` consecutive points that all lie within the
+//!    tracking threshold of their least-squares line (otherwise move one point on).
+//! 3. Grow the line point by point: the next point joins when its distance to the current
+//!    least-squares line is within the tracking threshold, and the line is refitted (in O(1),
+//!    with running sums). Up to `max_outliers` consecutive points that fail are tolerated inside
+//!    the line (kept in its beam range, not used in its fit); after more, the line ends at its
+//!    last accepted point and the next line starts right after it.
+//! 4. The common final step: where two lines meet, the points that the first one absorbed
+//!    before the turn became visible go to the line that explains them better; then the
+//!    least-squares fit, minimum points and length.
+
+use super::ParamsError;
+use super::common::{self, Breakpoints, LineFilter, Run, Scaled};
+use crate::extractor::LineExtractor;
+use crate::fit::FitSums;
+use crate::line::Line;
+use crate::scan::{RangeWindow, Scan, ScanPoint};
+
+/// Parameters of [`Incremental`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct IncrementalParams {
+    /// Smallest incidence angle between beam and surface that still joins two consecutive
+    /// points into one cluster, rad (`lambda` of Borges and Aldon). Default 10 deg.
+    /// Sensible: 5..20 deg.
+    pub breakpoint_incidence: f64,
+    /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
+    /// Sensible: 0..0.05.
+    pub breakpoint_noise: f64,
+    /// Consecutive points that start a line. Default 5. At least 3. Sensible: 3..10.
+    pub seed_points: usize,
+    /// Tracking threshold at zero range, m: a point joins the line when its distance to the
+    /// line is at most `track_distance + track_distance_per_metre * range`. Default 0.02.
+    /// Sensible: 0.01..0.05.
+    pub track_distance: f64,
+    /// Growth of the tracking threshold with the range of the tested point, m per m.
+    /// Default 0.01 (the URG-04LX's 1 %). Sensible: 0..0.03.
+    pub track_distance_per_metre: f64,
+    /// Consecutive failing points tolerated inside a line. Default 1. Sensible: 0..3.
+    pub max_outliers: usize,
+    /// Lines with fewer supporting points are dropped. Default 6. At least 2 is enforced.
+    pub min_line_points: usize,
+    /// Lines shorter than this are dropped, m. Default 0.10. Sensible: 0..0.5.
+    pub min_line_length: f64,
+    /// Extra limits on valid ranges, on top of the scan's own `range_min..range_max`.
+    /// Default none.
+    pub range_limits: Option<RangeWindow>,
+}
+
+impl Default for IncrementalParams {
+    fn default() -> Self {
+        Self {
+            breakpoint_incidence: 10.0_f64.to_radians(),
+            breakpoint_noise: 0.01,
+            seed_points: 5,
+            track_distance: 0.02,
+            track_distance_per_metre: 0.01,
+            max_outliers: 1,
+            min_line_points: 6,
+            min_line_length: 0.10,
+            range_limits: None,
+        }
+    }
+}
+
+impl IncrementalParams {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// A [`ParamsError`] naming the first bad field.
+    pub fn validate(&self) -> Result<(), ParamsError> {
+        common::check_breakpoints(self.breakpoint_incidence, self.breakpoint_noise)?;
+        common::at_least("seed_points", self.seed_points, 3)?;
+        common::check_scaled(
+            ("track_distance", self.track_distance),
+            ("track_distance_per_metre", self.track_distance_per_metre),
+        )?;
+        common::check_filter(self.min_line_length)
+    }
+}
+
+/// Line tracking (see the module docs). Reuse one value across scans: its working memory is
+/// kept.
+#[derive(Debug, Clone)]
+pub struct Incremental {
+    params: IncrementalParams,
+    points: Vec<ScanPoint>,
+    clusters: Vec<Run>,
+    runs: Vec<Run>,
+    member: Vec<bool>,
+}
+
+impl Incremental {
+    /// An extractor with validated parameters.
+    ///
+    /// # Errors
+    /// [`ParamsError`] when a parameter is out of its domain.
+    pub fn new(params: IncrementalParams) -> Result<Self, ParamsError> {
+        params.validate()?;
+        Ok(Self {
+            params,
+            points: Vec::new(),
+            clusters: Vec::new(),
+            runs: Vec::new(),
+            member: Vec::new(),
+        })
+    }
+
+    /// The parameters in use.
+    #[must_use]
+    pub fn params(&self) -> &IncrementalParams {
+        &self.params
+    }
+
+    /// Tracks lines through one cluster, appending their runs.
+    fn track(&mut self, cluster: Run, threshold: Scaled) {
+        let p = &self.params;
+        let pts = &self.points;
+        let seed = p.seed_points;
+        let mut i = cluster.start;
+        while i + seed <= cluster.end {
+            let sums = FitSums::from_points(pts[i..i + seed].iter().map(|sp| sp.point));
+            let seeded = sums.fit().filter(|fit| {
+                pts[i..i + seed]
+                    .iter()
+                    .all(|sp| fit.distance(sp.point).abs() <= threshold.at(sp.range))
+            });
+            let Some(mut fit) = seeded else {
+                i += 1;
+                continue;
+            };
+            let mut sums = sums;
+            self.member[i..i + seed].fill(true);
+            let mut last = i + seed - 1;
+            let mut failed = 0usize;
+            for (j, sp) in pts.iter().enumerate().take(cluster.end).skip(i + seed) {
+                if fit.distance(sp.point).abs() <= threshold.at(sp.range) {
+                    sums.add(sp.point);
+                    if let Some(f) = sums.fit() {
+                        fit = f;
+                    }
+                    self.member[j] = true;
+                    last = j;
+                    failed = 0;
+                } else {
+                    failed += 1;
+                    if failed > p.max_outliers {
+                        break;
+                    }
+                }
+            }
+            self.runs.push(Run {
+                start: i,
+                end: last + 1,
+            });
+            i = last + 1;
+        }
+    }
+}
+
+impl LineExtractor for Incremental {
+    fn name(&self) -> &'static str {
+        "incremental"
+    }
+
+    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+        out.clear();
+        let p = &self.params;
+        scan.points_into(scan.range_window(p.range_limits), &mut self.points);
+        let rule = Breakpoints {
+            incidence: p.breakpoint_incidence,
+            noise: p.breakpoint_noise,
+        };
+        let threshold = Scaled {
+            base: p.track_distance,
+            per_metre: p.track_distance_per_metre,
+        };
+        let filter = LineFilter {
+            min_points: p.min_line_points,
+            min_length: p.min_line_length,
+        };
+        rule.clusters(&self.points, p.seed_points, &mut self.clusters);
+        self.member.clear();
+        self.member.resize(self.points.len(), false);
+        self.runs.clear();
+        for c in 0..self.clusters.len() {
+            let cluster = self.clusters[c];
+            self.track(cluster, threshold);
+        }
+        common::finish(
+            &self.points,
+            &mut self.runs,
+            &self.member,
+            &rule,
+            filter,
+            out,
+        );
+    }
+}

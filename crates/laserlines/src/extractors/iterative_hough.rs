@@ -1,0 +1,315 @@
+//! The iterative Hough transform of Nguyen et al., the baseline the paper compares against
+//! (section II-C of the paper):
+//!
+//! ```text
+//! 1. Initial: a set of N points
+//! 2. Initialize the accumulator array
+//! 3. Construct values for the array
+//! 4. Choose the element with max. votes V_max
+//! 5. If V_max is less than a threshold, terminate
+//! 6. Otherwise, determine the inliers
+//! 7. Fit a line through the inliers and store the line
+//! 8. Remove the inliers from the set, goto 2
+//! ```
+//!
+//! Step 2-3 is the full accumulator of [`crate::hough`] (every point votes in every column),
+//! rebuilt from scratch in every round, as in the original: that is the cost the paper's
+//! single-pass accumulator avoids. Reading of the other steps:
+//!
+//! - Inliers (6) are the points within `inlier_distance + inlier_distance_per_metre * range` of
+//!   the peak cell's line. They are cut into runs of consecutive beams (broken at breakpoints
+//!   of Borges and Aldon's detector, at beams already in a line, and after more than
+//!   `max_skipped` consecutive non-inliers), since a line here is a segment, not an infinite
+//!   line.
+//! - Fit (7): the line is refined `refine_iterations` times by a least-squares fit of the
+//!   largest run's inliers and a new collection of inliers, which removes the quantisation of
+//!   the grid. Every run of at least `min_line_points` inliers is stored.
+//! - Remove (8): the inliers of the peak line and of the refined line leave the accumulator.
+//!   A removed point that ended in no stored run may still support a later line's run (so that
+//!   a wall crossed by another wall's strip is not cut in two), but never votes again.
+//!
+//! Then the common final step.
+
+use super::ParamsError;
+use super::common::{self, Breakpoints, Hypothesis, LineFilter, Run, Scaled};
+use crate::extractor::LineExtractor;
+use crate::hough::{HoughAccumulator, HoughGrid};
+use crate::hough_split::Weight;
+use crate::line::Line;
+use crate::math::Vector2;
+use crate::scan::{RangeWindow, Scan, ScanPoint};
+
+/// Parameters of [`IterativeHough`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct IterativeHoughParams {
+    /// Row step of the accumulator, m. Default 0.02. Sensible: 0.01..0.10.
+    pub distance_step: f64,
+    /// Largest distance of a line from the sensor represented, m. Default 6.0 (the URG-04LX
+    /// reaches 5.6 m). Sensible: the sensor's maximum range.
+    pub max_distance: f64,
+    /// Column step of the accumulator, rad (rounded to tile the half turn). Default 1 deg.
+    /// Sensible: 0.25..3 deg.
+    pub angle_step: f64,
+    /// Half-width of the voting window, m. Default 0.01 (half the row step). Sensible: 0.5..1.5
+    /// row steps.
+    pub window: f64,
+    /// Weight of a vote: [`Weight::One`] (count points, as Nguyen et al.) or [`Weight::Range`].
+    /// Default [`Weight::One`].
+    pub weight: Weight,
+    /// The search stops when the peak has fewer votes (points with [`Weight::One`], metres
+    /// with [`Weight::Range`]). Default 10. Sensible: 5..30.
+    pub min_votes: f64,
+    /// Inlier threshold at zero range, m: inliers lie within
+    /// `inlier_distance + inlier_distance_per_metre * range` of the line. It must cover the
+    /// grid's quantisation as well as the noise. Default 0.02. Sensible: 0.01..0.05.
+    pub inlier_distance: f64,
+    /// Growth of the inlier threshold with the range of the tested point, m per m.
+    /// Default 0.01 (the URG-04LX's 1 %). Sensible: 0..0.03.
+    pub inlier_distance_per_metre: f64,
+    /// Least-squares refinements of the peak line. Default 2. Sensible: 0..5.
+    pub refine_iterations: usize,
+    /// Consecutive non-inliers tolerated inside a run (kept in its beam range, not used in its
+    /// fit). Default 2. Sensible: 0..5.
+    pub max_skipped: usize,
+    /// Smallest incidence angle between beam and surface that still joins two consecutive
+    /// inliers into one run, rad (`lambda` of Borges and Aldon). Default 10 deg.
+    /// Sensible: 5..20 deg.
+    pub breakpoint_incidence: f64,
+    /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
+    /// Sensible: 0..0.05.
+    pub breakpoint_noise: f64,
+    /// Most rounds (accumulator builds) per scan. Default 100. At least 1.
+    pub max_iterations: usize,
+    /// Lines with fewer supporting points are dropped, and runs with fewer inliers are not
+    /// stored. Default 6. At least 2 is enforced.
+    pub min_line_points: usize,
+    /// Lines shorter than this are dropped, m. Default 0.10. Sensible: 0..0.5.
+    pub min_line_length: f64,
+    /// Extra limits on valid ranges, on top of the scan's own `range_min..range_max`.
+    /// Default none.
+    pub range_limits: Option<RangeWindow>,
+}
+
+impl Default for IterativeHoughParams {
+    fn default() -> Self {
+        let grid = HoughGrid::default();
+        Self {
+            distance_step: grid.distance_step,
+            max_distance: grid.max_distance,
+            angle_step: grid.angle_step,
+            window: grid.window,
+            weight: Weight::One,
+            min_votes: 10.0,
+            inlier_distance: 0.02,
+            inlier_distance_per_metre: 0.01,
+            refine_iterations: 2,
+            max_skipped: 2,
+            breakpoint_incidence: 10.0_f64.to_radians(),
+            breakpoint_noise: 0.01,
+            max_iterations: 100,
+            min_line_points: 6,
+            min_line_length: 0.10,
+            range_limits: None,
+        }
+    }
+}
+
+impl IterativeHoughParams {
+    /// The accumulator's grid.
+    #[must_use]
+    pub fn grid(&self) -> HoughGrid {
+        HoughGrid {
+            distance_step: self.distance_step,
+            max_distance: self.max_distance,
+            angle_step: self.angle_step,
+            window: self.window,
+        }
+    }
+
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// A [`ParamsError`] naming the first bad field.
+    pub fn validate(&self) -> Result<(), ParamsError> {
+        self.grid().validate()?;
+        common::positive("min_votes", self.min_votes)?;
+        common::check_scaled(
+            ("inlier_distance", self.inlier_distance),
+            ("inlier_distance_per_metre", self.inlier_distance_per_metre),
+        )?;
+        common::check_breakpoints(self.breakpoint_incidence, self.breakpoint_noise)?;
+        common::at_least("max_iterations", self.max_iterations, 1)?;
+        common::check_filter(self.min_line_length)
+    }
+}
+
+/// The iterative Hough transform (see the module docs). Reuse one value across scans: the
+/// accumulator and the other working memory are kept.
+#[derive(Debug, Clone)]
+pub struct IterativeHough {
+    params: IterativeHoughParams,
+    acc: HoughAccumulator,
+    points: Vec<ScanPoint>,
+    voting: Vec<bool>,
+    taken: Vec<bool>,
+    member: Vec<bool>,
+    found: Vec<Run>,
+    runs: Vec<Run>,
+}
+
+impl IterativeHough {
+    /// An extractor with validated parameters (allocates the accumulator).
+    ///
+    /// # Errors
+    /// [`ParamsError`] when a parameter is out of its domain or the grid is too large.
+    pub fn new(params: IterativeHoughParams) -> Result<Self, ParamsError> {
+        params.validate()?;
+        Ok(Self {
+            acc: HoughAccumulator::new(params.grid())?,
+            params,
+            points: Vec::new(),
+            voting: Vec::new(),
+            taken: Vec::new(),
+            member: Vec::new(),
+            found: Vec::new(),
+            runs: Vec::new(),
+        })
+    }
+
+    /// The parameters in use.
+    #[must_use]
+    pub fn params(&self) -> &IterativeHoughParams {
+        &self.params
+    }
+
+    /// The accumulator as left by the last round of the last extraction.
+    #[must_use]
+    pub fn accumulator(&self) -> &HoughAccumulator {
+        &self.acc
+    }
+
+    fn best_run(&self, h: &Hypothesis, t: Scaled, rule: &Breakpoints) -> Option<(Run, usize)> {
+        let pts = &self.points;
+        common::largest_run(
+            pts,
+            |i| !self.taken[i],
+            |i| h.distance(pts[i].point) <= t.at(pts[i].range),
+            rule,
+            self.params.max_skipped,
+        )
+    }
+}
+
+impl LineExtractor for IterativeHough {
+    fn name(&self) -> &'static str {
+        "iterative-hough"
+    }
+
+    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+        out.clear();
+        let p = self.params.clone();
+        scan.points_into(scan.range_window(p.range_limits), &mut self.points);
+        let n = self.points.len();
+        let rule = Breakpoints {
+            incidence: p.breakpoint_incidence,
+            noise: p.breakpoint_noise,
+        };
+        let t = Scaled {
+            base: p.inlier_distance,
+            per_metre: p.inlier_distance_per_metre,
+        };
+        let min_members = p.min_line_points.max(2);
+        self.voting.clear();
+        self.voting.resize(n, true);
+        self.taken.clear();
+        self.taken.resize(n, false);
+        self.member.clear();
+        self.member.resize(n, false);
+        self.runs.clear();
+        for _ in 0..p.max_iterations {
+            // 2-3. The full accumulator of the points still in the set.
+            let voting = &self.voting;
+            self.acc.build(
+                self.points
+                    .iter()
+                    .enumerate()
+                    .filter(|(i, _)| voting[*i])
+                    .map(|(_, sp)| sp),
+                p.weight,
+            );
+            // 4-5. The peak.
+            let Some(peak) = self.acc.peak() else { break };
+            if peak.value < p.min_votes {
+                break;
+            }
+            let (s, c) = peak.angle.sin_cos();
+            let h0 = Hypothesis {
+                normal: Vector2::new(c, s),
+                d: peak.distance,
+            };
+            // 6-7. Inliers, refined by least squares on the largest run.
+            let mut h = h0;
+            if let Some((mut run, _)) = self.best_run(&h, t, &rule) {
+                for _ in 0..p.refine_iterations {
+                    let pts = &self.points;
+                    let fit = common::fit_where(pts, run, |i| {
+                        h.distance(pts[i].point) <= t.at(pts[i].range)
+                    });
+                    let Some(fit) = fit else { break };
+                    let refined = Hypothesis::from_fit(&fit);
+                    match self.best_run(&refined, t, &rule) {
+                        Some((r, m)) if m >= min_members => {
+                            h = refined;
+                            run = r;
+                        }
+                        _ => break,
+                    }
+                }
+            }
+            self.found.clear();
+            let pts = &self.points;
+            let found = &mut self.found;
+            common::for_each_run(
+                pts,
+                |i| !self.taken[i],
+                |i| h.distance(pts[i].point) <= t.at(pts[i].range),
+                &rule,
+                p.max_skipped,
+                |r, m| {
+                    if m >= min_members {
+                        found.push(r);
+                    }
+                },
+            );
+            for &r in &self.found {
+                for i in r.start..r.end {
+                    self.member[i] = h.distance(self.points[i].point) <= t.at(self.points[i].range);
+                    self.taken[i] = true;
+                    self.voting[i] = false;
+                }
+                self.runs.push(r);
+            }
+            // 8. Remove the inliers (of the peak line, which include the peak's voters, and of
+            // the refined line) from the set.
+            let a = p.window * (1.0 + 1e-9) + 1e-12;
+            for (i, sp) in self.points.iter().enumerate() {
+                let limit = t.at(sp.range);
+                if h0.distance(sp.point) <= limit.max(a) || h.distance(sp.point) <= limit {
+                    self.voting[i] = false;
+                }
+            }
+        }
+        let filter = LineFilter {
+            min_points: p.min_line_points,
+            min_length: p.min_line_length,
+        };
+        common::finish(
+            &self.points,
+            &mut self.runs,
+            &self.member,
+            &rule,
+            filter,
+            out,
+        );
+    }
+}

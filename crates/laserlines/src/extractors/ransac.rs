@@ -1,0 +1,286 @@
+//! RANSAC (Fischler and Bolles 1981, as compared by Nguyen et al.), seeded, with a minimum
+//! number of inliers and a consistent-run check so that it yields segments, not infinite lines.
+//!
+//! Repeat, at most `max_lines` times, on the points not yet taken:
+//!
+//! 1. Draw `iterations` hypotheses, each the line through two points: the first anywhere, the
+//!    second among the `sample_span` free points on either side of it in beam order (0: anywhere).
+//! 2. Score a hypothesis by its largest consistent run: its inliers (points within
+//!    `inlier_distance + inlier_distance_per_metre * range`) cut into runs of consecutive free
+//!    beams, broken at breakpoints (Borges and Aldon's adaptive detector) and after more than
+//!    `max_skipped` consecutive non-inliers. Keep the best.
+//! 3. Stop when the best run has fewer than `min_inliers` inliers.
+//! 4. Refine `refine_iterations` times: refit the best run's inliers by least squares and
+//!    collect the inliers of that line again.
+//! 5. Every run of the refined line with at least `min_inliers` inliers becomes a line; its
+//!    beams are taken. (If none does, the best run is taken without a line, so the loop always
+//!    progresses.)
+//!
+//! Then the common final step. The generator is SplitMix64 seeded with `seed` at the start of
+//! every scan, so the same scan gives the same lines.
+
+use super::ParamsError;
+use super::common::{self, Breakpoints, Hypothesis, LineFilter, Run, Scaled, SplitMix64};
+use crate::extractor::LineExtractor;
+use crate::line::Line;
+use crate::scan::{RangeWindow, Scan, ScanPoint};
+
+/// Parameters of [`Ransac`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct RansacParams {
+    /// Seed of the generator, reset for every scan. Default `0x5EED`.
+    pub seed: u64,
+    /// Hypotheses drawn per extracted line. Default 100. At least 1. Sensible: 20..1000.
+    pub iterations: usize,
+    /// The second point of a sample lies within this many free points of the first, in beam
+    /// order; 0 draws it anywhere (the textbook sampler, poor on scans of many short walls).
+    /// Default 30. Sensible: 0 or 10..100.
+    pub sample_span: usize,
+    /// Inlier threshold at zero range, m: inliers lie within
+    /// `inlier_distance + inlier_distance_per_metre * range` of the line. Default 0.02.
+    /// Sensible: 0.01..0.05.
+    pub inlier_distance: f64,
+    /// Growth of the inlier threshold with the range of the tested point, m per m.
+    /// Default 0.01 (the URG-04LX's 1 %). Sensible: 0..0.03.
+    pub inlier_distance_per_metre: f64,
+    /// Fewest inliers in a consistent run for a line to be accepted. Default 10. At least 2.
+    /// Sensible: 5..30.
+    pub min_inliers: usize,
+    /// Consecutive non-inliers tolerated inside a run (kept in its beam range, not used in its
+    /// fit). Default 2. Sensible: 0..5.
+    pub max_skipped: usize,
+    /// Least-squares refinements of the best hypothesis. Default 2. Sensible: 0..5.
+    pub refine_iterations: usize,
+    /// Smallest incidence angle between beam and surface that still joins two consecutive
+    /// inliers into one run, rad (`lambda` of Borges and Aldon). Default 10 deg.
+    /// Sensible: 5..20 deg.
+    pub breakpoint_incidence: f64,
+    /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
+    /// Sensible: 0..0.05.
+    pub breakpoint_noise: f64,
+    /// Most rounds of sampling per scan. Default 64. At least 1.
+    pub max_lines: usize,
+    /// Lines with fewer supporting points are dropped. Default 6. At least 2 is enforced.
+    pub min_line_points: usize,
+    /// Lines shorter than this are dropped, m. Default 0.10. Sensible: 0..0.5.
+    pub min_line_length: f64,
+    /// Extra limits on valid ranges, on top of the scan's own `range_min..range_max`.
+    /// Default none.
+    pub range_limits: Option<RangeWindow>,
+}
+
+impl Default for RansacParams {
+    fn default() -> Self {
+        Self {
+            seed: 0x5EED,
+            iterations: 100,
+            sample_span: 30,
+            inlier_distance: 0.02,
+            inlier_distance_per_metre: 0.01,
+            min_inliers: 10,
+            max_skipped: 2,
+            refine_iterations: 2,
+            breakpoint_incidence: 10.0_f64.to_radians(),
+            breakpoint_noise: 0.01,
+            max_lines: 64,
+            min_line_points: 6,
+            min_line_length: 0.10,
+            range_limits: None,
+        }
+    }
+}
+
+impl RansacParams {
+    /// Checks every field.
+    ///
+    /// # Errors
+    /// A [`ParamsError`] naming the first bad field.
+    pub fn validate(&self) -> Result<(), ParamsError> {
+        common::at_least("iterations", self.iterations, 1)?;
+        common::check_scaled(
+            ("inlier_distance", self.inlier_distance),
+            ("inlier_distance_per_metre", self.inlier_distance_per_metre),
+        )?;
+        common::at_least("min_inliers", self.min_inliers, 2)?;
+        common::check_breakpoints(self.breakpoint_incidence, self.breakpoint_noise)?;
+        common::at_least("max_lines", self.max_lines, 1)?;
+        common::check_filter(self.min_line_length)
+    }
+}
+
+/// Seeded RANSAC with consistent runs (see the module docs). Reuse one value across scans: its
+/// working memory is kept.
+#[derive(Debug, Clone)]
+pub struct Ransac {
+    params: RansacParams,
+    points: Vec<ScanPoint>,
+    free: Vec<usize>,
+    taken: Vec<bool>,
+    member: Vec<bool>,
+    found: Vec<Run>,
+    runs: Vec<Run>,
+}
+
+impl Ransac {
+    /// An extractor with validated parameters.
+    ///
+    /// # Errors
+    /// [`ParamsError`] when a parameter is out of its domain.
+    pub fn new(params: RansacParams) -> Result<Self, ParamsError> {
+        params.validate()?;
+        Ok(Self {
+            params,
+            points: Vec::new(),
+            free: Vec::new(),
+            taken: Vec::new(),
+            member: Vec::new(),
+            found: Vec::new(),
+            runs: Vec::new(),
+        })
+    }
+
+    /// The parameters in use.
+    #[must_use]
+    pub fn params(&self) -> &RansacParams {
+        &self.params
+    }
+
+    /// Largest consistent run of hypothesis `h` among the free points.
+    fn best_run(&self, h: &Hypothesis, t: Scaled, rule: &Breakpoints) -> Option<(Run, usize)> {
+        let pts = &self.points;
+        common::largest_run(
+            pts,
+            |i| !self.taken[i],
+            |i| h.distance(pts[i].point) <= t.at(pts[i].range),
+            rule,
+            self.params.max_skipped,
+        )
+    }
+
+    /// Draws a sample from the free points.
+    fn sample(&self, rng: &mut SplitMix64) -> Option<Hypothesis> {
+        let n = self.free.len();
+        let a = rng.below(n);
+        let span = self.params.sample_span;
+        let (lo, hi) = if span == 0 {
+            (0, n - 1)
+        } else {
+            (a.saturating_sub(span), (a + span).min(n - 1))
+        };
+        if hi <= lo {
+            return None;
+        }
+        let mut b = lo + rng.below(hi - lo);
+        if b >= a {
+            b += 1;
+        }
+        Hypothesis::through(
+            self.points[self.free[a]].point,
+            self.points[self.free[b]].point,
+        )
+    }
+}
+
+impl LineExtractor for Ransac {
+    fn name(&self) -> &'static str {
+        "ransac"
+    }
+
+    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+        out.clear();
+        let p = self.params.clone();
+        scan.points_into(scan.range_window(p.range_limits), &mut self.points);
+        let n = self.points.len();
+        let rule = Breakpoints {
+            incidence: p.breakpoint_incidence,
+            noise: p.breakpoint_noise,
+        };
+        let t = Scaled {
+            base: p.inlier_distance,
+            per_metre: p.inlier_distance_per_metre,
+        };
+        self.taken.clear();
+        self.taken.resize(n, false);
+        self.member.clear();
+        self.member.resize(n, false);
+        self.runs.clear();
+        let mut rng = SplitMix64::new(p.seed);
+        for _ in 0..p.max_lines {
+            self.free.clear();
+            self.free.extend((0..n).filter(|&i| !self.taken[i]));
+            if self.free.len() < p.min_inliers {
+                break;
+            }
+            let mut best: Option<(Hypothesis, Run, usize)> = None;
+            for _ in 0..p.iterations {
+                let Some(h) = self.sample(&mut rng) else {
+                    continue;
+                };
+                if let Some((run, m)) = self.best_run(&h, t, &rule)
+                    && best.is_none_or(|(_, _, b)| m > b)
+                {
+                    best = Some((h, run, m));
+                }
+            }
+            let Some((mut h, first_run, m)) = best else {
+                break;
+            };
+            if m < p.min_inliers {
+                break;
+            }
+            let mut run = first_run;
+            for _ in 0..p.refine_iterations {
+                let pts = &self.points;
+                let fit =
+                    common::fit_where(pts, run, |i| h.distance(pts[i].point) <= t.at(pts[i].range));
+                let Some(fit) = fit else { break };
+                let refined = Hypothesis::from_fit(&fit);
+                match self.best_run(&refined, t, &rule) {
+                    Some((r, m)) if m >= p.min_inliers => {
+                        h = refined;
+                        run = r;
+                    }
+                    _ => break,
+                }
+            }
+            self.found.clear();
+            let pts = &self.points;
+            let found = &mut self.found;
+            common::for_each_run(
+                pts,
+                |i| !self.taken[i],
+                |i| h.distance(pts[i].point) <= t.at(pts[i].range),
+                &rule,
+                p.max_skipped,
+                |r, m| {
+                    if m >= p.min_inliers {
+                        found.push(r);
+                    }
+                },
+            );
+            if self.found.is_empty() {
+                self.taken[first_run.start..first_run.end].fill(true);
+                continue;
+            }
+            for &r in &self.found {
+                for i in r.start..r.end {
+                    self.member[i] = h.distance(self.points[i].point) <= t.at(self.points[i].range);
+                    self.taken[i] = true;
+                }
+                self.runs.push(r);
+            }
+        }
+        let filter = LineFilter {
+            min_points: p.min_line_points,
+            min_length: p.min_line_length,
+        };
+        common::finish(
+            &self.points,
+            &mut self.runs,
+            &self.member,
+            &rule,
+            filter,
+            out,
+        );
+    }
+}
