@@ -190,7 +190,10 @@ impl CsvSource {
             return Err(ReadError::Syntax {
                 pos: SourcePos::line(&name, self.lines.line_number() + 1),
                 expected: "at least 2 data rows (to derive angle_increment)".to_owned(),
-                found: format!("{n} rows and then the end of the input"),
+                found: format!(
+                    "{n} row{} and then the end of the input",
+                    if n == 1 { "" } else { "s" }
+                ),
             });
         }
         let angle_min = angles[0];

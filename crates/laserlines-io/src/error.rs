@@ -261,6 +261,7 @@ pub(crate) fn json_kind(v: &serde_json::Value) -> String {
                 format!("a string (\"{shown}\")")
             }
         }
+        Value::Array(a) if a.len() == 1 => "an array of 1 value".to_owned(),
         Value::Array(a) => format!("an array of {} values", a.len()),
         Value::Object(_) => "an object".to_owned(),
     }

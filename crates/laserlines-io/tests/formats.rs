@@ -1,0 +1,192 @@
+//! Reading hand-written fixtures of every format, with values checked by hand.
+
+use std::path::Path;
+
+use laserlines::RangeWindow;
+use laserlines_io::{Format, Pose2, ScanRecord, breezy, open};
+
+fn read_all(path: &str) -> Vec<ScanRecord> {
+    let reader = open(Path::new(path), None).unwrap();
+    let records: Result<Vec<_>, _> = reader.collect();
+    records.unwrap()
+}
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol
+}
+
+#[test]
+fn json_single_object_with_every_field() {
+    let records = read_all("tests/fixtures/three_beams.json");
+    assert_eq!(records.len(), 1);
+    let r = &records[0];
+    let s = &r.scan;
+    assert_eq!(r.line, Some(1));
+    assert_eq!(s.angle_min, -0.5);
+    assert_eq!(s.angle_increment, 0.5);
+    assert_eq!((s.range_min, s.range_max), (0.1, 10.0));
+    assert_eq!(s.ranges[0], 1.0);
+    assert!(s.ranges[1].is_nan(), "null is kept as NaN");
+    assert_eq!(s.ranges[2], 2.5);
+    assert_eq!(s.intensities.as_deref(), Some(&[100.0, 0.0, 50.5][..]));
+    assert_eq!(s.stamp, Some(12.25));
+    assert_eq!(r.pose, Some(Pose2::new(1.0, -2.0, 0.5)));
+    // Beam 0 at -0.5 rad, 1 m; beam 2 at +0.5 rad, 2.5 m.
+    let pts = s.points(s.range_window(None));
+    assert_eq!(pts.len(), 2);
+    assert!(close(pts[0].point.x, 0.877_582_561_890_372_8, 1e-15));
+    assert!(close(pts[0].point.y, -0.479_425_538_604_203, 1e-15));
+    assert_eq!(pts[1].index, 2);
+    assert!(close(pts[1].point.x, 2.193_956_404_725_932, 1e-15));
+    assert!(close(pts[1].point.y, 1.198_563_846_510_507_5, 1e-15));
+}
+
+#[test]
+fn json_top_level_array_is_read_element_by_element() {
+    let records = read_all("tests/fixtures/two_scans_array.json");
+    assert_eq!(records.len(), 2);
+    assert_eq!(records[0].line, Some(2));
+    assert_eq!(records[0].scan.ranges, vec![1.0, 2.0, 3.0, 4.0]);
+    assert_eq!(records[0].scan.stamp, None);
+    assert_eq!(records[1].line, Some(4));
+    assert_eq!(records[1].scan.angle_min, 1.0);
+    assert_eq!(
+        records[1].scan.angle_increment, -0.25,
+        "reversed scans are kept"
+    );
+    assert_eq!(records[1].scan.ranges[0], 0.5);
+    assert!(records[1].scan.ranges[1].is_nan());
+    assert_eq!(records[1].scan.stamp, Some(3.5));
+}
+
+#[test]
+fn jsonl_one_scan_per_line_blank_lines_skipped() {
+    let reader = open(Path::new("tests/fixtures/scans.jsonl"), None).unwrap();
+    assert_eq!(reader.format(), Format::Jsonl);
+    let records: Vec<_> = reader.map(Result::unwrap).collect();
+    assert_eq!(records.len(), 3);
+    assert_eq!(
+        records.iter().map(|r| r.line).collect::<Vec<_>>(),
+        vec![Some(1), Some(3), Some(4)]
+    );
+    let valid: Vec<usize> = records
+        .iter()
+        .map(|r| r.scan.count_valid(r.scan.range_window(None)))
+        .collect();
+    // [1.5, 2.0, 0.01 < range_min]; [null, 6.0 > range_max, 5.6 inclusive]; no beams.
+    assert_eq!(valid, vec![2, 1, 0]);
+    assert_eq!(records[1].scan.stamp, Some(100.1));
+    assert!(records[2].scan.is_empty());
+}
+
+#[test]
+fn csv_with_comments_empty_and_nan_ranges() {
+    let records = read_all("tests/fixtures/scan.csv");
+    assert_eq!(records.len(), 1);
+    let s = &records[0].scan;
+    assert_eq!(records[0].line, Some(6));
+    assert_eq!(s.angle_min, -0.15);
+    assert!(close(s.angle_increment, 0.1, 1e-15));
+    assert_eq!(s.ranges[0], 1.25);
+    assert!(s.ranges[1].is_nan() && s.ranges[2].is_nan());
+    assert_eq!(s.ranges[3], 3.5);
+    assert_eq!((s.range_min, s.range_max), (0.05, 8.0));
+    assert_eq!(s.stamp, Some(7.5));
+    assert_eq!(records[0].pose, None);
+    assert!(close(s.angle(3), 0.15, 1e-15));
+}
+
+#[test]
+fn csv_without_limits_accepts_every_positive_range_and_decreasing_angles() {
+    let records = read_all("tests/fixtures/scan_no_meta.csv");
+    let s = &records[0].scan;
+    assert_eq!(s.angle_min, 0.3);
+    assert!(close(s.angle_increment, -0.1, 1e-15));
+    assert_eq!(s.range_min, laserlines_io::csv::DEFAULT_RANGE_MIN);
+    assert_eq!(s.range_max, laserlines_io::csv::DEFAULT_RANGE_MAX);
+    assert_eq!(s.ranges, vec![2.0, 2.5, 0.0]);
+    // 0 is never a measurement.
+    assert_eq!(s.count_valid(s.range_window(None)), 2);
+}
+
+#[test]
+fn breezy_dat_tokens_geometry_and_odometry() {
+    let records = read_all("tests/fixtures/two_scans.dat");
+    assert_eq!(records.len(), 2);
+    let (a, b) = (&records[0], &records[1]);
+    assert_eq!(a.line, Some(1));
+    assert_eq!(b.line, Some(2));
+    assert_eq!(a.scan.len(), 682, "the trailing token is not a beam");
+    assert_eq!(a.scan.stamp, Some(1.0));
+    assert_eq!(b.scan.stamp, Some(1.1));
+    assert_eq!(a.scan.angle_min, breezy::ANGLE_MIN);
+    assert!(close(a.scan.angle_min.to_degrees(), -119.53125, 1e-9));
+    assert!(close(a.scan.angle_increment.to_degrees(), 0.3515625, 1e-12));
+    assert_eq!((a.scan.range_min, a.scan.range_max), (0.02, 5.6));
+    assert_eq!(a.scan.ranges[0], 1.0);
+    assert_eq!(a.scan.ranges[340], 2.5);
+    assert_eq!(a.scan.ranges[681], 0.019);
+    assert_eq!(a.scan.ranges[1], 0.0);
+    // 0 (no echo) and 19 mm (an URG error code) are not measurements.
+    let pts = a.scan.points(a.scan.range_window(None));
+    assert_eq!(
+        pts.iter().map(|p| p.index).collect::<Vec<_>>(),
+        vec![0, 340]
+    );
+    // Beam 340 is SCIP step 384: straight ahead.
+    assert!(close(pts[1].point.x, 2.5, 1e-12) && pts[1].point.y.abs() < 1e-12);
+    // Beam 0 is 119.53 deg to the right.
+    assert!(close(pts[0].angle, -119.53125_f64.to_radians(), 1e-12));
+    // Odometry: the first scan is the origin; both wheels one turn forward = one
+    // circumference (2 pi 77 mm) straight ahead.
+    assert_eq!(a.pose, Some(Pose2::new(0.0, 0.0, 0.0)));
+    let p = b.pose.unwrap();
+    assert!(
+        close(p.x, 2.0 * std::f64::consts::PI * 0.077, 1e-12),
+        "{p:?}"
+    );
+    assert!(p.y.abs() < 1e-12 && p.theta.abs() < 1e-12);
+}
+
+#[test]
+fn bundled_excerpt_reads_forty_scans_with_poses() {
+    let records = laserlines_io::demo::urg04lx_excerpt().unwrap();
+    assert_eq!(records.len(), laserlines_io::demo::URG04LX_EXCERPT_SCANS);
+    assert_eq!(records[0].scan.stamp, Some(212.387282));
+    assert_eq!(records[39].scan.stamp, Some(216.200669));
+    for w in records.windows(2) {
+        assert!(w[1].scan.stamp > w[0].scan.stamp);
+    }
+    for r in &records {
+        assert_eq!(r.scan.len(), 682);
+        assert!(r.pose.unwrap().is_finite());
+        assert!(
+            r.scan
+                .count_valid(r.scan.range_window(Some(RangeWindow::PAPER)))
+                > 50
+        );
+    }
+    assert_eq!(records[0].pose, Some(Pose2::default()));
+}
+
+#[test]
+fn gzip_is_transparent_by_name_and_by_magic() {
+    use std::io::Write;
+    let dir = std::env::temp_dir().join(format!("laserlines-io-gz-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read("tests/fixtures/scans.jsonl").unwrap();
+    let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    enc.write_all(&text).unwrap();
+    let gz = enc.finish().unwrap();
+    let named = dir.join("scans.jsonl.gz");
+    std::fs::write(&named, &gz).unwrap();
+    assert_eq!(open(&named, None).unwrap().count(), 3);
+    // Gzip content under a plain name is recognised by its magic bytes.
+    let unnamed = dir.join("scans.jsonl");
+    std::fs::write(&unnamed, &gz).unwrap();
+    assert_eq!(open(&unnamed, None).unwrap().count(), 3);
+    // And so is gzip on a stream (standard input).
+    let reader = laserlines_io::from_reader("-", std::io::Cursor::new(gz), Format::Jsonl).unwrap();
+    assert_eq!(reader.count(), 3);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
