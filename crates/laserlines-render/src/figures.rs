@@ -140,8 +140,8 @@ fn line_legend(canvas: &mut Canvas) {
 
 fn robot_legend(canvas: &mut Canvas) {
     canvas.add_legend(LegendEntry::new(
-        Swatch::Marker(Marker::Triangle, 11.0, Style::fill(Color::RED)),
-        "robot (sensor at origin, facing +x)",
+        Swatch::Marker(Marker::TriangleRight, 12.0, Style::fill(Color::RED)),
+        "robot at the sensor origin, facing +x",
     ));
 }
 
@@ -252,7 +252,7 @@ pub fn render_hough_split(
         b.line(
             p,
             q,
-            &Style::stroke(cell_color(t), 1.3 + 1.7 * t).with_class("cell-kept"),
+            &Style::stroke(cell_color(t), 1.2 + 1.4 * t).with_class("cell-kept"),
         );
     }
     robot(&mut b);

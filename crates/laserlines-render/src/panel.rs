@@ -486,12 +486,16 @@ impl Panel {
             return;
         }
         let size = sane_px(size, 12.0).min(100.0);
-        // Pixel y points down: a world direction (cos, sin) is (cos, -sin) on the page.
-        let dir = |a: f64, r: f64| [c[0] + r * a.cos(), c[1] - r * a.sin()];
-        let tip = dir(heading, 0.65 * size);
-        let left = dir(heading + 2.5, 0.5 * size);
-        let right = dir(heading - 2.5, 0.5 * size);
-        self.polygon_px(&[tip, left, right], style);
+        // A point `forward` ahead and `left` to the left of the robot, in page pixels (page y
+        // points down).
+        let (sin, cos) = heading.sin_cos();
+        let at = |forward: f64, left: f64| {
+            [
+                c[0] + size * (forward * cos - left * sin),
+                c[1] - size * (forward * sin + left * cos),
+            ]
+        };
+        self.polygon_px(&[at(0.55, 0.0), at(-0.45, 0.36), at(-0.45, -0.36)], style);
     }
 
     /// A note centred in the plot (e.g. "no valid points").
@@ -706,9 +710,39 @@ impl Panel {
         }
         let label = format!("{} m", fmt_trimmed(len_m, 6));
         let label_w = text_width(&label, TICK_FONT, false);
+        let bar = Style::stroke(Color::INK, 1.6);
+        let bar_path = |x: f64, y: f64| {
+            let mut d = String::new();
+            push_cmd(&mut d, 'M', [x, y - 4.0]);
+            push_cmd(&mut d, 'L', [x, y]);
+            push_cmd(&mut d, 'L', [x + len_px, y]);
+            push_cmd(&mut d, 'L', [x + len_px, y - 4.0]);
+            d
+        };
+        // Preferably in the bottom margin, right of the x axis label, off the data.
+        let bottom = self.margins()[3];
+        let x_label_w = text_width(&self.x_label, LABEL_FONT, false);
+        let bx = self.width - 1.0 - len_px;
+        if bx - 6.0 - label_w >= 0.5 * (self.width + x_label_w) + 16.0 {
+            let base = self.height + bottom - 5.0;
+            w.open("g", Attrs::new().str("class", "scale-bar"));
+            w.leaf(
+                "path",
+                Attrs::new().str("d", bar_path(bx, base - 3.0)).style(&bar),
+            );
+            write_text(
+                w,
+                [bx - 6.0, base],
+                &label,
+                &TextStyle::size(TICK_FONT).anchored(Anchor::End),
+            );
+            w.close();
+            return;
+        }
+        // Otherwise inside the plot, in the corner that covers the fewest drawn samples
+        // (bottom right on ties), on a white box.
         let box_w = len_px.max(label_w) + 12.0;
         let box_h = 28.0;
-        // The corner whose box covers the fewest drawn samples (bottom right on ties).
         let corners = [
             [self.width - 8.0 - box_w, self.height - 8.0 - box_h],
             [8.0, self.height - 8.0 - box_h],
@@ -750,17 +784,7 @@ impl Panel {
         );
         let bx = x0 + 0.5 * (box_w - len_px);
         let by = y0 + box_h - 7.0;
-        let mut d = String::new();
-        push_cmd(&mut d, 'M', [bx, by - 4.0]);
-        push_cmd(&mut d, 'L', [bx, by]);
-        push_cmd(&mut d, 'L', [bx + len_px, by]);
-        push_cmd(&mut d, 'L', [bx + len_px, by - 4.0]);
-        w.leaf(
-            "path",
-            Attrs::new()
-                .str("d", d)
-                .style(&Style::stroke(Color::INK, 1.6)),
-        );
+        w.leaf("path", Attrs::new().str("d", bar_path(bx, by)).style(&bar));
         write_text(
             w,
             [x0 + 0.5 * box_w, by - 6.0],
@@ -876,7 +900,11 @@ pub(crate) fn marker_style(marker: Marker, style: &Style) -> Style {
             fill: None,
             ..style.clone()
         },
-        Marker::Circle | Marker::Square | Marker::Diamond | Marker::Triangle => style.clone(),
+        Marker::Circle
+        | Marker::Square
+        | Marker::Diamond
+        | Marker::Triangle
+        | Marker::TriangleRight => style.clone(),
     }
 }
 
@@ -909,20 +937,24 @@ pub(crate) fn write_marker(w: &mut SvgWriter, p: [f64; 2], marker: Marker, size:
             push_cmd(&mut d, 'L', [p[0] + b[2], p[1] + b[3]]);
             w.leaf("path", Attrs::new().str("d", d));
         }
-        Marker::Diamond | Marker::Triangle => {
-            let pts: Vec<[f64; 2]> = if marker == Marker::Diamond {
-                vec![
+        Marker::Diamond | Marker::Triangle | Marker::TriangleRight => {
+            let pts: Vec<[f64; 2]> = match marker {
+                Marker::Diamond => vec![
                     [p[0], p[1] - h],
                     [p[0] + h, p[1]],
                     [p[0], p[1] + h],
                     [p[0] - h, p[1]],
-                ]
-            } else {
-                vec![
+                ],
+                Marker::Triangle => vec![
                     [p[0], p[1] - h],
                     [p[0] + h, p[1] + 0.8 * h],
                     [p[0] - h, p[1] + 0.8 * h],
-                ]
+                ],
+                _ => vec![
+                    [p[0] + h, p[1]],
+                    [p[0] - 0.8 * h, p[1] - 0.6 * h],
+                    [p[0] - 0.8 * h, p[1] + 0.6 * h],
+                ],
             };
             let s: Vec<String> = pts
                 .iter()

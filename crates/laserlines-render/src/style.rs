@@ -362,4 +362,6 @@ pub enum Marker {
     Diamond,
     /// A triangle pointing up the page.
     Triangle,
+    /// A triangle pointing right (along +x on a map): the robot facing forward.
+    TriangleRight,
 }
