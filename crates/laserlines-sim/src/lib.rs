@@ -55,7 +55,7 @@ pub mod world;
 
 pub use laser::{LaserModel, MAX_BEAMS, ModelError, Noise, URG04LX_INCREMENT};
 pub use rng::Rng;
-pub use scenes::{Scene, UnknownSuite, bench_scan, bench_scene, suite};
+pub use scenes::{SUITES, Scene, UnknownSuite, bench_scan, bench_scene, suite};
 pub use simulation::{
     MIN_PIECE_BEAMS, MIN_PIECE_LENGTH, MIXED_PIXEL_MIN_JUMP, SimScan, Truth, VisiblePiece, simulate,
 };

@@ -94,8 +94,10 @@ impl Rng {
         (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
 
-    /// A uniform draw between `lo` and `hi`: in `[lo, hi)` when `lo < hi`, `lo` when they are
-    /// equal. Non-finite bounds give non-finite results; no panic.
+    /// A uniform draw between `lo` and `hi`: `lo + (hi - lo) * u` with `u` from
+    /// [`Rng::uniform`], so in `[lo, hi)` when `lo < hi` (up to the rounding of that
+    /// expression), `lo` when they are equal. Non-finite bounds give non-finite results; no
+    /// panic.
     pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.uniform()
     }

@@ -31,6 +31,8 @@ pub struct SimScan {
 ///
 /// Everything here comes from the noise-free geometry: dropouts, noise and mixed pixels change
 /// the reported ranges, not the truth (they are listed so that they can be told apart).
+/// `ranges` holds NaN for beams without a hit, so two truths of scans with such beams never
+/// compare equal with `==`; compare their fields or the ranges' bits.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Truth {
     /// For each beam, what its noise-free ray hit within `range_min..=range_max`; `None` when
