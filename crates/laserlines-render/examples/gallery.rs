@@ -1,6 +1,7 @@
 //! Writes one of each picture into a folder (default `./render-gallery`): the paper's figure
 //! and a scan with its lines for a simulated room, an accuracy-against-speed chart and the
-//! building blocks (navigation sectors, a path, a circle).
+//! building blocks (navigation sectors, a path, a circle), and the figure of a scan without
+//! any valid range.
 //!
 //! `cargo run -p laserlines-render --example gallery -- OUT_DIR`
 
@@ -139,6 +140,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "path",
     ));
     std::fs::write(format!("{dir}/blocks.svg"), canvas.to_svg())?;
-    println!("wrote {dir}/hough_split.svg, scan_lines.svg, chart.svg, blocks.svg");
+
+    // A scan without a single valid range still gives a figure, with notes.
+    let empty = Scan::new(-2.0, 0.01, 0.02, 5.6, vec![f64::NAN; 400])?;
+    let lines = hs.extract(&empty);
+    std::fs::write(
+        format!("{dir}/empty.svg"),
+        render_hough_split(&empty, &hs, &lines, &RenderOptions::default()),
+    )?;
+    println!("wrote {dir}/hough_split.svg, scan_lines.svg, chart.svg, blocks.svg, empty.svg");
     Ok(())
 }

@@ -71,7 +71,7 @@ fn points_of(points: &[ScanPoint]) -> Vec<Point2> {
 fn view_for(opts: &RenderOptions, points: &[Point2]) -> Extent {
     match opts.view {
         Some(v) if v.is_valid() => v,
-        _ => Extent::fit_map(points.iter().copied(), 1.0),
+        _ => Extent::fit_map(points.iter().copied(), 2.0),
     }
 }
 

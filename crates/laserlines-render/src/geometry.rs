@@ -103,9 +103,9 @@ impl Extent {
         )
     }
 
-    /// An extent fitting a map of points: the points and the origin (the sensor), padded by
-    /// 6 % of the larger side, at least `min_span` wide and high. Falls back to a square of
-    /// `min_span` around the origin when there is no finite point.
+    /// An extent fitting a map of points: the points and the origin (the sensor), at least
+    /// `min_span` wide and high, then padded by 6 % of the larger side. Falls back to a
+    /// square of `min_span` (padded) around the origin when there is no finite point.
     #[must_use]
     pub fn fit_map<I: IntoIterator<Item = Point2>>(points: I, min_span: f64) -> Self {
         let min_span = if min_span.is_finite() && min_span > 0.0 {
@@ -120,8 +120,7 @@ impl Extent {
             )
             // Astronomic ranges would make the picture useless and the numbers unreadable.
             .clamped(1e6);
-        let pad = 0.06 * base.width().max(base.height());
-        let mut e = base.padded(pad);
+        let mut e = base;
         for (lo, hi) in [(&mut e.min_x, &mut e.max_x), (&mut e.min_y, &mut e.max_y)] {
             let span = *hi - *lo;
             if span < min_span {
@@ -130,6 +129,7 @@ impl Extent {
                 *hi += grow;
             }
         }
+        let e = e.padded(0.06 * e.width().max(e.height()));
         e
     }
 
@@ -392,7 +392,7 @@ mod tests {
         let e = Extent::fit_map([Point2::new(2.0, 1.0), Point2::new(3.0, -1.0)], 1.0);
         assert!(e.min_x < 0.0 && e.max_x > 3.0 && e.min_y < -1.0 && e.max_y > 1.0);
         let empty = Extent::fit_map(std::iter::empty(), 2.0);
-        assert!(empty.is_valid() && (empty.width() - 2.0).abs() < 1e-12);
+        assert!(empty.is_valid() && (empty.width() - 2.24).abs() < 1e-12);
         let nan = Extent::fit_map([Point2::new(f64::NAN, 1.0)], 2.0);
         assert!(nan.is_valid());
         let huge = Extent::fit_map([Point2::new(1e300, 1.0)], 2.0);

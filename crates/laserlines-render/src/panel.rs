@@ -498,7 +498,7 @@ impl Panel {
         self.polygon_px(&[at(0.55, 0.0), at(-0.45, 0.36), at(-0.45, -0.36)], style);
     }
 
-    /// A note centred in the plot (e.g. "no valid points").
+    /// A note written centred near the top of the plot (e.g. "no valid points").
     pub fn note(&mut self, text: impl Into<String>) {
         self.notes.push(text.into());
     }
@@ -602,7 +602,7 @@ impl Panel {
             self.write_scale_bar(w);
         }
         for (i, note) in self.notes.iter().enumerate() {
-            let y = 0.5 * self.height + 18.0 * (i as f64 - 0.5 * (self.notes.len() as f64 - 1.0));
+            let y = 28.0 + 18.0 * i as f64;
             write_text(
                 w,
                 [0.5 * self.width, y],
