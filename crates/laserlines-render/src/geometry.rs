@@ -129,8 +129,7 @@ impl Extent {
                 *hi += grow;
             }
         }
-        let e = e.padded(0.06 * e.width().max(e.height()));
-        e
+        e.padded(0.06 * e.width().max(e.height()))
     }
 
     fn clamped(self, limit: f64) -> Self {
