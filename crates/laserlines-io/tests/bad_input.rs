@@ -1,6 +1,8 @@
 //! Bad input never panics and gives an error naming the file, the line and what was wrong.
 //! Where the rest of the input is good (JSONL, `.dat`, JSON arrays), reading goes on.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers outside #[test] fns
+
 use std::io::Cursor;
 use std::path::Path;
 

@@ -1,5 +1,7 @@
 //! Reading hand-written fixtures of every format, with values checked by hand.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers outside #[test] fns
+
 use std::path::Path;
 
 use laserlines::RangeWindow;

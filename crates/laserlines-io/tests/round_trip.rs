@@ -1,5 +1,7 @@
 //! Write, read back, compare: scans in every writable format, and the lines JSONL schema.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers outside #[test] fns
+
 use std::io::Cursor;
 
 use laserlines::math::{Matrix2, Point2};
@@ -231,7 +233,7 @@ fn sample_lines() -> Vec<Line> {
         },
         Line {
             start: Point2::new(0.1 + 0.2, 1.0 / 3.0),
-            end: Point2::new(-2.718_281_828_459_045, 1e-300),
+            end: Point2::new(-2.718_281_828_459_1, 1e-300),
             r: 2.0_f64.sqrt(),
             alpha: -std::f64::consts::FRAC_PI_3,
             first: 41,
