@@ -1,1 +1,54 @@
-fn main() {}
+//! `laserlines`: line segments from 2D laser scans, on the command line.
+
+mod cmd;
+mod params;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+
+/// Line segments from 2D laser range scans: the g-weighted Hough transform, data segments and
+/// recursive split of the NAJI V rescue robot, and the classic extractors.
+#[derive(Debug, Parser)]
+#[command(name = "laserlines", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Extract lines from every scan of an input; writes one JSON object per scan.
+    Extract(cmd::extract::ExtractArgs),
+    /// Draw the paper's figures (raw scan, spider net, data segments, lines) for one scan.
+    Render(cmd::render::RenderArgs),
+    /// Run the whole pipeline on bundled real Hokuyo URG-04LX scans.
+    Demo(cmd::demo::DemoArgs),
+}
+
+/// Where scans come from: a path (or `-` for stdin) and an optional format override.
+#[derive(Debug, Clone, Args)]
+pub struct InputArgs {
+    /// Input file (.json, .jsonl, .csv, .dat, optionally .gz), or `-` for stdin.
+    pub input: PathBuf,
+    /// Input format, overriding the file extension (json, jsonl, csv, dat).
+    #[arg(long)]
+    pub format: Option<String>,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Extract(a) => cmd::extract::run(&a),
+        Command::Render(a) => cmd::render::run(&a),
+        Command::Demo(a) => cmd::demo::run(&a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("laserlines: error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -114,13 +114,13 @@ impl Scan {
                 max: self.range_max,
             });
         }
-        if let Some(int) = &self.intensities {
-            if int.len() != n {
-                return Err(ScanError::IntensityLength {
-                    ranges: n,
-                    intensities: int.len(),
-                });
-            }
+        if let Some(int) = &self.intensities
+            && int.len() != n
+        {
+            return Err(ScanError::IntensityLength {
+                ranges: n,
+                intensities: int.len(),
+            });
         }
         Ok(())
     }

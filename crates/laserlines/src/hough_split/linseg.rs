@@ -146,15 +146,15 @@ pub(crate) fn emit_lines(
                 _ => b + 1,
             }
         };
-        if hi > lo && hi - lo >= min_points {
-            if let Some(fit) = sums(points, seg, lo, hi).fit() {
-                let first = &points[seg[lo] as usize];
-                let last = &points[seg[hi - 1] as usize];
-                let line =
-                    Line::from_fit(&fit, (first.index, first.point), (last.index, last.point));
-                if line.length() >= p.min_line_length {
-                    out.push(line);
-                }
+        if hi > lo
+            && hi - lo >= min_points
+            && let Some(fit) = sums(points, seg, lo, hi).fit()
+        {
+            let first = &points[seg[lo] as usize];
+            let last = &points[seg[hi - 1] as usize];
+            let line = Line::from_fit(&fit, (first.index, first.point), (last.index, last.point));
+            if line.length() >= p.min_line_length {
+                out.push(line);
             }
         }
         lo = hi;

@@ -72,6 +72,9 @@ pub struct HoughSplitParams {
     /// Range noise allowance of the beam bridge, m, added three times to the breakpoint
     /// distance. Default 0.01. Sensible: 0..0.05.
     pub bridge_noise: f64,
+    /// Most missing (invalid or removed) beams the beam bridge may span. Default 2.
+    /// Sensible: 0..5.
+    pub bridge_max_gap: usize,
     /// Data segments with fewer surviving points are removed as clutter. Default 5.
     pub min_segment_points: usize,
     /// Split threshold at zero range, m: Linseg splits where the farthest point from the chord
@@ -105,6 +108,7 @@ impl Default for HoughSplitParams {
             bridge_beams: true,
             bridge_incidence: 10.0_f64.to_radians(),
             bridge_noise: 0.01,
+            bridge_max_gap: 2,
             min_segment_points: 5,
             split_distance: 0.02,
             split_distance_per_metre: 0.01,

@@ -95,7 +95,8 @@ pub(crate) fn connect_cells(acc: &Accumulator, p: &HoughSplitParams, uf: &mut Co
 
 /// Joins the cells of consecutive surviving points closer than the adaptive breakpoint
 /// distance `r sin(dphi) / sin(lambda - dphi) + 3 sigma` (Borges & Aldon 2004), where `dphi`
-/// is the angle between the two beams (larger across dropped beams).
+/// is the angle between the two beams (larger across dropped beams). Points more than
+/// `bridge_max_gap` missing beams apart are never bridged.
 pub(crate) fn bridge_beams(
     points: &[ScanPoint],
     cell_of: &[u32],
@@ -114,10 +115,12 @@ pub(crate) fn bridge_beams(
         }
         if let Some(q) = prev {
             let gap = points[pi].index - points[q].index;
-            let factor = if gap == 1 {
-                one_beam
-            } else {
-                breakpoint_factor(step * gap as f64, p.bridge_incidence)
+            let factor = match gap {
+                1 => one_beam,
+                g if g <= p.bridge_max_gap + 1 => {
+                    breakpoint_factor(step * g as f64, p.bridge_incidence)
+                }
+                _ => None,
             };
             if let Some(f) = factor {
                 let limit = points[q].range * f + noise;

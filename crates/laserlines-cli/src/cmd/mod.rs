@@ -1,0 +1,63 @@
+//! One module per subcommand, plus what they share.
+
+pub mod demo;
+pub mod extract;
+pub mod render;
+
+use std::path::Path;
+
+use anyhow::{Context, Result, anyhow, bail};
+use laserlines::{HoughSplit, LineExtractor};
+use laserlines_io::{Format, ScanReader};
+
+use crate::InputArgs;
+use crate::params::ParamsFile;
+
+/// The algorithms `--algorithm` accepts.
+pub const ALGORITHMS: &[&str] = &["hough-split"];
+
+/// Opens the input of a command.
+pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
+    let format = match &input.format {
+        Some(name) => Some(Format::from_name(name).ok_or_else(|| {
+            anyhow!(
+                "unknown format {name:?}: expected one of {}",
+                Format::NAMES.join(", ")
+            )
+        })?),
+        None => None,
+    };
+    Ok(laserlines_io::open(&input.input, format)?)
+}
+
+/// The extractor named `algorithm`, with parameters from `params` when given.
+pub fn make_extractor(
+    algorithm: &str,
+    params: Option<&Path>,
+) -> Result<Box<dyn LineExtractor + Send>> {
+    let file = match params {
+        Some(p) => ParamsFile::load(p)?,
+        None => ParamsFile::default(),
+    };
+    match algorithm {
+        "hough-split" => Ok(Box::new(HoughSplit::new(file.hough_split()?)?)),
+        other => {
+            if params.is_some() && !file.has(other) {
+                bail!("the params file has no [{other}] table");
+            }
+            bail!(
+                "unknown algorithm {other:?}: expected one of {}",
+                ALGORITHMS.join(", ")
+            )
+        }
+    }
+}
+
+/// A HoughSplit extractor with parameters from `params` when given.
+pub fn make_hough_split(params: Option<&Path>) -> Result<HoughSplit> {
+    let file = match params {
+        Some(p) => ParamsFile::load(p)?,
+        None => ParamsFile::default(),
+    };
+    HoughSplit::new(file.hough_split()?).context("hough-split parameters")
+}

@@ -1,0 +1,63 @@
+//! `laserlines render`: the paper's figures for one scan as one SVG.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, anyhow};
+use clap::Args;
+use laserlines::LineExtractor;
+use laserlines_render::{RenderOptions, render_hough_split, render_scan_lines};
+
+use crate::InputArgs;
+
+/// Arguments of `laserlines render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    input: InputArgs,
+    /// Index of the scan to draw (0-based, in input order).
+    #[arg(long, default_value_t = 0)]
+    scan: usize,
+    /// Output SVG file.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Line extraction algorithm; `hough-split` draws all four stages of the paper, any
+    /// other algorithm draws its lines over the scan.
+    #[arg(long, default_value = "hough-split")]
+    algorithm: String,
+    /// TOML file of parameters (one table per algorithm).
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// Width of the figure, pixels.
+    #[arg(long, default_value_t = 1200.0)]
+    width: f64,
+}
+
+/// Runs the command.
+pub fn run(args: &RenderArgs) -> Result<()> {
+    let mut reader = super::open_input(&args.input)?;
+    let record = reader.by_ref().nth(args.scan).ok_or_else(|| {
+        anyhow!(
+            "{}: has no scan {} (it holds {} scans)",
+            args.input.input.display(),
+            args.scan,
+            reader.records()
+        )
+    })??;
+    let opts = RenderOptions {
+        width: args.width,
+        ..RenderOptions::default()
+    };
+    let svg = if args.algorithm == "hough-split" {
+        let mut hs = super::make_hough_split(args.params.as_deref())?;
+        let lines = hs.extract(&record.scan);
+        render_hough_split(&record.scan, &hs, &lines, &opts)
+    } else {
+        let mut ex = super::make_extractor(&args.algorithm, args.params.as_deref())?;
+        let lines = ex.extract(&record.scan);
+        render_scan_lines(&record.scan, &lines, &opts)
+    };
+    std::fs::write(&args.output, svg)
+        .with_context(|| format!("cannot write {}", args.output.display()))?;
+    eprintln!("wrote {}", args.output.display());
+    Ok(())
+}
