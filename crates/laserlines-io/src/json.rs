@@ -110,10 +110,12 @@ impl Element<'_> {
             None => full,
         };
         let offset = self.offset_of_line_column(e.line(), e.column());
-        let here = &self.text[offset.saturating_sub(1).min(self.text.len())..];
+        // Bytes, not str: the parser's column need not fall on a character boundary.
+        let bytes = self.text.as_bytes();
+        let here = &bytes[offset.saturating_sub(1).min(bytes.len())..];
         for word in ["NaN", "-Infinity", "Infinity", "nan", "inf"] {
-            let at_word =
-                here.starts_with(word) || here.get(1..).is_some_and(|h| h.starts_with(word));
+            let w = word.as_bytes();
+            let at_word = here.starts_with(w) || here.get(1..).is_some_and(|h| h.starts_with(w));
             if at_word {
                 message.push_str(&format!(
                     " (`{word}` is not JSON; write null for a beam without return)"
