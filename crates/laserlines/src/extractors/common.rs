@@ -60,18 +60,28 @@ impl Scaled {
 /// The adaptive breakpoint detector of Borges and Aldon (2004): consecutive valid points `a`,
 /// `b` belong to different clusters when `|b - a| > r_a sin(dphi) / sin(lambda - dphi) + 3
 /// sigma`. The limit grows linearly with range (the distance between beams does), and with the
-/// angle between the two beams, so that a few dropped beams do not break a wall.
+/// angle between the two beams, so that a few dropped beams do not break a wall; more than
+/// `max_gap` missing (invalid) beams between them always do, since the limit grows without
+/// bound as `dphi` nears `lambda`.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Breakpoints {
     /// `lambda`, rad: the smallest incidence angle of a surface that still counts as joined.
     pub(crate) incidence: f64,
     /// `sigma`, m: range noise allowance.
     pub(crate) noise: f64,
+    /// Most missing beams between two points that can still be joined.
+    pub(crate) max_gap: usize,
 }
 
 impl Breakpoints {
-    /// True when `a` and `b` (in this order along the scan) are not neighbours on one surface.
-    pub(crate) fn is_break(&self, a: &ScanPoint, b: &ScanPoint) -> bool {
+    /// True when `points[a]` and `points[b]` (`a < b`; the valid points between them, if any,
+    /// are not missing beams) are not neighbours on one surface.
+    pub(crate) fn is_break(&self, points: &[ScanPoint], a: usize, b: usize) -> bool {
+        let (a, b, between) = (&points[a], &points[b], b.abs_diff(a));
+        let missing = b.index.abs_diff(a.index).saturating_sub(between);
+        if missing > self.max_gap {
+            return true;
+        }
         let dphi = (b.angle - a.angle).abs();
         let denom = (self.incidence - dphi).sin();
         if !(dphi.is_finite() && dphi < self.incidence && denom > 0.0) {
@@ -87,7 +97,7 @@ impl Breakpoints {
         out.clear();
         let mut start = 0;
         for i in 1..=points.len() {
-            if i == points.len() || self.is_break(&points[i - 1], &points[i]) {
+            if i == points.len() || self.is_break(points, i - 1, i) {
                 if i - start >= min_points.max(1) {
                     out.push(Run { start, end: i });
                 }
@@ -138,7 +148,7 @@ pub(crate) fn at_least(field: &'static str, value: usize, min: usize) -> Result<
     }
 }
 
-/// Checks the breakpoint detector's parameters.
+/// Checks the breakpoint detector's parameters (`max_gap` needs no check).
 pub(crate) fn check_breakpoints(incidence: f64, noise: f64) -> Result<(), ParamsError> {
     inside(
         "breakpoint_incidence",
@@ -248,9 +258,7 @@ pub(crate) fn for_each_run(
         }
         if member(i) {
             match open {
-                Some((s, l, m))
-                    if skipped <= max_skip && !rule.is_break(&points[l], &points[i]) =>
-                {
+                Some((s, l, m)) if skipped <= max_skip && !rule.is_break(points, l, i) => {
                     open = Some((s, i, m + 1));
                 }
                 Some((s, l, m)) => {
@@ -514,7 +522,7 @@ fn settle(
     rule: &Breakpoints,
 ) -> Option<usize> {
     let e = a.end;
-    if e != b.start || e == 0 || e >= points.len() || rule.is_break(&points[e - 1], &points[e]) {
+    if e != b.start || e == 0 || e >= points.len() || rule.is_break(points, e - 1, e) {
         return None;
     }
     let ka = (a.len() / 3).min(SETTLE_MAX);
@@ -598,6 +606,7 @@ mod tests {
     const RULE: Breakpoints = Breakpoints {
         incidence: 0.6,
         noise: 0.01,
+        max_gap: 2,
     };
 
     #[test]
@@ -635,6 +644,7 @@ mod tests {
         let rule = Breakpoints {
             incidence: 10f64.to_radians(),
             noise: 0.01,
+            max_gap: 0,
         };
         let mut out = Vec::new();
         rule.clusters(&pts, 1, &mut out);

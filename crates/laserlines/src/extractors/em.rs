@@ -64,6 +64,9 @@ pub struct EmParams {
     /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
     /// Sensible: 0..0.05.
     pub breakpoint_noise: f64,
+    /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
+    /// may still join. Default 2. Sensible: 0..5.
+    pub breakpoint_max_gap: usize,
     /// Lines with fewer supporting points are dropped, and runs with fewer members do not count
     /// as found. Default 6. At least 2 is enforced.
     pub min_line_points: usize,
@@ -89,6 +92,7 @@ impl Default for EmParams {
             max_skipped: 2,
             breakpoint_incidence: 10.0_f64.to_radians(),
             breakpoint_noise: 0.01,
+            breakpoint_max_gap: 2,
             min_line_points: 6,
             min_line_length: 0.10,
             range_limits: None,
@@ -261,6 +265,7 @@ impl LineExtractor for Em {
         let rule = Breakpoints {
             incidence: p.breakpoint_incidence,
             noise: p.breakpoint_noise,
+            max_gap: p.breakpoint_max_gap,
         };
         self.taken.clear();
         self.taken.resize(n, false);

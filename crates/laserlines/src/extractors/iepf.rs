@@ -28,6 +28,9 @@ pub struct IepfParams {
     /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
     /// Sensible: 0..0.05.
     pub breakpoint_noise: f64,
+    /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
+    /// may still join. Default 2. Sensible: 0..5.
+    pub breakpoint_max_gap: usize,
     /// Clusters with fewer points are dropped. Default 5. Sensible: 2..10.
     pub min_cluster_points: usize,
     /// Split threshold at zero range, m: a piece is split where the farthest point from its
@@ -54,6 +57,7 @@ impl Default for IepfParams {
         Self {
             breakpoint_incidence: 10.0_f64.to_radians(),
             breakpoint_noise: 0.01,
+            breakpoint_max_gap: 2,
             min_cluster_points: 5,
             split_distance: 0.02,
             split_distance_per_metre: 0.01,
@@ -130,6 +134,7 @@ impl LineExtractor for Iepf {
         let rule = Breakpoints {
             incidence: p.breakpoint_incidence,
             noise: p.breakpoint_noise,
+            max_gap: p.breakpoint_max_gap,
         };
         let threshold = Scaled {
             base: p.split_distance,

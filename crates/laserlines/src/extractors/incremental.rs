@@ -29,6 +29,9 @@ pub struct IncrementalParams {
     /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
     /// Sensible: 0..0.05.
     pub breakpoint_noise: f64,
+    /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
+    /// may still join. Default 2. Sensible: 0..5.
+    pub breakpoint_max_gap: usize,
     /// Consecutive points that start a line. Default 5. At least 3. Sensible: 3..10.
     pub seed_points: usize,
     /// Tracking threshold at zero range, m: a point joins the line when its distance to the
@@ -54,6 +57,7 @@ impl Default for IncrementalParams {
         Self {
             breakpoint_incidence: 10.0_f64.to_radians(),
             breakpoint_noise: 0.01,
+            breakpoint_max_gap: 2,
             seed_points: 5,
             track_distance: 0.02,
             track_distance_per_metre: 0.01,
@@ -172,6 +176,7 @@ impl LineExtractor for Incremental {
         let rule = Breakpoints {
             incidence: p.breakpoint_incidence,
             noise: p.breakpoint_noise,
+            max_gap: p.breakpoint_max_gap,
         };
         let threshold = Scaled {
             base: p.track_distance,

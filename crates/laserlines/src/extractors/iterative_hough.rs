@@ -78,6 +78,9 @@ pub struct IterativeHoughParams {
     /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
     /// Sensible: 0..0.05.
     pub breakpoint_noise: f64,
+    /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
+    /// may still join. Default 2. Sensible: 0..5.
+    pub breakpoint_max_gap: usize,
     /// Most rounds (accumulator builds) per scan. Default 100. At least 1.
     pub max_iterations: usize,
     /// Lines with fewer supporting points are dropped, and runs with fewer inliers are not
@@ -106,6 +109,7 @@ impl Default for IterativeHoughParams {
             max_skipped: 2,
             breakpoint_incidence: 10.0_f64.to_radians(),
             breakpoint_noise: 0.01,
+            breakpoint_max_gap: 2,
             max_iterations: 100,
             min_line_points: 6,
             min_line_length: 0.10,
@@ -213,6 +217,7 @@ impl LineExtractor for IterativeHough {
         let rule = Breakpoints {
             incidence: p.breakpoint_incidence,
             noise: p.breakpoint_noise,
+            max_gap: p.breakpoint_max_gap,
         };
         let t = Scaled {
             base: p.inlier_distance,

@@ -34,6 +34,9 @@ pub struct LineRegressionParams {
     /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
     /// Sensible: 0..0.05.
     pub breakpoint_noise: f64,
+    /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
+    /// may still join. Default 2. Sensible: 0..5.
+    pub breakpoint_max_gap: usize,
     /// Points per sliding window (`N_f`). Default 9. At least 3. Sensible: 5..15.
     pub window: usize,
     /// Range noise standard deviation at zero range, m, for the window covariances.
@@ -70,6 +73,7 @@ impl Default for LineRegressionParams {
         Self {
             breakpoint_incidence: 10.0_f64.to_radians(),
             breakpoint_noise: 0.01,
+            breakpoint_max_gap: 2,
             window: 9,
             noise_sigma: 0.005,
             noise_sigma_per_metre: 0.005,
@@ -283,6 +287,7 @@ impl LineExtractor for LineRegression {
         let rule = Breakpoints {
             incidence: p.breakpoint_incidence,
             noise: p.breakpoint_noise,
+            max_gap: p.breakpoint_max_gap,
         };
         let merge = Scaled {
             base: p.merge_distance,

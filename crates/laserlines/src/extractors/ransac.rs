@@ -58,6 +58,9 @@ pub struct RansacParams {
     /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
     /// Sensible: 0..0.05.
     pub breakpoint_noise: f64,
+    /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
+    /// may still join. Default 2. Sensible: 0..5.
+    pub breakpoint_max_gap: usize,
     /// Most rounds of sampling per scan. Default 64. At least 1.
     pub max_lines: usize,
     /// Lines with fewer supporting points are dropped. Default 6. At least 2 is enforced.
@@ -82,6 +85,7 @@ impl Default for RansacParams {
             refine_iterations: 2,
             breakpoint_incidence: 10.0_f64.to_radians(),
             breakpoint_noise: 0.01,
+            breakpoint_max_gap: 2,
             max_lines: 64,
             min_line_points: 6,
             min_line_length: 0.10,
@@ -194,6 +198,7 @@ impl LineExtractor for Ransac {
         let rule = Breakpoints {
             incidence: p.breakpoint_incidence,
             noise: p.breakpoint_noise,
+            max_gap: p.breakpoint_max_gap,
         };
         let t = Scaled {
             base: p.inlier_distance,
