@@ -98,10 +98,114 @@ fn collinear(
     })
 }
 
+/// Points on each side of a shared end point that [`best_cut`] may move to the other line.
+const CUT_WINDOW: usize = 4;
+
+/// Where to cut between the piece `seg[lo..=b]` and the piece `seg[b..=next]`, which share the
+/// split point `b`: returns `c` such that the first piece keeps `seg[lo..c]`.
+///
+/// The split point is the farthest point from a chord, which noise can move a few points away
+/// from the true corner. Both pieces are fitted without the `CUT_WINDOW` points around `b`,
+/// and the cut is placed where the points of the window are best explained (least sum of
+/// squared distances) by the line on their side.
+fn best_cut(points: &[ScanPoint], seg: &[u32], lo: usize, b: usize, next: usize) -> usize {
+    let wlo = b.saturating_sub(CUT_WINDOW).max(lo + 1);
+    let whi = (b + CUT_WINDOW).min(next.saturating_sub(1));
+    let left = sums(points, seg, lo, wlo).fit();
+    let right = sums(points, seg, whi + 1, next + 1).fit();
+    let (Some(left), Some(right)) = (left, right) else {
+        // Pieces too short to fit without the window: the split point stays with the first.
+        return b + 1;
+    };
+    if whi < wlo {
+        return b + 1;
+    }
+    // cost(c) = sum over window points before c of dL^2 + from c on of dR^2.
+    let mut cost: f64 = seg[wlo..=whi]
+        .iter()
+        .map(|&k| right.distance(points[k as usize].point).powi(2))
+        .sum();
+    let mut best = (cost, wlo);
+    for c in wlo..=whi {
+        let q = points[seg[c] as usize].point;
+        cost += left.distance(q).powi(2) - right.distance(q).powi(2);
+        // Ties keep the cut nearest the split point.
+        let better =
+            cost < best.0 || (cost == best.0 && (c + 1).abs_diff(b + 1) < best.1.abs_diff(b + 1));
+        if better {
+            best = (cost, c + 1);
+        }
+    }
+    best.1
+}
+
+/// Drops points at the ends of the piece `seg[lo..hi]` that another surface bent away: a short
+/// leg of a corner too small for the split to see, or a mixed pixel.
+///
+/// For each end, the last `k <= min(CUT_WINDOW, n / 6)` points are tested against the fit of
+/// the rest: each distance `d` is scaled by its expected spread, the point noise
+/// (`split_threshold / 4`, the threshold being about four standard deviations) plus the
+/// uncertainty of the fitted line at that point (from the fit's covariance). The `k` points are
+/// cut when they all lie on one side and `sum(d^2 / var) >= 9` (three standard deviations
+/// jointly), choosing the `k` with the largest excess `sum(d^2 / var - 1)`. Returns the new
+/// bounds.
+fn trim_ends(
+    points: &[ScanPoint],
+    seg: &[u32],
+    lo: usize,
+    hi: usize,
+    min_points: usize,
+    p: &HoughSplitParams,
+) -> (usize, usize) {
+    let (mut lo, mut hi) = (lo, hi);
+    for from_end in [true, false] {
+        let n = hi.saturating_sub(lo);
+        let max_k = CUT_WINDOW
+            .min(n / 6)
+            .min(n.saturating_sub(min_points.max(3)));
+        let mut rest = sums(points, seg, lo, hi);
+        let mut best: Option<(f64, usize)> = None;
+        for k in 1..=max_k {
+            let idx = |j: usize| if from_end { hi - 1 - j } else { lo + j };
+            rest.remove(points[seg[idx(k - 1)] as usize].point);
+            let Some(fit) = rest.fit() else { break };
+            let (sa, ca) = fit.alpha.sin_cos();
+            let cov = fit.covariance;
+            let (mut chi2, mut sign) = (0.0, 0.0f64);
+            let mut one_side = true;
+            for j in 0..k {
+                let sp = &points[seg[idx(j)] as usize];
+                let d = fit.distance(sp.point);
+                if sign == 0.0 {
+                    sign = d.signum();
+                } else if d.signum() != sign {
+                    one_side = false;
+                }
+                let noise = p.split_threshold(sp.range) / 4.0;
+                let t = -sp.point.x * sa + sp.point.y * ca;
+                let line_var = cov[(0, 0)] - 2.0 * t * cov[(0, 1)] + t * t * cov[(1, 1)];
+                chi2 += d * d / (noise * noise + line_var.max(0.0));
+            }
+            let excess = chi2 - k as f64;
+            if one_side && chi2 >= 9.0 && best.is_none_or(|(e, _)| excess > e) {
+                best = Some((excess, k));
+            }
+        }
+        if let Some((_, k)) = best {
+            if from_end {
+                hi -= k;
+            } else {
+                lo += k;
+            }
+        }
+    }
+    (lo, hi)
+}
+
 /// Turns the split tree's end points of one segment into lines appended to `out`.
 ///
-/// The shared end point of two neighbouring pieces goes to the piece whose least-squares line
-/// (fitted without it) passes closer, so that every point supports at most one line.
+/// Neighbouring pieces share their end point after the split; [`best_cut`] decides which
+/// line each point near it supports, so that every point supports at most one line.
 pub(crate) fn emit_lines(
     points: &[ScanPoint],
     seg: &[u32],
@@ -129,6 +233,7 @@ pub(crate) fn emit_lines(
         breaks.truncate(w + 1);
     }
     let min_points = p.min_line_points.max(2);
+    let first_line = out.len();
     // Piece i covers seg[lo..hi] with disjoint bounds.
     let mut lo = 0usize;
     for i in 1..breaks.len() {
@@ -136,28 +241,52 @@ pub(crate) fn emit_lines(
         let hi = if i + 1 == breaks.len() {
             seg.len()
         } else {
-            // Give the shared point b to this piece or to the next one.
-            let next = breaks[i + 1] as usize;
-            let here = sums(points, seg, lo, b).fit();
-            let there = sums(points, seg, b + 1, next + 1).fit();
-            let pt = points[seg[b] as usize].point;
-            match (here, there) {
-                (Some(h), Some(t)) if t.distance(pt).abs() < h.distance(pt).abs() => b,
-                _ => b + 1,
-            }
+            best_cut(points, seg, lo, b, breaks[i + 1] as usize)
         };
-        if hi > lo
-            && hi - lo >= min_points
-            && let Some(fit) = sums(points, seg, lo, hi).fit()
+        let (a, z) = trim_ends(points, seg, lo, hi, min_points, p);
+        if z > a
+            && z - a >= min_points
+            && let Some(fit) = sums(points, seg, a, z).fit()
         {
-            let first = &points[seg[lo] as usize];
-            let last = &points[seg[hi - 1] as usize];
+            let first = &points[seg[a] as usize];
+            let last = &points[seg[z - 1] as usize];
             let line = Line::from_fit(&fit, (first.index, first.point), (last.index, last.point));
             if line.length() >= p.min_line_length {
                 out.push(line);
             }
         }
         lo = hi;
+    }
+    join_corners(&mut out[first_line..], p);
+}
+
+/// Neighbouring lines of one segment that meet at a corner share their end point, as in the
+/// paper: the intersection of the two fitted lines, when it lies near both ends (within the
+/// split threshold plus the gap between them) and the lines are not nearly parallel.
+fn join_corners(lines: &mut [Line], p: &HoughSplitParams) {
+    for k in 1..lines.len() {
+        let (a, b) = (lines[k - 1], lines[k]);
+        let (sa, ca) = a.alpha.sin_cos();
+        let (sb, cb) = b.alpha.sin_cos();
+        let det = ca * sb - sa * cb;
+        // Lines closer than 15 deg to parallel: no well-defined corner.
+        if det.abs() < 15f64.to_radians().sin() {
+            continue;
+        }
+        let x = (a.r * sb - b.r * sa) / det;
+        let y = (ca * b.r - cb * a.r) / det;
+        let corner = crate::math::Point2::new(x, y);
+        // Ends apart (a depth jump, not a corner) are left alone.
+        let thr = p.split_threshold(corner.coords.norm());
+        let gap = (b.start - a.end).norm();
+        let reach = gap + thr;
+        if gap <= 2.0 * thr
+            && (corner - a.end).norm() <= reach
+            && (corner - b.start).norm() <= reach
+        {
+            lines[k - 1].end = corner;
+            lines[k].start = corner;
+        }
     }
 }
 

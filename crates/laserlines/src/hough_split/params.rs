@@ -81,7 +81,8 @@ pub struct HoughSplitParams {
     /// lies farther than `split_distance + split_distance_per_metre * range`. Default 0.02.
     pub split_distance: f64,
     /// Growth of the split threshold with the range of the farthest point, m per m.
-    /// Default 0.01 (the URG-04LX's 1 % accuracy). Sensible: 0..0.03.
+    /// Default 0.02 (about four standard deviations of the URG-04LX's range noise, whose
+    /// accuracy is 1 % of the range beyond 1 m). Sensible: 0..0.04.
     pub split_distance_per_metre: f64,
     /// After splitting, merge neighbouring lines of one segment when all their points lie
     /// within the split threshold of their joint least-squares line. Not in the paper
@@ -106,12 +107,12 @@ impl Default for HoughSplitParams {
             criterion: 0.5,
             group_gap: 1,
             bridge_beams: true,
-            bridge_incidence: 10.0_f64.to_radians(),
+            bridge_incidence: 4.0_f64.to_radians(),
             bridge_noise: 0.01,
             bridge_max_gap: 2,
             min_segment_points: 5,
             split_distance: 0.02,
-            split_distance_per_metre: 0.01,
+            split_distance_per_metre: 0.02,
             merge_collinear: true,
             min_line_points: 6,
             min_line_length: 0.10,

@@ -1,0 +1,298 @@
+//! Round trips with known answers: scans simulated from known walls (URG-04LX model with its
+//! noise), extracted, and compared with the simulator's ground truth.
+//!
+//! Every visible wall piece (a run of 10+ beams on one wall, 0.2+ m long) must come out as
+//! exactly one line with r within 1 cm, alpha within 0.5 deg and end points within 3 cm; and
+//! no line may stand where no wall is: both ends of every line lie on a wall its beams hit.
+//!
+//! Where the sensor's noise makes a figure unreachable for any least-squares fit (short or
+//! far pieces, end points seen at grazing incidence), the tolerance is widened to four times
+//! the standard error an ideal fit of the piece's own beams would have under the simulated
+//! noise, or to one and a half times the spacing of the beams at an end point (an end is known
+//! only to a beam spacing); `Expected` computes both from the ground truth, never from the
+//! extracted line.
+
+use laserlines::math::{Point2, Vector2, angle_diff};
+use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor};
+use laserlines_sim::scenes::{self, Scene};
+use laserlines_sim::{LaserModel, Rng, SimScan, Target};
+
+const R_TOL: f64 = 0.01;
+const ALPHA_TOL: f64 = 0.5 * std::f64::consts::PI / 180.0;
+const END_TOL: f64 = 0.03;
+/// Standard errors allowed where the fixed tolerances are below what the noise permits.
+const SIGMAS: f64 = 4.0;
+
+/// Standard errors of an ideal least-squares fit of beams `first..=last` of a wall with
+/// normal `(r, alpha)`, under range noise `sigma(range)`.
+struct Expected {
+    r: f64,
+    alpha: f64,
+    start: f64,
+    end: f64,
+    /// Distance between the first two and between the last two beams' hits: an end point is
+    /// known only to within the spacing of the beams there.
+    start_spacing: f64,
+    end_spacing: f64,
+}
+
+fn expected(sim: &SimScan, model: &LaserModel, first: usize, last: usize, alpha: f64) -> Expected {
+    let n_hat = Vector2::new(alpha.cos(), alpha.sin());
+    let dir = Vector2::new(-alpha.sin(), alpha.cos());
+    let mut pts = Vec::new();
+    for i in first..=last {
+        let range = sim.truth.ranges[i];
+        if !range.is_finite() {
+            continue;
+        }
+        let phi = sim.scan.angle(i);
+        let beam = Vector2::new(phi.cos(), phi.sin());
+        let cos_inc = beam.dot(&n_hat).abs();
+        let sigma = model.noise.sigma(range);
+        // Range noise moves a point across the wall by sigma cos(inc), along it by sigma sin(inc).
+        pts.push((
+            beam * range,
+            sigma * cos_inc,
+            sigma * (1.0 - cos_inc * cos_inc).sqrt(),
+        ));
+    }
+    let n = pts.len().max(1) as f64;
+    let t_mean = pts.iter().map(|(p, _, _)| p.dot(&dir)).sum::<f64>() / n;
+    let stt: f64 = pts
+        .iter()
+        .map(|(p, _, _)| (p.dot(&dir) - t_mean).powi(2))
+        .sum();
+    let var_c: f64 = pts.iter().map(|(_, s, _)| s * s).sum::<f64>() / (n * n);
+    let var_a: f64 = if stt > 0.0 {
+        pts.iter()
+            .map(|(p, s, _)| (p.dot(&dir) - t_mean).powi(2) * s * s)
+            .sum::<f64>()
+            / (stt * stt)
+    } else {
+        f64::INFINITY
+    };
+    let cov_ca: f64 = if stt > 0.0 {
+        pts.iter()
+            .map(|(p, s, _)| (p.dot(&dir) - t_mean) * s * s)
+            .sum::<f64>()
+            / (n * stt)
+    } else {
+        0.0
+    };
+    // r = offset at the centroid, seen from the origin's foot: lever arm t_mean.
+    let var_r = var_c + t_mean * t_mean * var_a - 2.0 * t_mean * cov_ca;
+    let across_at = |t: f64| var_c + (t - t_mean).powi(2) * var_a + 2.0 * (t - t_mean) * cov_ca;
+    let end_err = |k: usize| {
+        pts.get(k).map_or(f64::INFINITY, |(p, _, along)| {
+            (across_at(p.dot(&dir)).max(0.0) + along * along).sqrt()
+        })
+    };
+    let spacing = |a: usize, b: usize| match (pts.get(a), pts.get(b)) {
+        (Some((p, _, _)), Some((q, _, _))) => (p - q).norm(),
+        _ => 0.0,
+    };
+    let k = pts.len().saturating_sub(1);
+    Expected {
+        start_spacing: spacing(0, 1),
+        end_spacing: spacing(k, k.saturating_sub(1)),
+        r: var_r.max(0.0).sqrt(),
+        alpha: var_a.sqrt(),
+        start: end_err(0),
+        end: end_err(pts.len().saturating_sub(1)),
+    }
+}
+
+/// Distance from `p` to the segment `a`-`b`.
+fn to_segment(p: Point2, a: Point2, b: Point2) -> f64 {
+    laserlines::line::distance_to_segment(p, a, b)
+}
+
+/// Checks one simulated scan of `scene`; returns a description of every failure and the
+/// number of pieces whose tolerance the noise widened.
+pub fn check_scan(
+    scene: &Scene,
+    model: &LaserModel,
+    sim: &SimScan,
+    lines: &[Line],
+) -> (Vec<String>, usize) {
+    let mut errors = Vec::new();
+    let mut widened = 0;
+    for piece in sim.truth.significant_pieces() {
+        // A beam that hit the wall but whose return the noise pushed out of range (or the
+        // sensor dropped) was not seen: the piece's ends are its first and last seen beams.
+        let seen = |i: &usize| sim.scan.range_window(None).contains(sim.scan.ranges[*i]);
+        let (Some(first), Some(last)) = (
+            (piece.first..=piece.last).find(seen),
+            (piece.first..=piece.last).rev().find(seen),
+        ) else {
+            continue;
+        };
+        let mut piece = *piece;
+        if first != piece.first || last != piece.last {
+            piece.start = sim.truth.point(&sim.scan, first).unwrap_or(piece.start);
+            piece.end = sim.truth.point(&sim.scan, last).unwrap_or(piece.end);
+            piece.first = first;
+            piece.last = last;
+            piece.beams = last - first + 1;
+            if piece.beams < 10 || piece.length() < 0.2 {
+                continue;
+            }
+        }
+        let piece = &piece;
+        let overlapping: Vec<&Line> = lines
+            .iter()
+            .filter(|l| {
+                let lo = l.first.max(piece.first);
+                let hi = l.last.min(piece.last);
+                hi >= lo && (hi - lo + 1) * 2 >= piece.beams.min(l.last - l.first + 1)
+            })
+            .collect();
+        let desc = format!(
+            "piece on wall {} beams {}..={} (r {:.3}, alpha {:.2} deg, {:.2} m)",
+            piece.wall,
+            piece.first,
+            piece.last,
+            piece.r,
+            piece.alpha.to_degrees(),
+            piece.length()
+        );
+        let ex = expected(sim, model, piece.first, piece.last, piece.alpha);
+        let tol_r = R_TOL.max(SIGMAS * ex.r);
+        let tol_a = ALPHA_TOL.max(SIGMAS * ex.alpha);
+        let tol_s = END_TOL.max(SIGMAS * ex.start).max(1.5 * ex.start_spacing);
+        let tol_e = END_TOL.max(SIGMAS * ex.end).max(1.5 * ex.end_spacing);
+        if tol_r > R_TOL || tol_a > ALPHA_TOL || tol_s > END_TOL || tol_e > END_TOL {
+            widened += 1;
+        }
+        match overlapping.as_slice() {
+            [] => errors.push(format!("{desc}: no line")),
+            [l] => {
+                let dr = (l.r - piece.r).abs();
+                let da = angle_diff(l.alpha, piece.alpha);
+                let ds = (l.start - piece.start).norm();
+                let de = (l.end - piece.end).norm();
+                if dr > tol_r || da > tol_a || ds > tol_s || de > tol_e {
+                    errors.push(format!(
+                        "{desc}: line beams {}..={} off by r {dr:.4}/{tol_r:.4} m, alpha {:.3}/{:.3} deg, start {ds:.3}/{tol_s:.3} m, end {de:.3}/{tol_e:.3} m",
+                        l.first,
+                        l.last,
+                        da.to_degrees(),
+                        tol_a.to_degrees()
+                    ));
+                }
+            }
+            many => errors.push(format!(
+                "{desc}: {} lines ({:?})",
+                many.len(),
+                many.iter().map(|l| (l.first, l.last)).collect::<Vec<_>>()
+            )),
+        }
+    }
+    // No line where no wall is: both ends of every line lie on a wall its beams hit.
+    let laser_from_world = scene.world_from_laser.inverse();
+    for l in lines {
+        let mut walls: Vec<usize> = (l.first..=l.last)
+            .filter_map(|i| match sim.truth.beam_target.get(i) {
+                Some(Some(Target::Wall(w))) => Some(*w),
+                _ => None,
+            })
+            .collect();
+        walls.sort_unstable();
+        walls.dedup();
+        let off_wall = |end: Point2, first: usize, last: usize| -> Option<(f64, f64)> {
+            let mut best = (f64::INFINITY, END_TOL);
+            for &w in &walls {
+                let wall = &scene.world.walls[w];
+                let (a, b) = (laser_from_world * wall.a, laser_from_world * wall.b);
+                let alpha = laserlines_sim::world::polar_line(a, b).map_or(l.alpha, |(_, al)| al);
+                let ex = expected(sim, model, first, last, alpha);
+                let tol = END_TOL.max(SIGMAS * ex.start.max(ex.end));
+                let d = to_segment(end, a, b);
+                if d <= tol {
+                    return None;
+                }
+                if d < best.0 {
+                    best = (d, tol);
+                }
+            }
+            Some(best)
+        };
+        for (name, end) in [("start", l.start), ("end", l.end)] {
+            if let Some((d, tol)) = off_wall(end, l.first, l.last) {
+                errors.push(format!(
+                    "line beams {}..={} (r {:.3}, alpha {:.2} deg): {name} {d:.3} m from the walls its beams hit (tolerance {tol:.3} m)",
+                    l.first,
+                    l.last,
+                    l.r,
+                    l.alpha.to_degrees()
+                ));
+            }
+        }
+    }
+    (errors, widened)
+}
+
+fn run_scenes(make: fn(&mut Rng) -> Scene, seeds: std::ops::Range<u64>) {
+    let model = LaserModel::urg04lx();
+    let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    let mut failures = Vec::new();
+    let mut pieces = 0;
+    let mut widened = 0;
+    for seed in seeds.clone() {
+        let mut rng = Rng::new(seed);
+        let scene = make(&mut rng);
+        let sim = scene.simulate(&model, &mut rng);
+        pieces += sim.truth.significant_pieces().count();
+        let lines = hs.extract(&sim.scan);
+        let (errors, w) = check_scan(&scene, &model, &sim, &lines);
+        widened += w;
+        for e in errors {
+            failures.push(format!("{} seed {seed}: {e}", scene.name));
+        }
+    }
+    println!("{pieces} pieces, {widened} with a tolerance widened by the noise");
+    assert!(pieces >= seeds.count(), "scenes without pieces to find");
+    assert!(
+        failures.is_empty(),
+        "{} failures:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn rectangular_room() {
+    run_scenes(scenes::rectangular_room, 0..20);
+}
+
+#[test]
+fn corridor_with_door_gap() {
+    run_scenes(scenes::corridor_with_door_gap, 0..20);
+}
+
+#[test]
+fn corner() {
+    run_scenes(scenes::corner, 0..20);
+}
+
+#[test]
+fn boxes_in_room() {
+    run_scenes(scenes::boxes_in_room, 0..20);
+}
+
+#[test]
+fn grazing_wall() {
+    run_scenes(scenes::grazing_wall, 0..20);
+}
+
+#[test]
+fn bench_scan_gives_its_six_pieces() {
+    let (scene, model) = scenes::bench_scene();
+    let sim = scenes::bench_scan();
+    assert_eq!(sim.truth.significant_pieces().count(), 6);
+    let lines = HoughSplit::new(HoughSplitParams::default())
+        .unwrap()
+        .extract(&sim.scan);
+    let (errors, _) = check_scan(&scene, &model, &sim, &lines);
+    assert!(errors.is_empty(), "{}", errors.join("\n"));
+}
