@@ -155,29 +155,34 @@ fn parse_line(name: &str, line: usize, text: &str) -> Result<(Scan, i64, i64), R
             found: count.to_string(),
         });
     }
-    let integer = |index: usize, token: &str, what: &str, unit: &str| {
-        token.parse::<i64>().map_err(|_| ReadError::Field {
-            pos: SourcePos::line(name, line),
-            field: format!("token {index} ({what})"),
-            expected: format!("an integer ({unit})"),
-            found: shown(token),
-        })
+    let bad = |index: usize, token: &str, what: String, unit: &str| ReadError::Field {
+        pos: SourcePos::line(name, line),
+        field: format!("token {index} ({what})"),
+        expected: format!("an integer ({unit})"),
+        found: shown(token),
     };
     let mut ranges = Vec::with_capacity(BEAMS);
     let (mut stamp_us, mut left, mut right) = (0, 0, 0);
     for (index, token) in text.split_ascii_whitespace().enumerate() {
+        let value = || token.parse::<i64>();
         match index {
-            0 => stamp_us = integer(index, token, "timestamp", "microseconds")?,
-            2 => left = integer(index, token, "left wheel encoder", "ticks")?,
-            3 => right = integer(index, token, "right wheel encoder", "ticks")?,
+            0 => {
+                stamp_us =
+                    value().map_err(|_| bad(index, token, "timestamp".into(), "microseconds"))?;
+            }
+            2 => {
+                left =
+                    value().map_err(|_| bad(index, token, "left wheel encoder".into(), "ticks"))?;
+            }
+            3 => {
+                right = value()
+                    .map_err(|_| bad(index, token, "right wheel encoder".into(), "ticks"))?;
+            }
             i if (FIRST_RANGE_TOKEN..FIRST_RANGE_TOKEN + BEAMS).contains(&i) => {
-                let beam = i - FIRST_RANGE_TOKEN;
-                let mm = integer(
-                    index,
-                    token,
-                    &format!("range of beam {beam}"),
-                    "millimetres",
-                )?;
+                let mm = value().map_err(|_| {
+                    let beam = i - FIRST_RANGE_TOKEN;
+                    bad(index, token, format!("range of beam {beam}"), "millimetres")
+                })?;
                 ranges.push(mm as f64 / 1000.0);
             }
             _ => {}

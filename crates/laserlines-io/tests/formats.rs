@@ -192,3 +192,14 @@ fn gzip_is_transparent_by_name_and_by_magic() {
     assert_eq!(reader.count(), 3);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn readers_and_errors_can_cross_threads() {
+    fn send<T: Send>() {}
+    fn send_sync<T: Send + Sync + 'static>() {}
+    send::<laserlines_io::ScanReader>();
+    send::<laserlines_io::LinesReader>();
+    send::<ScanRecord>();
+    send_sync::<laserlines_io::ReadError>();
+    send_sync::<laserlines_io::WriteError>();
+}
