@@ -75,7 +75,7 @@ pub struct HoughSplitParams {
     /// Most missing (invalid or removed) beams the beam bridge may span. Default 2.
     /// Sensible: 0..5.
     pub bridge_max_gap: usize,
-    /// Data segments with fewer surviving points are removed as clutter. Default 5.
+    /// Data segments with fewer surviving points are removed as clutter. Default 4.
     pub min_segment_points: usize,
     /// Split threshold at zero range, m: Linseg splits where the farthest point from the chord
     /// lies farther than `split_distance + split_distance_per_metre * range`. Default 0.02.
@@ -90,7 +90,7 @@ pub struct HoughSplitParams {
     pub merge_collinear: bool,
     /// Lines with fewer supporting points are dropped. Default 6. At least 2 is enforced.
     pub min_line_points: usize,
-    /// Lines shorter than this are dropped, m. Default 0.10.
+    /// Lines shorter than this are dropped, m. Default 0.05.
     pub min_line_length: f64,
     /// Extra limits on valid ranges, on top of the scan's own `range_min..range_max`.
     /// Default none; [`HoughSplitParams::paper`] uses the paper's 0.03..3.00 m.
@@ -110,12 +110,12 @@ impl Default for HoughSplitParams {
             bridge_incidence: 4.0_f64.to_radians(),
             bridge_noise: 0.01,
             bridge_max_gap: 2,
-            min_segment_points: 5,
+            min_segment_points: 4,
             split_distance: 0.02,
             split_distance_per_metre: 0.02,
             merge_collinear: true,
             min_line_points: 6,
-            min_line_length: 0.10,
+            min_line_length: 0.05,
             range_limits: None,
         }
     }

@@ -1,0 +1,214 @@
+//! The `laserlines` command end to end: outputs on known inputs, and bad input that must end
+//! in a clear error (file, line, what was wrong), exit code 2 and no panic.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_laserlines"))
+}
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../laserlines-io/tests/fixtures")
+        .join(name)
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("laserlines-cli-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn run(cmd: &mut Command) -> Output {
+    cmd.output().expect("the laserlines binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Asserts a clean failure: exit code 2, a message naming `file` and `needle`, no panic.
+fn assert_clean_error(o: &Output, file: &str, needle: &str) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
+    assert!(err.contains(file), "error does not name {file}: {err}");
+    assert!(err.contains(needle), "error does not say {needle:?}: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+}
+
+#[test]
+fn malformed_json_names_file_and_line() {
+    let o = run(bin().args(["extract"]).arg(fixture("bad_malformed.json")));
+    assert_clean_error(&o, "bad_malformed.json", ":3");
+}
+
+#[test]
+fn ranges_of_the_wrong_type_name_the_field() {
+    let o = run(bin()
+        .args(["extract"])
+        .arg(fixture("bad_ranges_type.jsonl")));
+    assert_clean_error(&o, "bad_ranges_type.jsonl", "ranges");
+}
+
+#[test]
+fn zero_angle_increment_is_rejected() {
+    let o = run(bin()
+        .args(["extract"])
+        .arg(fixture("bad_increment_zero.json")));
+    assert_clean_error(&o, "bad_increment_zero.json", "angle_increment");
+}
+
+#[test]
+fn csv_row_with_a_missing_column_names_the_line() {
+    let o = run(bin()
+        .args(["extract"])
+        .arg(fixture("bad_missing_column.csv")));
+    assert_clean_error(&o, "bad_missing_column.csv", "column");
+}
+
+#[test]
+fn truncated_dat_line_names_the_line() {
+    let o = run(bin().args(["extract"]).arg(fixture("bad_truncated.dat")));
+    assert_clean_error(&o, "bad_truncated.dat", "707 tokens");
+}
+
+#[test]
+fn unknown_extension_and_algorithm_are_errors() {
+    let f = tmp("scan.xyz");
+    std::fs::write(&f, "1 2 3").unwrap();
+    let o = run(bin().arg("extract").arg(&f));
+    assert_clean_error(&o, "scan.xyz", "format");
+    let o = run(bin()
+        .args(["extract", "--algorithm", "nope"])
+        .arg(fixture("scans.jsonl")));
+    assert_clean_error(&o, "unknown algorithm", "nope");
+}
+
+#[test]
+fn skip_bad_counts_what_it_skipped() {
+    let o = run(bin()
+        .args(["extract", "--skip-bad", "-o"])
+        .arg(tmp("skip.jsonl"))
+        .arg(fixture("bad_ranges_type.jsonl")));
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("2 scans"),
+        "summary does not count the good scans: {err}"
+    );
+    assert!(
+        err.contains("skipped: 2 "),
+        "summary does not count the skips: {err}"
+    );
+}
+
+#[test]
+fn extract_writes_one_object_per_scan_with_the_schema() {
+    let out = tmp("demo-lines.jsonl");
+    let dat = tmp("excerpt.dat.gz");
+    std::fs::write(&dat, laserlines_io::demo::URG04LX_EXCERPT).unwrap();
+    let o = run(bin().args(["extract", "-o"]).arg(&out).arg(&dat));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&out).unwrap();
+    let records = laserlines_io::demo::urg04lx_excerpt().unwrap();
+    let rows: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows.len(), records.len());
+    let mut hs = laserlines::HoughSplit::new(laserlines::HoughSplitParams::default()).unwrap();
+    for (k, (row, rec)) in rows.iter().zip(&records).enumerate() {
+        assert_eq!(row["scan"], k);
+        let lines = laserlines::LineExtractor::extract(&mut hs, &rec.scan);
+        let got = row["lines"].as_array().unwrap();
+        assert_eq!(got.len(), lines.len());
+        for (g, l) in got.iter().zip(&lines) {
+            assert_eq!(g["first"], l.first);
+            assert_eq!(g["last"], l.last);
+            assert_eq!(g["points"], l.points);
+            assert_eq!(g["r"].as_f64().unwrap(), l.r);
+            assert_eq!(g["alpha"].as_f64().unwrap(), l.alpha);
+            assert_eq!(g["start"][0].as_f64().unwrap(), l.start.x);
+            assert_eq!(g["end"][1].as_f64().unwrap(), l.end.y);
+            assert_eq!(
+                g["covariance"][1][1].as_f64().unwrap(),
+                l.covariance[(1, 1)]
+            );
+            assert!(g["rms"].as_f64().unwrap() >= 0.0);
+        }
+    }
+    assert!(stderr(&o).contains(&format!("{} scans", records.len())));
+}
+
+#[test]
+fn params_file_changes_the_result_and_bad_keys_are_errors() {
+    let dat = tmp("excerpt2.dat.gz");
+    std::fs::write(&dat, laserlines_io::demo::URG04LX_EXCERPT).unwrap();
+    let params = tmp("paper.toml");
+    std::fs::write(&params, "[hough-split]\npaper = true\n").unwrap();
+    let paper = run(bin().args(["extract", "--params"]).arg(&params).arg(&dat));
+    let plain = run(bin().arg("extract").arg(&dat));
+    assert!(paper.status.success() && plain.status.success());
+    // The paper's 3 m range limit removes the far lines.
+    assert_ne!(paper.stdout, plain.stdout);
+    let paper_text = String::from_utf8(paper.stdout).unwrap();
+    for row in paper_text.lines() {
+        let v: serde_json::Value = serde_json::from_str(row).unwrap();
+        for l in v["lines"].as_array().unwrap() {
+            for end in ["start", "end"] {
+                let (x, y) = (l[end][0].as_f64().unwrap(), l[end][1].as_f64().unwrap());
+                assert!(
+                    (x * x + y * y).sqrt() < 3.1,
+                    "line beyond the paper's 3 m: {l}"
+                );
+            }
+        }
+    }
+    std::fs::write(&params, "[hough-split]\nring_stp = 0.05\n").unwrap();
+    let o = run(bin().args(["extract", "--params"]).arg(&params).arg(&dat));
+    assert_clean_error(&o, "paper.toml", "ring_stp");
+}
+
+#[test]
+fn render_draws_four_panels() {
+    let dat = tmp("excerpt3.dat.gz");
+    std::fs::write(&dat, laserlines_io::demo::URG04LX_EXCERPT).unwrap();
+    let svg = tmp("fig.svg");
+    let o = run(bin()
+        .args(["render", "--scan", "5", "-o"])
+        .arg(&svg)
+        .arg(&dat));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") || text.starts_with("<?xml"));
+    for panel in ["(a)", "(b)", "(c)", "(d)"] {
+        assert!(text.contains(panel), "panel {panel} missing");
+    }
+    let o = run(bin()
+        .args(["render", "--scan", "999", "-o"])
+        .arg(&svg)
+        .arg(&dat));
+    assert_clean_error(&o, "excerpt3.dat.gz", "no scan 999");
+}
+
+#[test]
+fn demo_writes_lines_and_figures() {
+    let dir = tmp("demo-out");
+    let o = run(bin().args(["demo", "--repeat", "2", "-o"]).arg(&dir));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8(o.stdout).unwrap();
+    assert!(stdout.contains("us per scan"), "{stdout}");
+    let lines = std::fs::read_to_string(dir.join("lines.jsonl")).unwrap();
+    assert_eq!(
+        lines.lines().count(),
+        laserlines_io::demo::urg04lx_excerpt().unwrap().len()
+    );
+    assert!(
+        std::fs::read_dir(&dir).unwrap().any(|e| e
+            .unwrap()
+            .path()
+            .extension()
+            .is_some_and(|x| x == "svg"))
+    );
+}

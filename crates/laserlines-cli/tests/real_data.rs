@@ -1,0 +1,48 @@
+//! HoughSplit on every scan of the real BreezySLAM URG-04LX runs (the paper's sensor).
+//! Skips with a notice when the shared data folder is absent.
+
+use std::path::PathBuf;
+
+use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
+
+fn shared(rel: &str) -> Option<PathBuf> {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/data/real")
+        .join(rel);
+    if p.exists() {
+        Some(p)
+    } else {
+        println!(
+            "skipped: {} not found (the shared data folder is absent)",
+            p.display()
+        );
+        None
+    }
+}
+
+#[test]
+fn every_breezyslam_scan_gives_lines() {
+    for (file, expected) in [("exp1.dat.gz", 756usize), ("exp2.dat.gz", 641)] {
+        let Some(path) = shared(&format!("breezyslam-urg04lx/{file}")) else {
+            return;
+        };
+        let reader = laserlines_io::open(&path, None).unwrap();
+        let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+        let mut lines = Vec::new();
+        let (mut scans, mut total) = (0usize, 0usize);
+        for rec in reader {
+            let rec = rec.unwrap();
+            hs.extract_into(&rec.scan, &mut lines);
+            assert!(!lines.is_empty(), "{file} scan {scans}: no line");
+            scans += 1;
+            total += lines.len();
+        }
+        assert_eq!(scans, expected, "{file}");
+        let mean = total as f64 / scans as f64;
+        println!("{file}: {scans} scans, {mean:.1} lines per scan");
+        assert!(
+            (3.0..=40.0).contains(&mean),
+            "{file}: {mean} lines per scan"
+        );
+    }
+}
