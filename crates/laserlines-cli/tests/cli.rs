@@ -1,6 +1,8 @@
 //! The `laserlines` command end to end: outputs on known inputs, and bad input that must end
 //! in a clear error (file, line, what was wrong), exit code 2 and no panic.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

@@ -1,6 +1,8 @@
 //! HoughSplit on every scan of the real BreezySLAM URG-04LX runs (the paper's sensor).
 //! Skips with a notice when the shared data folder is absent.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::path::PathBuf;
 
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};

@@ -1,6 +1,8 @@
 //! Invariants of `HoughSplit` on arbitrary scans: no panic, indices in range, every point in
 //! at most one line, identical results on a second run, both weight functions.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, Scan, Weight};
 use proptest::prelude::*;
 

@@ -12,6 +12,8 @@
 //! only to a beam spacing); `Expected` computes both from the ground truth, never from the
 //! extracted line.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use laserlines::math::{Point2, Vector2, angle_diff};
 use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor};
 use laserlines_sim::scenes::{self, Scene};
