@@ -9,7 +9,10 @@
 //!    distance to the line, `sigma_i = noise_sigma + noise_sigma_per_metre * range_i` (the
 //!    sensor's noise grows with range), `u = outlier_density` and `pi` the line's share.
 //! 3. M step: the weighted total-least-squares line, and `pi` the mean weight.
-//! 4. Repeat 2-3 until the line stops moving or after `iterations` steps.
+//! 4. Repeat 2-3 until the line stops moving or after `iterations` steps. The first steps are
+//!    annealed: their standard deviations are `anneal_sigma_scale` times the sensor's, halved
+//!    at every step down to 1, so that a hypothesis started on a few points grows to its
+//!    whole wall.
 //! 5. Points with `w_i >= inlier_probability` are cut into runs of consecutive free beams
 //!    (broken at breakpoints and after more than `max_skipped` non-members); each run with at
 //!    least `min_line_points` members becomes a line and its beams are taken. A hypothesis that
@@ -42,6 +45,11 @@ pub struct EmParams {
     pub init_points: usize,
     /// Most E-M steps per hypothesis. Default 20. At least 1. Sensible: 5..50.
     pub iterations: usize,
+    /// Deterministic annealing: the first E step uses standard deviations this many times the
+    /// sensor's, halved at every step down to 1, so that a hypothesis initialised on a few
+    /// points reaches the ends of its wall instead of settling on the stretch it started
+    /// from. 1 disables it. Default 8. Sensible: 1..16.
+    pub anneal_sigma_scale: f64,
     /// Range noise standard deviation at zero range, m. Default 0.005. Sensible: 0.001..0.02.
     pub noise_sigma: f64,
     /// Growth of the noise standard deviation with range, m per m. Default 0.005 (the
@@ -85,6 +93,7 @@ impl Default for EmParams {
             max_failures: 20,
             init_points: 7,
             iterations: 20,
+            anneal_sigma_scale: 8.0,
             noise_sigma: 0.005,
             noise_sigma_per_metre: 0.005,
             outlier_density: 0.2,
@@ -110,6 +119,14 @@ impl EmParams {
         common::at_least("max_failures", self.max_failures, 1)?;
         common::at_least("init_points", self.init_points, 2)?;
         common::at_least("iterations", self.iterations, 1)?;
+        if !(self.anneal_sigma_scale.is_finite() && self.anneal_sigma_scale >= 1.0) {
+            return Err(ParamsError::OutOfRange {
+                field: "anneal_sigma_scale",
+                value: self.anneal_sigma_scale,
+                lo: 1.0,
+                hi: f64::INFINITY,
+            });
+        }
         common::check_scaled(
             ("noise_sigma", self.noise_sigma),
             ("noise_sigma_per_metre", self.noise_sigma_per_metre),
@@ -209,15 +226,16 @@ impl Em {
         &self.params
     }
 
-    /// E step: posterior weights of the free points for line `h` with share `pi`; returns the
-    /// sum of the weights.
-    fn expect(&mut self, h: &Hypothesis, pi: f64) -> f64 {
+    /// E step: posterior weights of the free points for line `h` with share `pi`, standard
+    /// deviations scaled by `scale`; returns the sum of the weights.
+    fn expect(&mut self, h: &Hypothesis, pi: f64, scale: f64) -> f64 {
         let p = &self.params;
         let norm = (2.0 * std::f64::consts::PI).sqrt();
         let mut total = 0.0;
         for &i in &self.free {
             let sp = &self.points[i];
-            let sigma = (p.noise_sigma + p.noise_sigma_per_metre * sp.range).max(MIN_SIGMA);
+            let sigma =
+                (scale * (p.noise_sigma + p.noise_sigma_per_metre * sp.range)).max(MIN_SIGMA);
             let d = h.distance(sp.point) / sigma;
             let line = pi * (-0.5 * d * d).exp() / (norm * sigma);
             let w = line / (line + (1.0 - pi) * p.outlier_density);
@@ -231,8 +249,9 @@ impl Em {
     /// Runs EM from hypothesis `h`; returns the final line (weights left in `self.weight`).
     fn converge(&mut self, mut h: Hypothesis) -> Option<Hypothesis> {
         let mut pi = 0.5;
+        let mut scale = self.params.anneal_sigma_scale;
         for _ in 0..self.params.iterations {
-            let total = self.expect(&h, pi);
+            let total = self.expect(&h, pi, scale);
             let next = weighted_fit(&self.points, &self.weight, &self.free)?;
             pi = (total / self.free.len() as f64).clamp(1e-9, 1.0 - 1e-9);
             // Compare in the same orientation of the normal.
@@ -243,11 +262,13 @@ impl Em {
             };
             let moved = (d - h.d).abs() + (n - h.normal).norm();
             h = Hypothesis { normal: n, d };
-            if moved < CONVERGED {
+            if scale > 1.0 {
+                scale = (0.5 * scale).max(1.0);
+            } else if moved < CONVERGED {
                 break;
             }
         }
-        self.expect(&h, pi);
+        self.expect(&h, pi, 1.0);
         Some(h)
     }
 }
