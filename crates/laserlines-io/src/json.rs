@@ -21,7 +21,7 @@
 //! element at a time. A `.jsonl` file holds one object per line; blank lines are skipped.
 //! After a bad element or line the reader goes on with the next one.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
 use laserlines::{Scan, ScanError};
@@ -92,6 +92,20 @@ impl Element<'_> {
 
     /// Parses the text as one scan record.
     pub(crate) fn parse_scan(&self) -> Result<ScanRecord, ReadError> {
+        // Fast path: straight into typed fields. Anything it rejects goes through the slow
+        // path, which accepts the same documents and explains what is wrong.
+        if let Ok(fast) = serde_json::from_str::<FastScan>(self.text) {
+            let scan = Scan {
+                angle_min: fast.angle_min,
+                angle_increment: fast.angle_increment,
+                range_min: fast.range_min,
+                range_max: fast.range_max,
+                ranges: fast.ranges.0,
+                intensities: fast.intensities.map(|i| i.0),
+                stamp: fast.stamp,
+            };
+            return self.checked(scan, fast.pose, fast.angle_max);
+        }
         let value: Value = serde_json::from_str(self.text).map_err(|e| self.json_error(&e))?;
         let Value::Object(obj) = value else {
             return Err(ReadError::Syntax {
@@ -248,7 +262,6 @@ impl Element<'_> {
         let stamp = self.opt_number(obj, "stamp")?;
         let pose = self.pose(obj)?;
         let angle_max = self.opt_number(obj, "angle_max")?;
-
         let scan = Scan {
             angle_min,
             angle_increment,
@@ -258,6 +271,17 @@ impl Element<'_> {
             intensities,
             stamp,
         };
+        self.checked(scan, pose, angle_max)
+    }
+
+    /// Validates a parsed scan and checks `angle_max` against its beams.
+    fn checked(
+        &self,
+        scan: Scan,
+        pose: Option<Pose2>,
+        angle_max: Option<f64>,
+    ) -> Result<ScanRecord, ReadError> {
+        let angle_increment = scan.angle_increment;
         if let Err(source) = scan.validate() {
             let key = match source {
                 ScanError::AngleMinNotFinite(_) => "angle_min",
@@ -296,6 +320,50 @@ impl Element<'_> {
             pose,
             line: Some(self.line),
         })
+    }
+}
+
+/// The scan object as typed fields, for the fast path of [`Element::parse_scan`].
+#[derive(Deserialize)]
+struct FastScan {
+    angle_min: f64,
+    angle_increment: f64,
+    range_min: f64,
+    range_max: f64,
+    ranges: NanVec,
+    #[serde(default)]
+    intensities: Option<NanVec>,
+    #[serde(default)]
+    stamp: Option<f64>,
+    #[serde(default)]
+    pose: Option<Pose2>,
+    #[serde(default)]
+    angle_max: Option<f64>,
+}
+
+/// An array of numbers or `null`, with `null` read as NaN.
+struct NanVec(Vec<f64>);
+
+impl<'de> Deserialize<'de> for NanVec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = NanVec;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("an array of numbers or null")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<NanVec, A::Error> {
+                let mut out = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(1 << 16));
+                while let Some(x) = seq.next_element::<Option<f64>>()? {
+                    out.push(x.unwrap_or(f64::NAN));
+                }
+                Ok(NanVec(out))
+            }
+        }
+        d.deserialize_seq(Visit)
     }
 }
 
