@@ -13,16 +13,18 @@
 //!   fourth column of intensities. Spaces around fields are ignored; blank lines are skipped.
 //! - `index` counts the rows from 0 and must do so without gaps.
 //! - `angle_rad` must be uniform: `angle_min` is the first row's angle and
-//!   `angle_increment = (last - first) / (n - 1)`; every row must lie within 1 % of an
-//!   increment of `angle_min + index * angle_increment`. So at least 2 rows are needed.
+//!   `angle_increment = (last - first) / (n - 1)`, unless the comments give them; every row
+//!   must lie within 1 % of an increment of `angle_min + index * angle_increment`. So without
+//!   those comments at least 2 rows are needed.
 //! - `range_m` in metres; empty or `nan` is "no return" (kept as NaN).
 //! - A CSV carries no range limits: unless given in the comments, the scan gets
 //!   `range_min = 0` and `range_max = f64::MAX`, so that every finite positive range counts
 //!   as a measurement (narrow it with the extractor's range limits).
 //! - Comment lines start with `#`. Comments of the form `# key: value` with the keys
-//!   `range_min`, `range_max` (m), `stamp` (s), `pose_x`, `pose_y` (m) and `pose_theta` (rad)
-//!   set those values (the pose needs all three); other comments are ignored. The CSV writer
-//!   writes these, so that a scan survives a round trip.
+//!   `angle_min`, `angle_increment` (rad), `range_min`, `range_max` (m), `stamp` (s),
+//!   `pose_x`, `pose_y` (m) and `pose_theta` (rad) set those values (the pose needs all
+//!   three); other comments are ignored. The CSV writer writes them all, so that a scan
+//!   (even one of 0 or 1 beams) survives a round trip exactly.
 //!
 //! Any error (a missing column, a bad number, non-uniform angles) ends the reader: the file
 //! holds only one scan.
@@ -51,6 +53,8 @@ struct Meta {
     range_min: Option<f64>,
     range_max: Option<f64>,
     stamp: Option<f64>,
+    angle_min: Option<f64>,
+    angle_increment: Option<f64>,
     pose: [Option<f64>; 3],
     pose_line: usize,
 }
@@ -186,24 +190,36 @@ impl CsvSource {
             });
         };
         let n = angles.len();
-        if n < 2 {
-            return Err(ReadError::Syntax {
-                pos: SourcePos::line(&name, self.lines.line_number() + 1),
-                expected: "at least 2 data rows (to derive angle_increment)".to_owned(),
-                found: format!(
-                    "{n} row{} and then the end of the input",
-                    if n == 1 { "" } else { "s" }
-                ),
-            });
-        }
-        let angle_min = angles[0];
-        let increment = (angles[n - 1] - angle_min) / (n - 1) as f64;
+        let end_line = self.lines.line_number() + 1;
+        let (angle_min, increment) = match (meta.angle_min, meta.angle_increment) {
+            // Geometry given in the comments (as the writer writes it): used exactly, and the
+            // rows are checked against it.
+            (Some(min), Some(inc)) => (min, inc),
+            (None, Some(inc)) if n >= 1 => (angles[0], inc),
+            _ if n >= 2 => {
+                let min = angles[0];
+                (min, (angles[n - 1] - min) / (n - 1) as f64)
+            }
+            _ => {
+                return Err(ReadError::Syntax {
+                    pos: SourcePos::line(&name, end_line),
+                    expected: "at least 2 data rows (to derive angle_increment), or the \
+                               comments `# angle_min:` and `# angle_increment:`"
+                        .to_owned(),
+                    found: format!(
+                        "{n} row{} and then the end of the input",
+                        if n == 1 { "" } else { "s" }
+                    ),
+                });
+            }
+        };
         if !increment.is_finite() || increment == 0.0 {
+            let line = row_lines.last().copied().unwrap_or(end_line);
             return Err(ReadError::Field {
-                pos: SourcePos::line(&name, row_lines[n - 1]),
+                pos: SourcePos::line(&name, line),
                 field: "angle_rad".to_owned(),
                 expected: "angles that change from row to row".to_owned(),
-                found: format!("the last row at the first row's angle {angle_min}"),
+                found: format!("an angle increment of {increment} rad"),
             });
         }
         let tolerance = ANGLE_TOLERANCE * increment.abs();
@@ -248,7 +264,7 @@ impl CsvSource {
         Ok(ScanRecord {
             scan,
             pose,
-            line: Some(row_lines[0]),
+            line: Some(row_lines.first().copied().unwrap_or(header_line)),
         })
     }
 }
@@ -262,6 +278,8 @@ fn parse_comment(name: &str, line: usize, comment: &str, meta: &mut Meta) -> Res
         "range_min" => &mut meta.range_min,
         "range_max" => &mut meta.range_max,
         "stamp" => &mut meta.stamp,
+        "angle_min" => &mut meta.angle_min,
+        "angle_increment" => &mut meta.angle_increment,
         "pose_x" => &mut meta.pose[0],
         "pose_y" => &mut meta.pose[1],
         "pose_theta" => &mut meta.pose[2],

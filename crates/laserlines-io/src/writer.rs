@@ -450,7 +450,11 @@ fn number(out: &mut Vec<u8>, x: f64) -> io::Result<()> {
 
 fn write_csv(out: &mut Vec<u8>, record: &ScanRecord) -> io::Result<()> {
     let s = &record.scan;
-    out.extend_from_slice(b"# range_min: ");
+    out.extend_from_slice(b"# angle_min: ");
+    number(out, s.angle_min)?;
+    out.extend_from_slice(b"\n# angle_increment: ");
+    number(out, s.angle_increment)?;
+    out.extend_from_slice(b"\n# range_min: ");
     number(out, s.range_min)?;
     out.extend_from_slice(b"\n# range_max: ");
     number(out, s.range_max)?;

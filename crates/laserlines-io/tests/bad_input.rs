@@ -227,8 +227,9 @@ fn csv_errors() {
         (
             "one.csv",
             b"index,angle_rad,range_m\n0,1,2\n",
-            "one.csv:3: expected at least 2 data rows (to derive angle_increment), found 1 row \
-             and then the end of the input",
+            "one.csv:3: expected at least 2 data rows (to derive angle_increment), or the \
+             comments `# angle_min:` and `# angle_increment:`, found 1 row and then the end of \
+             the input",
         ),
         (
             "gap.csv",
@@ -249,14 +250,20 @@ fn csv_errors() {
         (
             "same.csv",
             b"index,angle_rad,range_m\n0,1,2\n1,1,2\n",
-            "same.csv:3: angle_rad: expected angles that change from row to row, found the last \
-             row at the first row's angle 1",
+            "same.csv:3: angle_rad: expected angles that change from row to row, found an \
+             angle increment of 0 rad",
         ),
         (
             "extra.csv",
             b"index,angle_rad,range_m\n0,1,2\n1,1.1,2,9\n",
             "extra.csv:3: expected 3 columns (index,angle_rad,range_m), found 4 columns: \
              `1,1.1,2,9`",
+        ),
+        (
+            "off.csv",
+            b"# angle_increment: 0.1\nindex,angle_rad,range_m\n0,1,2\n1,1.2,2\n",
+            "off.csv:4: angle_rad: expected uniform angles: 1.1 (= 1 + 1 * 0.1) within 0.001, \
+             found 1.2",
         ),
         (
             "meta.csv",

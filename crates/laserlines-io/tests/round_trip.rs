@@ -68,14 +68,10 @@ fn read_scans(format: Format, bytes: Vec<u8>) -> Vec<ScanRecord> {
     records.unwrap()
 }
 
-fn assert_same_scan(a: &ScanRecord, b: &ScanRecord, exact_angles: bool) {
+fn assert_same_scan(a: &ScanRecord, b: &ScanRecord) {
     let (x, y) = (&a.scan, &b.scan);
     assert_eq!(x.angle_min.to_bits(), y.angle_min.to_bits());
-    if exact_angles {
-        assert_eq!(x.angle_increment.to_bits(), y.angle_increment.to_bits());
-    } else {
-        assert!((x.angle_increment - y.angle_increment).abs() <= 1e-15);
-    }
+    assert_eq!(x.angle_increment.to_bits(), y.angle_increment.to_bits());
     assert_eq!(x.range_min.to_bits(), y.range_min.to_bits());
     assert_eq!(x.range_max.to_bits(), y.range_max.to_bits());
     assert!(
@@ -99,7 +95,7 @@ fn jsonl_round_trip_is_exact() {
     let back = read_scans(Format::Jsonl, write_scans(Format::Jsonl, &records));
     assert_eq!(back.len(), 3);
     for (a, b) in records.iter().zip(&back) {
-        assert_same_scan(a, b, true);
+        assert_same_scan(a, b);
     }
     assert_eq!(back[2].line, Some(3));
 }
@@ -110,7 +106,7 @@ fn json_round_trip_single_object_array_and_empty() {
     assert_eq!(one[0], b'{', "one scan is written as a single object");
     let back = read_scans(Format::Json, one);
     assert_eq!(back.len(), 1);
-    assert_same_scan(&tricky_record(), &back[0], true);
+    assert_same_scan(&tricky_record(), &back[0]);
 
     let records: Vec<_> = (0..4).map(plain_record).collect();
     let many = write_scans(Format::Json, &records);
@@ -118,7 +114,7 @@ fn json_round_trip_single_object_array_and_empty() {
     let back = read_scans(Format::Json, many);
     assert_eq!(back.len(), 4);
     for (a, b) in records.iter().zip(&back) {
-        assert_same_scan(a, b, true);
+        assert_same_scan(a, b);
     }
     assert_eq!(back[3].line, Some(5), "one object per line after the `[`");
 
@@ -132,13 +128,36 @@ fn csv_round_trip_keeps_ranges_limits_stamp_pose_and_intensities() {
     let record = tricky_record();
     let bytes = write_scans(Format::Csv, std::slice::from_ref(&record));
     let text = String::from_utf8(bytes.clone()).unwrap();
-    assert!(text.starts_with("# range_min: 0.02\n# range_max: 5.6\n# stamp: "));
+    assert!(text.starts_with(
+        "# angle_min: -2.0862138718366143\n# angle_increment: 0.006135923151542565\n\
+         # range_min: 0.02\n# range_max: 5.6\n# stamp: "
+    ));
     assert!(text.contains("\nindex,angle_rad,range_m,intensity\n0,"));
     assert!(text.contains("\n5,") && text.contains(",nan,"), "{text}");
     let back = read_scans(Format::Csv, bytes);
     assert_eq!(back.len(), 1);
-    // Angles are re-derived from the rows: the increment agrees to rounding.
-    assert_same_scan(&record, &back[0], false);
+    assert_same_scan(&record, &back[0]);
+}
+
+#[test]
+fn csv_round_trip_of_scans_with_no_or_one_beam() {
+    for ranges in [vec![], vec![2.5]] {
+        let record = ScanRecord::new(Scan::new(0.25, -0.5, 0.0, 3.0, ranges).unwrap());
+        let back = read_scans(
+            Format::Csv,
+            write_scans(Format::Csv, std::slice::from_ref(&record)),
+        );
+        assert_same_scan(&record, &back[0]);
+    }
+}
+
+#[test]
+fn csv_without_geometry_comments_derives_the_increment() {
+    let text = "index,angle_rad,range_m\n0,-0.3,1\n1,-0.1,2\n2,0.1,3\n3,0.3,4\n";
+    let back = read_scans(Format::Csv, text.as_bytes().to_vec());
+    let s = &back[0].scan;
+    assert_eq!(s.angle_min, -0.3);
+    assert!((s.angle_increment - 0.2).abs() < 1e-15);
 }
 
 #[test]
@@ -168,7 +187,7 @@ fn dat_excerpt_converts_to_jsonl_and_back_exactly() {
     let back = read_scans(Format::Jsonl, write_scans(Format::Jsonl, &records));
     assert_eq!(back.len(), records.len());
     for (a, b) in records.iter().zip(&back) {
-        assert_same_scan(a, b, true);
+        assert_same_scan(a, b);
     }
 }
 
@@ -210,7 +229,7 @@ fn files_by_name_with_gzip() {
         let back: Vec<_> = open(&path, None).unwrap().map(Result::unwrap).collect();
         assert_eq!(back.len(), 3, "{name}");
         for (a, b) in records.iter().zip(&back) {
-            assert_same_scan(a, b, true);
+            assert_same_scan(a, b);
         }
     }
     let err = ScanWriter::create(&dir.join("s.txt"), None).unwrap_err();
