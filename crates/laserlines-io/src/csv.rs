@@ -191,27 +191,23 @@ impl CsvSource {
         };
         let n = angles.len();
         let end_line = self.lines.line_number() + 1;
-        let (angle_min, increment) = match (meta.angle_min, meta.angle_increment) {
-            // Geometry given in the comments (as the writer writes it): used exactly, and the
-            // rows are checked against it.
-            (Some(min), Some(inc)) => (min, inc),
-            (None, Some(inc)) if n >= 1 => (angles[0], inc),
-            _ if n >= 2 => {
-                let min = angles[0];
-                (min, (angles[n - 1] - min) / (n - 1) as f64)
-            }
-            _ => {
-                return Err(ReadError::Syntax {
-                    pos: SourcePos::line(&name, end_line),
-                    expected: "at least 2 data rows (to derive angle_increment), or the \
-                               comments `# angle_min:` and `# angle_increment:`"
-                        .to_owned(),
-                    found: format!(
-                        "{n} row{} and then the end of the input",
-                        if n == 1 { "" } else { "s" }
-                    ),
-                });
-            }
+        // Geometry given in the comments (as the writer writes it) is used exactly, and the
+        // rows are checked against it; otherwise it comes from the first and last rows.
+        let angle_min = meta.angle_min.or_else(|| angles.first().copied());
+        let increment = meta
+            .angle_increment
+            .or_else(|| (n >= 2).then(|| (angles[n - 1] - angles[0]) / (n - 1) as f64));
+        let (Some(angle_min), Some(increment)) = (angle_min, increment) else {
+            return Err(ReadError::Syntax {
+                pos: SourcePos::line(&name, end_line),
+                expected: "at least 2 data rows (to derive angle_increment), or the comments \
+                           `# angle_min:` and `# angle_increment:`"
+                    .to_owned(),
+                found: format!(
+                    "{n} row{} and then the end of the input",
+                    if n == 1 { "" } else { "s" }
+                ),
+            });
         };
         if !increment.is_finite() || increment == 0.0 {
             let line = row_lines.last().copied().unwrap_or(end_line);

@@ -266,6 +266,12 @@ fn csv_errors() {
              found 1.2",
         ),
         (
+            "amin.csv",
+            b"# angle_min: 0.5\nindex,angle_rad,range_m\n0,0,2\n1,0.25,2\n",
+            "amin.csv:3: angle_rad: expected uniform angles: 0.5 (= 0.5 + 0 * 0.25) within \
+             0.0025, found 0",
+        ),
+        (
             "meta.csv",
             b"# range_max: far\nindex,angle_rad,range_m\n",
             "meta.csv:1: # range_max: expected a finite number, found `far`",
