@@ -203,3 +203,16 @@ fn readers_and_errors_can_cross_threads() {
     send_sync::<laserlines_io::ReadError>();
     send_sync::<laserlines_io::WriteError>();
 }
+
+#[test]
+fn csv_geometry_stamp_pose_and_intensity_from_comments() {
+    let records = read_all("tests/fixtures/one_beam_with_geometry.csv");
+    let r = &records[0];
+    assert_eq!(r.line, Some(10));
+    assert_eq!((r.scan.angle_min, r.scan.angle_increment), (0.75, -0.125));
+    assert_eq!((r.scan.range_min, r.scan.range_max), (0.02, 5.6));
+    assert_eq!(r.scan.ranges, vec![4.5]);
+    assert_eq!(r.scan.intensities, Some(vec![1200.0]));
+    assert_eq!(r.scan.stamp, Some(212.387282));
+    assert_eq!(r.pose, Some(Pose2::new(1.5, -0.25, 3.0)));
+}
