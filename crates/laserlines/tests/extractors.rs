@@ -577,6 +577,198 @@ proptest! {
     }
 }
 
+/// Any float, valid or not, for a parameter.
+fn any_param() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        6 => 0.0f64..0.3,
+        1 => 0.3f64..3.0,
+        1 => Just(0.0),
+        1 => Just(-1.0),
+        1 => Just(f64::NAN),
+        1 => Just(f64::INFINITY),
+        1 => Just(1e-12),
+    ]
+}
+
+/// Any count for a parameter (bounded where the count is a work budget).
+fn any_count() -> impl Strategy<Value = usize> {
+    prop_oneof![4 => 0usize..20, 1 => Just(1usize), 1 => 100usize..1000, 1 => Just(usize::MAX)]
+}
+
+/// An extractor of kind `kind` (1..=7, the order of [`ALGORITHMS`]) built from arbitrary
+/// parameters, or `None` when they are rejected. Work budgets are capped so the test stays fast.
+fn build(kind: usize, f: &[f64], c: &[usize], seed: u64) -> Option<Box<dyn LineExtractor>> {
+    use laserlines::extractors::*;
+    let budget = |x: usize| x.min(300);
+    let e: Box<dyn LineExtractor> = match kind {
+        1 => Box::new(
+            IterativeHough::new(IterativeHoughParams {
+                distance_step: f[0].max(0.01),
+                max_distance: f[1] * 3.0,
+                angle_step: (f[2] * 10.0).max(0.5f64.to_radians()),
+                window: f[3],
+                weight: if seed.is_multiple_of(2) {
+                    Weight::One
+                } else {
+                    Weight::Range
+                },
+                min_votes: f[4] * 30.0,
+                inlier_distance: f[5],
+                inlier_distance_per_metre: f[6],
+                refine_iterations: budget(c[0]),
+                max_skipped: c[1],
+                breakpoint_incidence: f[7] * 5.0,
+                breakpoint_noise: f[8],
+                breakpoint_max_gap: c[2],
+                max_iterations: budget(c[3]),
+                min_line_points: c[4],
+                min_line_length: f[9],
+                range_limits: None,
+            })
+            .ok()?,
+        ),
+        2 => Box::new(
+            SplitAndMerge::new(SplitAndMergeParams {
+                breakpoint_incidence: f[0] * 5.0,
+                breakpoint_noise: f[1],
+                breakpoint_max_gap: c[0],
+                min_cluster_points: c[1],
+                split_distance: f[2],
+                split_distance_per_metre: f[3],
+                merge_collinear: seed.is_multiple_of(2),
+                min_line_points: c[2],
+                min_line_length: f[4],
+                range_limits: None,
+            })
+            .ok()?,
+        ),
+        3 => Box::new(
+            Iepf::new(IepfParams {
+                breakpoint_incidence: f[0] * 5.0,
+                breakpoint_noise: f[1],
+                breakpoint_max_gap: c[0],
+                min_cluster_points: c[1],
+                split_distance: f[2],
+                split_distance_per_metre: f[3],
+                merge_collinear: seed.is_multiple_of(2),
+                min_line_points: c[2],
+                min_line_length: f[4],
+                range_limits: None,
+            })
+            .ok()?,
+        ),
+        4 => Box::new(
+            Incremental::new(IncrementalParams {
+                breakpoint_incidence: f[0] * 5.0,
+                breakpoint_noise: f[1],
+                breakpoint_max_gap: c[0],
+                seed_points: c[1],
+                track_distance: f[2],
+                track_distance_per_metre: f[3],
+                max_outliers: c[2],
+                min_line_points: c[3],
+                min_line_length: f[4],
+                range_limits: None,
+            })
+            .ok()?,
+        ),
+        5 => Box::new(
+            LineRegression::new(LineRegressionParams {
+                breakpoint_incidence: f[0] * 5.0,
+                breakpoint_noise: f[1],
+                breakpoint_max_gap: c[0],
+                window: c[1],
+                noise_sigma: f[2],
+                noise_sigma_per_metre: f[3],
+                similarity: f[4] * 30.0,
+                min_windows: c[2],
+                merge_collinear: seed.is_multiple_of(2),
+                merge_distance: f[5],
+                merge_distance_per_metre: f[6],
+                min_line_points: c[3],
+                min_line_length: f[7],
+                range_limits: None,
+            })
+            .ok()?,
+        ),
+        6 => Box::new(
+            Ransac::new(RansacParams {
+                seed,
+                iterations: budget(c[0]),
+                sample_span: c[1],
+                inlier_distance: f[0],
+                inlier_distance_per_metre: f[1],
+                min_inliers: c[2],
+                max_skipped: c[3],
+                refine_iterations: budget(c[4]),
+                breakpoint_incidence: f[2] * 5.0,
+                breakpoint_noise: f[3],
+                breakpoint_max_gap: c[5],
+                max_lines: budget(c[6]),
+                min_line_points: c[7],
+                min_line_length: f[4],
+                range_limits: None,
+            })
+            .ok()?,
+        ),
+        _ => Box::new(
+            Em::new(EmParams {
+                seed,
+                max_trials: budget(c[0]),
+                max_failures: c[1],
+                init_points: c[2],
+                iterations: budget(c[3]),
+                anneal_sigma_scale: 1.0 + f[0] * 10.0,
+                noise_sigma: f[1],
+                noise_sigma_per_metre: f[2],
+                outlier_density: f[3],
+                inlier_probability: f[4],
+                max_skipped: c[4],
+                breakpoint_incidence: f[5] * 5.0,
+                breakpoint_noise: f[6],
+                breakpoint_max_gap: c[5],
+                min_line_points: c[6],
+                min_line_length: f[7],
+                range_limits: None,
+            })
+            .ok()?,
+        ),
+    };
+    Some(e)
+}
+
+/// Scans of at most 200 beams: arbitrary, or walls.
+fn small_scan() -> impl Strategy<Value = Scan> {
+    prop_oneof![any_scan(), wall_scan()].prop_map(|mut s| {
+        s.ranges.truncate(200);
+        s
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    #[test]
+    fn arbitrary_params_never_break_invariants(
+        kind in 1usize..=7,
+        in_domain in prop::collection::vec(1e-4f64..0.3, 10),
+        anything in prop::collection::vec(any_param(), 10),
+        valid in prop::bool::weighted(0.8),
+        c in prop::collection::vec(any_count(), 8),
+        seed in any::<u64>(),
+        scan in small_scan(),
+    ) {
+        // Mostly parameters in their domains (so that extraction runs), sometimes anything.
+        let f = if valid { in_domain } else { anything };
+        if let Some(mut e) = build(kind, &f, &c, seed) {
+            prop_assert_eq!(e.name(), ALGORITHMS[kind]);
+            let first = e.extract(&scan);
+            check_invariants(e.name(), &scan, &first);
+            prop_assert_eq!(&first, &e.extract(&scan));
+        }
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // The full Hough accumulator against eq. (1) evaluated cell by cell.
 

@@ -124,7 +124,7 @@ impl Incremental {
         let pts = &self.points;
         let seed = p.seed_points;
         let mut i = cluster.start;
-        while i + seed <= cluster.end {
+        while cluster.end - i >= seed {
             let sums = FitSums::from_points(pts[i..i + seed].iter().map(|sp| sp.point));
             let seeded = sums.fit().filter(|fit| {
                 pts[i..i + seed]

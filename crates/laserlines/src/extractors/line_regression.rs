@@ -264,7 +264,7 @@ impl LineRegression {
         let nf = self.params.window;
         for k in 1..self.groups.len() {
             let (a, b) = (self.groups[k - 1], self.groups[k]);
-            if b.start <= a.end + nf {
+            if b.start <= a.end.saturating_add(nf) {
                 // a.start < a.end < b.end, so the interval is never empty.
                 let j = (a.end + b.start) / 2;
                 let j = j.clamp(a.start + 1, b.end - 1);

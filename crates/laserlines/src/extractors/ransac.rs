@@ -169,7 +169,7 @@ impl Ransac {
         let (lo, hi) = if span == 0 {
             (0, n - 1)
         } else {
-            (a.saturating_sub(span), (a + span).min(n - 1))
+            (a.saturating_sub(span), a.saturating_add(span).min(n - 1))
         };
         if hi <= lo {
             return None;
