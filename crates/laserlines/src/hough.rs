@@ -253,19 +253,20 @@ impl HoughAccumulator {
         if !(p.x.is_finite() && p.y.is_finite() && weight.is_finite()) {
             return;
         }
-        let dd = self.grid.distance_step;
+        let inv_step = 1.0 / self.grid.distance_step;
         let a = self.grid.window;
         let half = self.half as f64;
         let top = (self.rows - 1) as f64;
-        for k in 0..self.columns {
-            let x = p.x * self.cos[k] + p.y * self.sin[k];
-            let lo = ((x - a) / dd).ceil() + half;
-            let hi = ((x + a) / dd).floor() + half;
+        let columns = self.values.chunks_exact_mut(self.rows);
+        for ((column, &c), &s) in columns.zip(&self.cos).zip(&self.sin) {
+            let x = p.x * c + p.y * s;
+            let lo = ((x - a) * inv_step).ceil() + half;
+            let hi = ((x + a) * inv_step).floor() + half;
             if !(lo <= top && hi >= 0.0) {
                 continue;
             }
             let (lo, hi) = (lo.max(0.0) as usize, hi.min(top) as usize);
-            if let Some(cells) = self.values.get_mut(k * self.rows + lo..=k * self.rows + hi) {
+            if let Some(cells) = column.get_mut(lo..=hi) {
                 for v in cells {
                     *v += weight;
                 }
