@@ -31,3 +31,8 @@ pub use fit::{FitSums, PolarFit, fit_points};
 pub use hough_split::{HoughSplit, HoughSplitParams, Weight};
 pub use line::Line;
 pub use scan::{RangeWindow, Scan, ScanError, ScanPoint};
+
+/// The README's Rust examples, compiled and run as doc tests.
+#[doc = include_str!("../../../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
