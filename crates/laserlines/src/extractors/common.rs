@@ -74,8 +74,8 @@ pub(crate) struct Breakpoints {
 }
 
 impl Breakpoints {
-    /// True when `points[a]` and `points[b]` (`a < b`; the valid points between them, if any,
-    /// are not missing beams) are not neighbours on one surface.
+    /// True when `points[a]` and `points[b]` (`a < b`) are not neighbours on one surface. The
+    /// valid points between them, if any, are skipped, not missing.
     pub(crate) fn is_break(&self, points: &[ScanPoint], a: usize, b: usize) -> bool {
         let (a, b, between) = (&points[a], &points[b], b.abs_diff(a));
         let missing = b.index.abs_diff(a.index).saturating_sub(between);
@@ -189,6 +189,10 @@ pub(crate) struct Run {
 }
 
 impl Run {
+    pub(crate) fn new(start: usize, end: usize) -> Self {
+        Self { start, end }
+    }
+
     pub(crate) fn len(self) -> usize {
         self.end.saturating_sub(self.start)
     }
@@ -246,13 +250,7 @@ pub(crate) fn for_each_run(
     for i in 0..points.len() {
         if !usable(i) {
             if let Some((s, l, m)) = open.take() {
-                f(
-                    Run {
-                        start: s,
-                        end: l + 1,
-                    },
-                    m,
-                );
+                f(Run::new(s, l + 1), m);
             }
             continue;
         }
@@ -262,13 +260,7 @@ pub(crate) fn for_each_run(
                     open = Some((s, i, m + 1));
                 }
                 Some((s, l, m)) => {
-                    f(
-                        Run {
-                            start: s,
-                            end: l + 1,
-                        },
-                        m,
-                    );
+                    f(Run::new(s, l + 1), m);
                     open = Some((i, i, 1));
                 }
                 None => open = Some((i, i, 1)),
@@ -279,24 +271,12 @@ pub(crate) fn for_each_run(
             if skipped > max_skip
                 && let Some((s, l, m)) = open.take()
             {
-                f(
-                    Run {
-                        start: s,
-                        end: l + 1,
-                    },
-                    m,
-                );
+                f(Run::new(s, l + 1), m);
             }
         }
     }
     if let Some((s, l, m)) = open {
-        f(
-            Run {
-                start: s,
-                end: l + 1,
-            },
-            m,
-        );
+        f(Run::new(s, l + 1), m);
     }
 }
 

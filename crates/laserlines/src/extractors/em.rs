@@ -120,11 +120,10 @@ impl EmParams {
         common::at_least("init_points", self.init_points, 2)?;
         common::at_least("iterations", self.iterations, 1)?;
         if !(self.anneal_sigma_scale.is_finite() && self.anneal_sigma_scale >= 1.0) {
-            return Err(ParamsError::OutOfRange {
+            return Err(ParamsError::Below {
                 field: "anneal_sigma_scale",
                 value: self.anneal_sigma_scale,
-                lo: 1.0,
-                hi: f64::INFINITY,
+                min: 1.0,
             });
         }
         common::check_scaled(

@@ -103,6 +103,16 @@ pub enum ParamsError {
         /// upper bound (exclusive)
         hi: f64,
     },
+    /// A field below its minimum (or not finite).
+    #[error("{field} must be finite and >= {min}, got {value}")]
+    Below {
+        /// field name
+        field: &'static str,
+        /// offending value
+        value: f64,
+        /// smallest allowed value
+        min: f64,
+    },
     /// A count below its minimum.
     #[error("{field} must be at least {min}, got {value}")]
     TooFew {
