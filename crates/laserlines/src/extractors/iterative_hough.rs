@@ -81,7 +81,7 @@ pub struct IterativeHoughParams {
     /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
     /// may still join. Default 2. Sensible: 0..5.
     pub breakpoint_max_gap: usize,
-    /// Most rounds (accumulator builds) per scan. Default 100. At least 1.
+    /// Most rounds (accumulator builds) per scan. Default 100. At least 1. Sensible: 20..500.
     pub max_iterations: usize,
     /// Lines with fewer supporting points are dropped, and runs with fewer inliers are not
     /// stored. Default 6. At least 2 is enforced.

@@ -61,7 +61,7 @@ pub struct RansacParams {
     /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
     /// may still join. Default 2. Sensible: 0..5.
     pub breakpoint_max_gap: usize,
-    /// Most rounds of sampling per scan. Default 64. At least 1.
+    /// Most rounds of sampling (lines) per scan. Default 64. At least 1. Sensible: 16..256.
     pub max_lines: usize,
     /// Lines with fewer supporting points are dropped. Default 6. At least 2 is enforced.
     pub min_line_points: usize,
