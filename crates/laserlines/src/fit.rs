@@ -70,6 +70,20 @@ impl FitSums {
         self.sxy -= p.x * p.y;
     }
 
+    /// The sums of the points in `self` but not in `earlier`, where `earlier` holds a prefix
+    /// of the points added to `self` (prefix sums: `sums[to].since(&sums[from])`).
+    #[must_use]
+    pub fn since(&self, earlier: &Self) -> Self {
+        Self {
+            n: self.n.saturating_sub(earlier.n),
+            sx: self.sx - earlier.sx,
+            sy: self.sy - earlier.sy,
+            sxx: self.sxx - earlier.sxx,
+            syy: self.syy - earlier.syy,
+            sxy: self.sxy - earlier.sxy,
+        }
+    }
+
     /// Number of points.
     #[must_use]
     pub const fn len(&self) -> usize {

@@ -12,6 +12,7 @@ use crate::scan::ScanPoint;
 pub(crate) struct SplitScratch {
     stack: Vec<(u32, u32)>,
     pub(crate) breaks: Vec<u32>,
+    pub(crate) prefix: Vec<FitSums>,
 }
 
 /// Distance of `p` from the infinite line through `a` and `b` (or from `a` when they meet).
@@ -76,8 +77,20 @@ pub(crate) fn linseg(
     }
 }
 
-fn sums(points: &[ScanPoint], seg: &[u32], from: usize, to: usize) -> FitSums {
-    FitSums::from_points(seg[from..to].iter().map(|&i| points[i as usize].point))
+/// Prefix sums of a segment's points: `pre[i]` holds the sums of `seg[..i]`.
+pub(crate) fn prefix_sums(points: &[ScanPoint], seg: &[u32], pre: &mut Vec<FitSums>) {
+    pre.clear();
+    let mut acc = FitSums::new();
+    pre.push(acc);
+    for &i in seg {
+        acc.add(points[i as usize].point);
+        pre.push(acc);
+    }
+}
+
+/// Sums of `seg[from..to]` from the prefix sums, O(1).
+fn sums(pre: &[FitSums], from: usize, to: usize) -> FitSums {
+    pre[to].since(&pre[from])
 }
 
 /// True when every point of `seg[from..to]` lies within its split threshold of the pieces'
@@ -85,11 +98,12 @@ fn sums(points: &[ScanPoint], seg: &[u32], from: usize, to: usize) -> FitSums {
 fn collinear(
     points: &[ScanPoint],
     seg: &[u32],
+    pre: &[FitSums],
     from: usize,
     to: usize,
     p: &HoughSplitParams,
 ) -> bool {
-    let Some(fit) = sums(points, seg, from, to).fit() else {
+    let Some(fit) = sums(pre, from, to).fit() else {
         return false;
     };
     seg[from..to].iter().all(|&i| {
@@ -108,11 +122,18 @@ const CUT_WINDOW: usize = 4;
 /// from the true corner. Both pieces are fitted without the `CUT_WINDOW` points around `b`,
 /// and the cut is placed where the points of the window are best explained (least sum of
 /// squared distances) by the line on their side.
-fn best_cut(points: &[ScanPoint], seg: &[u32], lo: usize, b: usize, next: usize) -> usize {
+fn best_cut(
+    points: &[ScanPoint],
+    seg: &[u32],
+    pre: &[FitSums],
+    lo: usize,
+    b: usize,
+    next: usize,
+) -> usize {
     let wlo = b.saturating_sub(CUT_WINDOW).max(lo + 1);
     let whi = (b + CUT_WINDOW).min(next.saturating_sub(1));
-    let left = sums(points, seg, lo, wlo).fit();
-    let right = sums(points, seg, whi + 1, next + 1).fit();
+    let left = sums(pre, lo, wlo).fit();
+    let right = sums(pre, whi + 1, next + 1).fit();
     let (Some(left), Some(right)) = (left, right) else {
         // Pieces too short to fit without the window: the split point stays with the first.
         return b + 1;
@@ -152,6 +173,7 @@ fn best_cut(points: &[ScanPoint], seg: &[u32], lo: usize, b: usize, next: usize)
 fn trim_ends(
     points: &[ScanPoint],
     seg: &[u32],
+    pre: &[FitSums],
     lo: usize,
     hi: usize,
     min_points: usize,
@@ -163,7 +185,7 @@ fn trim_ends(
         let max_k = CUT_WINDOW
             .min(n / 6)
             .min(n.saturating_sub(min_points.max(3)));
-        let mut rest = sums(points, seg, lo, hi);
+        let mut rest = sums(pre, lo, hi);
         let mut best: Option<(f64, usize)> = None;
         for k in 1..=max_k {
             let idx = |j: usize| if from_end { hi - 1 - j } else { lo + j };
@@ -209,6 +231,7 @@ fn trim_ends(
 pub(crate) fn emit_lines(
     points: &[ScanPoint],
     seg: &[u32],
+    pre: &[FitSums],
     breaks: &mut Vec<u32>,
     p: &HoughSplitParams,
     out: &mut Vec<Line>,
@@ -222,7 +245,7 @@ pub(crate) fn emit_lines(
         for r in 1..breaks.len() - 1 {
             let from = breaks[w - 1] as usize;
             let to = breaks[r + 1] as usize + 1;
-            if collinear(points, seg, from, to, p) {
+            if collinear(points, seg, pre, from, to, p) {
                 continue;
             }
             breaks[w] = breaks[r];
@@ -241,12 +264,12 @@ pub(crate) fn emit_lines(
         let hi = if i + 1 == breaks.len() {
             seg.len()
         } else {
-            best_cut(points, seg, lo, b, breaks[i + 1] as usize)
+            best_cut(points, seg, pre, lo, b, breaks[i + 1] as usize)
         };
-        let (a, z) = trim_ends(points, seg, lo, hi, min_points, p);
+        let (a, z) = trim_ends(points, seg, pre, lo, hi, min_points, p);
         if z > a
             && z - a >= min_points
-            && let Some(fit) = sums(points, seg, a, z).fit()
+            && let Some(fit) = sums(pre, a, z).fit()
         {
             let first = &points[seg[a] as usize];
             let last = &points[seg[z - 1] as usize];
@@ -324,7 +347,9 @@ mod tests {
         assert_eq!(scratch.breaks, vec![0, 10, 20]);
         let mut out = Vec::new();
         let mut breaks = scratch.breaks.clone();
-        emit_lines(&points, &seg, &mut breaks, &p, &mut out);
+        let mut pre = Vec::new();
+        prefix_sums(&points, &seg, &mut pre);
+        emit_lines(&points, &seg, &pre, &mut breaks, &p, &mut out);
         assert_eq!(out.len(), 2);
         assert!((out[0].r - 1.0).abs() < 1e-9 && out[0].alpha.abs() < 1e-9);
         assert!(out[1].r.abs() < 1e-9);

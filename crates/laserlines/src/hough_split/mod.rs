@@ -155,9 +155,11 @@ impl LineExtractor for HoughSplit {
             );
             self.split_ranges
                 .push((from, self.split_points.len() as u32));
+            linseg::prefix_sums(&self.points, seg, &mut self.scratch.prefix);
             linseg::emit_lines(
                 &self.points,
                 seg,
+                &self.scratch.prefix,
                 &mut self.scratch.breaks,
                 &self.params,
                 out,

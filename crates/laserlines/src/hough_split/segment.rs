@@ -113,7 +113,9 @@ pub(crate) fn bridge_beams(
         if cell == NONE {
             continue;
         }
-        if let Some(q) = prev {
+        if let Some(q) = prev
+            && cell_of[q] != cell
+        {
             let gap = points[pi].index - points[q].index;
             let factor = match gap {
                 1 => one_beam,
