@@ -167,3 +167,18 @@ proptest! {
         }
     }
 }
+
+/// Regression: squared distances overflowed to `inf <= inf`, so a point at 1e300 m was
+/// bridged to its neighbours and joined their data segment.
+#[test]
+fn a_point_at_a_huge_range_is_never_bridged_into_a_segment() {
+    let mut ranges = vec![2.0; 50];
+    ranges[10] = 1e300;
+    let scan = Scan::new(-0.5, 0.02, 0.0, f64::MAX, ranges).unwrap();
+    let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    let lines = hs.extract(&scan);
+    assert!(!lines.is_empty());
+    for s in hs.stages().segments() {
+        assert!(!(s.first..=s.last).contains(&10), "{s:?}");
+    }
+}

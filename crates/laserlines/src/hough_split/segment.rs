@@ -126,7 +126,9 @@ pub(crate) fn bridge_beams(
             };
             if let Some(f) = factor {
                 let limit = points[q].range * f + noise;
-                if (points[pi].point - points[q].point).norm_squared() <= limit * limit {
+                // Squares would overflow to inf <= inf for absurd ranges: compare distances.
+                let dist = (points[pi].point - points[q].point).norm();
+                if dist.is_finite() && dist <= limit {
                     uf.union(cell as usize, cell_of[q] as usize);
                 }
             }
