@@ -1,0 +1,85 @@
+//! Steady-state extraction allocates nothing: after one warm-up call on a scan of the same
+//! shape, `extract_into` with a reused extractor and buffer makes no heap allocation.
+//!
+//! This file is its own test binary with a counting global allocator, the one place in the
+//! project that needs `unsafe` (implementing `GlobalAlloc`).
+
+#![allow(unsafe_code, clippy::unwrap_used, clippy::expect_used)]
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use laserlines::{LineExtractor, Scan};
+
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+// SAFETY: every call is forwarded unchanged to the system allocator; the counter is atomic.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        // SAFETY: same contract as the caller's.
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: same contract as the caller's.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        // SAFETY: same contract as the caller's.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// A room-like scan with noise: walls at different ranges, a gap, some invalid beams.
+fn scan(seed: u64) -> Scan {
+    let inc = 0.3515625f64.to_radians();
+    let mut state = seed;
+    let ranges = (0..682)
+        .map(|i| {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let noise = ((state >> 33) as f64 / (1u64 << 31) as f64 - 0.5) * 0.02;
+            let phi = -2.0 + i as f64 * inc;
+            let wall = match i {
+                0..=199 => 1.5 / (phi + 1.0).cos().abs().max(0.2),
+                200..=209 => f64::NAN,
+                210..=449 => 3.0 / phi.cos().abs().max(0.3),
+                _ => 2.0 / (phi - 1.2).cos().abs().max(0.2),
+            };
+            (wall + noise).min(5.5)
+        })
+        .collect();
+    Scan::new(-2.0, inc, 0.02, 5.6, ranges).unwrap()
+}
+
+#[test]
+fn steady_state_extraction_allocates_nothing() {
+    let scans: Vec<Scan> = (0..5).map(scan).collect();
+    let mut lines = Vec::with_capacity(256);
+    for name in laserlines::extractors::ALGORITHMS {
+        let mut ex = laserlines::extractors::by_name(name).unwrap();
+        // Warm up on every scan so that buffers reach their working size.
+        for s in &scans {
+            ex.extract_into(s, &mut lines);
+        }
+        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        for s in &scans {
+            ex.extract_into(s, &mut lines);
+        }
+        let after = ALLOCATIONS.load(Ordering::SeqCst);
+        assert!(!lines.is_empty(), "{name}: no lines");
+        assert_eq!(
+            after - before,
+            0,
+            "{name}: {} allocations in steady state",
+            after - before
+        );
+    }
+}
