@@ -9,7 +9,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use laserlines::{LineExtractor, Scan};
+use laserlines::Scan;
 
 struct Counting;
 
