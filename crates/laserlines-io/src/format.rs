@@ -15,14 +15,24 @@ pub enum Format {
     Csv,
     /// BreezySLAM / Paris Mines Tech Hokuyo URG-04LX log, 707 tokens per line (`.dat`).
     BreezyDat,
+    /// MCAP (`.mcap`). Named here so that paths and `--format` can choose it; the
+    /// `laserlines-foxglove` crate reads and writes it (plugging in through
+    /// [`crate::ScanReader::from_source`]), this crate does not.
+    Mcap,
 }
 
 impl Format {
     /// Every format, in the order of [`Format::NAMES`].
-    pub const ALL: [Self; 4] = [Self::Json, Self::Jsonl, Self::Csv, Self::BreezyDat];
+    pub const ALL: [Self; 5] = [
+        Self::Json,
+        Self::Jsonl,
+        Self::Csv,
+        Self::BreezyDat,
+        Self::Mcap,
+    ];
 
     /// The canonical names accepted by [`Format::from_name`] (e.g. for `--format`).
-    pub const NAMES: &'static [&'static str] = &["json", "jsonl", "csv", "dat"];
+    pub const NAMES: &'static [&'static str] = &["json", "jsonl", "csv", "dat", "mcap"];
 
     /// Tells the format from a path's extension, ignoring a trailing `.gz` (case-insensitive):
     /// `.json`, `.jsonl` / `.ndjson`, `.csv`, `.dat`. `None` for anything else.
@@ -41,6 +51,7 @@ impl Format {
             "jsonl" | "ndjson" => Some(Self::Jsonl),
             "csv" => Some(Self::Csv),
             "dat" | "breezy" | "breezyslam" => Some(Self::BreezyDat),
+            "mcap" => Some(Self::Mcap),
             _ => None,
         }
     }
@@ -51,6 +62,7 @@ impl Format {
             "jsonl" | "ndjson" => Some(Self::Jsonl),
             "csv" => Some(Self::Csv),
             "dat" => Some(Self::BreezyDat),
+            "mcap" => Some(Self::Mcap),
             _ => None,
         }
     }
@@ -63,6 +75,7 @@ impl Format {
             Self::Jsonl => "jsonl",
             Self::Csv => "csv",
             Self::BreezyDat => "dat",
+            Self::Mcap => "mcap",
         }
     }
 
@@ -75,7 +88,7 @@ impl Format {
     /// True when [`crate::ScanWriter`] can write this format.
     #[must_use]
     pub fn is_writable(self) -> bool {
-        !matches!(self, Self::BreezyDat)
+        !matches!(self, Self::BreezyDat | Self::Mcap)
     }
 }
 
@@ -138,6 +151,7 @@ mod tests {
             ("a.csv", Some(Format::Csv)),
             ("exp1.dat.gz", Some(Format::BreezyDat)),
             ("exp1.dat", Some(Format::BreezyDat)),
+            ("log.MCAP", Some(Format::Mcap)),
             ("a.gz", None),
             ("a.txt", None),
             ("noext", None),

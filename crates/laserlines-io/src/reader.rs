@@ -178,8 +178,39 @@ fn reader_for(name: &str, input: Input, format: Format) -> ScanReader {
         Format::Jsonl => Box::new(crate::json::JsonlSource::new(name, input)),
         Format::Csv => Box::new(crate::csv::CsvSource::new(name, input)),
         Format::BreezyDat => Box::new(crate::breezy::DatSource::new(name, input)),
+        Format::Mcap => Box::new(ReadElsewhere::new(name, "laserlines-foxglove")),
     };
     ScanReader::from_source(name, format, source)
+}
+
+/// A format another crate reads (MCAP: `laserlines-foxglove`): one error saying so, then the end.
+struct ReadElsewhere {
+    name: String,
+    reader: &'static str,
+    done: bool,
+}
+
+impl ReadElsewhere {
+    fn new(name: &str, reader: &'static str) -> Self {
+        Self {
+            name: name.to_owned(),
+            reader,
+            done: false,
+        }
+    }
+}
+
+impl ScanSource for ReadElsewhere {
+    fn next_record(&mut self, _: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
+        if std::mem::replace(&mut self.done, true) {
+            return None;
+        }
+        Some(Err(ReadError::Syntax {
+            pos: SourcePos::byte(&self.name, 0),
+            expected: "a format laserlines-io reads".to_owned(),
+            found: format!("a format the {} crate reads", self.reader),
+        }))
+    }
 }
 
 /// Wraps `input` in a gzip decoder when `gz` is set or it starts with the gzip magic.

@@ -349,7 +349,7 @@ impl<W: Write> ScanWriter<W> {
                 write_csv(buf, record).map_err(|e| self.io(e))?;
                 self.emit(buf)
             }
-            Format::BreezyDat => Err(WriteError::Unsupported {
+            Format::BreezyDat | Format::Mcap => Err(WriteError::Unsupported {
                 file: self.name.clone(),
                 format: self.format.name(),
             }),

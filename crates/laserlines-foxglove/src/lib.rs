@@ -1,0 +1,3 @@
+//! # laserlines-foxglove
+//!
+//! MCAP and Foxglove for laserlines.
