@@ -47,8 +47,12 @@
 //! assert!((ahead.r - 2.0).abs() < 1e-9 && ahead.alpha.abs() < 1e-9);
 //! ```
 
+pub mod arena;
+pub mod index;
 pub mod laser;
+pub mod maze;
 pub mod rng;
+pub mod robot;
 pub mod scenes;
 pub mod simulation;
 pub mod world;

@@ -1,0 +1,774 @@
+//! A differential-drive robot like NAJI V with a URG-04LX on board, stepped at a fixed time
+//! step.
+//!
+//! - **Footprint**: a rectangle [`Footprint::naji_v`] of 0.50 m (length, along x) by
+//!   0.40 m (width), centred on the point midway between the wheels (the robot frame's
+//!   origin), about the size of the NAJI V rescue robot.
+//! - **Drive**: commands are a forward speed and a turn rate; the robot follows them within
+//!   [`DriveLimits`] (speed, turn rate and their accelerations), integrated exactly as an
+//!   arc over each physics step.
+//! - **Collisions**: after every step the footprint is checked exactly against every wall
+//!   (segment-rectangle) and disc (circle-rectangle) near it. A step that would make the
+//!   footprint touch an obstacle is not taken: the robot stops where it was and the contact
+//!   is counted ([`RobotSim::collisions`]).
+//! - **Odometry**: the wheels' travel is measured with gaussian noise whose variance grows
+//!   with the distance each wheel rolled ([`OdometryNoise`]), and integrated into the pose
+//!   estimate [`RobotSim::odom_from_robot`], as wheel encoders do.
+//! - **Laser**: the [`LaserModel`] (URG-04LX by default) at `robot_from_laser`, one scan
+//!   every [`RobotParams::scan_period_s`] (10 Hz), taken at the pose of that instant.
+//!
+//! Everything random draws from generators seeded by [`RobotSim::new`]'s seed: the same
+//! world, start, parameters, seed and commands give the same run, bit for bit.
+//!
+//! ```
+//! use laserlines_sim::robot::{RobotParams, RobotSim, VelocityCommand};
+//! use laserlines_sim::World;
+//! use laserlines::math::{Isometry2, Point2, Vector2};
+//! let mut world = World::new();
+//! world.add_box(Point2::new(0.0, 0.0), 4.0, 4.0, 0.0);
+//! let mut robot = RobotSim::new(&world, Isometry2::identity(), RobotParams::default(), 7).unwrap();
+//! for _ in 0..50 {
+//!     robot.step(VelocityCommand::new(0.3, 0.0));
+//! }
+//! // One second at up to 0.3 m/s, accelerating at 1 m/s^2.
+//! let x = robot.world_from_robot().translation.vector.x;
+//! assert!(x > 0.2 && x < 0.3);
+//! assert_eq!(robot.collisions(), 0);
+//! // A start pose inside a wall is an error.
+//! let bad = Isometry2::new(Vector2::new(1.9, 0.0), 0.0);
+//! assert!(RobotSim::new(&world, bad, RobotParams::default(), 7).is_err());
+//! ```
+
+use laserlines::Scan;
+use laserlines::line::distance_to_segment;
+use laserlines::math::{Isometry2, Point2, Vector2, wrap_angle};
+
+use crate::index::{WorldIndex, segment_touches_box};
+use crate::laser::LaserModel;
+use crate::rng::{Rng, mix_seed};
+use crate::world::{Target, World};
+
+/// How far around the footprint obstacles are searched for the clearance, m: clearances
+/// beyond this are reported as this value.
+pub const CLEARANCE_SEARCH: f64 = 1.0;
+
+/// Clearance (m) the footprint must regain after a contact before another contact counts
+/// as a new collision.
+pub const CONTACT_RELEASE: f64 = 0.01;
+
+/// The robot's outline: a rectangle centred on the robot frame's origin, axis-aligned in
+/// that frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Footprint {
+    /// Extent along x (forward), m. Default 0.50.
+    pub length: f64,
+    /// Extent along y (left), m. Default 0.40.
+    pub width: f64,
+}
+
+impl Footprint {
+    /// About the NAJI V rescue robot: 0.50 m long, 0.40 m wide.
+    #[must_use]
+    pub const fn naji_v() -> Self {
+        Self {
+            length: 0.5,
+            width: 0.4,
+        }
+    }
+
+    /// Radius of the circle around the origin that holds the whole footprint, m: the room
+    /// the robot needs to turn on the spot (0.32 m for NAJI V).
+    #[must_use]
+    pub fn circumradius(&self) -> f64 {
+        (0.5 * self.length).hypot(0.5 * self.width)
+    }
+
+    /// Half extents `(length / 2, width / 2)`, m.
+    #[must_use]
+    pub fn half(&self) -> Vector2 {
+        Vector2::new(0.5 * self.length, 0.5 * self.width)
+    }
+
+    /// The corners in the world frame, counter-clockwise starting at the front right.
+    #[must_use]
+    pub fn corners(&self, world_from_robot: &Isometry2) -> [Point2; 4] {
+        let h = self.half();
+        [
+            world_from_robot * Point2::new(h.x, -h.y),
+            world_from_robot * Point2::new(h.x, h.y),
+            world_from_robot * Point2::new(-h.x, h.y),
+            world_from_robot * Point2::new(-h.x, -h.y),
+        ]
+    }
+
+    /// Distance from the footprint at `world_from_robot` to the segment `a`-`b` (world
+    /// frame), m; 0 when they touch or overlap. Exact.
+    #[must_use]
+    pub fn distance_to_segment(&self, world_from_robot: &Isometry2, a: Point2, b: Point2) -> f64 {
+        let robot_from_world = world_from_robot.inverse();
+        self.distance_to_segment_local(robot_from_world * a, robot_from_world * b)
+    }
+
+    /// Like [`Footprint::distance_to_segment`] with the segment in the robot frame.
+    #[must_use]
+    pub fn distance_to_segment_local(&self, a: Point2, b: Point2) -> f64 {
+        let h = self.half();
+        let lo = Point2::new(-h.x, -h.y);
+        let hi = Point2::new(h.x, h.y);
+        if segment_touches_box(a, b, lo, hi) {
+            return 0.0;
+        }
+        // Disjoint convex shapes: the least distance is between a vertex of one and the
+        // other shape.
+        let to_box = |p: Point2| {
+            let dx = (p.x.abs() - h.x).max(0.0);
+            let dy = (p.y.abs() - h.y).max(0.0);
+            dx.hypot(dy)
+        };
+        let corners = [lo, Point2::new(h.x, -h.y), hi, Point2::new(-h.x, h.y)];
+        corners
+            .iter()
+            .map(|&c| distance_to_segment(c, a, b))
+            .fold(to_box(a).min(to_box(b)), f64::min)
+    }
+
+    /// Distance from the footprint at `world_from_robot` to a disc (world frame), m; 0 when
+    /// they touch or overlap. Exact.
+    #[must_use]
+    pub fn distance_to_disc(
+        &self,
+        world_from_robot: &Isometry2,
+        centre: Point2,
+        radius: f64,
+    ) -> f64 {
+        let c = world_from_robot.inverse() * centre;
+        (self.distance_to_point_local(c) - radius.max(0.0)).max(0.0)
+    }
+
+    /// Distance from the footprint to a point in the robot frame, m (0 inside).
+    #[must_use]
+    pub fn distance_to_point_local(&self, p: Point2) -> f64 {
+        let h = self.half();
+        let dx = (p.x.abs() - h.x).max(0.0);
+        let dy = (p.y.abs() - h.y).max(0.0);
+        dx.hypot(dy)
+    }
+}
+
+impl Default for Footprint {
+    fn default() -> Self {
+        Self::naji_v()
+    }
+}
+
+/// Speed and acceleration limits of the drive.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DriveLimits {
+    /// Top forward speed, m/s. Default 0.6.
+    pub max_speed: f64,
+    /// Top reverse speed, m/s (positive). Default 0.2.
+    pub max_reverse: f64,
+    /// Top turn rate, rad/s. Default 1.5.
+    pub max_turn_rate: f64,
+    /// Largest change of speed, m/s^2. Default 1.0.
+    pub max_accel: f64,
+    /// Largest change of turn rate, rad/s^2. Default 4.0.
+    pub max_angular_accel: f64,
+}
+
+impl Default for DriveLimits {
+    fn default() -> Self {
+        Self {
+            max_speed: 0.6,
+            max_reverse: 0.2,
+            max_turn_rate: 1.5,
+            max_accel: 1.0,
+            max_angular_accel: 4.0,
+        }
+    }
+}
+
+/// Noise of the wheel odometry.
+///
+/// Each wheel's measured travel over a step is its true travel `d` plus gaussian noise of
+/// standard deviation `wheel_sigma * sqrt(|d|)`: the variance grows linearly with the
+/// distance rolled, whatever the step size.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OdometryNoise {
+    /// Noise of one wheel, m per square root of metre rolled. Default 0.01 (1 cm after 1 m
+    /// of travel); 0 gives perfect odometry.
+    pub wheel_sigma: f64,
+}
+
+impl Default for OdometryNoise {
+    fn default() -> Self {
+        Self { wheel_sigma: 0.01 }
+    }
+}
+
+/// Everything about the simulated robot. [`RobotParams::default`] is NAJI V with a
+/// URG-04LX at 10 Hz, physics at 50 Hz.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RobotParams {
+    /// The outline checked for collisions.
+    pub footprint: Footprint,
+    /// Speed and acceleration limits.
+    pub limits: DriveLimits,
+    /// Distance between the wheels, m. Default 0.36.
+    pub wheel_base: f64,
+    /// Odometry noise.
+    pub odometry: OdometryNoise,
+    /// The laser (default [`LaserModel::urg04lx`]).
+    pub laser: LaserModel,
+    /// Where the laser sits on the robot. Default 0.15 m ahead of the origin, facing
+    /// forward.
+    pub robot_from_laser: Isometry2,
+    /// Time between scans, s. Default 0.1 (the URG-04LX's 10 Hz).
+    pub scan_period_s: f64,
+    /// The physics time step, s. Default 0.02 (50 Hz).
+    pub physics_dt_s: f64,
+}
+
+impl Default for RobotParams {
+    fn default() -> Self {
+        Self {
+            footprint: Footprint::naji_v(),
+            limits: DriveLimits::default(),
+            wheel_base: 0.36,
+            odometry: OdometryNoise::default(),
+            laser: LaserModel::urg04lx(),
+            robot_from_laser: Isometry2::new(Vector2::new(0.15, 0.0), 0.0),
+            scan_period_s: 0.1,
+            physics_dt_s: 0.02,
+        }
+    }
+}
+
+/// Errors of [`RobotSim::new`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RobotError {
+    /// The start pose puts the footprint on a wall or a disc.
+    #[error(
+        "the start pose (x {x:.3} m, y {y:.3} m, yaw {yaw_deg:.1} deg) puts the robot's footprint on {what}"
+    )]
+    StartInCollision {
+        /// start x, m
+        x: f64,
+        /// start y, m
+        y: f64,
+        /// start yaw, deg
+        yaw_deg: f64,
+        /// what it overlaps, e.g. `wall 3 from (0.6, 0.6) to (1.8, 0.6)`
+        what: String,
+    },
+    /// A parameter is out of its domain.
+    #[error("robot parameter {field} = {value} is out of range: {expected}")]
+    BadParameter {
+        /// the field
+        field: &'static str,
+        /// its value
+        value: f64,
+        /// what is allowed
+        expected: &'static str,
+    },
+    /// The start pose is not finite.
+    #[error("the start pose is not finite")]
+    BadStart,
+}
+
+/// A velocity command: forward speed and turn rate in the robot frame.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct VelocityCommand {
+    /// Forward speed, m/s (negative: reverse).
+    pub linear_m_s: f64,
+    /// Turn rate, rad/s (positive: counter-clockwise, to the left).
+    pub angular_rad_s: f64,
+}
+
+impl VelocityCommand {
+    /// A command.
+    #[must_use]
+    pub const fn new(linear_m_s: f64, angular_rad_s: f64) -> Self {
+        Self {
+            linear_m_s,
+            angular_rad_s,
+        }
+    }
+
+    /// Stop.
+    pub const STOP: Self = Self::new(0.0, 0.0);
+}
+
+/// What one physics step did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepOutcome {
+    /// The step was refused because the footprint would have touched an obstacle.
+    pub blocked: bool,
+    /// Distance travelled by the origin during the step, m.
+    pub travelled_m: f64,
+}
+
+/// The simulated robot in its world, see the [module docs](self).
+#[derive(Debug, Clone)]
+pub struct RobotSim {
+    index: WorldIndex,
+    params: RobotParams,
+    world_from_robot: Isometry2,
+    odom_from_robot: Isometry2,
+    linear: f64,
+    angular: f64,
+    steps: u64,
+    steps_per_scan: u64,
+    odom_rng: Rng,
+    laser_rng: Rng,
+    collisions: u64,
+    in_contact: bool,
+    min_clearance: f64,
+    path_length: f64,
+}
+
+impl RobotSim {
+    /// A robot at `world_from_robot` in `world`; `seed` seeds the odometry and laser noise.
+    /// The odometry frame starts at the start pose (`odom_from_robot` = identity).
+    ///
+    /// # Errors
+    /// [`RobotError::StartInCollision`] when the footprint at the start touches a wall or a
+    /// disc, [`RobotError::BadStart`] for a non-finite pose, [`RobotError::BadParameter`]
+    /// for a non-positive time step, scan period, footprint, wheel base or limit.
+    pub fn new(
+        world: &World,
+        world_from_robot: Isometry2,
+        params: RobotParams,
+        seed: u64,
+    ) -> Result<Self, RobotError> {
+        params.validate()?;
+        let t = world_from_robot.translation.vector;
+        let yaw = world_from_robot.rotation.angle();
+        if !(t.x.is_finite() && t.y.is_finite() && yaw.is_finite()) {
+            return Err(RobotError::BadStart);
+        }
+        let index = WorldIndex::new(world, 0.6);
+        let steps_per_scan = (params.scan_period_s / params.physics_dt_s)
+            .round()
+            .max(1.0) as u64;
+        let mut sim = Self {
+            index,
+            params,
+            world_from_robot,
+            odom_from_robot: Isometry2::identity(),
+            linear: 0.0,
+            angular: 0.0,
+            steps: 0,
+            steps_per_scan,
+            odom_rng: Rng::new(mix_seed(seed, 1)),
+            laser_rng: Rng::new(mix_seed(seed, 2)),
+            collisions: 0,
+            in_contact: false,
+            min_clearance: CLEARANCE_SEARCH,
+            path_length: 0.0,
+        };
+        let (clearance, nearest) = sim.clearance_at(&world_from_robot);
+        if clearance <= 0.0 {
+            let what = match nearest {
+                Some(Target::Wall(i)) => {
+                    let w = world.walls[i];
+                    format!(
+                        "wall {i} from ({:.2}, {:.2}) to ({:.2}, {:.2})",
+                        w.a.x, w.a.y, w.b.x, w.b.y
+                    )
+                }
+                Some(Target::Disc(i)) => {
+                    let d = world.discs[i];
+                    format!(
+                        "disc {i} at ({:.2}, {:.2}) of radius {:.2} m",
+                        d.centre.x, d.centre.y, d.radius
+                    )
+                }
+                None => "an obstacle".to_owned(),
+            };
+            return Err(RobotError::StartInCollision {
+                x: t.x,
+                y: t.y,
+                yaw_deg: yaw.to_degrees(),
+                what,
+            });
+        }
+        sim.min_clearance = clearance;
+        Ok(sim)
+    }
+
+    /// The parameters.
+    #[must_use]
+    pub fn params(&self) -> &RobotParams {
+        &self.params
+    }
+
+    /// The world's index (walls and discs), for ground truth.
+    #[must_use]
+    pub fn index(&self) -> &WorldIndex {
+        &self.index
+    }
+
+    /// The true pose (ground truth, not known to the robot).
+    #[must_use]
+    pub fn world_from_robot(&self) -> Isometry2 {
+        self.world_from_robot
+    }
+
+    /// The true pose of the laser.
+    #[must_use]
+    pub fn world_from_laser(&self) -> Isometry2 {
+        self.world_from_robot * self.params.robot_from_laser
+    }
+
+    /// The pose estimated by the wheel odometry, in the odometry frame (the start pose).
+    #[must_use]
+    pub fn odom_from_robot(&self) -> Isometry2 {
+        self.odom_from_robot
+    }
+
+    /// The present forward speed (m/s) and turn rate (rad/s).
+    #[must_use]
+    pub fn velocity(&self) -> VelocityCommand {
+        VelocityCommand::new(self.linear, self.angular)
+    }
+
+    /// Simulated time, s.
+    #[must_use]
+    pub fn time_s(&self) -> f64 {
+        self.steps as f64 * self.params.physics_dt_s
+    }
+
+    /// Physics steps taken.
+    #[must_use]
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Collisions so far: steps refused because the footprint would have touched an
+    /// obstacle, counting once every contact until the robot is [`CONTACT_RELEASE`] clear
+    /// of everything again.
+    #[must_use]
+    pub fn collisions(&self) -> u64 {
+        self.collisions
+    }
+
+    /// The least distance between the footprint and any obstacle so far, m (at most
+    /// [`CLEARANCE_SEARCH`]).
+    #[must_use]
+    pub fn min_clearance(&self) -> f64 {
+        self.min_clearance
+    }
+
+    /// Distance travelled by the robot's origin, m.
+    #[must_use]
+    pub fn path_length(&self) -> f64 {
+        self.path_length
+    }
+
+    /// True when a scan is due at the present step (every [`RobotParams::scan_period_s`],
+    /// starting at time 0).
+    #[must_use]
+    pub fn scan_due(&self) -> bool {
+        self.steps % self.steps_per_scan == 0
+    }
+
+    /// Takes a scan at the present true pose into reused buffers: the scan as the laser
+    /// reports it (stamped with the simulated time) and the noise-free range of every beam
+    /// (NaN where it hit nothing in range), see [`WorldIndex::scan_into`].
+    pub fn scan_into(&mut self, scan: &mut Scan, true_ranges: &mut Vec<f64>) {
+        let world_from_laser = self.world_from_laser();
+        self.index.scan_into(
+            &world_from_laser,
+            &self.params.laser,
+            &mut self.laser_rng,
+            scan,
+            true_ranges,
+        );
+        scan.stamp = Some(self.time_s());
+    }
+
+    /// The clearance of the footprint at `world_from_robot` (m, capped at
+    /// [`CLEARANCE_SEARCH`]; 0 when touching) and the nearest obstacle within that range.
+    #[must_use]
+    pub fn clearance_at(&self, world_from_robot: &Isometry2) -> (f64, Option<Target>) {
+        let fp = &self.params.footprint;
+        let c = Point2::from(world_from_robot.translation.vector);
+        let reach = fp.circumradius() + CLEARANCE_SEARCH;
+        let lo = c - Vector2::new(reach, reach);
+        let hi = c + Vector2::new(reach, reach);
+        let robot_from_world = world_from_robot.inverse();
+        let world = self.index.world();
+        let mut best = CLEARANCE_SEARCH;
+        let mut nearest = None;
+        self.index.near_box(lo, hi, |t| {
+            let d = match t {
+                Target::Wall(i) => {
+                    let w = &world.walls[i];
+                    fp.distance_to_segment_local(robot_from_world * w.a, robot_from_world * w.b)
+                }
+                Target::Disc(i) => {
+                    let disc = &world.discs[i];
+                    fp.distance_to_point_local(robot_from_world * disc.centre)
+                        - disc.radius.max(0.0)
+                }
+            };
+            if d < best || (d <= 0.0 && nearest.is_none()) {
+                best = d.max(0.0);
+                nearest = Some(t);
+            }
+        });
+        (best, nearest)
+    }
+
+    /// Advances the simulation by one physics step under `command`.
+    ///
+    /// The speed and turn rate move toward the command within the drive's limits; the pose
+    /// follows the arc they describe. If the footprint at the new pose would touch an
+    /// obstacle the step is refused: the robot stays, stops, and the contact is counted.
+    /// Non-finite commands count as stop.
+    pub fn step(&mut self, command: VelocityCommand) -> StepOutcome {
+        let dt = self.params.physics_dt_s;
+        let lim = &self.params.limits;
+        let finite_or_zero = |v: f64| if v.is_finite() { v } else { 0.0 };
+        let v_cmd = finite_or_zero(command.linear_m_s).clamp(-lim.max_reverse, lim.max_speed);
+        let w_cmd =
+            finite_or_zero(command.angular_rad_s).clamp(-lim.max_turn_rate, lim.max_turn_rate);
+        let dv = lim.max_accel * dt;
+        let dw = lim.max_angular_accel * dt;
+        let v = self.linear + (v_cmd - self.linear).clamp(-dv, dv);
+        let w = self.angular + (w_cmd - self.angular).clamp(-dw, dw);
+        self.steps += 1;
+
+        let ds = v * dt;
+        let dtheta = w * dt;
+        let next = self.world_from_robot * arc(ds, dtheta);
+        let (clearance, _) = self.clearance_at(&next);
+        if clearance <= 0.0 {
+            if !self.in_contact {
+                self.collisions += 1;
+            }
+            // One contact lasts until the footprint is clear of everything by
+            // `CONTACT_RELEASE` again.
+            self.in_contact = true;
+            self.linear = 0.0;
+            self.angular = 0.0;
+            self.min_clearance = 0.0;
+            return StepOutcome {
+                blocked: true,
+                travelled_m: 0.0,
+            };
+        }
+        if clearance > CONTACT_RELEASE {
+            self.in_contact = false;
+        }
+        self.min_clearance = self.min_clearance.min(clearance);
+        self.world_from_robot = next;
+        self.linear = v;
+        self.angular = w;
+        self.path_length += ds.abs();
+
+        // Odometry: noisy wheel travel, integrated as an arc.
+        let half_base = 0.5 * self.params.wheel_base;
+        let left = ds - dtheta * half_base;
+        let right = ds + dtheta * half_base;
+        let sigma = self.params.odometry.wheel_sigma.max(0.0);
+        let (left_m, right_m) = if sigma > 0.0 {
+            (
+                left + sigma * left.abs().sqrt() * self.odom_rng.gaussian(),
+                right + sigma * right.abs().sqrt() * self.odom_rng.gaussian(),
+            )
+        } else {
+            (left, right)
+        };
+        let ds_m = 0.5 * (left_m + right_m);
+        let dtheta_m = (right_m - left_m) / self.params.wheel_base;
+        self.odom_from_robot *= arc(ds_m, dtheta_m);
+        StepOutcome {
+            blocked: false,
+            travelled_m: ds.abs(),
+        }
+    }
+}
+
+/// The motion along an arc of length `ds` (m) turning by `dtheta` (rad), in the frame of its
+/// start.
+#[must_use]
+pub fn arc(ds: f64, dtheta: f64) -> Isometry2 {
+    let (dx, dy) = if dtheta.abs() < 1e-9 {
+        (ds, ds * 0.5 * dtheta)
+    } else {
+        let r = ds / dtheta;
+        (r * dtheta.sin(), r * (1.0 - dtheta.cos()))
+    };
+    Isometry2::new(Vector2::new(dx, dy), wrap_angle(dtheta))
+}
+
+impl RobotParams {
+    /// Checks that every length, limit and period is positive and finite.
+    ///
+    /// # Errors
+    /// [`RobotError::BadParameter`] naming the first field out of range.
+    pub fn validate(&self) -> Result<(), RobotError> {
+        let positive = [
+            ("footprint.length", self.footprint.length),
+            ("footprint.width", self.footprint.width),
+            ("limits.max_speed", self.limits.max_speed),
+            ("limits.max_turn_rate", self.limits.max_turn_rate),
+            ("limits.max_accel", self.limits.max_accel),
+            ("limits.max_angular_accel", self.limits.max_angular_accel),
+            ("wheel_base", self.wheel_base),
+            ("scan_period_s", self.scan_period_s),
+            ("physics_dt_s", self.physics_dt_s),
+        ];
+        for (field, value) in positive {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(RobotError::BadParameter {
+                    field,
+                    value,
+                    expected: "positive and finite",
+                });
+            }
+        }
+        for (field, value) in [
+            ("limits.max_reverse", self.limits.max_reverse),
+            ("odometry.wheel_sigma", self.odometry.wheel_sigma),
+        ] {
+            if !(value.is_finite() && value >= 0.0) {
+                return Err(RobotError::BadParameter {
+                    field,
+                    value,
+                    expected: "finite and >= 0",
+                });
+            }
+        }
+        if self.physics_dt_s > self.scan_period_s {
+            return Err(RobotError::BadParameter {
+                field: "physics_dt_s",
+                value: self.physics_dt_s,
+                expected: "at most scan_period_s",
+            });
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(x: f64, y: f64) -> Point2 {
+        Point2::new(x, y)
+    }
+
+    #[test]
+    fn footprint_distances_by_hand() {
+        let fp = Footprint::naji_v();
+        let id = Isometry2::identity();
+        // A wall 0.1 m beyond the front face.
+        assert!((fp.distance_to_segment(&id, p(0.35, -1.0), p(0.35, 1.0)) - 0.1).abs() < 1e-12);
+        // A wall crossing the body.
+        assert_eq!(fp.distance_to_segment(&id, p(0.0, -1.0), p(0.0, 1.0)), 0.0);
+        // A wall wholly inside the body.
+        assert_eq!(fp.distance_to_segment(&id, p(0.0, 0.0), p(0.1, 0.1)), 0.0);
+        // A wall end pointing at the front-left corner (0.25, 0.2) from (0.55, 0.6): 0.5 m.
+        assert!((fp.distance_to_segment(&id, p(0.55, 0.6), p(2.0, 2.0)) - 0.5).abs() < 1e-12);
+        // A diagonal wall passing a corner: the line x + y = 1 is (1 - 0.45)/sqrt(2) from
+        // the corner (0.25, 0.2).
+        let d = fp.distance_to_segment(&id, p(1.0, 0.0), p(0.0, 1.0));
+        assert!((d - 0.55 / 2f64.sqrt()).abs() < 1e-12);
+        // Turned by 90 deg, the body spans 0.4 m along x.
+        let turned = Isometry2::new(Vector2::zeros(), std::f64::consts::FRAC_PI_2);
+        assert!((fp.distance_to_segment(&turned, p(0.3, -1.0), p(0.3, 1.0)) - 0.1).abs() < 1e-12);
+        // Discs.
+        assert!((fp.distance_to_disc(&id, p(0.0, 0.5), 0.1) - 0.2).abs() < 1e-12);
+        assert_eq!(fp.distance_to_disc(&id, p(0.3, 0.0), 0.1), 0.0);
+        assert!((fp.distance_to_disc(&id, p(0.55, 0.6), 0.1) - 0.4).abs() < 1e-12);
+        assert!((fp.circumradius() - 0.32015621187164245).abs() < 1e-12);
+    }
+
+    #[test]
+    fn arc_is_exact() {
+        let a = arc(std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2);
+        assert!((a.translation.vector.x - 1.0).abs() < 1e-12);
+        assert!((a.translation.vector.y - 1.0).abs() < 1e-12);
+        let s = arc(1.0, 0.0);
+        assert!((s.translation.vector.x - 1.0).abs() < 1e-12 && s.translation.vector.y == 0.0);
+    }
+
+    #[test]
+    fn the_robot_stops_at_a_wall_and_counts_one_contact() {
+        let mut world = World::new();
+        world.add_segment(p(1.0, -2.0), p(1.0, 2.0));
+        let params = RobotParams {
+            odometry: OdometryNoise { wheel_sigma: 0.0 },
+            ..RobotParams::default()
+        };
+        let mut robot = RobotSim::new(&world, Isometry2::identity(), params, 1).unwrap();
+        let mut blocked = 0;
+        for _ in 0..300 {
+            if robot.step(VelocityCommand::new(0.5, 0.0)).blocked {
+                blocked += 1;
+            }
+        }
+        assert!(blocked > 100);
+        assert_eq!(robot.collisions(), 1);
+        let x = robot.world_from_robot().translation.vector.x;
+        assert!(x < 0.75 && x > 0.7, "{x}");
+        assert_eq!(robot.min_clearance(), 0.0);
+        // Perfect odometry follows the truth.
+        assert!((robot.odom_from_robot().translation.vector.x - x).abs() < 1e-12);
+    }
+
+    #[test]
+    fn limits_hold_and_runs_repeat() {
+        let world = World::new();
+        let run = |seed| {
+            let mut r =
+                RobotSim::new(&world, Isometry2::identity(), RobotParams::default(), seed).unwrap();
+            let mut max_v: f64 = 0.0;
+            for k in 0..500 {
+                let w = if k % 100 < 50 { 3.0 } else { -3.0 };
+                r.step(VelocityCommand::new(2.0, w));
+                max_v = max_v.max(r.velocity().linear_m_s);
+                assert!(r.velocity().angular_rad_s.abs() <= 1.5 + 1e-12);
+            }
+            assert!(max_v <= 0.6 + 1e-12);
+            (r.world_from_robot(), r.odom_from_robot())
+        };
+        let (a_true, a_odom) = run(5);
+        let (b_true, b_odom) = run(5);
+        let (_, c_odom) = run(6);
+        assert_eq!(a_true, b_true);
+        assert_eq!(a_odom, b_odom);
+        assert_ne!(a_odom, c_odom);
+        // Noisy odometry drifts, but not wildly over 10 s.
+        let err = (a_true.translation.vector - a_odom.translation.vector).norm();
+        assert!(err > 0.0 && err < 0.5, "{err}");
+    }
+
+    #[test]
+    fn bad_parameters_and_starts_are_errors() {
+        let world = World::new();
+        let bad = RobotParams {
+            physics_dt_s: 0.0,
+            ..RobotParams::default()
+        };
+        assert!(matches!(
+            RobotSim::new(&world, Isometry2::identity(), bad, 1),
+            Err(RobotError::BadParameter {
+                field: "physics_dt_s",
+                ..
+            })
+        ));
+        let nan = Isometry2::new(Vector2::new(f64::NAN, 0.0), 0.0);
+        assert_eq!(
+            RobotSim::new(&world, nan, RobotParams::default(), 1).unwrap_err(),
+            RobotError::BadStart
+        );
+        let mut w = World::new();
+        w.add_disc(p(0.3, 0.0), 0.1);
+        let e = RobotSim::new(&w, Isometry2::identity(), RobotParams::default(), 1).unwrap_err();
+        assert!(e.to_string().contains("disc 0"), "{e}");
+    }
+}
