@@ -25,6 +25,8 @@ enum Command {
     Render(cmd::render::RenderArgs),
     /// Run the whole pipeline on bundled real Hokuyo URG-04LX scans.
     Demo(cmd::demo::DemoArgs),
+    /// Explore a rescue arena or a seeded maze with the simulated NAJI V; writes metrics and pictures.
+    Simulate(cmd::simulate::SimulateArgs),
 }
 
 /// Where scans come from: a path (or `-` for stdin) and an optional format override.
@@ -43,6 +45,7 @@ fn main() -> ExitCode {
         Command::Extract(a) => cmd::extract::run(&a),
         Command::Render(a) => cmd::render::run(&a),
         Command::Demo(a) => cmd::demo::run(&a),
+        Command::Simulate(a) => cmd::simulate::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

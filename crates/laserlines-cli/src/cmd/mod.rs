@@ -3,6 +3,7 @@
 pub mod demo;
 pub mod extract;
 pub mod render;
+pub mod simulate;
 
 use std::path::Path;
 

@@ -1,0 +1,397 @@
+//! `laserlines simulate`: an exploration run of the simulated NAJI V in a rescue arena or a
+//! seeded maze, with metrics and the paper's Fig. 7 and Fig. 8 as SVG.
+
+use std::fs;
+use std::io::{self, IsTerminal};
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use laserlines::math::{Isometry2, Point2, Vector2};
+use laserlines_nav::{RunConfig, RunRecord, Sector, Snapshot, arenas, run_with_progress};
+use laserlines_render::{Canvas, Color, Extent, LegendEntry, Marker, Panel, Style, Swatch};
+use laserlines_sim::World;
+use laserlines_sim::arena::{ArenaOptions, WallLength, load_raf};
+use laserlines_sim::maze::{MazeParams, generate};
+
+/// Arguments of `laserlines simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// A RoboCup Rescue arena: a `.raf` file, or the name of a bundled one
+    /// (maze_10m_x_14m, inner_explore_test). Default: maze_10m_x_14m.
+    #[arg(long, conflicts_with = "maze")]
+    arena: Option<String>,
+    /// A seeded procedural maze on the 1.2 m grid instead of an arena.
+    #[arg(long, value_name = "SEED")]
+    maze: Option<u64>,
+    /// Give the maze islands (wall groups not connected to the outer wall).
+    #[arg(long, requires = "maze")]
+    islands: bool,
+    /// Simulated time limit, s.
+    #[arg(long, default_value_t = 900.0)]
+    duration: f64,
+    /// Seed of the laser and odometry noise.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Start pose `x,y,yaw_deg` (m, m, deg) in the arena frame; default: the centre of
+    /// cell (0, 0) for arenas, the maze's start for mazes.
+    #[arg(long, value_name = "X,Y,YAW_DEG", allow_hyphen_values = true)]
+    start: Option<String>,
+    /// Arena walls 1.0 m long (the plate's mesh) instead of the whole 1.2 m cell edge.
+    #[arg(long)]
+    mesh_walls: bool,
+    /// Simulated time of the sector picture, s.
+    #[arg(long, default_value_t = 20.0)]
+    snapshot: f64,
+    /// Output folder.
+    #[arg(short, long, default_value = "laserlines-simulate")]
+    output: PathBuf,
+}
+
+/// Runs the command.
+pub fn run(args: &SimulateArgs) -> Result<()> {
+    if !(args.duration.is_finite() && args.duration > 0.0) {
+        bail!(
+            "--duration must be a positive number of seconds, got {}",
+            args.duration
+        );
+    }
+    let (name, world, default_start) = world_of(args)?;
+    let start = match &args.start {
+        Some(s) => parse_start(s)?,
+        None => default_start,
+    };
+    let config = RunConfig {
+        duration_s: args.duration,
+        seed: args.seed,
+        snapshot_at_s: args.snapshot,
+        ..RunConfig::default()
+    };
+
+    let progress = if io::stderr().is_terminal() {
+        let pb = ProgressBar::with_draw_target(
+            Some(args.duration.ceil() as u64),
+            ProgressDrawTarget::stderr(),
+        );
+        pb.set_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} s simulated, {elapsed} {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        pb
+    } else {
+        ProgressBar::hidden()
+    };
+    let record = run_with_progress(&world, start, &config, &mut |t| {
+        progress.set_position(t as u64);
+    })
+    .with_context(|| format!("cannot run in {name}"))?;
+    progress.finish_and_clear();
+
+    fs::create_dir_all(&args.output)
+        .with_context(|| format!("cannot create {}", args.output.display()))?;
+    let metrics = metrics_json(&name, args, &record);
+    let metrics_path = args.output.join("metrics.json");
+    fs::write(&metrics_path, format!("{metrics:#}\n"))
+        .with_context(|| format!("cannot write {}", metrics_path.display()))?;
+    let map_path = args.output.join("map.svg");
+    fs::write(&map_path, map_svg(&name, &world, start, &record))
+        .with_context(|| format!("cannot write {}", map_path.display()))?;
+    let sectors_path = args.output.join("sectors.svg");
+    if let Some(snap) = &record.snapshot {
+        fs::write(&sectors_path, sectors_svg(&name, snap))
+            .with_context(|| format!("cannot write {}", sectors_path.display()))?;
+    }
+
+    let m = &record.metrics;
+    println!(
+        "laserlines simulate: {name}, seed {}: coverage {:.3}, collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage at {}",
+        args.seed,
+        m.coverage,
+        m.collisions,
+        m.min_clearance_m,
+        m.path_length_m,
+        m.sim_time_s,
+        m.wall_time_s,
+        m.sim_time_s / m.wall_time_s.max(1e-9),
+        m.time_to_90_percent_s
+            .map_or_else(|| "never".to_owned(), |t| format!("{t:.0} s")),
+    );
+    println!(
+        "  wrote {}, {}{}",
+        metrics_path.display(),
+        map_path.display(),
+        if record.snapshot.is_some() {
+            format!(", {}", sectors_path.display())
+        } else {
+            String::new()
+        }
+    );
+    Ok(())
+}
+
+/// The world to explore, its name and the default start.
+fn world_of(args: &SimulateArgs) -> Result<(String, World, Isometry2)> {
+    if let Some(seed) = args.maze {
+        let params = MazeParams {
+            islands: if args.islands { 3 } else { 0 },
+            ..MazeParams::default()
+        };
+        let maze = generate(&params, seed);
+        let name = format!(
+            "maze {seed}{}",
+            if args.islands {
+                format!(" with {} islands", maze.islands)
+            } else {
+                String::new()
+            }
+        );
+        return Ok((name, maze.world, maze.start));
+    }
+    let options = ArenaOptions {
+        wall_length: if args.mesh_walls {
+            WallLength::Mesh
+        } else {
+            WallLength::Full
+        },
+    };
+    let which = args.arena.as_deref().unwrap_or("maze_10m_x_14m");
+    let path = PathBuf::from(which);
+    let arena = if path.exists() {
+        load_raf(&path, &options)?
+    } else if let Some(a) = arenas::bundled(which, &options) {
+        a?
+    } else {
+        bail!(
+            "no arena file {which:?} (bundled arenas: {})",
+            arenas::BUNDLED
+                .iter()
+                .map(|(n, _)| *n)
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    };
+    let report = &arena.report;
+    if report.ignored_count() > 0 {
+        let list = report
+            .ignored
+            .iter()
+            .map(|(t, n)| format!("{t} x {n}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        eprintln!(
+            "laserlines: {}: ignored {} elements that are not walls or barrels: {list}",
+            arena.name,
+            report.ignored_count()
+        );
+        let unknown = report.unknown_types();
+        if !unknown.is_empty() {
+            eprintln!(
+                "laserlines: {}: unknown element types (treated as not walls): {}",
+                arena.name,
+                unknown.join(", ")
+            );
+        }
+    }
+    Ok((
+        arena.name.clone(),
+        arena.world,
+        Isometry2::new(Vector2::zeros(), 0.0),
+    ))
+}
+
+fn parse_start(s: &str) -> Result<Isometry2> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("--start {s:?}: expected x,y,yaw_deg"))?;
+    match v.as_slice() {
+        [x, y, yaw] if v.iter().all(|a| a.is_finite()) => {
+            Ok(Isometry2::new(Vector2::new(*x, *y), yaw.to_radians()))
+        }
+        _ => bail!("--start {s:?}: expected three finite numbers x,y,yaw_deg"),
+    }
+}
+
+fn metrics_json(name: &str, args: &SimulateArgs, record: &RunRecord) -> serde_json::Value {
+    let m = &record.metrics;
+    serde_json::json!({
+        "world": name,
+        "seed": args.seed,
+        "duration_s": args.duration,
+        "coverage": m.coverage,
+        "collisions": m.collisions,
+        "min_clearance_m": m.min_clearance_m,
+        "path_length_m": m.path_length_m,
+        "sim_time_s": m.sim_time_s,
+        "wall_time_s": m.wall_time_s,
+        "time_to_90_percent_s": m.time_to_90_percent_s,
+        "reachable_area_m2": m.reachable_area_m2,
+        "scans": m.scans,
+        "lines": m.lines,
+        "loops": m.loops,
+        "stop": m.stop.name(),
+    })
+}
+
+const WALL: Color = Color::INK;
+const PATH: Color = Color::rgb(0x1b, 0x9e, 0x3a);
+const ODOM: Color = Color::rgb(0x99, 0x99, 0x99);
+const SEEN: Color = Color::BLUE;
+const SELECTED: Color = Color::rgb(0x10, 0x3c, 0xd6);
+
+/// The paper's Fig. 8: the arena, the robot's path and the lines it saw.
+fn map_svg(name: &str, world: &World, start: Isometry2, record: &RunRecord) -> String {
+    let pts = world
+        .walls
+        .iter()
+        .flat_map(|w| [w.a, w.b])
+        .chain(record.path.iter().copied());
+    let view = Extent::fit_map(pts, 4.0).padded(0.5);
+    let mut panel = Panel::map(view, 820.0);
+    let m = &record.metrics;
+    panel.set_title(format!(
+        "{name}: coverage {:.1} %, {} collisions, {:.0} m in {:.0} s",
+        100.0 * m.coverage,
+        m.collisions,
+        m.path_length_m,
+        m.sim_time_s
+    ));
+    panel.set_labels("x [m]", "y [m]");
+    let seen = Style::stroke(SEEN, 1.0)
+        .with_opacity(0.35)
+        .with_class("line-seen");
+    for &(a, b) in &record.lines_seen {
+        panel.line(a, b, &seen);
+    }
+    let wall = Style::stroke(WALL, 2.2).with_class("wall");
+    for w in &world.walls {
+        panel.line(w.a, w.b, &wall);
+    }
+    let disc = Style::stroke(WALL, 1.5)
+        .with_fill(Color::LIGHT_GREY)
+        .with_class("disc");
+    for d in &world.discs {
+        panel.circle(d.centre, d.radius, &disc);
+    }
+    panel.polyline(
+        &record.odometry_path,
+        &Style::stroke(ODOM, 1.0)
+            .with_dash(4.0, 3.0)
+            .with_class("odometry"),
+    );
+    panel.polyline(&record.path, &Style::stroke(PATH, 1.8).with_class("path"));
+    let s = Point2::from(start.translation.vector);
+    panel.circle(
+        s,
+        0.25,
+        &Style::stroke(PATH, 2.0)
+            .with_fill(Color::WHITE)
+            .with_class("start"),
+    );
+    if let Some(end) = record.path.last() {
+        panel.marker(*end, Marker::Circle, 8.0, &Style::fill(Color::RED));
+    }
+    let mut canvas = Canvas::new(1);
+    canvas.add_panel(panel);
+    canvas.add_legend(LegendEntry::new(
+        Swatch::Line(Style::stroke(WALL, 2.2)),
+        "wall",
+    ));
+    canvas.add_legend(LegendEntry::new(
+        Swatch::Line(Style::stroke(PATH, 1.8)),
+        "robot path (true)",
+    ));
+    canvas.add_legend(LegendEntry::new(
+        Swatch::Line(Style::stroke(ODOM, 1.0).with_dash(4.0, 3.0)),
+        "path by odometry",
+    ));
+    canvas.add_legend(LegendEntry::new(
+        Swatch::Line(Style::stroke(SEEN, 1.0).with_opacity(0.35)),
+        "extracted lines, placed by odometry (1 scan/s)",
+    ));
+    canvas.add_legend(LegendEntry::new(
+        Swatch::Marker(Marker::Circle, 10.0, Style::stroke(PATH, 2.0)),
+        "start",
+    ));
+    canvas.to_svg()
+}
+
+/// The paper's Fig. 7: the three sectors around the robot and the selected objects.
+fn sectors_svg(name: &str, snap: &Snapshot) -> String {
+    let view = Extent::new(-3.0, -3.0, 3.0, 3.0);
+    let mut panel = Panel::map(view, 560.0);
+    panel.set_title(format!(
+        "{name}, t = {:.1} s: three sectors and the selected objects (robot frame)",
+        snap.time_s
+    ));
+    let fills = [
+        Color::rgb(0xfd, 0xe0, 0xc0),
+        Color::rgb(0xd8, 0xec, 0xd8),
+        Color::rgb(0xd8, 0xe0, 0xf4),
+    ];
+    for sector in Sector::ALL {
+        let (from, to) = sector.bounds_rad();
+        let style = Style::fill(fills[sector.index()])
+            .with_opacity(0.7)
+            .with_class(format!("sector-{}", sector.name()));
+        panel.wedge(Point2::origin(), 0.0, 2.9, from, to, &style);
+    }
+    panel.markers(
+        &snap.points,
+        Marker::Dot,
+        2.5,
+        &Style::fill(Color::GREY).with_class("scan-point"),
+    );
+    let line = Style::stroke(Color::NAVY, 1.6).with_class("extracted-line");
+    for &(a, b) in &snap.lines {
+        panel.line(a, b, &line);
+    }
+    let selected = Style::stroke(SELECTED, 5.0)
+        .with_opacity(0.85)
+        .with_class("selected-object");
+    for obj in snap.objects.objects.iter().flatten() {
+        panel.line(obj.start, obj.end, &selected);
+        panel.line(
+            Point2::origin(),
+            obj.nearest,
+            &Style::stroke(SELECTED, 1.0).with_dash(3.0, 3.0),
+        );
+        panel.text(
+            obj.start + 0.5 * (obj.end - obj.start),
+            &format!(
+                "{}: d {:.2} m, w {:.2} m, {:.0} deg",
+                obj.sector.name(),
+                obj.distance_m,
+                obj.width_m,
+                obj.angle_rad.to_degrees()
+            ),
+            &laserlines_render::TextStyle::size(11.0).with_halo(),
+        );
+    }
+    panel.robot(Point2::origin(), 0.0, 14.0, &Style::fill(Color::RED));
+    let mut canvas = Canvas::new(1);
+    canvas.add_panel(panel);
+    for sector in Sector::ALL {
+        let (from, to) = sector.bounds_rad();
+        canvas.add_legend(LegendEntry::new(
+            Swatch::Patch(Style::fill(fills[sector.index()])),
+            format!(
+                "{} sector {:.0}..{:.0} deg",
+                sector.name(),
+                from.to_degrees(),
+                to.to_degrees()
+            ),
+        ));
+    }
+    canvas.add_legend(LegendEntry::new(
+        Swatch::Line(Style::stroke(SELECTED, 5.0)),
+        "selected object (biggest and nearest: max width / distance)",
+    ));
+    canvas.add_legend(LegendEntry::new(
+        Swatch::Line(Style::stroke(Color::NAVY, 1.6)),
+        "extracted line",
+    ));
+    canvas.to_svg()
+}
