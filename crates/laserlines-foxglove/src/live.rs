@@ -1,0 +1,213 @@
+//! Live viewing: a Foxglove WebSocket server (the `foxglove` crate's) publishing scans, lines
+//! and poses on the channels of [`crate::scene`], and a [`Pacer`] that replays a log at a
+//! chosen speed.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use foxglove::messages::{FrameTransform, LaserScan, SceneUpdate};
+use foxglove::{Channel, ChannelBuilder, Context, Encode, WebSocketServer, WebSocketServerHandle};
+use laserlines::Line;
+use laserlines_io::ScanRecord;
+
+use crate::scene::{SceneClock, log_time_ns, scene_messages};
+use crate::{LINES_TOPIC, SCAN_TOPIC, TF_TOPIC};
+
+/// Why the live server could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum LiveError {
+    /// The server could not bind or start (e.g. the port is taken).
+    #[error("cannot serve Foxglove WebSocket on {host}:{port}: {message}")]
+    Start {
+        /// The host asked for.
+        host: String,
+        /// The port asked for.
+        port: u16,
+        /// What went wrong.
+        message: String,
+    },
+    /// A channel could not be created.
+    #[error("cannot create channel {topic}: {message}")]
+    Channel {
+        /// The topic.
+        topic: String,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+/// A Foxglove WebSocket server publishing `/scan`, `/lines` and `/tf`.
+///
+/// The server runs on its own threads (a tokio runtime the `foxglove` crate starts); stop it
+/// with [`LiveServer::stop`].
+pub struct LiveServer {
+    // Keeps the channels' context alive as long as the server.
+    _context: Arc<Context>,
+    handle: WebSocketServerHandle,
+    scan: Channel<LaserScan>,
+    lines: Channel<SceneUpdate>,
+    tf: Channel<FrameTransform>,
+    clock: SceneClock,
+}
+
+impl std::fmt::Debug for LiveServer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LiveServer")
+            .field("port", &self.handle.port())
+            .finish_non_exhaustive()
+    }
+}
+
+fn channel<T: Encode>(ctx: &Arc<Context>, topic: &str) -> Result<Channel<T>, LiveError> {
+    let raw = ChannelBuilder::new(topic)
+        .context(ctx)
+        .schema(T::get_schema())
+        .message_encoding(T::get_message_encoding())
+        .build_raw()
+        .map_err(|e| LiveError::Channel {
+            topic: topic.to_owned(),
+            message: e.to_string(),
+        })?;
+    Ok(Channel::from_raw_channel(raw))
+}
+
+impl LiveServer {
+    /// Starts a server on `host:port` (port 0 picks a free one; see [`LiveServer::port`]).
+    ///
+    /// # Errors
+    /// [`LiveError`] when the server cannot start.
+    pub fn start(host: &str, port: u16) -> Result<Self, LiveError> {
+        let context = Context::new();
+        let scan = channel::<LaserScan>(&context, SCAN_TOPIC)?;
+        let lines = channel::<SceneUpdate>(&context, LINES_TOPIC)?;
+        let tf = channel::<FrameTransform>(&context, TF_TOPIC)?;
+        let handle = WebSocketServer::new()
+            .name("laserlines")
+            .context(&context)
+            .bind(host, port)
+            .start_blocking()
+            .map_err(|e| LiveError::Start {
+                host: host.to_owned(),
+                port,
+                message: e.to_string(),
+            })?;
+        Ok(Self {
+            _context: context,
+            handle,
+            scan,
+            lines,
+            tf,
+            clock: SceneClock::new(),
+        })
+    }
+
+    /// The port the server listens on.
+    #[must_use]
+    pub fn port(&self) -> u16 {
+        self.handle.port()
+    }
+
+    /// True when a viewer is subscribed to `/scan`.
+    #[must_use]
+    pub fn has_viewer(&self) -> bool {
+        self.scan.has_sinks()
+    }
+
+    /// Waits until a viewer subscribes to `/scan`, or `timeout` passes (`None`: forever).
+    /// True when a viewer is there.
+    pub fn wait_for_viewer(&self, timeout: Option<Duration>) -> bool {
+        let start = Instant::now();
+        loop {
+            if self.has_viewer() {
+                return true;
+            }
+            if timeout.is_some_and(|t| start.elapsed() >= t) {
+                return false;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    /// Publishes a scan with its lines and, when it has one, the robot's pose. Returns the
+    /// time given to the scan (its stamp, or 0.1 s after the previous scan), s.
+    pub fn publish(&mut self, record: &ScanRecord, lines: &[Line]) -> f64 {
+        let time = self.clock.time_of(record.scan.stamp);
+        let m = scene_messages(record, Some(lines), time);
+        let ns = log_time_ns(time);
+        for t in &m.transforms {
+            self.tf.log_with_time(t, ns);
+        }
+        self.scan.log_with_time(&m.scan, ns);
+        if let Some(l) = &m.lines {
+            self.lines.log_with_time(l, ns);
+        }
+        time
+    }
+
+    /// Stops the server and waits for its tasks to end.
+    pub fn stop(self) {
+        self.handle.stop().wait_blocking();
+    }
+}
+
+/// Paces a replay: tells how long to wait before each scan so that scan times (s) pass at
+/// `rate` times real time. A time before the previous one restarts the pacing from there.
+#[derive(Debug, Clone)]
+pub struct Pacer {
+    rate: f64,
+    base: Option<(Instant, f64)>,
+    last: f64,
+}
+
+impl Pacer {
+    /// A pacer at `rate` (1.0 = real time, 2.0 = twice as fast); `rate` must be positive and
+    /// finite, anything else plays as fast as possible.
+    #[must_use]
+    pub fn new(rate: f64) -> Self {
+        Self {
+            rate,
+            base: None,
+            last: f64::NEG_INFINITY,
+        }
+    }
+
+    /// How long to wait from `now` before showing a scan of time `t` (s).
+    pub fn delay(&mut self, t: f64, now: Instant) -> Duration {
+        if !(self.rate.is_finite() && self.rate > 0.0 && t.is_finite()) {
+            return Duration::ZERO;
+        }
+        let (wall, start) = match self.base {
+            Some(b) if t >= self.last => b,
+            _ => {
+                self.base = Some((now, t));
+                (now, t)
+            }
+        };
+        self.last = t;
+        let due = Duration::try_from_secs_f64((t - start) / self.rate).unwrap_or(Duration::MAX);
+        (wall + due).saturating_duration_since(now)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pacer_follows_scan_times_at_the_rate() {
+        let t0 = Instant::now();
+        let mut p = Pacer::new(2.0);
+        assert_eq!(p.delay(10.0, t0), Duration::ZERO);
+        assert_eq!(p.delay(11.0, t0), Duration::from_millis(500));
+        assert_eq!(
+            p.delay(12.0, t0 + Duration::from_millis(600)),
+            Duration::from_millis(400)
+        );
+        // Late: no wait.
+        assert_eq!(p.delay(12.5, t0 + Duration::from_secs(5)), Duration::ZERO);
+        // Time going backwards restarts the pacing.
+        assert_eq!(p.delay(3.0, t0 + Duration::from_secs(6)), Duration::ZERO);
+        assert_eq!(Pacer::new(0.0).delay(100.0, t0), Duration::ZERO);
+        assert_eq!(Pacer::new(f64::NAN).delay(100.0, t0), Duration::ZERO);
+    }
+}

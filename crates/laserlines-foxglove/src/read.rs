@@ -1,0 +1,876 @@
+//! Streaming reader of LaserScans out of MCAP files.
+//!
+//! The reader walks the file's records front to back (magic, then `opcode: u8, length: u64,
+//! body` records), reading one record, or one chunk, at a time: memory is bounded by the
+//! largest chunk, not by the file. It does not trust the summary section or the indexes; it
+//! stops at the `DataEnd` record (or the footer).
+//!
+//! Messages come out in file order. Three LaserScan encodings are read:
+//!
+//! | schema name | message encoding | decoder |
+//! |---|---|---|
+//! | `sensor_msgs/msg/LaserScan` | `cdr` | [`crate::ros::decode_cdr`] (ROS 2) |
+//! | `sensor_msgs/LaserScan` | `ros1` | [`crate::ros::decode_ros1`] (ROS 1) |
+//! | `foxglove.LaserScan` | `protobuf` | `prost` ([`crate::proto`]) |
+//!
+//! One topic is read: [`McapReadOptions::topic`], or else the first topic whose channel
+//! carries a LaserScan. LaserScans on other topics are counted as skipped. The stamp is the
+//! message header's (`foxglove.LaserScan`: its `timestamp`), or the record's log time when the
+//! header stamp is zero. Poses: `foxglove.FrameTransform` messages whose child frame is
+//! `base_link` (as laserlines writes them on `/tf`) give the pose of the scans that follow.
+//!
+//! Bad input gives errors naming the file and the byte offset of the record (for a record
+//! inside a compressed chunk: the chunk's offset, and the record's offset in the decompressed
+//! chunk). After a bad message, a bad record or a bad chunk (wrong CRC, failed decompression,
+//! unknown compression) the reader goes on with the next one; a record that runs past the end
+//! of the file, a length over [`McapReadOptions::max_record_bytes`] or a bad magic ends it. A
+//! file that ends without its `DataEnd` or footer record (a truncated file) ends with an error
+//! after every scan it holds.
+
+use std::collections::{HashMap, VecDeque};
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, Read};
+use std::path::Path;
+
+use foxglove::messages::{FrameTransform, LaserScan};
+use laserlines::Scan;
+use laserlines_io::{
+    Format, Input, Pose2, ReadError, ScanReader, ScanRecord, ScanSource, SkipCounts, SourcePos,
+};
+use mcap::records::op;
+use prost::Message as _;
+
+use crate::ROBOT_FRAME;
+use crate::proto::{self, RangeLimits};
+use crate::ros::{self, LaserScanMsg};
+use crate::wire::DecodeError;
+
+/// The eight bytes every MCAP file starts (and ends) with.
+pub const MAGIC: [u8; 8] = [0x89, b'M', b'C', b'A', b'P', 0x30, b'\r', b'\n'];
+
+/// Skip reason for LaserScans on topics other than the one read.
+pub const SKIP_OTHER_TOPIC: &str = "LaserScan on another topic";
+/// Skip reason for `foxglove.FrameTransform` messages that do not decode.
+pub const SKIP_BAD_TRANSFORM: &str = "malformed FrameTransform";
+/// Skip reason for messages on a channel that was never declared.
+pub const SKIP_UNKNOWN_CHANNEL: &str = "message on an undeclared channel";
+
+/// How to read an MCAP file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct McapReadOptions {
+    /// The topic to read; `None` reads the first topic that carries LaserScans.
+    pub topic: Option<String>,
+    /// Largest record, and largest decompressed chunk, accepted, in bytes (default 1 GiB). A
+    /// larger declared length is an error, so a corrupt length cannot exhaust memory.
+    pub max_record_bytes: u64,
+}
+
+impl Default for McapReadOptions {
+    fn default() -> Self {
+        Self {
+            topic: None,
+            max_record_bytes: 1 << 30,
+        }
+    }
+}
+
+impl McapReadOptions {
+    /// Options reading `topic` (or the first LaserScan topic when `None`).
+    #[must_use]
+    pub fn topic(topic: Option<&str>) -> Self {
+        Self {
+            topic: topic.map(str::to_owned),
+            ..Self::default()
+        }
+    }
+}
+
+/// How a channel's LaserScans are encoded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ScanEncoding {
+    /// ROS 2 `sensor_msgs/msg/LaserScan` in CDR.
+    Ros2Cdr,
+    /// ROS 1 `sensor_msgs/LaserScan` (ROS serialization).
+    Ros1,
+    /// `foxglove.LaserScan` in protobuf.
+    FoxgloveProtobuf,
+}
+
+/// What a channel carries, as far as this reader cares.
+#[derive(Debug, Clone, PartialEq)]
+enum Role {
+    /// LaserScans this reader decodes.
+    Scan(ScanEncoding, RangeLimits),
+    /// LaserScans in an encoding this reader does not decode.
+    UnsupportedScan,
+    /// `foxglove.FrameTransform`, for poses.
+    Transform,
+    /// Anything else.
+    Other,
+}
+
+fn is_scan_schema(name: &str) -> bool {
+    matches!(
+        name,
+        "sensor_msgs/msg/LaserScan" | "sensor_msgs/LaserScan" | "foxglove.LaserScan"
+    )
+}
+
+fn role_of(schema: &str, encoding: &str, limits: RangeLimits) -> Role {
+    match (schema, encoding) {
+        ("sensor_msgs/msg/LaserScan", "cdr") => Role::Scan(ScanEncoding::Ros2Cdr, limits),
+        ("sensor_msgs/LaserScan", "ros1") => Role::Scan(ScanEncoding::Ros1, limits),
+        ("foxglove.LaserScan", "protobuf") => Role::Scan(ScanEncoding::FoxgloveProtobuf, limits),
+        ("foxglove.FrameTransform", "protobuf") => Role::Transform,
+        (s, _) if is_scan_schema(s) => Role::UnsupportedScan,
+        _ => Role::Other,
+    }
+}
+
+#[derive(Debug)]
+struct ChannelInfo {
+    topic: String,
+    schema: String,
+    encoding: String,
+    role: Role,
+}
+
+/// Where a record sits: at a file offset, or inside a compressed chunk.
+#[derive(Debug, Clone, Copy)]
+enum Loc {
+    /// At this byte of the file (also records of uncompressed chunks).
+    File(u64),
+    /// In the compressed chunk at `chunk`, at byte `offset` of its decompressed records.
+    Chunk { chunk: u64, offset: u64 },
+}
+
+impl Loc {
+    fn byte(self) -> u64 {
+        match self {
+            Self::File(b) => b,
+            Self::Chunk { chunk, .. } => chunk,
+        }
+    }
+
+    /// Words to add to a message about a record in a compressed chunk.
+    fn context(self) -> String {
+        match self {
+            Self::File(_) => String::new(),
+            Self::Chunk { offset, .. } => {
+                format!(" (in the compressed chunk, at byte {offset} of its records)")
+            }
+        }
+    }
+}
+
+/// Reads the fields of one record body, never past its end.
+struct Body<'a> {
+    data: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> Body<'a> {
+    fn new(data: &'a [u8]) -> Self {
+        Self { data, pos: 0 }
+    }
+
+    fn bytes(&mut self, n: u64, what: &str) -> Result<&'a [u8], String> {
+        let left = self.data.len() - self.pos;
+        if n > left as u64 {
+            return Err(format!(
+                "{what} of {n} bytes, but the record has {left} bytes left"
+            ));
+        }
+        let n = n as usize;
+        let out = &self.data[self.pos..self.pos + n];
+        self.pos += n;
+        Ok(out)
+    }
+
+    fn array<const N: usize>(&mut self, what: &str) -> Result<[u8; N], String> {
+        let b = self.bytes(N as u64, what)?;
+        <[u8; N]>::try_from(b).map_err(|_| format!("{what}: short read"))
+    }
+
+    fn u16(&mut self, what: &str) -> Result<u16, String> {
+        self.array::<2>(what).map(u16::from_le_bytes)
+    }
+
+    fn u32(&mut self, what: &str) -> Result<u32, String> {
+        self.array::<4>(what).map(u32::from_le_bytes)
+    }
+
+    fn u64(&mut self, what: &str) -> Result<u64, String> {
+        self.array::<8>(what).map(u64::from_le_bytes)
+    }
+
+    fn string(&mut self, what: &str) -> Result<String, String> {
+        let n = self.u32(what)?;
+        let b = self.bytes(u64::from(n), what)?;
+        String::from_utf8(b.to_vec()).map_err(|_| format!("{what} that is not UTF-8"))
+    }
+
+    fn map(&mut self, what: &str) -> Result<Vec<(String, String)>, String> {
+        let n = self.u32(what)?;
+        let mut inner = Body::new(self.bytes(u64::from(n), what)?);
+        let mut out = Vec::new();
+        while inner.pos < inner.data.len() {
+            let k = inner.string(what)?;
+            let v = inner.string(what)?;
+            out.push((k, v));
+        }
+        Ok(out)
+    }
+
+    fn rest(&mut self) -> &'a [u8] {
+        let out = &self.data[self.pos..];
+        self.pos = self.data.len();
+        out
+    }
+}
+
+fn opcode_name(opcode: u8) -> &'static str {
+    match opcode {
+        op::HEADER => "Header",
+        op::FOOTER => "Footer",
+        op::SCHEMA => "Schema",
+        op::CHANNEL => "Channel",
+        op::MESSAGE => "Message",
+        op::CHUNK => "Chunk",
+        op::MESSAGE_INDEX => "MessageIndex",
+        op::CHUNK_INDEX => "ChunkIndex",
+        op::ATTACHMENT => "Attachment",
+        op::ATTACHMENT_INDEX => "AttachmentIndex",
+        op::STATISTICS => "Statistics",
+        op::METADATA => "Metadata",
+        op::METADATA_INDEX => "MetadataIndex",
+        op::SUMMARY_OFFSET => "SummaryOffset",
+        op::DATA_END => "DataEnd",
+        _ => "unknown",
+    }
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Reads as many bytes as are there, up to `buf.len()`; fewer only at the end of the input.
+fn read_full(input: &mut dyn Read, buf: &mut [u8]) -> io::Result<usize> {
+    let mut got = 0;
+    while got < buf.len() {
+        match input.read(&mut buf[got..]) {
+            Ok(0) => break,
+            Ok(n) => got += n,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(got)
+}
+
+/// The [`ScanSource`] of MCAP files: yields the LaserScans of one topic, in file order.
+pub struct McapScanSource {
+    name: String,
+    input: Input,
+    options: McapReadOptions,
+    /// Offset of the next top-level record.
+    pos: u64,
+    started: bool,
+    done: bool,
+    /// Saw `DataEnd` or the footer.
+    ended_properly: bool,
+    schemas: HashMap<u16, (String, String)>,
+    channels: HashMap<u16, ChannelInfo>,
+    /// The topic being read, once known.
+    topic: Option<String>,
+    /// Latest pose from `/tf`.
+    pose: Option<Pose2>,
+    pending: VecDeque<Result<ScanRecord, ReadError>>,
+    body: Vec<u8>,
+    chunk: Vec<u8>,
+}
+
+impl std::fmt::Debug for McapScanSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("McapScanSource")
+            .field("name", &self.name)
+            .field("pos", &self.pos)
+            .field("topic", &self.topic)
+            .finish_non_exhaustive()
+    }
+}
+
+impl McapScanSource {
+    /// A source reading `input`, named `name` in messages.
+    #[must_use]
+    pub fn new(name: &str, input: Input, options: McapReadOptions) -> Self {
+        Self {
+            name: name.to_owned(),
+            input,
+            topic: options.topic.clone(),
+            options,
+            pos: 0,
+            started: false,
+            done: false,
+            ended_properly: false,
+            schemas: HashMap::new(),
+            channels: HashMap::new(),
+            pose: None,
+            pending: VecDeque::new(),
+            body: Vec::new(),
+            chunk: Vec::new(),
+        }
+    }
+
+    fn at(&self, byte: u64) -> SourcePos {
+        SourcePos::byte(&self.name, byte)
+    }
+
+    fn syntax(
+        &self,
+        byte: u64,
+        expected: impl Into<String>,
+        found: impl Into<String>,
+    ) -> ReadError {
+        ReadError::Syntax {
+            pos: self.at(byte),
+            expected: expected.into(),
+            found: found.into(),
+        }
+    }
+
+    /// Stops reading after a fatal error.
+    fn fail(&mut self, e: ReadError) {
+        self.pending.push_back(Err(e));
+        self.done = true;
+    }
+
+    fn io_error(&mut self, byte: u64, source: io::Error) {
+        let e = ReadError::Io {
+            pos: self.at(byte),
+            source,
+        };
+        self.fail(e);
+    }
+
+    /// Reads the magic; false (with the error queued) when it is wrong.
+    fn start(&mut self) -> bool {
+        self.started = true;
+        let mut magic = [0u8; 8];
+        let got = match read_full(&mut self.input, &mut magic) {
+            Ok(n) => n,
+            Err(e) => {
+                self.io_error(0, e);
+                return false;
+            }
+        };
+        self.pos = got as u64;
+        if got < magic.len() || magic != MAGIC {
+            let found = if got == 0 {
+                "an empty file".to_owned()
+            } else {
+                hex(&magic[..got])
+            };
+            let e = self.syntax(0, format!("the MCAP magic {}", hex(&MAGIC)), found);
+            self.fail(e);
+            return false;
+        }
+        true
+    }
+
+    /// Reads and handles one top-level record.
+    fn advance(&mut self, skipped: &mut SkipCounts) {
+        if !self.started && !self.start() {
+            return;
+        }
+        let at = self.pos;
+        let mut head = [0u8; 9];
+        let got = match read_full(&mut self.input, &mut head) {
+            Ok(n) => n,
+            Err(e) => return self.io_error(at, e),
+        };
+        if got == 0 {
+            self.finish_input(at);
+            return;
+        }
+        if got < head.len() {
+            let e = self.syntax(
+                at,
+                "a record header (opcode and length, 9 bytes)",
+                format!("the end of the file after {got} bytes: the file is truncated"),
+            );
+            return self.fail(e);
+        }
+        let opcode = head[0];
+        let mut len_bytes = [0u8; 8];
+        len_bytes.copy_from_slice(&head[1..]);
+        let len = u64::from_le_bytes(len_bytes);
+        if len > self.options.max_record_bytes {
+            let e = self.syntax(
+                at,
+                format!(
+                    "a record of at most {} bytes",
+                    self.options.max_record_bytes
+                ),
+                format!(
+                    "a {} record (opcode 0x{opcode:02x}) of {len} bytes",
+                    opcode_name(opcode)
+                ),
+            );
+            return self.fail(e);
+        }
+        let mut body = std::mem::take(&mut self.body);
+        body.clear();
+        let read = (&mut self.input).take(len).read_to_end(&mut body);
+        match read {
+            Err(e) => {
+                self.body = body;
+                return self.io_error(at, e);
+            }
+            Ok(n) if (n as u64) < len => {
+                self.body = body;
+                let e = self.syntax(
+                    at,
+                    format!(
+                        "a {} record (opcode 0x{opcode:02x}) of {len} bytes",
+                        opcode_name(opcode)
+                    ),
+                    format!("the end of the file after {n} bytes: the file is truncated"),
+                );
+                return self.fail(e);
+            }
+            Ok(_) => {}
+        }
+        self.pos = at + 9 + len;
+        match opcode {
+            op::CHUNK => self.handle_chunk(at, &body, skipped),
+            op::DATA_END | op::FOOTER => {
+                self.ended_properly = true;
+                self.finish_input(self.pos);
+            }
+            _ => self.handle_record(opcode, &body, Loc::File(at), skipped),
+        }
+        self.body = body;
+    }
+
+    /// Handles a schema, channel or message record (top-level or inside a chunk); other
+    /// records are of no interest.
+    fn handle_record(&mut self, opcode: u8, body: &[u8], loc: Loc, skipped: &mut SkipCounts) {
+        let result = match opcode {
+            op::SCHEMA => self.handle_schema(body),
+            op::CHANNEL => self.handle_channel(body, loc),
+            op::MESSAGE => self.handle_message(body, loc, skipped),
+            _ => Ok(()),
+        };
+        if let Err(found) = result {
+            let e = self.syntax(
+                loc.byte(),
+                format!(
+                    "a well-formed {} record{}",
+                    opcode_name(opcode),
+                    loc.context()
+                ),
+                found,
+            );
+            self.pending.push_back(Err(e));
+        }
+    }
+
+    fn handle_schema(&mut self, body: &[u8]) -> Result<(), String> {
+        let mut b = Body::new(body);
+        let id = b.u16("schema id")?;
+        let name = b.string("schema name")?;
+        let encoding = b.string("schema encoding")?;
+        let data_len = b.u32("schema data")?;
+        b.bytes(u64::from(data_len), "schema data")?;
+        self.schemas.insert(id, (name, encoding));
+        Ok(())
+    }
+
+    fn handle_channel(&mut self, body: &[u8], loc: Loc) -> Result<(), String> {
+        let mut b = Body::new(body);
+        let id = b.u16("channel id")?;
+        let schema_id = b.u16("schema id")?;
+        let topic = b.string("topic")?;
+        let encoding = b.string("message encoding")?;
+        let metadata = b.map("metadata")?;
+        let schema = self
+            .schemas
+            .get(&schema_id)
+            .map(|(name, _)| name.clone())
+            .unwrap_or_default();
+        let limits = RangeLimits::from_metadata(|k| {
+            metadata
+                .iter()
+                .find(|(key, _)| key == k)
+                .map(|(_, v)| v.as_str())
+        });
+        let role = role_of(&schema, &encoding, limits);
+        let scan_like = matches!(role, Role::Scan(..) | Role::UnsupportedScan);
+        if self.topic.is_none() && scan_like {
+            self.topic = Some(topic.clone());
+        }
+        if self.topic.as_deref() == Some(topic.as_str()) && !matches!(role, Role::Scan(..)) {
+            let what = if schema.is_empty() {
+                "no schema".to_owned()
+            } else {
+                format!("{schema} messages")
+            };
+            let e = self.syntax(
+                loc.byte(),
+                format!(
+                    "topic {topic}{} to carry LaserScans (sensor_msgs/msg/LaserScan in cdr, \
+                     sensor_msgs/LaserScan in ros1 or foxglove.LaserScan in protobuf)",
+                    loc.context()
+                ),
+                format!("{what} in the {encoding:?} encoding"),
+            );
+            self.fail(e);
+        }
+        self.channels.insert(
+            id,
+            ChannelInfo {
+                topic,
+                schema,
+                encoding,
+                role,
+            },
+        );
+        Ok(())
+    }
+
+    fn handle_message(
+        &mut self,
+        body: &[u8],
+        loc: Loc,
+        skipped: &mut SkipCounts,
+    ) -> Result<(), String> {
+        let mut b = Body::new(body);
+        let channel_id = b.u16("channel id")?;
+        let _sequence = b.u32("sequence")?;
+        let log_time = b.u64("log time")?;
+        let _publish_time = b.u64("publish time")?;
+        let data = b.rest();
+        let Some(channel) = self.channels.get(&channel_id) else {
+            skipped.add(SKIP_UNKNOWN_CHANNEL);
+            return Ok(());
+        };
+        match &channel.role {
+            Role::Transform => {
+                match FrameTransform::decode(data) {
+                    Ok(t) if t.child_frame_id == ROBOT_FRAME => {
+                        if let Some(p) = proto::pose_from_transform(&t) {
+                            self.pose = Some(p);
+                        }
+                    }
+                    Ok(_) => {}
+                    Err(_) => skipped.add(SKIP_BAD_TRANSFORM),
+                }
+                Ok(())
+            }
+            Role::Scan(encoding, limits) => {
+                if self.topic.as_deref() != Some(channel.topic.as_str()) {
+                    skipped.add(SKIP_OTHER_TOPIC);
+                    return Ok(());
+                }
+                let log_seconds = log_time as f64 * 1e-9;
+                let item = self.decode_scan(*encoding, *limits, data, log_seconds, loc, channel);
+                self.pending.push_back(item);
+                Ok(())
+            }
+            Role::UnsupportedScan => {
+                skipped.add(SKIP_OTHER_TOPIC);
+                Ok(())
+            }
+            Role::Other => Ok(()),
+        }
+    }
+
+    fn decode_scan(
+        &self,
+        encoding: ScanEncoding,
+        limits: RangeLimits,
+        data: &[u8],
+        log_seconds: f64,
+        loc: Loc,
+        channel: &ChannelInfo,
+    ) -> Result<ScanRecord, ReadError> {
+        let field_error = |e: DecodeError| ReadError::Field {
+            pos: self.at(loc.byte()),
+            field: format!(
+                "{} message{}: {} (byte {} of the message)",
+                channel.topic,
+                loc.context(),
+                e.field,
+                e.offset
+            ),
+            expected: e.expected,
+            found: e.found,
+        };
+        let fallback = (log_seconds > 0.0).then_some(log_seconds);
+        let mut scan: Scan = match encoding {
+            ScanEncoding::Ros2Cdr => ros_scan(ros::decode_cdr(data).map_err(field_error)?),
+            ScanEncoding::Ros1 => ros_scan(ros::decode_ros1(data).map_err(field_error)?),
+            ScanEncoding::FoxgloveProtobuf => {
+                let msg = LaserScan::decode(data).map_err(|e| ReadError::Field {
+                    pos: self.at(loc.byte()),
+                    field: format!("{} message{}", channel.topic, loc.context()),
+                    expected: "a protobuf foxglove.LaserScan".to_owned(),
+                    found: format!("bytes that do not decode ({e})"),
+                })?;
+                proto::scan_from_foxglove(&msg, limits, log_seconds)
+            }
+        };
+        if scan.stamp.is_none() {
+            scan.stamp = fallback;
+        }
+        scan.validate().map_err(|source| ReadError::InvalidScan {
+            pos: self.at(loc.byte()),
+            source,
+        })?;
+        Ok(ScanRecord {
+            scan,
+            pose: self.pose,
+            line: None,
+        })
+    }
+
+    fn handle_chunk(&mut self, at: u64, body: &[u8], skipped: &mut SkipCounts) {
+        if let Err(found) = self.chunk_records(at, body, skipped) {
+            let e = self.syntax(at, "a well-formed Chunk record", found);
+            self.pending.push_back(Err(e));
+        }
+    }
+
+    /// Decompresses a chunk and handles its records; `Err` describes what was wrong with the
+    /// chunk (records handled before the problem stay handled).
+    fn chunk_records(
+        &mut self,
+        at: u64,
+        body: &[u8],
+        skipped: &mut SkipCounts,
+    ) -> Result<(), String> {
+        let mut b = Body::new(body);
+        let _start = b.u64("message start time")?;
+        let _end = b.u64("message end time")?;
+        let size = b.u64("uncompressed size")?;
+        let crc = b.u32("uncompressed CRC")?;
+        let compression = b.string("compression")?;
+        let records_len = b.u64("records length")?;
+        let records_offset = b.pos as u64;
+        let records = b.bytes(records_len, "records")?;
+        if size > self.options.max_record_bytes {
+            return Err(format!(
+                "an uncompressed size of {size} bytes, over the limit of {}",
+                self.options.max_record_bytes
+            ));
+        }
+        let mut out = std::mem::take(&mut self.chunk);
+        out.clear();
+        let decompressed = match compression.as_str() {
+            "" => Ok(false),
+            "zstd" => inflate(
+                zstd::stream::read::Decoder::with_buffer(records),
+                size,
+                &mut out,
+            ),
+            "lz4" => inflate(lz4::Decoder::new(records), size, &mut out),
+            other => Err(format!(
+                "records compressed with {other:?}, which is not zstd, lz4 or none"
+            )),
+        };
+        let result = decompressed.and_then(|compressed| {
+            let data: &[u8] = if compressed { &out } else { records };
+            if data.len() as u64 != size {
+                return Err(format!(
+                    "{} bytes of records, where the chunk declares {size}",
+                    data.len()
+                ));
+            }
+            if crc != 0 {
+                let got = crc32fast::hash(data);
+                if got != crc {
+                    return Err(format!(
+                        "records whose CRC is {got:08x}, where the chunk declares {crc:08x}"
+                    ));
+                }
+            }
+            let base = at + 9 + records_offset;
+            self.walk_chunk(
+                data,
+                |offset| {
+                    if compressed {
+                        Loc::Chunk { chunk: at, offset }
+                    } else {
+                        Loc::File(base + offset)
+                    }
+                },
+                skipped,
+            )
+        });
+        self.chunk = out;
+        result
+    }
+
+    fn walk_chunk(
+        &mut self,
+        data: &[u8],
+        loc: impl Fn(u64) -> Loc,
+        skipped: &mut SkipCounts,
+    ) -> Result<(), String> {
+        let mut off = 0usize;
+        while off < data.len() && !self.done {
+            let left = data.len() - off;
+            if left < 9 {
+                return Err(format!(
+                    "a record header at byte {off} of its records, but only {left} bytes left"
+                ));
+            }
+            let opcode = data[off];
+            let mut len_bytes = [0u8; 8];
+            len_bytes.copy_from_slice(&data[off + 1..off + 9]);
+            let len = u64::from_le_bytes(len_bytes);
+            if len > (left - 9) as u64 {
+                return Err(format!(
+                    "a {} record of {len} bytes at byte {off} of its records, running past \
+                     the chunk's end ({} bytes left)",
+                    opcode_name(opcode),
+                    left - 9
+                ));
+            }
+            let end = off + 9 + len as usize;
+            self.handle_record(opcode, &data[off + 9..end], loc(off as u64), skipped);
+            off = end;
+        }
+        Ok(())
+    }
+
+    /// End of the records: queue the errors of a truncated file and of a topic never found.
+    fn finish_input(&mut self, at: u64) {
+        if !self.ended_properly {
+            let e = self.syntax(
+                at,
+                "a record, or the DataEnd and Footer records that end an MCAP file",
+                "the end of the file: the file is truncated",
+            );
+            self.pending.push_back(Err(e));
+        }
+        let found_topic = self
+            .topic
+            .as_ref()
+            .is_some_and(|t| self.channels.values().any(|c| &c.topic == t));
+        if !found_topic {
+            let mut seen: Vec<String> = self
+                .channels
+                .values()
+                .map(|c| {
+                    if c.schema.is_empty() {
+                        format!("{} ({})", c.topic, c.encoding)
+                    } else {
+                        format!("{} ({})", c.topic, c.schema)
+                    }
+                })
+                .collect();
+            seen.sort();
+            seen.dedup();
+            let shown = if seen.is_empty() {
+                "no channels".to_owned()
+            } else if seen.len() > 10 {
+                format!(
+                    "channels {}, ... ({} in all)",
+                    seen[..10].join(", "),
+                    seen.len()
+                )
+            } else {
+                format!("channels {}", seen.join(", "))
+            };
+            let expected = match &self.options.topic {
+                Some(t) => format!("a channel on topic {t}"),
+                None => "a LaserScan channel (sensor_msgs/msg/LaserScan, sensor_msgs/LaserScan \
+                         or foxglove.LaserScan)"
+                    .to_owned(),
+            };
+            let e = self.syntax(at, expected, shown);
+            self.pending.push_back(Err(e));
+        }
+        self.done = true;
+    }
+}
+
+fn ros_scan(msg: LaserScanMsg) -> Scan {
+    msg.to_scan()
+}
+
+/// Decompresses into `out`, reading at most one byte more than `size` so that a chunk that
+/// inflates beyond its declared size is caught without inflating it all. `Ok(true)`: `out`
+/// holds the records.
+fn inflate<R: Read>(decoder: io::Result<R>, size: u64, out: &mut Vec<u8>) -> Result<bool, String> {
+    let decoder = decoder.map_err(|e| format!("compressed data that cannot be decoded ({e})"))?;
+    out.reserve(size.min(1 << 24) as usize);
+    decoder
+        .take(size.saturating_add(1))
+        .read_to_end(out)
+        .map_err(|e| format!("compressed data that cannot be decoded ({e})"))?;
+    Ok(true)
+}
+
+impl ScanSource for McapScanSource {
+    fn next_record(&mut self, skipped: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
+        loop {
+            if let Some(item) = self.pending.pop_front() {
+                return Some(item);
+            }
+            if self.done {
+                return None;
+            }
+            self.advance(skipped);
+        }
+    }
+}
+
+/// Opens an MCAP file (gzipped or not; `-` reads standard input) as a streaming
+/// [`ScanReader`] of the LaserScans of one topic.
+///
+/// # Errors
+/// [`ReadError::Open`] when the file cannot be opened. Everything else (a bad magic, a
+/// missing topic, corrupt records) comes out of the reader as error items.
+pub fn open(path: &Path, options: &McapReadOptions) -> Result<ScanReader, ReadError> {
+    let name = path.display().to_string();
+    if path == Path::new("-") {
+        return from_reader(&name, BufReader::new(io::stdin()), options);
+    }
+    let file = File::open(path).map_err(|source| ReadError::Open {
+        file: name.clone(),
+        source,
+    })?;
+    let gz = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+    let input =
+        laserlines_io::open_input(&name, Box::new(BufReader::with_capacity(1 << 16, file)), gz)?;
+    Ok(reader_for(&name, input, options))
+}
+
+/// Reads MCAP from any buffered reader; `name` is used in messages. Gzip input is
+/// recognised by its magic bytes and decompressed.
+///
+/// # Errors
+/// [`ReadError::Open`] when the first bytes cannot be read.
+pub fn from_reader(
+    name: &str,
+    reader: impl BufRead + Send + 'static,
+    options: &McapReadOptions,
+) -> Result<ScanReader, ReadError> {
+    let input = laserlines_io::open_input(name, Box::new(reader), false)?;
+    Ok(reader_for(name, input, options))
+}
+
+fn reader_for(name: &str, input: Input, options: &McapReadOptions) -> ScanReader {
+    let source = McapScanSource::new(name, input, options.clone());
+    ScanReader::from_source(name, Format::Mcap, Box::new(source))
+}

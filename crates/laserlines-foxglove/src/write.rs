@@ -1,0 +1,219 @@
+//! Writing scans, lines and poses to an MCAP file that Foxglove plays (channels and frames in
+//! [`crate::scene`]).
+//!
+//! Messages are encoded with the `foxglove` crate's protobuf types and schemas and written with
+//! `mcap::Writer` (zstd chunks of 1 MiB, indexes and summary), so that every write error comes
+//! back to the caller.
+
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{self, BufWriter, Seek, Write};
+use std::path::Path;
+
+use foxglove::Encode;
+use laserlines::Line;
+use laserlines_io::{ScanRecord, WriteError};
+use mcap::records::MessageHeader;
+
+use crate::scene::{SceneClock, SceneMessages, log_time_ns, scene_messages};
+use crate::{LINES_TOPIC, SCAN_TOPIC, TF_TOPIC};
+
+/// A channel of the output, added on its first message.
+#[derive(Debug, Clone, Copy, Default)]
+struct Slot {
+    id: Option<u16>,
+    sequence: u32,
+}
+
+/// Writes scans (and their lines and poses) as Foxglove messages into an MCAP file.
+///
+/// Channels are added on first use: `/scan` with the first scan, `/lines` with the first
+/// lines, `/tf` with the first pose. `/scan` carries the first scan's `range_min` and
+/// `range_max` in its metadata, which [`crate::read`] uses to restore them. Call
+/// [`McapSceneWriter::finish`] to write the summary and see any error.
+pub struct McapSceneWriter<W: Write + Seek> {
+    name: String,
+    writer: mcap::Writer<W>,
+    scan: Slot,
+    lines: Slot,
+    tf: Slot,
+    clock: SceneClock,
+    buf: Vec<u8>,
+    scans: u64,
+}
+
+impl<W: Write + Seek> std::fmt::Debug for McapSceneWriter<W> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("McapSceneWriter")
+            .field("name", &self.name)
+            .field("scans", &self.scans)
+            .finish_non_exhaustive()
+    }
+}
+
+fn mcap_error(name: &str, e: mcap::McapError) -> WriteError {
+    let source = match e {
+        mcap::McapError::Io(e) => e,
+        other => io::Error::other(other),
+    };
+    WriteError::Io {
+        file: name.to_owned(),
+        source,
+    }
+}
+
+impl McapSceneWriter<BufWriter<File>> {
+    /// Creates an MCAP file at `path` (replacing any file there).
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when the file cannot be created or the header written.
+    pub fn create(path: &Path) -> Result<Self, WriteError> {
+        let name = path.display().to_string();
+        if path == Path::new("-") {
+            return Err(WriteError::Io {
+                file: name,
+                source: io::Error::other("MCAP output must be a file, not standard output"),
+            });
+        }
+        let file = File::create(path).map_err(|source| WriteError::Io {
+            file: name.clone(),
+            source,
+        })?;
+        Self::new(BufWriter::with_capacity(1 << 16, file), &name)
+    }
+}
+
+impl<W: Write + Seek> McapSceneWriter<W> {
+    /// A writer into `out`, named `name` in messages.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when the MCAP header cannot be written.
+    pub fn new(out: W, name: &str) -> Result<Self, WriteError> {
+        let options = mcap::WriteOptions::new()
+            .compression(Some(mcap::Compression::Zstd))
+            .library(format!(
+                "laserlines {} ({})",
+                env!("CARGO_PKG_VERSION"),
+                mcap::LIBRARY_IDENTIFIER
+            ));
+        let writer = options.create(out).map_err(|e| mcap_error(name, e))?;
+        Ok(Self {
+            name: name.to_owned(),
+            writer,
+            scan: Slot::default(),
+            lines: Slot::default(),
+            tf: Slot::default(),
+            clock: SceneClock::new(),
+            buf: Vec::new(),
+            scans: 0,
+        })
+    }
+
+    /// Number of scans written.
+    #[must_use]
+    pub fn scans(&self) -> u64 {
+        self.scans
+    }
+
+    /// Writes a scan and, when it has one, the robot's pose (`laserlines convert`).
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails.
+    pub fn write_scan(&mut self, record: &ScanRecord) -> Result<(), WriteError> {
+        let time = self.clock.time_of(record.scan.stamp);
+        self.write_messages(&scene_messages(record, None, time), record)
+    }
+
+    /// Writes a scan, the lines extracted from it and, when it has one, the robot's pose
+    /// (`laserlines extract -o out.mcap`).
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails.
+    pub fn write_lines(&mut self, record: &ScanRecord, lines: &[Line]) -> Result<(), WriteError> {
+        let time = self.clock.time_of(record.scan.stamp);
+        self.write_messages(&scene_messages(record, Some(lines), time), record)
+    }
+
+    /// Writes the messages of one scan: poses first, so that a reader meets the pose before
+    /// the scan it belongs to.
+    fn write_messages(&mut self, m: &SceneMessages, record: &ScanRecord) -> Result<(), WriteError> {
+        let log_time = log_time_ns(m.time);
+        for t in &m.transforms {
+            let mut slot = self.tf;
+            self.log(&mut slot, TF_TOPIC, BTreeMap::new(), t, log_time)?;
+            self.tf = slot;
+        }
+        let mut slot = self.scan;
+        let limits = BTreeMap::from([
+            ("range_min".to_owned(), record.scan.range_min.to_string()),
+            ("range_max".to_owned(), record.scan.range_max.to_string()),
+        ]);
+        self.log(&mut slot, SCAN_TOPIC, limits, &m.scan, log_time)?;
+        self.scan = slot;
+        if let Some(lines) = &m.lines {
+            let mut slot = self.lines;
+            self.log(&mut slot, LINES_TOPIC, BTreeMap::new(), lines, log_time)?;
+            self.lines = slot;
+        }
+        self.scans += 1;
+        Ok(())
+    }
+
+    fn log<T: Encode>(
+        &mut self,
+        slot: &mut Slot,
+        topic: &str,
+        metadata: BTreeMap<String, String>,
+        msg: &T,
+        log_time: u64,
+    ) -> Result<(), WriteError> {
+        let id = match slot.id {
+            Some(id) => id,
+            None => {
+                let schema_id = match T::get_schema() {
+                    Some(s) => self
+                        .writer
+                        .add_schema(&s.name, &s.encoding, &s.data)
+                        .map_err(|e| mcap_error(&self.name, e))?,
+                    None => 0,
+                };
+                let id = self
+                    .writer
+                    .add_channel(schema_id, topic, &T::get_message_encoding(), &metadata)
+                    .map_err(|e| mcap_error(&self.name, e))?;
+                slot.id = Some(id);
+                id
+            }
+        };
+        self.buf.clear();
+        msg.encode(&mut self.buf).map_err(|e| WriteError::Io {
+            file: self.name.clone(),
+            source: io::Error::other(e.to_string()),
+        })?;
+        slot.sequence = slot.sequence.wrapping_add(1);
+        let header = MessageHeader {
+            channel_id: id,
+            sequence: slot.sequence,
+            log_time,
+            publish_time: log_time,
+        };
+        self.writer
+            .write_to_known_channel(&header, &self.buf)
+            .map_err(|e| mcap_error(&self.name, e))
+    }
+
+    /// Writes the summary and the footer, flushes, and returns the output.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails.
+    pub fn finish(mut self) -> Result<W, WriteError> {
+        self.writer
+            .finish()
+            .map_err(|e| mcap_error(&self.name, e))?;
+        let name = self.name;
+        let mut out = self.writer.into_inner();
+        out.flush()
+            .map_err(|source| WriteError::Io { file: name, source })?;
+        Ok(out)
+    }
+}
