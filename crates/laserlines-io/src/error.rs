@@ -80,8 +80,9 @@ impl fmt::Display for SourcePos {
     }
 }
 
-/// Why reading scans failed. Every variant names the input; all but [`ReadError::Open`] and
-/// [`ReadError::UnknownFormat`] also name the line (or byte offset) and what was expected.
+/// Why reading scans failed. Every variant names the input; all but [`ReadError::Open`],
+/// [`ReadError::UnknownFormat`] and [`ReadError::Topic`] also name the line (or byte offset)
+/// and what was expected.
 ///
 /// After an error, a [`crate::ScanReader`] goes on with the next record where the format
 /// allows it (a JSONL line, a `.dat` line, an element of a JSON array); after an error that
@@ -89,6 +90,17 @@ impl fmt::Display for SourcePos {
 /// stop at the first error, or count the error and keep iterating.
 #[derive(Debug, thiserror::Error)]
 pub enum ReadError {
+    /// A topic was asked for that the format does not have (a single-stream format such as
+    /// JSON, or a name that is not one of the format's topics).
+    #[error("{file}: cannot read topic `{topic}`: expected {expected}")]
+    Topic {
+        /// The input's name.
+        file: String,
+        /// The topic asked for.
+        topic: String,
+        /// What the format accepts as a topic.
+        expected: String,
+    },
     /// The input could not be opened.
     #[error("{file}: cannot open: {source}")]
     Open {
@@ -100,8 +112,9 @@ pub enum ReadError {
     /// No format was given and none could be told from the name.
     #[error(
         "{file}: cannot tell the scan format from the name (found {found}); expected a name \
-         ending in .json, .jsonl, .ndjson, .csv or .dat (optionally followed by .gz), or an \
-         explicit format (one of: json, jsonl, csv, dat)"
+         ending in .json, .jsonl, .ndjson, .csv, .dat, .mcap, .clf, .log or .bag (optionally \
+         followed by .gz), or an explicit format (one of: json, jsonl, csv, dat, mcap, carmen, \
+         bag)"
     )]
     UnknownFormat {
         /// The input's name.
@@ -163,7 +176,9 @@ impl ReadError {
     #[must_use]
     pub fn file(&self) -> &str {
         match self {
-            Self::Open { file, .. } | Self::UnknownFormat { file, .. } => file,
+            Self::Open { file, .. }
+            | Self::UnknownFormat { file, .. }
+            | Self::Topic { file, .. } => file,
             Self::Io { pos, .. }
             | Self::Syntax { pos, .. }
             | Self::Json { pos, .. }
@@ -176,7 +191,7 @@ impl ReadError {
     #[must_use]
     pub fn pos(&self) -> Option<&SourcePos> {
         match self {
-            Self::Open { .. } | Self::UnknownFormat { .. } => None,
+            Self::Open { .. } | Self::UnknownFormat { .. } | Self::Topic { .. } => None,
             Self::Io { pos, .. }
             | Self::Syntax { pos, .. }
             | Self::Json { pos, .. }
@@ -197,6 +212,7 @@ impl ReadError {
         match self {
             Self::Open { .. } => "cannot open",
             Self::UnknownFormat { .. } => "unknown format",
+            Self::Topic { .. } => "unknown topic",
             Self::Io { .. } => "read failed",
             Self::Syntax { .. } => "malformed record",
             Self::Json { .. } => "malformed JSON",

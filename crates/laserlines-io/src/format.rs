@@ -19,23 +19,32 @@ pub enum Format {
     /// `laserlines-foxglove` crate reads and writes it (plugging in through
     /// [`crate::ScanReader::from_source`]), this crate does not.
     Mcap,
+    /// CARMEN log (`.clf`, `.log`): FLASER, RLASER, ROBOTLASER, RAWLASER lines; see
+    /// [`crate::carmen`].
+    Carmen,
+    /// ROS 1 bag, version 2.0 (`.bag`): `sensor_msgs/LaserScan` messages; see [`crate::bag`].
+    Bag,
 }
 
 impl Format {
     /// Every format, in the order of [`Format::NAMES`].
-    pub const ALL: [Self; 5] = [
+    pub const ALL: [Self; 7] = [
         Self::Json,
         Self::Jsonl,
         Self::Csv,
         Self::BreezyDat,
         Self::Mcap,
+        Self::Carmen,
+        Self::Bag,
     ];
 
     /// The canonical names accepted by [`Format::from_name`] (e.g. for `--format`).
-    pub const NAMES: &'static [&'static str] = &["json", "jsonl", "csv", "dat", "mcap"];
+    pub const NAMES: &'static [&'static str] =
+        &["json", "jsonl", "csv", "dat", "mcap", "carmen", "bag"];
 
     /// Tells the format from a path's extension, ignoring a trailing `.gz` (case-insensitive):
-    /// `.json`, `.jsonl` / `.ndjson`, `.csv`, `.dat`. `None` for anything else.
+    /// `.json`, `.jsonl` / `.ndjson`, `.csv`, `.dat`, `.mcap`, `.clf` / `.log` (CARMEN), `.bag`.
+    /// `None` for anything else.
     #[must_use]
     pub fn from_path(path: &Path) -> Option<Self> {
         let ext = inner_extension(path)?;
@@ -43,7 +52,7 @@ impl Format {
     }
 
     /// Chooses a format by name: a canonical name of [`Format::NAMES`] or an alias
-    /// (`ndjson`, `breezy`, `breezyslam`), case-insensitive.
+    /// (`ndjson`, `breezy`, `breezyslam`, `clf`, `log`, `rosbag`), case-insensitive.
     #[must_use]
     pub fn from_name(name: &str) -> Option<Self> {
         match name.to_ascii_lowercase().as_str() {
@@ -52,6 +61,8 @@ impl Format {
             "csv" => Some(Self::Csv),
             "dat" | "breezy" | "breezyslam" => Some(Self::BreezyDat),
             "mcap" => Some(Self::Mcap),
+            "carmen" | "clf" | "log" => Some(Self::Carmen),
+            "bag" | "rosbag" => Some(Self::Bag),
             _ => None,
         }
     }
@@ -63,6 +74,8 @@ impl Format {
             "csv" => Some(Self::Csv),
             "dat" => Some(Self::BreezyDat),
             "mcap" => Some(Self::Mcap),
+            "clf" | "log" => Some(Self::Carmen),
+            "bag" => Some(Self::Bag),
             _ => None,
         }
     }
@@ -76,19 +89,34 @@ impl Format {
             Self::Csv => "csv",
             Self::BreezyDat => "dat",
             Self::Mcap => "mcap",
+            Self::Carmen => "carmen",
+            Self::Bag => "bag",
         }
     }
 
     /// The usual file extension, without the dot.
     #[must_use]
     pub fn extension(self) -> &'static str {
-        self.name()
+        match self {
+            Self::Carmen => "clf",
+            other => other.name(),
+        }
+    }
+
+    /// True when the format holds several streams of scans, one of which is read
+    /// ([`crate::ReadOptions::topic`]): ROS bag topics, CARMEN laser messages, MCAP topics.
+    #[must_use]
+    pub fn has_topics(self) -> bool {
+        matches!(self, Self::Bag | Self::Carmen | Self::Mcap)
     }
 
     /// True when [`crate::ScanWriter`] can write this format.
     #[must_use]
     pub fn is_writable(self) -> bool {
-        !matches!(self, Self::BreezyDat | Self::Mcap)
+        !matches!(
+            self,
+            Self::BreezyDat | Self::Mcap | Self::Carmen | Self::Bag
+        )
     }
 }
 
@@ -100,7 +128,7 @@ impl fmt::Display for Format {
 
 /// The error of parsing a [`Format`] from an unknown name.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown scan format `{0}`; expected one of: json, jsonl, csv, dat")]
+#[error("unknown scan format `{0}`; expected one of: json, jsonl, csv, dat, mcap, carmen, bag")]
 pub struct UnknownFormatName(pub String);
 
 impl FromStr for Format {
@@ -152,6 +180,11 @@ mod tests {
             ("exp1.dat.gz", Some(Format::BreezyDat)),
             ("exp1.dat", Some(Format::BreezyDat)),
             ("log.MCAP", Some(Format::Mcap)),
+            ("intel-corrected.log.gz", Some(Format::Carmen)),
+            ("mit-csail.clf.gz", Some(Format::Carmen)),
+            ("a.CLF", Some(Format::Carmen)),
+            ("demo.bag", Some(Format::Bag)),
+            ("demo.bag.gz", Some(Format::Bag)),
             ("a.gz", None),
             ("a.txt", None),
             ("noext", None),

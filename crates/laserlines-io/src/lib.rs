@@ -9,6 +9,8 @@
 //! | JSONL, one object per line ([`json`]) | `.jsonl`, `.ndjson` | many | yes | yes |
 //! | CSV `index,angle_rad,range_m` ([`csv`]) | `.csv` | 1 | yes | yes |
 //! | BreezySLAM Hokuyo URG-04LX log ([`breezy`]) | `.dat` | many | yes | no |
+//! | CARMEN log: `FLASER`, `RLASER`, `ROBOTLASERk`, `RAWLASERk` ([`carmen`]) | `.clf`, `.log` | many | yes | no |
+//! | ROS 1 bag v2.0, `sensor_msgs/LaserScan`, chunks plain, bz2 or lz4 ([`bag`]) | `.bag` | many | yes | no |
 //! | lines JSONL ([`lines`]) | `.jsonl` | one object per scan | [`LinesReader`] | [`LinesWriter`] |
 //!
 //! Any input is decompressed when its name ends in `.gz` or it starts with the gzip magic
@@ -38,10 +40,15 @@
 //! # Ok::<(), laserlines_io::ReadError>(())
 //! ```
 //!
+//! Formats that hold several streams (ROS bag topics, CARMEN lasers) read one, chosen with
+//! [`ReadOptions::topic`] in [`open_with`] / [`from_reader_with`], or their default.
+//!
 //! New formats plug in by implementing [`ScanSource`] and wrapping it with
 //! [`ScanReader::from_source`].
 
+pub mod bag;
 pub mod breezy;
+pub mod carmen;
 pub mod csv;
 pub mod demo;
 pub mod error;
@@ -57,7 +64,10 @@ pub use breezy::WheelOdometry;
 pub use error::{At, ReadError, SourcePos, WriteError};
 pub use format::{Format, UnknownFormatName};
 pub use lines::{LineRecord, LinesReader, ScanLines};
-pub use reader::{Input, ScanReader, ScanSource, from_reader, open, open_input};
+pub use reader::{
+    Input, ReadOptions, ScanReader, ScanSource, from_reader, from_reader_with, open, open_input,
+    open_with,
+};
 pub use record::{Pose2, ScanRecord};
 pub use skip::SkipCounts;
 pub use writer::{LinesWriter, Output, ScanWriter};

@@ -121,6 +121,37 @@ impl Iterator for ScanReader {
     }
 }
 
+/// How to open an input: the format (told from the name when `None`) and, for formats that
+/// hold several streams of scans, which one to read.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct ReadOptions {
+    /// The format; `None` tells it from the name ([`Format::from_path`]).
+    pub format: Option<Format>,
+    /// The stream to read, for formats that have several: a ROS bag topic (`/scan`), a
+    /// CARMEN laser message (`FLASER`, `RLASER`, `ROBOTLASER1`, `RAWLASER1`, ...). `None`
+    /// reads the format's default ([`crate::bag`], [`crate::carmen`]). Formats with a single
+    /// stream refuse any topic.
+    pub topic: Option<String>,
+}
+
+impl ReadOptions {
+    /// Options with this format (or `None` to tell it from the name) and no topic.
+    #[must_use]
+    pub fn format(format: Option<Format>) -> Self {
+        Self {
+            format,
+            topic: None,
+        }
+    }
+
+    /// The same options reading `topic` (or the default stream when `None`).
+    #[must_use]
+    pub fn with_topic(mut self, topic: Option<&str>) -> Self {
+        self.topic = topic.map(str::to_owned);
+        self
+    }
+}
+
 /// Opens a scan file, gzipped or not, as a streaming [`ScanReader`].
 ///
 /// `format` overrides the choice by extension ([`Format::from_path`], ignoring `.gz`). The
@@ -131,15 +162,30 @@ impl Iterator for ScanReader {
 /// [`ReadError::UnknownFormat`] when no format is given and none can be told from the name;
 /// [`ReadError::Open`] when the file cannot be opened or its first bytes cannot be read.
 pub fn open(path: &Path, format: Option<Format>) -> Result<ScanReader, ReadError> {
+    open_with(path, &ReadOptions::format(format))
+}
+
+/// Opens a scan file like [`open`], with a topic for formats that hold several streams.
+///
+/// # Errors
+/// As [`open`], and [`ReadError::Topic`] when a topic is given for a format that has none or
+/// that is not a name the format uses (a CARMEN laser message). A topic a ROS bag does not
+/// hold is reported by the reader at the end of the file, once every connection was seen.
+pub fn open_with(path: &Path, options: &ReadOptions) -> Result<ScanReader, ReadError> {
     let name = path.display().to_string();
     if path == Path::new("-") {
-        let format = format.ok_or_else(|| ReadError::UnknownFormat {
+        let format = options.format.ok_or_else(|| ReadError::UnknownFormat {
             file: name.clone(),
             found: "standard input, which has no name".to_owned(),
         })?;
-        return from_reader(&name, BufReader::new(io::stdin()), format);
+        return from_reader_with(
+            &name,
+            BufReader::new(io::stdin()),
+            format,
+            options.topic.as_deref(),
+        );
     }
-    let format = match format {
+    let format = match options.format {
         Some(f) => f,
         None => Format::from_path(path).ok_or_else(|| ReadError::UnknownFormat {
             file: name.clone(),
@@ -155,7 +201,7 @@ pub fn open(path: &Path, format: Option<Format>) -> Result<ScanReader, ReadError
         Box::new(BufReader::with_capacity(1 << 16, file)),
         has_gz_extension(path),
     )?;
-    Ok(reader_for(&name, input, format))
+    reader_for(&name, input, format, options.topic.as_deref())
 }
 
 /// Reads scans of `format` from any buffered reader (e.g. standard input); `name` is used in
@@ -168,19 +214,53 @@ pub fn from_reader(
     reader: impl BufRead + Send + 'static,
     format: Format,
 ) -> Result<ScanReader, ReadError> {
-    let input = open_input(name, Box::new(reader), false)?;
-    Ok(reader_for(name, input, format))
+    from_reader_with(name, reader, format, None)
 }
 
-fn reader_for(name: &str, input: Input, format: Format) -> ScanReader {
+/// Reads scans of `format` from any buffered reader like [`from_reader`], choosing a topic
+/// for formats that hold several streams ([`ReadOptions::topic`]).
+///
+/// # Errors
+/// [`ReadError::Open`] when the first bytes cannot be read; [`ReadError::Topic`] as in
+/// [`open_with`].
+pub fn from_reader_with(
+    name: &str,
+    reader: impl BufRead + Send + 'static,
+    format: Format,
+    topic: Option<&str>,
+) -> Result<ScanReader, ReadError> {
+    let input = open_input(name, Box::new(reader), false)?;
+    reader_for(name, input, format, topic)
+}
+
+fn reader_for(
+    name: &str,
+    input: Input,
+    format: Format,
+    topic: Option<&str>,
+) -> Result<ScanReader, ReadError> {
+    if let Some(topic) = topic
+        && !format.has_topics()
+    {
+        return Err(ReadError::Topic {
+            file: name.to_owned(),
+            topic: topic.to_owned(),
+            expected: format!(
+                "no topic: the {} format holds one stream of scans",
+                format.name()
+            ),
+        });
+    }
     let source: Box<dyn ScanSource> = match format {
         Format::Json => Box::new(crate::json::JsonSource::new(name, input)),
         Format::Jsonl => Box::new(crate::json::JsonlSource::new(name, input)),
         Format::Csv => Box::new(crate::csv::CsvSource::new(name, input)),
         Format::BreezyDat => Box::new(crate::breezy::DatSource::new(name, input)),
+        Format::Carmen => Box::new(crate::carmen::CarmenSource::new(name, input, topic)?),
+        Format::Bag => Box::new(crate::bag::BagSource::new(name, input, topic)),
         Format::Mcap => Box::new(ReadElsewhere::new(name, "laserlines-foxglove")),
     };
-    ScanReader::from_source(name, format, source)
+    Ok(ScanReader::from_source(name, format, source))
 }
 
 /// A format another crate reads (MCAP: `laserlines-foxglove`): one error saying so, then the end.

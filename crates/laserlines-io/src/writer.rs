@@ -349,10 +349,12 @@ impl<W: Write> ScanWriter<W> {
                 write_csv(buf, record).map_err(|e| self.io(e))?;
                 self.emit(buf)
             }
-            Format::BreezyDat | Format::Mcap => Err(WriteError::Unsupported {
-                file: self.name.clone(),
-                format: self.format.name(),
-            }),
+            Format::BreezyDat | Format::Mcap | Format::Carmen | Format::Bag => {
+                Err(WriteError::Unsupported {
+                    file: self.name.clone(),
+                    format: self.format.name(),
+                })
+            }
         }
     }
 
