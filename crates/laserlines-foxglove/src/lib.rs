@@ -54,7 +54,7 @@ pub mod write;
 pub use read::{McapReadOptions, McapScanSource, ScanEncoding};
 pub use ros::LaserScanMsg;
 pub use wire::DecodeError;
-pub use write::McapSceneWriter;
+pub use write::{LinesOutput, McapSceneWriter};
 
 /// Topic of the scans (`foxglove.LaserScan`).
 pub const SCAN_TOPIC: &str = "/scan";

@@ -10,7 +10,7 @@ use foxglove::{Channel, ChannelBuilder, Context, Encode, WebSocketServer, WebSoc
 use laserlines::Line;
 use laserlines_io::ScanRecord;
 
-use crate::scene::{SceneClock, log_time_ns, scene_messages};
+use crate::scene::{log_time_ns, scene_messages};
 use crate::{LINES_TOPIC, SCAN_TOPIC, TF_TOPIC};
 
 /// Why the live server could not start.
@@ -47,7 +47,6 @@ pub struct LiveServer {
     scan: Channel<LaserScan>,
     lines: Channel<SceneUpdate>,
     tf: Channel<FrameTransform>,
-    clock: SceneClock,
 }
 
 impl std::fmt::Debug for LiveServer {
@@ -97,7 +96,6 @@ impl LiveServer {
             scan,
             lines,
             tf,
-            clock: SceneClock::new(),
         })
     }
 
@@ -128,10 +126,9 @@ impl LiveServer {
         }
     }
 
-    /// Publishes a scan with its lines and, when it has one, the robot's pose. Returns the
-    /// time given to the scan (its stamp, or 0.1 s after the previous scan), s.
-    pub fn publish(&mut self, record: &ScanRecord, lines: &[Line]) -> f64 {
-        let time = self.clock.time_of(record.scan.stamp);
+    /// Publishes a scan with its lines and, when it has one, the robot's pose, all at `time`
+    /// (s; from a [`crate::scene::SceneClock`], as the MCAP writer does).
+    pub fn publish(&self, record: &ScanRecord, lines: &[Line], time: f64) {
         let m = scene_messages(record, Some(lines), time);
         let ns = log_time_ns(time);
         for t in &m.transforms {
@@ -141,7 +138,6 @@ impl LiveServer {
         if let Some(l) = &m.lines {
             self.lines.log_with_time(l, ns);
         }
-        time
     }
 
     /// Stops the server and waits for its tasks to end.

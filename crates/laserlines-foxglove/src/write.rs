@@ -12,7 +12,7 @@ use std::path::Path;
 
 use foxglove::Encode;
 use laserlines::Line;
-use laserlines_io::{ScanRecord, WriteError};
+use laserlines_io::{LinesWriter, Output, ScanRecord, WriteError};
 use mcap::records::MessageHeader;
 
 use crate::scene::{SceneClock, SceneMessages, log_time_ns, scene_messages};
@@ -84,18 +84,30 @@ impl McapSceneWriter<BufWriter<File>> {
 }
 
 impl<W: Write + Seek> McapSceneWriter<W> {
-    /// A writer into `out`, named `name` in messages.
+    /// A writer into `out`, named `name` in messages, with zstd chunks of 1 MiB.
     ///
     /// # Errors
     /// [`WriteError::Io`] when the MCAP header cannot be written.
     pub fn new(out: W, name: &str) -> Result<Self, WriteError> {
-        let options = mcap::WriteOptions::new()
-            .compression(Some(mcap::Compression::Zstd))
-            .library(format!(
-                "laserlines {} ({})",
-                env!("CARGO_PKG_VERSION"),
-                mcap::LIBRARY_IDENTIFIER
-            ));
+        let options = mcap::WriteOptions::new().compression(Some(mcap::Compression::Zstd));
+        Self::with_options(out, name, options)
+    }
+
+    /// A writer with the given MCAP options (chunk size, compression, ...; the library
+    /// field is set to laserlines').
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when the MCAP header cannot be written.
+    pub fn with_options(
+        out: W,
+        name: &str,
+        options: mcap::WriteOptions,
+    ) -> Result<Self, WriteError> {
+        let options = options.library(format!(
+            "laserlines {} ({})",
+            env!("CARGO_PKG_VERSION"),
+            mcap::LIBRARY_IDENTIFIER
+        ));
         let writer = options.create(out).map_err(|e| mcap_error(name, e))?;
         Ok(Self {
             name: name.to_owned(),
@@ -215,5 +227,60 @@ impl<W: Write + Seek> McapSceneWriter<W> {
         out.flush()
             .map_err(|source| WriteError::Io { file: name, source })?;
         Ok(out)
+    }
+}
+
+/// Where `laserlines extract` writes its lines: an MCAP scene ([`McapSceneWriter`]: scan,
+/// lines and pose) when the name ends in `.mcap`, else lines JSONL ([`LinesWriter`]).
+#[derive(Debug)]
+pub enum LinesOutput {
+    /// Lines JSONL (`-` = standard output, `.gz` = gzip).
+    Jsonl(Box<LinesWriter<Output>>),
+    /// An MCAP file that Foxglove plays.
+    Mcap(Box<McapSceneWriter<BufWriter<File>>>),
+}
+
+impl LinesOutput {
+    /// Creates the output named `path`, choosing the kind by its extension.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when the file cannot be created.
+    pub fn create(path: &Path) -> Result<Self, WriteError> {
+        let is_mcap = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
+        Ok(if is_mcap {
+            Self::Mcap(Box::new(McapSceneWriter::create(path)?))
+        } else {
+            Self::Jsonl(Box::new(LinesWriter::create(path)?))
+        })
+    }
+
+    /// Writes the lines of scan number `scan` (0-based, in input order) with its record.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails.
+    pub fn write_record(
+        &mut self,
+        scan: u64,
+        record: &ScanRecord,
+        lines: &[Line],
+    ) -> Result<(), WriteError> {
+        match self {
+            Self::Jsonl(w) => w.write_record(scan, record, lines),
+            Self::Mcap(w) => w.write_lines(record, lines),
+        }
+    }
+
+    /// Completes the output (MCAP summary, end of a gzip stream) and flushes it.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails.
+    pub fn close(self) -> Result<(), WriteError> {
+        match self {
+            Self::Jsonl(w) => w.close(),
+            Self::Mcap(w) => w.finish().map(|_| ()),
+        }
     }
 }

@@ -1,0 +1,250 @@
+//! Bad MCAP input never panics: a truncated file or a corrupt record gives an error naming
+//! the file and the byte offset, and where the rest of the file is good, reading goes on.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers outside #[test] fns
+
+use std::io::Cursor;
+
+use laserlines::Scan;
+use laserlines_foxglove::{McapReadOptions, McapSceneWriter, read};
+use laserlines_io::{At, ReadError, ScanRecord};
+
+fn records(n: usize) -> Vec<ScanRecord> {
+    (0..n)
+        .map(|k| {
+            let ranges = (0..50).map(|i| 1.0 + 0.01 * (i + k) as f64).collect();
+            let mut r = ScanRecord::new(Scan::new(-1.0, 0.04, 0.1, 10.0, ranges).unwrap());
+            r.scan.stamp = Some(10.0 + k as f64);
+            r
+        })
+        .collect()
+}
+
+/// An MCAP of `n` scans, with the given compression, one chunk per scan or so.
+fn mcap_bytes(n: usize, compression: Option<mcap::Compression>) -> Vec<u8> {
+    let options = mcap::WriteOptions::new()
+        .compression(compression)
+        .chunk_size(Some(300));
+    let mut w = McapSceneWriter::with_options(Cursor::new(Vec::new()), "t", options).unwrap();
+    for r in records(n) {
+        w.write_scan(&r).unwrap();
+    }
+    w.finish().unwrap().into_inner()
+}
+
+fn read_all(name: &str, data: Vec<u8>) -> Vec<Result<ScanRecord, ReadError>> {
+    read::from_reader(name, Cursor::new(data), &McapReadOptions::default())
+        .unwrap()
+        .collect()
+}
+
+fn byte_of(e: &ReadError) -> u64 {
+    match e.pos().map(|p| p.at) {
+        Some(At::Byte(b)) => b,
+        other => panic!("{e}: no byte offset ({other:?})"),
+    }
+}
+
+/// The top-level records up to the footer: (opcode, offset, end).
+fn top_records(data: &[u8]) -> Vec<(u8, usize, usize)> {
+    let mut out = Vec::new();
+    let mut at = 8;
+    while at + 9 <= data.len() - 8 {
+        let len = u64::from_le_bytes(data[at + 1..at + 9].try_into().unwrap()) as usize;
+        out.push((data[at], at, at + 9 + len));
+        at += 9 + len;
+    }
+    out
+}
+
+#[test]
+fn a_good_file_reads_back_every_scan() {
+    for c in [
+        None,
+        Some(mcap::Compression::Zstd),
+        Some(mcap::Compression::Lz4),
+    ] {
+        let got = read_all("good.mcap", mcap_bytes(6, c));
+        let scans: Vec<_> = got.into_iter().map(|r| r.unwrap()).collect();
+        assert_eq!(scans.len(), 6, "{c:?}");
+        for (g, w) in scans.iter().zip(records(6)) {
+            assert_eq!(g.scan.ranges, w.scan.ranges);
+            assert_eq!(g.scan.stamp, w.scan.stamp);
+            assert_eq!((g.scan.range_min, g.scan.range_max), (0.1, 10.0));
+        }
+    }
+}
+
+#[test]
+fn a_truncated_file_gives_its_scans_then_an_error_at_the_cut() {
+    for c in [None, Some(mcap::Compression::Zstd)] {
+        let data = mcap_bytes(6, c);
+        let want = records(6);
+        let (_, _, data_end) = top_records(&data)
+            .into_iter()
+            .find(|(op, _, _)| *op == mcap::records::op::DATA_END)
+            .unwrap();
+        for cut in 0..data.len() {
+            let items = read_all("cut.mcap", data[..cut].to_vec());
+            let (good, bad): (Vec<_>, Vec<_>) = items.into_iter().partition(Result::is_ok);
+            // Whatever comes out is a prefix of the scans, in order.
+            for (g, w) in good.iter().zip(&want) {
+                assert_eq!(g.as_ref().unwrap().scan.ranges, w.scan.ranges, "cut {cut}");
+            }
+            assert!(good.len() <= want.len());
+            if cut >= data_end {
+                // Only the summary (indexes, which the reader does not use) is missing.
+                assert_eq!((good.len(), bad.len()), (want.len(), 0), "cut {cut}");
+                continue;
+            }
+            // Never silently short: a cut file always ends with an error naming it.
+            let e = bad
+                .last()
+                .unwrap_or_else(|| panic!("cut at {cut}: no error"));
+            let e = e.as_ref().unwrap_err();
+            assert_eq!(e.file(), "cut.mcap");
+            assert!(byte_of(e) <= cut as u64, "cut {cut}: {e}");
+            let text = e.to_string();
+            assert!(
+                text.contains("truncated")
+                    || text.contains("magic")
+                    || text.contains("LaserScan channel"),
+                "cut {cut}: {text}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_corrupt_chunk_is_a_counted_error_and_the_next_chunks_still_read() {
+    for c in [
+        None,
+        Some(mcap::Compression::Zstd),
+        Some(mcap::Compression::Lz4),
+    ] {
+        let data = mcap_bytes(6, c);
+        let chunks: Vec<(usize, usize)> = top_records(&data)
+            .into_iter()
+            .filter(|(op, _, _)| *op == mcap::records::op::CHUNK)
+            .map(|(_, at, end)| (at, end))
+            .collect();
+        assert!(chunks.len() >= 3, "{c:?}: {} chunks", chunks.len());
+        // Damage the last bytes of the second chunk's records.
+        let (second, next) = chunks[1];
+        let mut bad = data.clone();
+        for b in &mut bad[next - 12..next - 4] {
+            *b ^= 0x5a;
+        }
+        let mut reader =
+            read::from_reader("bad.mcap", Cursor::new(bad), &McapReadOptions::default()).unwrap();
+        let items: Vec<_> = reader.by_ref().collect();
+        let errors: Vec<_> = items.iter().filter_map(|r| r.as_ref().err()).collect();
+        assert_eq!(errors.len(), 1, "{c:?}: {errors:?}");
+        let e = errors[0];
+        assert_eq!(e.file(), "bad.mcap");
+        let at = byte_of(e);
+        assert!(
+            at >= second as u64 && at < next as u64,
+            "{c:?}: error at {at}, chunk at {second}..{next}: {e}"
+        );
+        let scans = items.iter().filter(|r| r.is_ok()).count();
+        assert!(scans >= 4, "{c:?}: {scans} scans");
+        assert_eq!(reader.skipped().total(), 1);
+    }
+}
+
+#[test]
+fn a_huge_record_length_ends_the_reader_without_allocating_it() {
+    let mut data = mcap_bytes(2, None);
+    let (_, at, _) = top_records(&data)[1];
+    data[at + 1..at + 9].copy_from_slice(&(u64::MAX - 3).to_le_bytes());
+    let items = read_all("huge.mcap", data);
+    let e = items.last().unwrap().as_ref().unwrap_err().to_string();
+    assert!(e.contains(&format!("huge.mcap: byte {at}")), "{e}");
+    assert!(e.contains("a record of at most"), "{e}");
+}
+
+#[test]
+fn not_an_mcap_file() {
+    for (data, found) in [
+        (&b""[..], "an empty file"),
+        (b"\x89MCA", "89 4d 43 41"),
+        (b"{\"ranges\": []}", "7b 22 72 61 6e 67 65 73"),
+    ] {
+        let items = read_all("x.mcap", data.to_vec());
+        assert_eq!(items.len(), 1);
+        let e = items[0].as_ref().unwrap_err().to_string();
+        assert!(
+            e.starts_with("x.mcap: byte 0: expected the MCAP magic"),
+            "{e}"
+        );
+        assert!(e.contains(found), "{e}");
+    }
+}
+
+#[test]
+fn a_file_without_laserscans_says_which_channels_it_has() {
+    let mut w = mcap::Writer::new(Cursor::new(Vec::new())).unwrap();
+    let s = w
+        .add_schema("std_msgs/msg/String", "ros2msg", b"string data")
+        .unwrap();
+    let c = w
+        .add_channel(s, "/chatter", "cdr", &Default::default())
+        .unwrap();
+    let header = mcap::records::MessageHeader {
+        channel_id: c,
+        sequence: 1,
+        log_time: 1,
+        publish_time: 1,
+    };
+    w.write_to_known_channel(&header, &[0, 1, 0, 0, 3, 0, 0, 0, b'h', b'i', 0])
+        .unwrap();
+    w.finish().unwrap();
+    let data = w.into_inner().into_inner();
+    let items = read_all("chatter.mcap", data);
+    assert_eq!(items.len(), 1);
+    let e = items[0].as_ref().unwrap_err().to_string();
+    assert!(e.contains("expected a LaserScan channel"), "{e}");
+    assert!(e.contains("/chatter (std_msgs/msg/String)"), "{e}");
+}
+
+/// A tiny deterministic generator for byte mutations.
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        self.0 >> 33
+    }
+}
+
+#[test]
+fn random_damage_never_panics_and_errors_always_name_file_and_byte() {
+    let mut rng = Lcg(7);
+    for c in [
+        None,
+        Some(mcap::Compression::Zstd),
+        Some(mcap::Compression::Lz4),
+    ] {
+        let data = mcap_bytes(4, c);
+        for _ in 0..400 {
+            let mut bad = data.clone();
+            for _ in 0..1 + rng.next() % 4 {
+                let i = (rng.next() as usize) % bad.len();
+                bad[i] = rng.next() as u8;
+            }
+            for item in read_all("fuzz.mcap", bad) {
+                match item {
+                    Ok(r) => r.scan.validate().unwrap(),
+                    Err(e) => {
+                        assert_eq!(e.file(), "fuzz.mcap");
+                        byte_of(&e);
+                    }
+                }
+            }
+        }
+    }
+}
