@@ -27,6 +27,10 @@ enum Command {
     Demo(cmd::demo::DemoArgs),
     /// Explore a rescue arena or a seeded maze with the simulated NAJI V; writes metrics and pictures.
     Simulate(cmd::simulate::SimulateArgs),
+    /// Convert scans between formats without extracting (e.g. a log to an MCAP for Foxglove).
+    Convert(cmd::convert::ConvertArgs),
+    /// Replay a log with its lines on a Foxglove WebSocket on 127.0.0.1.
+    View(cmd::view::ViewArgs),
 }
 
 /// Where scans come from: a path (or `-` for stdin) and an optional format override.
@@ -37,6 +41,9 @@ pub struct InputArgs {
     /// Input format, overriding the file extension (json, jsonl, csv, dat).
     #[arg(long)]
     pub format: Option<String>,
+    /// Topic to read from an MCAP file or a ROS bag (default: the first LaserScan topic).
+    #[arg(long)]
+    pub topic: Option<String>,
 }
 
 fn main() -> ExitCode {
@@ -46,6 +53,8 @@ fn main() -> ExitCode {
         Command::Render(a) => cmd::render::run(&a),
         Command::Demo(a) => cmd::demo::run(&a),
         Command::Simulate(a) => cmd::simulate::run(&a),
+        Command::Convert(a) => cmd::convert::run(&a),
+        Command::View(a) => cmd::view::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -8,7 +8,6 @@ use anyhow::Result;
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use laserlines::Line;
-use laserlines_io::LinesWriter;
 
 use crate::InputArgs;
 
@@ -17,7 +16,8 @@ use crate::InputArgs;
 pub struct ExtractArgs {
     #[command(flatten)]
     input: InputArgs,
-    /// Output JSONL file (`.gz` compresses), or `-` for stdout.
+    /// Output: lines JSONL (`.gz` compresses; `-` for stdout), or `.mcap` for Foxglove (scan,
+    /// lines and pose).
     #[arg(short, long, default_value = "-")]
     output: PathBuf,
     /// Line extraction algorithm.
@@ -35,7 +35,7 @@ pub struct ExtractArgs {
 pub fn run(args: &ExtractArgs) -> Result<()> {
     let mut extractor = super::make_extractor(&args.algorithm, args.params.as_deref())?;
     let reader = super::open_input(&args.input)?;
-    let mut writer = LinesWriter::create(&args.output)?;
+    let mut writer = laserlines_foxglove::LinesOutput::create(&args.output)?;
     let progress = if io::stderr().is_terminal() {
         let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
         pb.set_style(

@@ -1,9 +1,11 @@
 //! One module per subcommand, plus what they share.
 
+pub mod convert;
 pub mod demo;
 pub mod extract;
 pub mod render;
 pub mod simulate;
+pub mod view;
 
 use std::path::Path;
 
@@ -28,7 +30,12 @@ pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
         })?),
         None => None,
     };
-    Ok(laserlines_io::open(&input.input, format)?)
+    if format.or_else(|| Format::from_path(&input.input)) == Some(Format::Mcap) {
+        let options = laserlines_foxglove::McapReadOptions::topic(input.topic.as_deref());
+        return Ok(laserlines_foxglove::read::open(&input.input, &options)?);
+    }
+    let options = laserlines_io::ReadOptions::format(format).with_topic(input.topic.as_deref());
+    Ok(laserlines_io::open_with(&input.input, &options)?)
 }
 
 /// The extractor named `algorithm`, with parameters from `params` when given.

@@ -1,0 +1,92 @@
+//! `laserlines convert`: scans from one format into another, without extracting lines.
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::PathBuf;
+
+use anyhow::{Result, anyhow};
+use clap::Args;
+use laserlines_foxglove::McapSceneWriter;
+use laserlines_io::{Format, Output, ScanRecord, ScanWriter};
+
+use crate::InputArgs;
+
+/// Arguments of `laserlines convert`.
+#[derive(Debug, Args)]
+pub struct ConvertArgs {
+    #[command(flatten)]
+    input: InputArgs,
+    /// Output file: .mcap (Foxglove: /scan, and /tf when the input has poses), .json, .jsonl
+    /// or .csv (optionally .gz); `-` for stdout with --to.
+    output: PathBuf,
+    /// Output format, overriding the extension (json, jsonl, csv, mcap).
+    #[arg(long)]
+    to: Option<String>,
+    /// Count and skip bad records (reported in the summary) instead of stopping at the first.
+    #[arg(long)]
+    skip_bad: bool,
+}
+
+/// Where converted scans go.
+enum Sink {
+    Mcap(Box<McapSceneWriter<BufWriter<File>>>),
+    Scans(Box<ScanWriter<Output>>),
+}
+
+impl Sink {
+    fn write(&mut self, record: &ScanRecord) -> Result<()> {
+        match self {
+            Self::Mcap(w) => w.write_scan(record)?,
+            Self::Scans(w) => w.write(record)?,
+        }
+        Ok(())
+    }
+
+    fn close(self) -> Result<()> {
+        match self {
+            Self::Mcap(w) => {
+                w.finish()?;
+            }
+            Self::Scans(w) => w.close()?,
+        }
+        Ok(())
+    }
+}
+
+/// Runs the command.
+pub fn run(args: &ConvertArgs) -> Result<()> {
+    let to = match &args.to {
+        Some(name) => Some(Format::from_name(name).ok_or_else(|| {
+            anyhow!("unknown output format {name:?}: expected one of json, jsonl, csv, mcap")
+        })?),
+        None => None,
+    };
+    let mut reader = super::open_input(&args.input)?;
+    let mut sink = if to.or_else(|| Format::from_path(&args.output)) == Some(Format::Mcap) {
+        Sink::Mcap(Box::new(McapSceneWriter::create(&args.output)?))
+    } else {
+        Sink::Scans(Box::new(ScanWriter::create(&args.output, to)?))
+    };
+    let mut scans = 0u64;
+    for item in reader.by_ref() {
+        let record = match item {
+            Ok(r) => r,
+            Err(e) if args.skip_bad => {
+                // The reader counts it under its reason for the summary.
+                eprintln!("laserlines: skipped: {e}");
+                continue;
+            }
+            Err(e) => return Err(e.into()),
+        };
+        sink.write(&record)?;
+        scans += 1;
+    }
+    sink.close()?;
+    eprintln!(
+        "{}: {scans} scans written to {}, skipped: {}",
+        reader.name(),
+        args.output.display(),
+        reader.skipped()
+    );
+    Ok(())
+}

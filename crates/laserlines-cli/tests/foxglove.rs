@@ -1,0 +1,297 @@
+//! MCAP and Foxglove on the command line: `extract -o out.mcap`, `convert` to and from MCAP,
+//! `view` served on loopback and watched by a WebSocket client, and bad MCAP input.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::collections::HashMap;
+use std::io::{BufRead, BufReader};
+use std::net::TcpStream;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use foxglove::messages::{LaserScan, SceneUpdate};
+use laserlines_foxglove::{McapReadOptions, read};
+use laserlines_io::ScanRecord;
+use prost::Message as _;
+use tungstenite::client::IntoClientRequest;
+use tungstenite::{Message, WebSocket};
+
+const EXCERPT_SCANS: usize = 40;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_laserlines"))
+}
+
+fn excerpt() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/urg04lx-exp1-excerpt.dat.gz")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("laserlines-fox-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn run(cmd: &mut Command) -> Output {
+    let o = cmd.output().expect("the laserlines binary runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains("panicked"), "panic: {err}");
+    o
+}
+
+fn ok(cmd: &mut Command) -> Output {
+    let o = run(cmd);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    o
+}
+
+fn direct() -> Vec<ScanRecord> {
+    laserlines_io::open(&excerpt(), None)
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap()
+}
+
+fn from_mcap(path: &Path) -> Vec<ScanRecord> {
+    read::open(path, &McapReadOptions::default())
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap()
+}
+
+/// Every message of an MCAP file by topic, with the stock reader of the `mcap` crate.
+fn messages(path: &Path) -> HashMap<String, Vec<Vec<u8>>> {
+    let bytes = std::fs::read(path).unwrap();
+    let mut out: HashMap<String, Vec<Vec<u8>>> = HashMap::new();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        out.entry(m.channel.topic.clone())
+            .or_default()
+            .push(m.data.into_owned());
+    }
+    out
+}
+
+/// The scans must agree: stamps, poses, geometry, and every valid range (invalid ranges are
+/// written as NaN, "no return").
+fn assert_same_scans(got: &[ScanRecord], want: &[ScanRecord]) {
+    assert_eq!(got.len(), want.len());
+    for (g, w) in got.iter().zip(want) {
+        assert_eq!(g.scan.stamp, w.scan.stamp);
+        let (gp, wp) = (g.pose.unwrap(), w.pose.unwrap());
+        assert_eq!((gp.x, gp.y), (wp.x, wp.y));
+        assert!((gp.theta - wp.theta).abs() < 1e-12);
+        assert_eq!(g.scan.angle_min, w.scan.angle_min);
+        assert!((g.scan.angle_increment - w.scan.angle_increment).abs() < 1e-15);
+        assert_eq!(
+            (g.scan.range_min, g.scan.range_max),
+            (w.scan.range_min, w.scan.range_max)
+        );
+        let window = w.scan.range_window(None);
+        for (a, b) in g.scan.ranges.iter().zip(&w.scan.ranges) {
+            if window.contains(*b) {
+                assert_eq!(a, b);
+            } else {
+                assert!(a.is_nan());
+            }
+        }
+    }
+}
+
+#[test]
+fn extract_to_mcap_writes_scans_lines_and_poses() {
+    let out = tmp("extract.mcap");
+    let jsonl = tmp("extract.jsonl");
+    ok(bin().arg("extract").arg(excerpt()).arg("-o").arg(&out));
+    ok(bin().arg("extract").arg(excerpt()).arg("-o").arg(&jsonl));
+    let by_topic = messages(&out);
+    assert_eq!(by_topic["/scan"].len(), EXCERPT_SCANS);
+    assert_eq!(by_topic["/lines"].len(), EXCERPT_SCANS);
+    assert_eq!(by_topic["/tf"].len(), 2 * EXCERPT_SCANS);
+    // The lines are those of the JSONL output, end point for end point.
+    let text = std::fs::read_to_string(&jsonl).unwrap();
+    for (line, update) in text.lines().zip(&by_topic["/lines"]) {
+        let want: serde_json::Value = serde_json::from_str(line).unwrap();
+        let update = SceneUpdate::decode(update.as_slice()).unwrap();
+        let points = &update.entities[0].lines[0].points;
+        let want = want["lines"].as_array().unwrap();
+        assert_eq!(points.len(), 2 * want.len());
+        for (pair, l) in points.chunks(2).zip(want) {
+            assert_eq!(pair[0].x, l["start"][0].as_f64().unwrap());
+            assert_eq!(pair[0].y, l["start"][1].as_f64().unwrap());
+            assert_eq!(pair[1].x, l["end"][0].as_f64().unwrap());
+            assert_eq!(pair[1].y, l["end"][1].as_f64().unwrap());
+        }
+    }
+    // Our reader gives back the scans with their stamps and poses.
+    assert_same_scans(&from_mcap(&out), &direct());
+}
+
+#[test]
+fn convert_to_mcap_and_back() {
+    let mcap = tmp("convert.mcap");
+    let back = tmp("back.jsonl");
+    let o = ok(bin().arg("convert").arg(excerpt()).arg(&mcap));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("40 scans written"), "{err}");
+    let by_topic = messages(&mcap);
+    assert_eq!(by_topic["/scan"].len(), EXCERPT_SCANS);
+    assert!(!by_topic.contains_key("/lines"));
+    let first = LaserScan::decode(by_topic["/scan"][0].as_slice()).unwrap();
+    assert_eq!(first.frame_id, "laser");
+    assert_same_scans(&from_mcap(&mcap), &direct());
+    ok(bin().arg("convert").arg(&mcap).arg(&back));
+    let again: Vec<ScanRecord> = laserlines_io::open(&back, None)
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap();
+    assert_same_scans(&again, &direct());
+}
+
+#[test]
+fn bad_mcap_input_is_a_clean_error_naming_file_and_byte() {
+    let good = tmp("good.mcap");
+    ok(bin().arg("convert").arg(excerpt()).arg(&good));
+    let bytes = std::fs::read(&good).unwrap();
+    let cut = tmp("cut.mcap");
+    std::fs::write(&cut, &bytes[..bytes.len() / 2]).unwrap();
+    let o = run(bin()
+        .arg("extract")
+        .arg(&cut)
+        .arg("-o")
+        .arg(tmp("cut.jsonl")));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("cut.mcap: byte "), "{err}");
+    assert!(err.contains("truncated"), "{err}");
+    let o = run(bin()
+        .arg("convert")
+        .arg(&good)
+        .arg(tmp("x.jsonl"))
+        .args(["--topic", "/nope"]));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("a channel on topic /nope"), "{err}");
+    assert!(err.contains("/scan (foxglove.LaserScan)"), "{err}");
+}
+
+// --- view ------------------------------------------------------------------------------------
+
+const DEADLINE: Duration = Duration::from_secs(30);
+
+/// Kills the child when the test ends, however it ends.
+struct Child(std::process::Child);
+
+impl Drop for Child {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn read_ws(ws: &mut WebSocket<TcpStream>) -> Option<Message> {
+    match ws.read() {
+        Ok(m) => Some(m),
+        Err(tungstenite::Error::Io(e))
+            if matches!(
+                e.kind(),
+                std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+            ) =>
+        {
+            None
+        }
+        Err(e) => panic!("websocket: {e}"),
+    }
+}
+
+#[test]
+fn view_serves_scans_and_lines_to_a_foxglove_client() {
+    let start = Instant::now();
+    let mut child = Child(
+        bin()
+            .arg("view")
+            .arg(excerpt())
+            .args(["--port", "0", "--rate", "20"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
+    let mut first = String::new();
+    BufReader::new(child.0.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    let port: u16 = first
+        .split("ws://127.0.0.1:")
+        .nth(1)
+        .and_then(|s| s.split_whitespace().next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no port in {first:?}"));
+
+    let stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    stream
+        .set_read_timeout(Some(Duration::from_millis(200)))
+        .unwrap();
+    let mut request = format!("ws://127.0.0.1:{port}")
+        .into_client_request()
+        .unwrap();
+    request
+        .headers_mut()
+        .insert("Sec-WebSocket-Protocol", "foxglove.sdk.v1".parse().unwrap());
+    let mut ws = tungstenite::client(request, stream).unwrap().0;
+
+    let mut subscriptions: HashMap<u32, String> = HashMap::new();
+    let (mut scan, mut lines) = (None, None);
+    while scan.is_none() || lines.is_none() {
+        assert!(
+            start.elapsed() < DEADLINE,
+            "no scan and scene update in time"
+        );
+        match read_ws(&mut ws) {
+            Some(Message::Text(t)) => {
+                let v: serde_json::Value = serde_json::from_str(t.as_str()).unwrap();
+                if v["op"] != "advertise" {
+                    continue;
+                }
+                let mut subs = Vec::new();
+                for c in v["channels"].as_array().unwrap() {
+                    let sub = subscriptions.len() as u32 + 1;
+                    subscriptions.insert(sub, c["topic"].as_str().unwrap().to_owned());
+                    subs.push(serde_json::json!({"id": sub, "channelId": c["id"]}));
+                }
+                let msg = serde_json::json!({"op": "subscribe", "subscriptions": subs});
+                ws.send(Message::Text(msg.to_string().into())).unwrap();
+            }
+            Some(Message::Binary(b)) if b.len() >= 13 && b[0] == 1 => {
+                let sub = u32::from_le_bytes(b[1..5].try_into().unwrap());
+                match subscriptions.get(&sub).map(String::as_str) {
+                    Some("/scan") if scan.is_none() => {
+                        scan = Some(LaserScan::decode(&b[13..]).unwrap());
+                    }
+                    Some("/lines") if lines.is_none() => {
+                        lines = Some(SceneUpdate::decode(&b[13..]).unwrap());
+                    }
+                    _ => {}
+                }
+            }
+            _ => {}
+        }
+    }
+    let _ = ws.close(None);
+    let scan = scan.unwrap();
+    assert_eq!(scan.ranges.len(), 682);
+    assert_eq!(scan.frame_id, "laser");
+    let lines = lines.unwrap();
+    assert_eq!(lines.entities[0].id, "lines");
+    assert!(!lines.entities[0].lines[0].points.is_empty());
+    // The replay ends by itself: 40 scans about 0.1 s apart at 20x take well under a second.
+    loop {
+        if let Some(status) = child.0.try_wait().unwrap() {
+            assert!(status.success(), "{status}");
+            break;
+        }
+        assert!(start.elapsed() < DEADLINE, "view did not end");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
