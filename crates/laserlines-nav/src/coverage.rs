@@ -192,13 +192,18 @@ impl CoverageGrid {
     ) {
         let o = Point2::from(world_from_laser.translation.vector);
         let yaw = world_from_laser.rotation.angle();
+        let (s0, c0) = (yaw + angle_min).sin_cos();
+        let (s_inc, c_inc) = angle_increment.sin_cos();
+        let mut dir = Vector2::new(c0, s0);
         for (i, &r) in true_ranges.iter().enumerate() {
+            if i > 0 {
+                dir = Vector2::new(c_inc * dir.x - s_inc * dir.y, s_inc * dir.x + c_inc * dir.y);
+            }
             let len = if r.is_finite() { r } else { range_max };
             if !(len.is_finite() && len > 0.0) {
                 continue;
             }
-            let a = yaw + angle_min + i as f64 * angle_increment;
-            self.mark_ray(o, Vector2::new(a.cos(), a.sin()), len);
+            self.mark_ray(o, dir, len);
         }
     }
 

@@ -108,11 +108,14 @@ pub struct ExplorerParams {
     pub k_distance: f64,
     /// Free distance ahead of the robot's front below which it turns away, m. Default 0.45.
     pub front_turn: f64,
+    /// The same while arcing around a wall end or curving toward the followed side, m.
+    /// Default 0.15.
+    pub front_turn_corner: f64,
     /// Extra half-width of the band ahead checked for the free distance, m. Default 0.1.
     pub front_band_margin: f64,
-    /// Margin the safety layer keeps around the footprint, m. Default 0.05.
+    /// Margin the safety layer keeps around the footprint, m. Default 0.08.
     pub safety_margin: f64,
-    /// How long scan points are remembered for the safety layer, s. Default 2.0.
+    /// How long scan points are remembered for the safety layer, s. Default 3.0.
     pub memory_s: f64,
     /// Breadcrumb match radius for loop detection, m. Default 0.5.
     pub loop_match: f64,
@@ -140,9 +143,10 @@ impl Default for ExplorerParams {
             k_heading: 1.8,
             k_distance: 2.0,
             front_turn: 0.45,
+            front_turn_corner: 0.15,
             front_band_margin: 0.1,
-            safety_margin: 0.05,
-            memory_s: 2.0,
+            safety_margin: 0.08,
+            memory_s: 3.0,
             loop_match: 0.5,
             loop_heading: 0.6,
             loop_min_path: 8.0,
@@ -313,7 +317,20 @@ impl Explorer {
         let end_in_robot = self.wall_end.map(|e| robot_from_odom * e);
 
         // Mode transitions.
-        let blocked = front_free < p.front_turn;
+        // Arcing around a wall end, or following a wall that curves toward the followed
+        // side (round the end of a free-standing wall), the robot turns away from what is
+        // straight ahead: only a very near obstacle stops it (the safety layer watches the
+        // rest).
+        let turning_to_wall = wall.is_some_and(|w| {
+            let e_d = (w.distance_m - p.follow_distance).clamp(-0.4, 0.4);
+            s * (p.k_heading * w.angle_rad + s * p.k_distance * e_d) > 0.3
+        });
+        let turn_at = if self.mode == Mode::Corner || turning_to_wall {
+            p.front_turn_corner
+        } else {
+            p.front_turn
+        };
+        let blocked = front_free < turn_at;
         self.mode = match self.mode {
             Mode::BackOff if time_s < self.backoff_until => Mode::BackOff,
             Mode::TurnAway
@@ -418,14 +435,19 @@ impl Explorer {
         let window = scan.range_window(None);
         let cell = self.params.seen_cell.max(0.05);
         let mut new_cell = false;
+        let (s0, c0) = scan.angle_min.sin_cos();
+        let (s_inc, c_inc) = scan.angle_increment.sin_cos();
+        let mut dir = Vector2::new(c0, s0);
         for (i, &r) in scan.ranges.iter().enumerate() {
+            if i > 0 {
+                dir = Vector2::new(c_inc * dir.x - s_inc * dir.y, s_inc * dir.x + c_inc * dir.y);
+            }
             if !window.contains(r) {
                 continue;
             }
-            let a = scan.angle(i);
-            let p = odom_from_laser * Point2::new(r * a.cos(), r * a.sin());
+            let p = odom_from_laser * Point2::from(dir * r);
             // Keep near points only: only they matter to the safety layer.
-            if r < 1.5 && i % 2 == 0 {
+            if r < 1.2 && i % 3 == 0 {
                 self.memory.push(Remembered {
                     point: p,
                     time: time_s,
@@ -500,7 +522,7 @@ impl Explorer {
         let robot_from_odom = odom_from_robot.inverse();
         let mut pts = std::mem::take(&mut self.scratch_points);
         pts.clear();
-        let reach = self.footprint.circumradius() + 0.8;
+        let reach = self.footprint.circumradius() + 0.5;
         for m in &self.memory {
             let q = robot_from_odom * m.point;
             if q.coords.norm() < reach {

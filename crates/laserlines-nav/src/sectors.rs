@@ -230,7 +230,7 @@ pub fn describe(
     let (from, to) = sector.bounds_rad();
     let (start, end) = clip_to_wedge(a, b, from, to)?;
     let width = (end - start).norm();
-    if !(width >= params.min_width) {
+    if width.is_nan() || width < params.min_width {
         return None;
     }
     let nearest = nearest_on_segment(Point2::origin(), start, end);
@@ -305,8 +305,8 @@ pub fn select_segments(segments: &[(Point2, Point2)], params: &SectorParams) -> 
 /// let objects = select_objects(&[line], &Isometry2::identity(), &SectorParams::default());
 /// let front = objects.get(Sector::Front).unwrap();
 /// assert!((front.distance_m - 1.0).abs() < 1e-12);
-/// // Within -50..50 deg the wall spans y = -tan(50 deg)..tan(50 deg) at x = 1.
-/// assert!((front.width_m - 2.0 * 50f64.to_radians().tan()).abs() < 1e-9);
+/// // Its ends are at -45 and +45 deg, inside the front sector: all 2 m are visible there.
+/// assert!((front.width_m - 2.0).abs() < 1e-9);
 /// assert!((front.angle_rad - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
 /// assert!(objects.get(Sector::Left).is_none());
 /// ```

@@ -50,7 +50,7 @@ use crate::world::{Target, World};
 
 /// How far around the footprint obstacles are searched for the clearance, m: clearances
 /// beyond this are reported as this value.
-pub const CLEARANCE_SEARCH: f64 = 1.0;
+pub const CLEARANCE_SEARCH: f64 = 0.5;
 
 /// Clearance (m) the footprint must regain after a contact before another contact counts
 /// as a new collision.
@@ -470,7 +470,7 @@ impl RobotSim {
     /// starting at time 0).
     #[must_use]
     pub fn scan_due(&self) -> bool {
-        self.steps % self.steps_per_scan == 0
+        self.steps.is_multiple_of(self.steps_per_scan)
     }
 
     /// Takes a scan at the present true pose into reused buffers: the scan as the laser
