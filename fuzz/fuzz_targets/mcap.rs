@@ -1,0 +1,27 @@
+//! Arbitrary bytes through the MCAP reader (`laserlines-foxglove`), and through the ROS 1 and
+//! CDR LaserScan decoders on their own: nothing may panic, every record is a valid scan, every
+//! error names the input.
+#![no_main]
+
+use laserlines_foxglove::{McapReadOptions, read, ros};
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|data: &[u8]| {
+    let _ = ros::decode_cdr(data);
+    let _ = ros::decode_ros1(data);
+    // Small record limit: a corrupt length must be an error, not a huge allocation.
+    let options = McapReadOptions {
+        topic: None,
+        max_record_bytes: 1 << 20,
+    };
+    let Ok(reader) = read::from_reader("fuzz", std::io::Cursor::new(data.to_vec()), &options)
+    else {
+        return;
+    };
+    for item in reader.take(10_000) {
+        match item {
+            Ok(record) => assert!(record.scan.validate().is_ok()),
+            Err(e) => assert_eq!(e.file(), "fuzz"),
+        }
+    }
+});
