@@ -36,12 +36,15 @@ enum Command {
 /// Where scans come from: a path (or `-` for stdin) and an optional format override.
 #[derive(Debug, Clone, Args)]
 pub struct InputArgs {
-    /// Input file (.json, .jsonl, .csv, .dat, optionally .gz), or `-` for stdin.
+    /// Input file (.json, .jsonl, .csv, .dat, .mcap, .clf/.log for CARMEN, .bag; optionally
+    /// .gz), or `-` for stdin.
     pub input: PathBuf,
-    /// Input format, overriding the file extension (json, jsonl, csv, dat).
+    /// Input format, overriding the file extension (json, jsonl, csv, dat, mcap, carmen, bag).
     #[arg(long)]
     pub format: Option<String>,
-    /// Topic to read from an MCAP file or a ROS bag (default: the first LaserScan topic).
+    /// Topic to read from an MCAP file or a ROS bag (default: the first LaserScan topic), or
+    /// the laser message of a CARMEN log (FLASER, RLASER, ROBOTLASER1, RAWLASER1, ...;
+    /// default: the front laser, FLASER and ROBOTLASER1).
     #[arg(long)]
     pub topic: Option<String>,
 }

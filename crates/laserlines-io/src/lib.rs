@@ -70,4 +70,4 @@ pub use reader::{
 };
 pub use record::{Pose2, ScanRecord};
 pub use skip::SkipCounts;
-pub use writer::{LinesWriter, Output, ScanWriter};
+pub use writer::{LinesWriter, Output, ScanWriter, encode_lines};

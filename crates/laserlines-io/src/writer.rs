@@ -150,20 +150,22 @@ impl<W: Write> LinesWriter<W> {
         pose: Option<Pose2>,
         lines: &[Line],
     ) -> Result<(), WriteError> {
-        self.records.clear();
-        self.records.extend(lines.iter().map(LineRecord::from));
-        let object = ScanLines {
-            scan,
-            stamp,
-            pose,
-            lines: std::mem::take(&mut self.records),
-        };
-        self.buf.clear();
-        let serialized = serde_json::to_writer(&mut self.buf, &object);
-        self.records = object.lines;
-        serialized.map_err(|e| self.io(io::Error::other(e)))?;
-        self.buf.push(b'\n');
-        self.out.write_all(&self.buf).map_err(|e| self.io(e))
+        let mut records = std::mem::take(&mut self.records);
+        let mut buf = std::mem::take(&mut self.buf);
+        buf.clear();
+        let encoded = encode_scan_lines(scan, stamp, pose, lines, &mut records, &mut buf);
+        let written = encoded.and_then(|()| self.out.write_all(&buf));
+        self.records = records;
+        self.buf = buf;
+        written.map_err(|e| self.io(e))
+    }
+
+    /// Writes a line that [`encode_lines`] made (e.g. on another thread), as is.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails.
+    pub fn write_encoded(&mut self, encoded: &[u8]) -> Result<(), WriteError> {
+        self.out.write_all(encoded).map_err(|e| self.io(e))
     }
 
     /// Writes the lines of scan number `scan`, taking the stamp and pose from its record.
@@ -187,6 +189,51 @@ impl<W: Write> LinesWriter<W> {
         self.out.flush().map_err(|e| self.io(e))?;
         Ok(self.out)
     }
+}
+
+/// Appends to `buf` the JSONL line (with its newline) that [`LinesWriter::write_record`]
+/// writes for scan number `scan`, so that callers can encode scans in parallel and write the
+/// bytes in order with [`LinesWriter::write_encoded`].
+///
+/// # Errors
+/// An error of the JSON encoder (none is expected for these types).
+pub fn encode_lines(
+    scan: u64,
+    record: &ScanRecord,
+    lines: &[Line],
+    buf: &mut Vec<u8>,
+) -> io::Result<()> {
+    encode_scan_lines(
+        scan,
+        record.scan.stamp,
+        record.pose,
+        lines,
+        &mut Vec::new(),
+        buf,
+    )
+}
+
+fn encode_scan_lines(
+    scan: u64,
+    stamp: Option<f64>,
+    pose: Option<Pose2>,
+    lines: &[Line],
+    records: &mut Vec<LineRecord>,
+    buf: &mut Vec<u8>,
+) -> io::Result<()> {
+    records.clear();
+    records.extend(lines.iter().map(LineRecord::from));
+    let object = ScanLines {
+        scan,
+        stamp,
+        pose,
+        lines: std::mem::take(records),
+    };
+    let serialized = serde_json::to_writer(&mut *buf, &object);
+    *records = object.lines;
+    serialized.map_err(io::Error::other)?;
+    buf.push(b'\n');
+    Ok(())
 }
 
 impl LinesWriter<Output> {
