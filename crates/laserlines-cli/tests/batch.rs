@@ -92,7 +92,10 @@ fn parallel_output_is_in_input_order_and_equals_the_sequential_one() {
         let err = stderr(&o);
         let bad = (0..scans).filter(|k| k % 97 == 50).count();
         assert!(err.contains(&format!("{scans} scans")), "{err}");
-        assert!(err.contains(&format!("skipped: {bad} malformed record")), "{err}");
+        assert!(
+            err.contains(&format!("skipped: {bad} malformed record")),
+            "{err}"
+        );
         assert!(err.contains("scans/s") && err.contains("MB/s"), "{err}");
         // Skipped lines are reported in input order, each naming its line.
         let reported: Vec<usize> = err
@@ -112,7 +115,10 @@ fn parallel_output_is_in_input_order_and_equals_the_sequential_one() {
             assert!(!r["lines"].as_array().unwrap().is_empty(), "scan {k}");
         }
     }
-    assert!(outputs.windows(2).all(|w| w[0] == w[1]), "outputs differ with the thread count");
+    assert!(
+        outputs.windows(2).all(|w| w[0] == w[1]),
+        "outputs differ with the thread count"
+    );
 }
 
 #[test]
@@ -124,7 +130,10 @@ fn a_bad_record_without_skip_bad_stops_after_the_scans_before_it() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let err = stderr(&o);
     // The first bad line follows scan 50 (lines: comment, then FLASER + ODOM per scan).
-    assert!(err.contains("stop.clf:104: expected 192 tokens for FLASER"), "{err}");
+    assert!(
+        err.contains("stop.clf:104: expected 192 tokens for FLASER"),
+        "{err}"
+    );
     assert!(!err.contains("panicked"), "{err}");
 }
 
@@ -137,7 +146,11 @@ fn carmen_logs_and_bags_with_topics() {
         .arg(io_fixture("carmen/wall_param.clf")));
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("2 scans"), "{}", stderr(&o));
-    assert!(stderr(&o).contains("1 RLASER scan (another laser)"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("1 RLASER scan (another laser)"),
+        "{}",
+        stderr(&o)
+    );
     let o = run(bin()
         .args(["extract", "--topic", "RLASER", "-o"])
         .arg(&out)
@@ -148,7 +161,9 @@ fn carmen_logs_and_bags_with_topics() {
     for bag in ["laserscans.bag", "laserscans_bz2.bag", "laserscans_lz4.bag"] {
         for (topic, scans) in [(None, 6), (Some("/scan_rear"), 3)] {
             let mut cmd = bin();
-            cmd.args(["extract", "-o"]).arg(&out).arg(io_fixture(&format!("bags/{bag}")));
+            cmd.args(["extract", "-o"])
+                .arg(&out)
+                .arg(io_fixture(&format!("bags/{bag}")));
             if let Some(t) = topic {
                 cmd.args(["--topic", t]);
             }
@@ -168,25 +183,45 @@ fn bad_topics_and_bags_are_clean_errors() {
         .args(["extract", "--topic", "/scan"])
         .arg(io_fixture("scans.jsonl")));
     assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("cannot read topic `/scan`"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("cannot read topic `/scan`"),
+        "{}",
+        stderr(&o)
+    );
     // A bag without LaserScan.
-    let o = run(bin().args(["extract"]).arg(io_fixture("bags/no_laserscan.bag")));
+    let o = run(bin()
+        .args(["extract"])
+        .arg(io_fixture("bags/no_laserscan.bag")));
     assert_eq!(o.status.code(), Some(2));
     let err = stderr(&o);
-    assert!(err.contains("no_laserscan.bag: byte 4939: expected a sensor_msgs/LaserScan connection"), "{err}");
+    assert!(
+        err.contains("no_laserscan.bag: byte 4939: expected a sensor_msgs/LaserScan connection"),
+        "{err}"
+    );
     // A truncated bag: the scans before the cut, then an error naming the offset.
     let bytes = std::fs::read(io_fixture("bags/laserscans.bag")).unwrap();
     let cut = tmp("cut.bag");
     std::fs::write(&cut, &bytes[..9000]).unwrap();
     let out = tmp("cut.jsonl");
-    let o = run(bin().args(["extract", "--skip-bad", "-o"]).arg(&out).arg(&cut));
+    let o = run(bin()
+        .args(["extract", "--skip-bad", "-o"])
+        .arg(&out)
+        .arg(&cut));
     assert!(o.status.success(), "{}", stderr(&o));
     let err = stderr(&o);
-    assert!(err.contains("cut.bag: byte 8827: expected chunk data"), "{err}");
-    assert!(err.contains("3 scans") && err.contains("skipped: "), "{err}");
+    assert!(
+        err.contains("cut.bag: byte 8827: expected chunk data"),
+        "{err}"
+    );
+    assert!(
+        err.contains("3 scans") && err.contains("skipped: "),
+        "{err}"
+    );
     assert_eq!(jsonl(&out).len(), 3);
     // --jobs 0.
-    let o = run(bin().args(["extract", "--jobs", "0"]).arg(io_fixture("scans.jsonl")));
+    let o = run(bin()
+        .args(["extract", "--jobs", "0"])
+        .arg(io_fixture("scans.jsonl")));
     assert_eq!(o.status.code(), Some(2));
 }
 
@@ -213,11 +248,18 @@ fn real_logs_extract_in_order_with_every_thread_count() {
         let mut outputs = Vec::new();
         for jobs in ["1", "3"] {
             let out = tmp(&format!("real-{jobs}.jsonl"));
-            let o = run(bin().args(["extract", "--jobs", jobs, "-o"]).arg(&out).arg(&input));
+            let o = run(bin()
+                .args(["extract", "--jobs", jobs, "-o"])
+                .arg(&out)
+                .arg(&input));
             assert!(o.status.success(), "{path}: {}", stderr(&o));
             outputs.push(std::fs::read(&out).unwrap());
         }
         assert_eq!(outputs[0], outputs[1], "{path}");
-        assert_eq!(String::from_utf8_lossy(&outputs[0]).lines().count(), scans, "{path}");
+        assert_eq!(
+            String::from_utf8_lossy(&outputs[0]).lines().count(),
+            scans,
+            "{path}"
+        );
     }
 }
