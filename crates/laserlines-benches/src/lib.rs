@@ -1,4 +1,5 @@
-//! Inputs shared by the benchmarks: the standard bench scan and real URG-04LX scans.
+//! Inputs shared by the benchmarks of every extractor: the standard bench scan and real
+//! URG-04LX scans.
 
 use laserlines::Scan;
 

@@ -25,6 +25,9 @@ enum Command {
     Render(cmd::render::RenderArgs),
     /// Run the whole pipeline on bundled real Hokuyo URG-04LX scans.
     Demo(cmd::demo::DemoArgs),
+    /// Compare extractors on simulated suites with ground truth or on real logs: accuracy
+    /// and speed as a table, JSON, CSV and a chart; `--tune` chooses parameters.
+    Bench(cmd::bench::BenchArgs),
     /// Explore a rescue arena or a seeded maze with the simulated NAJI V; writes metrics and pictures.
     Simulate(cmd::simulate::SimulateArgs),
     /// Convert scans between formats without extracting (e.g. a log to an MCAP for Foxglove).
@@ -55,6 +58,7 @@ fn main() -> ExitCode {
         Command::Extract(a) => cmd::extract::run(&a),
         Command::Render(a) => cmd::render::run(&a),
         Command::Demo(a) => cmd::demo::run(&a),
+        Command::Bench(a) => cmd::bench::run(&a),
         Command::Simulate(a) => cmd::simulate::run(&a),
         Command::Convert(a) => cmd::convert::run(&a),
         Command::View(a) => cmd::view::run(&a),

@@ -1,5 +1,7 @@
-//! Extractor parameters from a TOML file: one table per algorithm, keys as the library's
-//! params struct fields, SI units. Unknown keys are errors.
+//! Extractor parameters from a TOML file: one table per algorithm (named as in
+//! `laserlines::extractors::ALGORITHMS`), keys as the library's params struct fields, SI
+//! units (metres, radians). Unknown tables and keys are errors; a missing key keeps the
+//! library's default. `range_limits = [lo, hi]` sets the optional extra range window.
 //!
 //! ```toml
 //! [hough-split]
@@ -8,12 +10,25 @@
 //! weight = "range"          # or "one"
 //! criterion = 0.5
 //! range_limits = [0.03, 3.0]
+//!
+//! [iterative-hough]
+//! min_votes = 10.0
+//! weight = "one"
+//!
+//! [ransac]
+//! seed = 7
+//! inlier_distance = 0.02    # m
 //! ```
 
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
-use laserlines::{HoughSplitParams, RangeWindow, Weight};
+use laserlines::extractors::{
+    self, Em, EmParams, Iepf, IepfParams, Incremental, IncrementalParams, IterativeHough,
+    IterativeHoughParams, LineRegression, LineRegressionParams, Ransac, RansacParams,
+    SplitAndMerge, SplitAndMergeParams,
+};
+use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, RangeWindow, Weight};
 use serde::Deserialize;
 
 /// The whole file.
@@ -22,6 +37,183 @@ use serde::Deserialize;
 pub struct ParamsFile {
     #[serde(rename = "hough-split")]
     hough_split: Option<HoughSplitToml>,
+    #[serde(rename = "iterative-hough")]
+    iterative_hough: Option<IterativeHoughToml>,
+    #[serde(rename = "split-and-merge")]
+    split_and_merge: Option<SplitAndMergeToml>,
+    iepf: Option<IepfToml>,
+    incremental: Option<IncrementalToml>,
+    #[serde(rename = "line-regression")]
+    line_regression: Option<LineRegressionToml>,
+    ransac: Option<RansacToml>,
+    em: Option<EmToml>,
+}
+
+/// The weight function by name, for the classic extractors' tables.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum WeightName {
+    One,
+    Range,
+}
+
+impl From<WeightName> for Weight {
+    fn from(w: WeightName) -> Self {
+        match w {
+            WeightName::One => Self::One,
+            WeightName::Range => Self::Range,
+        }
+    }
+}
+
+/// A table of optional overrides for the params struct `$params`: one key per field (plus
+/// `range_limits = [lo, hi]`), applied over the defaults.
+macro_rules! table {
+    ($toml:ident => $params:ty { $($f:ident: $t:ty),* $(,)? }) => {
+        #[derive(Debug, Default, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct $toml {
+            $($f: Option<$t>,)*
+            range_limits: Option<[f64; 2]>,
+        }
+
+        impl $toml {
+            fn apply(&self, p: &mut $params) {
+                $( if let Some(v) = self.$f { p.$f = v.into(); } )*
+                if let Some([lo, hi]) = self.range_limits {
+                    p.range_limits = Some(RangeWindow::new(lo, hi));
+                }
+            }
+        }
+    };
+}
+
+table!(IterativeHoughToml => IterativeHoughParams {
+    distance_step: f64,
+    max_distance: f64,
+    angle_step: f64,
+    window: f64,
+    weight: WeightName,
+    min_votes: f64,
+    inlier_distance: f64,
+    inlier_distance_per_metre: f64,
+    refine_iterations: usize,
+    max_skipped: usize,
+    breakpoint_incidence: f64,
+    breakpoint_noise: f64,
+    breakpoint_max_gap: usize,
+    max_iterations: usize,
+    min_line_points: usize,
+    min_line_length: f64,
+});
+
+table!(SplitAndMergeToml => SplitAndMergeParams {
+    breakpoint_incidence: f64,
+    breakpoint_noise: f64,
+    breakpoint_max_gap: usize,
+    min_cluster_points: usize,
+    split_distance: f64,
+    split_distance_per_metre: f64,
+    merge_collinear: bool,
+    min_line_points: usize,
+    min_line_length: f64,
+});
+
+table!(IepfToml => IepfParams {
+    breakpoint_incidence: f64,
+    breakpoint_noise: f64,
+    breakpoint_max_gap: usize,
+    min_cluster_points: usize,
+    split_distance: f64,
+    split_distance_per_metre: f64,
+    merge_collinear: bool,
+    min_line_points: usize,
+    min_line_length: f64,
+});
+
+table!(IncrementalToml => IncrementalParams {
+    breakpoint_incidence: f64,
+    breakpoint_noise: f64,
+    breakpoint_max_gap: usize,
+    seed_points: usize,
+    track_distance: f64,
+    track_distance_per_metre: f64,
+    max_outliers: usize,
+    min_line_points: usize,
+    min_line_length: f64,
+});
+
+table!(LineRegressionToml => LineRegressionParams {
+    breakpoint_incidence: f64,
+    breakpoint_noise: f64,
+    breakpoint_max_gap: usize,
+    window: usize,
+    noise_sigma: f64,
+    noise_sigma_per_metre: f64,
+    similarity: f64,
+    min_windows: usize,
+    merge_collinear: bool,
+    merge_distance: f64,
+    merge_distance_per_metre: f64,
+    min_line_points: usize,
+    min_line_length: f64,
+});
+
+table!(RansacToml => RansacParams {
+    seed: u64,
+    iterations: usize,
+    sample_span: usize,
+    inlier_distance: f64,
+    inlier_distance_per_metre: f64,
+    min_inliers: usize,
+    max_skipped: usize,
+    refine_iterations: usize,
+    breakpoint_incidence: f64,
+    breakpoint_noise: f64,
+    breakpoint_max_gap: usize,
+    max_lines: usize,
+    min_line_points: usize,
+    min_line_length: f64,
+});
+
+table!(EmToml => EmParams {
+    seed: u64,
+    max_trials: usize,
+    max_failures: usize,
+    init_points: usize,
+    iterations: usize,
+    anneal_sigma_scale: f64,
+    noise_sigma: f64,
+    noise_sigma_per_metre: f64,
+    outlier_density: f64,
+    inlier_probability: f64,
+    max_skipped: usize,
+    breakpoint_incidence: f64,
+    breakpoint_noise: f64,
+    breakpoint_max_gap: usize,
+    min_line_points: usize,
+    min_line_length: f64,
+});
+
+/// Defaults overridden by `table` when present; validated by `new` (the extractor's
+/// constructor), whose error is reported under the table's name.
+fn build<P: Default, T, E, X>(
+    name: &str,
+    table: Option<&T>,
+    apply: fn(&T, &mut P),
+    new: fn(P) -> Result<X, E>,
+) -> Result<Box<dyn LineExtractor + Send>>
+where
+    E: std::error::Error + Send + Sync + 'static,
+    X: LineExtractor + Send + 'static,
+{
+    let mut p = P::default();
+    if let Some(t) = table {
+        apply(t, &mut p);
+    }
+    Ok(Box::new(
+        new(p).with_context(|| format!("[{name}] parameters"))?,
+    ))
 }
 
 #[derive(Debug, Default, Deserialize)]
@@ -103,7 +295,57 @@ impl ParamsFile {
 
     /// True when the file has a table for `algorithm`.
     pub fn has(&self, algorithm: &str) -> bool {
-        algorithm == "hough-split" && self.hough_split.is_some()
+        match algorithm {
+            "hough-split" => self.hough_split.is_some(),
+            "iterative-hough" => self.iterative_hough.is_some(),
+            "split-and-merge" => self.split_and_merge.is_some(),
+            "iepf" => self.iepf.is_some(),
+            "incremental" => self.incremental.is_some(),
+            "line-regression" => self.line_regression.is_some(),
+            "ransac" => self.ransac.is_some(),
+            "em" => self.em.is_some(),
+            _ => false,
+        }
+    }
+
+    /// The extractor called `algorithm` (one of `laserlines::extractors::ALGORITHMS`), with
+    /// its defaults overridden by its table when the file has one.
+    pub fn extractor(&self, algorithm: &str) -> Result<Box<dyn LineExtractor + Send>> {
+        let name = algorithm;
+        match algorithm {
+            "hough-split" => Ok(Box::new(HoughSplit::new(self.hough_split()?)?)),
+            "iterative-hough" => build(
+                name,
+                self.iterative_hough.as_ref(),
+                IterativeHoughToml::apply,
+                IterativeHough::new,
+            ),
+            "split-and-merge" => build(
+                name,
+                self.split_and_merge.as_ref(),
+                SplitAndMergeToml::apply,
+                SplitAndMerge::new,
+            ),
+            "iepf" => build(name, self.iepf.as_ref(), IepfToml::apply, Iepf::new),
+            "incremental" => build(
+                name,
+                self.incremental.as_ref(),
+                IncrementalToml::apply,
+                Incremental::new,
+            ),
+            "line-regression" => build(
+                name,
+                self.line_regression.as_ref(),
+                LineRegressionToml::apply,
+                LineRegression::new,
+            ),
+            "ransac" => build(name, self.ransac.as_ref(), RansacToml::apply, Ransac::new),
+            "em" => build(name, self.em.as_ref(), EmToml::apply, Em::new),
+            other => bail!(
+                "unknown algorithm {other:?}: expected one of {}",
+                extractors::ALGORITHMS.join(", ")
+            ),
+        }
     }
 }
 
@@ -125,5 +367,84 @@ mod tests {
         assert!(toml::from_str::<ParamsFile>("[hough-split]\nring_stp = 1.0\n").is_err());
         let bad: ParamsFile = toml::from_str("[hough-split]\nring_step = -1.0\n").unwrap();
         assert!(bad.hough_split().is_err());
+    }
+
+    /// `key = value` lines for every field of a params struct, from its `Debug` form.
+    fn every_field(debug: &str) -> String {
+        let inner = &debug[debug.find('{').unwrap() + 1..debug.rfind('}').unwrap()];
+        let mut out = String::new();
+        for item in inner.split(", ") {
+            let (k, v) = item.trim().split_once(": ").unwrap();
+            let v = match v {
+                "None" => continue,
+                "One" => "\"one\"".to_string(),
+                "Range" => "\"range\"".to_string(),
+                v => v.to_string(),
+            };
+            out.push_str(&format!("{k} = {v}\n"));
+        }
+        out
+    }
+
+    #[test]
+    fn every_field_of_every_params_struct_is_a_key() {
+        let tables = [
+            (
+                "iterative-hough",
+                format!("{:?}", IterativeHoughParams::default()),
+            ),
+            (
+                "split-and-merge",
+                format!("{:?}", SplitAndMergeParams::default()),
+            ),
+            ("iepf", format!("{:?}", IepfParams::default())),
+            ("incremental", format!("{:?}", IncrementalParams::default())),
+            (
+                "line-regression",
+                format!("{:?}", LineRegressionParams::default()),
+            ),
+            ("ransac", format!("{:?}", RansacParams::default())),
+            ("em", format!("{:?}", EmParams::default())),
+        ];
+        for (name, debug) in tables {
+            let text = format!(
+                "[{name}]\n{}range_limits = [0.1, 2.0]\n",
+                every_field(&debug)
+            );
+            let f: ParamsFile =
+                toml::from_str(&text).unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
+            assert!(f.has(name));
+            let e = f.extractor(name).unwrap();
+            assert_eq!(e.name(), name);
+            let bad = format!("[{name}]\nno_such_key = 1\n");
+            assert!(toml::from_str::<ParamsFile>(&bad).is_err(), "{name}");
+        }
+        assert!(toml::from_str::<ParamsFile>("[no-such-algorithm]\n").is_err());
+    }
+
+    #[test]
+    fn tables_override_defaults_and_bad_values_are_errors() {
+        let f: ParamsFile = toml::from_str(
+            "[iterative-hough]\nweight = \"range\"\nmin_votes = 3.0\n[ransac]\nseed = 7\n",
+        )
+        .unwrap();
+        let t = f.iterative_hough.as_ref().unwrap();
+        let mut p = IterativeHoughParams::default();
+        t.apply(&mut p);
+        assert_eq!(p.weight, Weight::Range);
+        assert_eq!(p.min_votes, 3.0);
+        let mut r = RansacParams::default();
+        f.ransac.as_ref().unwrap().apply(&mut r);
+        assert_eq!(r.seed, 7);
+        assert_eq!(r.iterations, RansacParams::default().iterations);
+        // No table: defaults.
+        assert!(f.extractor("em").is_ok());
+        let bad: ParamsFile = toml::from_str("[em]\ninlier_probability = 2.0\n").unwrap();
+        let err = format!("{:#}", bad.extractor("em").err().unwrap());
+        assert!(
+            err.contains("[em]") && err.contains("inlier_probability"),
+            "{err}"
+        );
+        assert!(f.extractor("nope").is_err());
     }
 }

@@ -1,6 +1,7 @@
 //! One module per subcommand, plus what they share.
 
 pub mod convert;
+pub mod bench;
 pub mod demo;
 pub mod extract;
 pub mod render;
@@ -9,7 +10,7 @@ pub mod view;
 
 use std::path::Path;
 
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Context, Result, anyhow};
 use laserlines::{HoughSplit, LineExtractor};
 use laserlines_io::{Format, ScanReader};
 
@@ -17,7 +18,7 @@ use crate::InputArgs;
 use crate::params::ParamsFile;
 
 /// The algorithms `--algorithm` accepts.
-pub const ALGORITHMS: &[&str] = &["hough-split"];
+pub use laserlines::extractors::ALGORITHMS;
 
 /// Opens the input of a command.
 pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
@@ -38,7 +39,8 @@ pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
     Ok(laserlines_io::open_with(&input.input, &options)?)
 }
 
-/// The extractor named `algorithm`, with parameters from `params` when given.
+/// The extractor named `algorithm` (one of [`ALGORITHMS`]), with parameters from its table
+/// in `params` when given.
 pub fn make_extractor(
     algorithm: &str,
     params: Option<&Path>,
@@ -47,18 +49,7 @@ pub fn make_extractor(
         Some(p) => ParamsFile::load(p)?,
         None => ParamsFile::default(),
     };
-    match algorithm {
-        "hough-split" => Ok(Box::new(HoughSplit::new(file.hough_split()?)?)),
-        other => {
-            if params.is_some() && !file.has(other) {
-                bail!("the params file has no [{other}] table");
-            }
-            bail!(
-                "unknown algorithm {other:?}: expected one of {}",
-                ALGORITHMS.join(", ")
-            )
-        }
-    }
+    file.extractor(algorithm)
 }
 
 /// A HoughSplit extractor with parameters from `params` when given.

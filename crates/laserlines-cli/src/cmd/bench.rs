@@ -1,0 +1,279 @@
+//! `laserlines bench`: every selected extractor on the same scans, in one process; accuracy
+//! against ground truth (simulated suites) or coverage (real logs), and speed. `--tune`
+//! chooses an extractor's parameters on a training suite instead.
+
+use std::fs;
+use std::io::{self, IsTerminal};
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, anyhow, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use laserlines::LineExtractor;
+use laserlines_eval::{
+    BenchOptions, BenchReport, BenchScan, DEFAULT_SCANS_PER_SUITE, SENSORS, SpeedRatio, TEST_SEED,
+    TRAIN_SEED, plain_scans, sensor, suite_scans,
+};
+use laserlines_render::ScatterChart;
+use serde::Serialize;
+
+use super::ALGORITHMS;
+use crate::params::ParamsFile;
+
+/// The extractor whose speed the paper claims, and the baseline it compares with.
+const FAST: &str = "hough-split";
+const BASELINE: &str = "iterative-hough";
+
+/// Arguments of `laserlines bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Simulated scene suite with ground truth: rooms, corridors, maze, boxes, clutter,
+    /// glancing, far, or all (the default when no --data is given).
+    #[arg(long, conflicts_with = "data")]
+    suite: Option<String>,
+    /// Real logs to run on instead (any format `extract` reads); no ground truth.
+    #[arg(long, num_args = 1..)]
+    data: Vec<PathBuf>,
+    /// Extractors to compare: `all` or a comma-separated list of names.
+    #[arg(long, default_value = "all")]
+    algorithms: String,
+    /// Scans per suite (simulated), or at most this many scans per log (default: all).
+    #[arg(long)]
+    scans: Option<usize>,
+    /// Seed of the simulated suites (default: the test seed, 2; with --tune the training
+    /// seed, 1).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Simulated sensor: urg04lx, or urg04lx-artefacts (mixed pixels and dropouts).
+    #[arg(long, default_value = "urg04lx")]
+    sensor: String,
+    /// Timed extractions of each scan by each extractor; the fastest counts.
+    #[arg(long, default_value_t = 1)]
+    repeat: usize,
+    /// TOML file of parameters (one table per algorithm), as for `extract`.
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// Output folder for results.json, results.csv and accuracy-speed.svg.
+    #[arg(short, long, default_value = "laserlines-bench")]
+    output: PathBuf,
+    /// Instead of comparing, choose ALGORITHM's parameters on the suite (coordinate search
+    /// maximising F1) and print them as a params-file table.
+    #[arg(long, value_name = "ALGORITHM", conflicts_with = "data")]
+    tune: Option<String>,
+}
+
+/// Runs the command.
+pub fn run(args: &BenchArgs) -> Result<()> {
+    if let Some(algorithm) = &args.tune {
+        return tune(args, algorithm);
+    }
+    let names = selected(&args.algorithms)?;
+    let file = match &args.params {
+        Some(p) => ParamsFile::load(p)?,
+        None => ParamsFile::default(),
+    };
+    if let Some(p) = &args.params {
+        for name in names.iter().filter(|n| !file.has(n)) {
+            eprintln!("{}: no [{name}] table, defaults used", p.display());
+        }
+    }
+    let mut extractors: Vec<Box<dyn LineExtractor + Send>> = names
+        .iter()
+        .map(|n| file.extractor(n))
+        .collect::<Result<_>>()?;
+    let (source, scans) = load_scans(args, args.seed.unwrap_or(TEST_SEED))?;
+    if scans.is_empty() {
+        bail!("no scans to run on ({source})");
+    }
+    let progress = progress_bar(scans.len() as u64);
+    let options = BenchOptions {
+        repeat: args.repeat.max(1),
+        ..BenchOptions::default()
+    };
+    let report = laserlines_eval::run(&source, &scans, &mut extractors, &options, &mut |k| {
+        progress.set_position(k as u64)
+    });
+    progress.finish_and_clear();
+
+    println!("{source}\n");
+    print!("{}", report.to_markdown());
+    let ratio = report.speed_ratio(FAST, BASELINE);
+    println!();
+    match (ratio, report.get(FAST), report.get(BASELINE)) {
+        (Some(r), Some(f), Some(b)) => println!(
+            "{FAST} is {:.1} times faster than {BASELINE} in this run (median {:.1} us vs {:.0} us per scan; median of per-scan ratios {:.1}), one thread.",
+            r.of_medians,
+            f.speed.median_us_per_scan,
+            b.speed.median_us_per_scan,
+            r.median_of_ratios
+        ),
+        _ => println!("speed ratio {FAST} / {BASELINE}: not measured (select both to measure it)"),
+    }
+    write_outputs(&args.output, &report, ratio)?;
+    eprintln!(
+        "wrote {}, {} and {}",
+        args.output.join("results.json").display(),
+        args.output.join("results.csv").display(),
+        args.output.join("accuracy-speed.svg").display()
+    );
+    Ok(())
+}
+
+/// The algorithm names of `--algorithms`.
+fn selected(list: &str) -> Result<Vec<String>> {
+    if list.trim() == "all" {
+        return Ok(ALGORITHMS.iter().map(|s| (*s).to_string()).collect());
+    }
+    let mut out: Vec<String> = Vec::new();
+    for name in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        if !ALGORITHMS.contains(&name) {
+            bail!(
+                "unknown algorithm {name:?}: expected all or a comma-separated list of {}",
+                ALGORITHMS.join(", ")
+            );
+        }
+        if !out.iter().any(|o| o == name) {
+            out.push(name.to_string());
+        }
+    }
+    if out.is_empty() {
+        bail!("--algorithms: no algorithm given");
+    }
+    Ok(out)
+}
+
+/// The scans to run on and a description of them.
+fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
+    if args.data.is_empty() {
+        let suite = args.suite.as_deref().unwrap_or("all");
+        let model = sensor(&args.sensor).ok_or_else(|| {
+            anyhow!(
+                "unknown sensor {:?}: expected one of {}",
+                args.sensor,
+                SENSORS.join(", ")
+            )
+        })?;
+        let count = args.scans.unwrap_or(DEFAULT_SCANS_PER_SUITE);
+        let scans = suite_scans(suite, seed, count, &model)?;
+        let source = format!(
+            "suite {suite}, seed {seed}, {count} scans per suite, sensor {}",
+            args.sensor
+        );
+        return Ok((source, scans));
+    }
+    let mut all = Vec::new();
+    let mut parts = Vec::new();
+    for path in &args.data {
+        let reader = laserlines_io::open(path, None)?;
+        let limit = args.scans.unwrap_or(usize::MAX);
+        let mut scans = Vec::new();
+        for record in reader.take(limit) {
+            scans.push(record?.scan);
+        }
+        let group = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        parts.push(format!("{group} ({} scans)", scans.len()));
+        all.extend(plain_scans(&group, scans));
+    }
+    Ok((format!("data: {}", parts.join(", ")), all))
+}
+
+fn progress_bar(len: u64) -> ProgressBar {
+    if io::stderr().is_terminal() {
+        let pb = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+        pb.set_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} scans {elapsed} (eta {eta})")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        pb
+    } else {
+        ProgressBar::hidden()
+    }
+}
+
+/// The JSON document: the report and the measured speed ratio.
+#[derive(Serialize)]
+struct JsonOutput<'a> {
+    #[serde(flatten)]
+    report: &'a BenchReport,
+    /// How many times faster hough-split is than iterative-hough in this run.
+    hough_split_vs_iterative_hough: Option<SpeedRatio>,
+}
+
+fn write(path: &Path, text: &str) -> Result<()> {
+    fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+}
+
+fn write_outputs(dir: &Path, report: &BenchReport, ratio: Option<SpeedRatio>) -> Result<()> {
+    fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let json = serde_json::to_string_pretty(&JsonOutput {
+        report,
+        hough_split_vs_iterative_hough: ratio,
+    })?;
+    write(&dir.join("results.json"), &(json + "\n"))?;
+    write(&dir.join("results.csv"), &report.to_csv())?;
+    write(&dir.join("accuracy-speed.svg"), &chart(report).to_svg())
+}
+
+/// Accuracy against speed, one point per extractor, log-scale time.
+fn chart(report: &BenchReport) -> ScatterChart {
+    let truth = report.overall.iter().all(|m| m.truth.is_some());
+    let y_label = if truth {
+        "F1 of TP rate and 1 - FP rate [%]"
+    } else {
+        "valid points explained by lines [%]"
+    };
+    let mut c = ScatterChart::new(
+        format!("Accuracy against speed ({})", report.source),
+        "median time per scan [us], one thread (log scale)",
+        y_label,
+    );
+    c.log_x = true;
+    for m in &report.overall {
+        let y = match m.truth {
+            Some(t) if truth => t.f1,
+            _ => m.explained_fraction,
+        };
+        c.add(m.speed.median_us_per_scan, 100.0 * y, m.algorithm.clone());
+    }
+    c
+}
+
+/// `--tune`: the coordinate search on the training suite.
+fn tune(args: &BenchArgs, algorithm: &str) -> Result<()> {
+    if !ALGORITHMS.contains(&algorithm) {
+        bail!(
+            "unknown algorithm {algorithm:?}: expected one of {}",
+            ALGORITHMS.join(", ")
+        );
+    }
+    let (source, scans) = load_scans(args, args.seed.unwrap_or(TRAIN_SEED))?;
+    eprintln!("tuning {algorithm} on {source}");
+    let result = laserlines_eval::tune(
+        algorithm,
+        &scans,
+        &BenchOptions::default().matching,
+        &mut |line| eprintln!("  {line}"),
+    )?;
+    let (a, b) = (&result.start_metrics, &result.chosen_metrics);
+    println!(
+        "# {algorithm} tuned on {source}: {} parameter sets evaluated",
+        result.evaluations
+    );
+    println!(
+        "# F1 {:.4} -> {:.4}, TP rate {:.4} -> {:.4}, FP rate {:.4} -> {:.4}",
+        a.f1,
+        b.f1,
+        a.true_positive_rate,
+        b.true_positive_rate,
+        a.false_positive_rate,
+        b.false_positive_rate
+    );
+    for (from, to) in result.changed() {
+        println!("# {}: {} -> {}", to.name, from.value, to.value);
+    }
+    print!("{}", result.to_toml());
+    Ok(())
+}
