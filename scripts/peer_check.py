@@ -19,8 +19,9 @@ Written by other tools, read by laserlines:
   mcap writer (ros1msg schema, lz4 chunks).
 - foxglove.mcap: foxglove.LaserScan written by mcap-protobuf-support (zstd chunks), from a
   descriptor built here from the published schema.
-- ros1.bag, ros2 bag directory (rosbag2 with sqlite3 storage): written with rosbags for the
-  bag readers of laserlines-io, checked when `laserlines convert` reads them.
+- ros1.bag (laserlines-io's bag reader), a ROS 2 bag directory in MCAP storage (read by
+  laserlines-foxglove) and one in sqlite3 storage (not read: reported and skipped), all
+  written with rosbags, checked when `laserlines convert` reads them.
 
 Written by laserlines, read by other tools: `laserlines convert scans.jsonl out.mcap` and
 `laserlines extract scans.jsonl -o out.mcap` read back with mcap + mcap-protobuf-support:
@@ -286,6 +287,19 @@ def write_ros1_bag(path):
             w.write(c, stamp_ns(s), ts.serialize_ros1(ros_msg(ts, s, True), "sensor_msgs/msg/LaserScan"))
 
 
+def write_ros2_mcap_bag(path):
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    ts = get_typestore(Stores.ROS2_HUMBLE)
+    if path.exists():
+        shutil.rmtree(path)
+    with Writer(path, version=9, storage_plugin=StoragePlugin.MCAP) as w:
+        c = w.add_connection("/scan", "sensor_msgs/msg/LaserScan", typestore=ts)
+        for s in scans(0):
+            w.write(c, stamp_ns(s), ts.serialize_cdr(ros_msg(ts, s, False), "sensor_msgs/msg/LaserScan"))
+
+
 def write_ros2_sqlite_bag(path):
     from rosbags.rosbag2 import Writer
     from rosbags.typesys import Stores, get_typestore
@@ -477,8 +491,14 @@ def check_writer(bin_, fails, tmp):
 
 
 def check_bags(bin_, fails, tmp):
-    """Bags written by rosbags, read by laserlines-io's bag readers when they take them."""
-    for name, writer in (("ros1.bag", write_ros1_bag), ("ros2_sqlite_bag", write_ros2_sqlite_bag)):
+    """Bags written by rosbags: ROS 1 (laserlines-io), ROS 2 directories (MCAP storage: read;
+    sqlite3 storage: reported as not read)."""
+    bags = (
+        ("ros1.bag", write_ros1_bag),
+        ("ros2_mcap_bag", write_ros2_mcap_bag),
+        ("ros2_sqlite_bag", write_ros2_sqlite_bag),
+    )
+    for name, writer in bags:
         path = tmp / name
         writer(path)
         out = tmp / f"{name}.jsonl"

@@ -836,14 +836,38 @@ impl ScanSource for McapScanSource {
 /// Opens an MCAP file (gzipped or not; `-` reads standard input) as a streaming
 /// [`ScanReader`] of the LaserScans of one topic.
 ///
+/// A directory is read as a ROS 2 bag with MCAP storage: its `.mcap` files one after the
+/// other, in name order (`bag_0.mcap`, `bag_1.mcap`, ...), on the topic the first file
+/// settles.
+///
 /// # Errors
-/// [`ReadError::Open`] when the file cannot be opened. Everything else (a bad magic, a
-/// missing topic, corrupt records) comes out of the reader as error items.
+/// [`ReadError::Open`] when the file cannot be opened, or the directory cannot be listed or
+/// holds no `.mcap` file. Everything else (a bad magic, a missing topic, corrupt records)
+/// comes out of the reader as error items.
 pub fn open(path: &Path, options: &McapReadOptions) -> Result<ScanReader, ReadError> {
     let name = path.display().to_string();
     if path == Path::new("-") {
         return from_reader(&name, BufReader::new(io::stdin()), options);
     }
+    if path.is_dir() {
+        let files = bag_files(path)?;
+        let source = McapFilesSource {
+            files: files.into(),
+            current: None,
+            options: options.clone(),
+        };
+        return Ok(ScanReader::from_source(
+            &name,
+            Format::Mcap,
+            Box::new(source),
+        ));
+    }
+    let (file_name, input) = open_file(path)?;
+    Ok(reader_for(&file_name, input, options))
+}
+
+fn open_file(path: &Path) -> Result<(String, Input), ReadError> {
+    let name = path.display().to_string();
     let file = File::open(path).map_err(|source| ReadError::Open {
         file: name.clone(),
         source,
@@ -854,7 +878,71 @@ pub fn open(path: &Path, options: &McapReadOptions) -> Result<ScanReader, ReadEr
         .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     let input =
         laserlines_io::open_input(&name, Box::new(BufReader::with_capacity(1 << 16, file)), gz)?;
-    Ok(reader_for(&name, input, options))
+    Ok((name, input))
+}
+
+/// The `.mcap` files of a ROS 2 bag directory, in name order.
+fn bag_files(dir: &Path) -> Result<Vec<std::path::PathBuf>, ReadError> {
+    let name = dir.display().to_string();
+    let open_error = |source| ReadError::Open {
+        file: name.clone(),
+        source,
+    };
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir).map_err(open_error)? {
+        let path = entry.map_err(open_error)?.path();
+        let is_mcap = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
+        if is_mcap && path.is_file() {
+            files.push(path);
+        }
+    }
+    files.sort();
+    if files.is_empty() {
+        return Err(open_error(io::Error::new(
+            io::ErrorKind::NotFound,
+            "a directory is read as a ROS 2 bag with MCAP storage, but this one holds no .mcap \
+             file (bags in sqlite3 storage can be converted with `ros2 bag convert`)",
+        )));
+    }
+    Ok(files)
+}
+
+/// The files of a ROS 2 bag, read one after the other.
+struct McapFilesSource {
+    files: VecDeque<std::path::PathBuf>,
+    current: Option<McapScanSource>,
+    options: McapReadOptions,
+}
+
+impl ScanSource for McapFilesSource {
+    fn next_record(&mut self, skipped: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
+        loop {
+            if self.current.is_none() {
+                let path = self.files.pop_front()?;
+                match open_file(&path) {
+                    Ok((name, input)) => {
+                        self.current =
+                            Some(McapScanSource::new(&name, input, self.options.clone()));
+                    }
+                    Err(e) => return Some(Err(e)),
+                }
+            }
+            let current = self.current.as_mut()?;
+            match current.next_record(skipped) {
+                Some(item) => return Some(item),
+                None => {
+                    // Later files read the topic this one settled.
+                    if self.options.topic.is_none() {
+                        self.options.topic.clone_from(&current.topic);
+                    }
+                    self.current = None;
+                }
+            }
+        }
+    }
 }
 
 /// Reads MCAP from any buffered reader; `name` is used in messages. Gzip input is

@@ -135,3 +135,28 @@ fn a_topic_that_is_not_a_laserscan_is_an_error() {
     assert!(e.contains("topic /note"), "{e}");
     assert!(e.contains("std_msgs/msg/String messages"), "{e}");
 }
+
+#[test]
+fn a_ros2_bag_directory_reads_its_mcap_files_in_name_order() {
+    let dir = std::env::temp_dir().join(format!("laserlines-bag-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let src = fixtures().join("ros2_laserscan.mcap");
+    std::fs::copy(&src, dir.join("bag_0.mcap")).unwrap();
+    std::fs::copy(&src, dir.join("bag_1.mcap")).unwrap();
+    std::fs::write(
+        dir.join("metadata.yaml"),
+        "rosbag2_bagfile_information: {}\n",
+    )
+    .unwrap();
+    let mut reader = read::open(&dir, &McapReadOptions::default()).unwrap();
+    let scans: Vec<_> = reader.by_ref().collect::<Result<_, _>>().unwrap();
+    assert_eq!(scans.len(), 6);
+    assert_eq!(scans[0].scan.ranges.len(), 7);
+    assert_eq!(scans[3].scan.ranges.len(), 7);
+    assert_eq!(reader.skipped().get(read::SKIP_OTHER_TOPIC), 6);
+    std::fs::remove_file(dir.join("bag_0.mcap")).unwrap();
+    std::fs::remove_file(dir.join("bag_1.mcap")).unwrap();
+    let e = read::open(&dir, &McapReadOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("holds no .mcap file"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

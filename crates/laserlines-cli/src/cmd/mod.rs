@@ -1,7 +1,7 @@
 //! One module per subcommand, plus what they share.
 
-pub mod convert;
 pub mod bench;
+pub mod convert;
 pub mod demo;
 pub mod extract;
 pub mod render;
@@ -31,7 +31,12 @@ pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
         })?),
         None => None,
     };
-    if format.or_else(|| Format::from_path(&input.input)) == Some(Format::Mcap) {
+    // MCAP files, and directories (ROS 2 bags in MCAP storage), are read by laserlines-foxglove.
+    let mcap = match format {
+        Some(f) => f == Format::Mcap,
+        None => input.input.is_dir() || Format::from_path(&input.input) == Some(Format::Mcap),
+    };
+    if mcap {
         let options = laserlines_foxglove::McapReadOptions::topic(input.topic.as_deref());
         return Ok(laserlines_foxglove::read::open(&input.input, &options)?);
     }
