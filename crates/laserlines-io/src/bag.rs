@@ -15,7 +15,8 @@
 //! | `0x06` | chunk info | skipped |
 //!
 //! **Streaming, without the index.** The reader walks the records front to back, one chunk in
-//! memory at a time (at most [`MAX_CHUNK_BYTES`] compressed and decompressed), so memory stays
+//! memory at a time (at most [`BagOptions::max_chunk_bytes`], by default [`MAX_CHUNK_BYTES`],
+//! compressed and decompressed), so memory stays
 //! flat on long bags, and it reads from any stream (standard input, gzip). It never uses the
 //! index section or the `index_pos` of the bag header, which are wrong in some real bags: the
 //! `demo.bag` of the CCNY `scan_tools` declares index data records of `20 * count` bytes while
@@ -56,7 +57,8 @@ use std::io::{self, Read};
 use laserlines::Scan;
 
 use crate::error::{ReadError, SourcePos};
-use crate::reader::{Input, ScanSource};
+use crate::format::Format;
+use crate::reader::{Input, ScanReader, ScanSource, open_input};
 use crate::record::ScanRecord;
 use crate::skip::SkipCounts;
 
@@ -64,8 +66,8 @@ use crate::skip::SkipCounts;
 pub const MAGIC: &[u8; 13] = b"#ROSBAG V2.0\n";
 /// The connection `type` of the messages read.
 pub const LASER_SCAN_TYPE: &str = "sensor_msgs/LaserScan";
-/// Largest chunk read, compressed or decompressed, bytes (also the largest message outside a
-/// chunk). ROS writes chunks of 768 KiB by default.
+/// Default largest chunk read, compressed or decompressed, bytes (also the largest message
+/// outside a chunk). ROS writes chunks of 768 KiB by default.
 pub const MAX_CHUNK_BYTES: u64 = 256 << 20;
 /// Largest record header or connection record data read, bytes.
 pub const MAX_HEADER_BYTES: u64 = 16 << 20;
@@ -81,6 +83,42 @@ pub const SKIP_UNKNOWN_CONNECTION: &str = "message on an undeclared connection";
 pub const SKIP_UNKNOWN_RECORD: &str = "record of an unknown or misplaced op";
 /// Counted (the scan itself is kept) when a LaserScan's intensities are not one per range.
 pub const SKIP_BAD_INTENSITIES: &str = "intensities dropped (not one per range)";
+
+/// How to read a bag.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct BagOptions {
+    /// The topic to read; `None` reads the topic of the first LaserScan connection.
+    pub topic: Option<String>,
+    /// Largest chunk (compressed or decompressed) or message read, bytes; a larger one is an
+    /// error and is skipped. Default [`MAX_CHUNK_BYTES`].
+    pub max_chunk_bytes: u64,
+}
+
+impl Default for BagOptions {
+    fn default() -> Self {
+        Self {
+            topic: None,
+            max_chunk_bytes: MAX_CHUNK_BYTES,
+        }
+    }
+}
+
+/// Reads the LaserScans of a bag from any buffered reader (gzip recognised by its magic
+/// bytes), with these options. [`crate::from_reader_with`] does the same with the default
+/// chunk limit.
+///
+/// # Errors
+/// [`ReadError::Open`] when the first bytes cannot be read; everything else comes out of
+/// the reader as error items.
+pub fn from_reader(
+    name: &str,
+    reader: impl std::io::BufRead + Send + 'static,
+    options: &BagOptions,
+) -> Result<ScanReader, ReadError> {
+    let input = open_input(name, Box::new(reader), false)?;
+    let source = BagSource::with_options(name, input, options);
+    Ok(ScanReader::from_source(name, Format::Bag, Box::new(source)))
+}
 
 /// Record op codes.
 mod op {
@@ -338,6 +376,7 @@ impl Counted {
 
 /// Reads a ROS 1 bag.
 pub(crate) struct BagSource {
+    max_chunk_bytes: u64,
     name: String,
     input: Counted,
     chunk: Option<Chunk>,
@@ -365,14 +404,23 @@ struct State {
 
 impl BagSource {
     pub(crate) fn new(name: &str, input: Input, topic: Option<&str>) -> Self {
+        let options = BagOptions {
+            topic: topic.map(str::to_owned),
+            ..BagOptions::default()
+        };
+        Self::with_options(name, input, &options)
+    }
+
+    fn with_options(name: &str, input: Input, options: &BagOptions) -> Self {
         Self {
+            max_chunk_bytes: options.max_chunk_bytes,
             name: name.to_owned(),
             input: Counted { input, pos: 0 },
             chunk: None,
             state: State {
                 name: name.to_owned(),
                 connections: HashMap::new(),
-                requested: topic.map(str::to_owned),
+                requested: options.topic.clone(),
                 chosen: None,
             },
             started: false,
@@ -547,12 +595,13 @@ impl BagSource {
                 Ok(result.err().map(Err))
             }
             op::MESSAGE_DATA => {
-                if data_len > MAX_CHUNK_BYTES {
+                let max = self.max_chunk_bytes;
+                if data_len > max {
                     self.skip_data(start, data_len, "message data")?;
                     return Ok(Some(Err(loc.error(
                         &self.name,
                         Bad::new(
-                            format!("a message of at most {MAX_CHUNK_BYTES} bytes"),
+                            format!("a message of at most {max} bytes"),
                             format!("{data_len} bytes"),
                         ),
                     ))));
@@ -606,9 +655,10 @@ impl BagSource {
         size: Option<u32>,
     ) -> Result<Option<Result<ScanRecord, ReadError>>, ReadError> {
         let loc = Loc::File(start);
+        let max = self.max_chunk_bytes;
         let too_big = |what: &str, len: u64| {
             Bad::new(
-                format!("a chunk of at most {MAX_CHUNK_BYTES} bytes"),
+                format!("a chunk of at most {max} bytes"),
                 format!("{len} bytes {what}"),
             )
         };
@@ -618,10 +668,10 @@ impl BagSource {
                 "none",
             )),
             (_, None) => Err(Bad::new("a `size` field in the chunk header", "none")),
-            (_, Some(size)) if u64::from(size) > MAX_CHUNK_BYTES => {
+            (_, Some(size)) if u64::from(size) > max => {
                 Err(too_big("decompressed", u64::from(size)))
             }
-            _ if data_len > MAX_CHUNK_BYTES => Err(too_big("compressed", data_len)),
+            _ if data_len > max => Err(too_big("compressed", data_len)),
             (Some(b"none"), Some(size)) => Ok(("none", size)),
             (Some(b"bz2"), Some(size)) => Ok(("bz2", size)),
             (Some(b"lz4"), Some(size)) => Ok(("lz4", size)),

@@ -419,3 +419,26 @@ fn demo_bag_gives_all_360_scans_despite_its_wrong_index_lengths() {
     assert_eq!(skipped, "none");
     check_demo(&records);
 }
+
+#[test]
+fn chunks_over_the_limit_are_errors_and_skipped() {
+    use laserlines_io::bag::{BagOptions, from_reader};
+    let bytes = fixture("laserscans_bz2.bag");
+    let options = BagOptions {
+        max_chunk_bytes: 1000,
+        ..BagOptions::default()
+    };
+    let reader = from_reader("t.bag", Cursor::new(bytes.clone()), &options).unwrap();
+    let items: Vec<_> = reader.collect();
+    let (scans, errors) = scans_and_errors(&items);
+    assert_eq!(scans, 0);
+    // Four chunks over the limit (1103 .. 2133 bytes decompressed); the connection records
+    // of the index section still name the LaserScan topic, so no error at the end.
+    assert_eq!(errors.len(), 4, "{errors:?}");
+    for (e, (at, _, _)) in errors.iter().zip(chunks(&bytes)) {
+        assert!(
+            e.starts_with(&format!("t.bag: byte {at}: expected a chunk of at most 1000 bytes")),
+            "{e}"
+        );
+    }
+}

@@ -1,0 +1,38 @@
+//! `encode_lines` gives the very bytes `LinesWriter::write_record` writes, so that callers may
+//! encode scans on other threads and write them in order.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, Scan};
+use laserlines_io::{LinesWriter, Pose2, ScanRecord, encode_lines};
+
+#[test]
+fn encoded_lines_equal_written_lines() {
+    let inc = 0.5_f64.to_radians();
+    let ranges = (0..181)
+        .map(|i| 2.0 / (-45.0_f64.to_radians() + f64::from(i) * inc).cos())
+        .collect();
+    let scan = Scan::new(-45.0_f64.to_radians(), inc, 0.02, 5.6, ranges).unwrap();
+    let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    let lines = hs.extract(&scan);
+    assert_eq!(lines.len(), 1);
+    let mut record = ScanRecord::new(scan);
+    for (k, (stamp, pose)) in [(None, None), (Some(12.5), Some(Pose2::new(1.0, -2.0, 0.5)))]
+        .into_iter()
+        .enumerate()
+    {
+        record.scan.stamp = stamp;
+        record.pose = pose;
+        let mut writer = LinesWriter::new(Vec::new());
+        writer.write_record(k as u64, &record, &lines).unwrap();
+        writer.write_record(k as u64 + 1, &record, &[]).unwrap();
+        let written = writer.finish().unwrap();
+        let mut encoded = Vec::new();
+        encode_lines(k as u64, &record, &lines, &mut encoded).unwrap();
+        encode_lines(k as u64 + 1, &record, &[], &mut encoded).unwrap();
+        assert_eq!(encoded, written);
+        let mut again = LinesWriter::new(Vec::new());
+        again.write_encoded(&encoded).unwrap();
+        assert_eq!(again.finish().unwrap(), written);
+    }
+}
