@@ -113,6 +113,7 @@ impl TruthTally {
             rms_dr_m: acc.rms_dr_m,
             rms_dalpha_rad: acc.rms_dalpha_rad,
             median_endpoint_error_m: acc.median_endpoint_error_m,
+            p90_endpoint_error_m: acc.p90_endpoint_error_m,
         }
     }
 }
@@ -144,6 +145,8 @@ pub struct TruthMetrics {
     pub rms_dalpha_rad: f64,
     /// Median distance between the end points of found pieces and of their lines, m.
     pub median_endpoint_error_m: f64,
+    /// 90th percentile of those distances, m.
+    pub p90_endpoint_error_m: f64,
 }
 
 /// Errors over a set of found pieces; add them up with [`Accuracy::add`].
@@ -193,6 +196,7 @@ impl Accuracy {
             rms_dr_m: rms(self.sum_sq_dr),
             rms_dalpha_rad: rms(self.sum_sq_dalpha),
             median_endpoint_error_m: median(&self.endpoint_errors).unwrap_or(0.0),
+            p90_endpoint_error_m: quantile(&self.endpoint_errors, 0.9).unwrap_or(0.0),
         }
     }
 }
@@ -208,6 +212,8 @@ pub struct AccuracyMetrics {
     pub rms_dalpha_rad: f64,
     /// Median end-point error, m.
     pub median_endpoint_error_m: f64,
+    /// 90th percentile of the end-point errors, m.
+    pub p90_endpoint_error_m: f64,
 }
 
 /// Speed of one extractor over a run (single thread, reused extractor and buffer).
@@ -327,6 +333,19 @@ impl BenchReport {
         }
         out
     }
+}
+
+/// The `q` quantile of `values` (`0 <= q <= 1`; the smallest value with at least a share `q`
+/// of the values at or below it), or `None` when empty. NaNs sort last.
+#[must_use]
+pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
+    if values.is_empty() {
+        return None;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let rank = (q.clamp(0.0, 1.0) * v.len() as f64).ceil() as usize;
+    v.get(rank.saturating_sub(1)).copied()
 }
 
 /// The median of `values` (mean of the middle two for an even count), or `None` when empty.

@@ -28,7 +28,7 @@
 //! - **RMS error of r and of alpha** over the found pieces (line minus piece);
 //! - **median end-point error**: the median, over both ends of every found piece, of the
 //!   distance between the line's end point and the piece's noise-free hit at its first or last
-//!   seen beam;
+//!   seen beam (and its 90th percentile, for the tails);
 //! - **lines per scan**.
 //!
 //! Since every extractor finds a somewhat different set of pieces, and hard pieces (far,
@@ -77,7 +77,7 @@ pub mod workload;
 
 pub use bench::{
     Accuracy, AccuracyMetrics, AlgorithmMetrics, BenchOptions, BenchReport, SpeedMetrics,
-    SpeedRatio, TruthMetrics, TruthTally, median, run, score,
+    SpeedRatio, TruthMetrics, TruthTally, median, quantile, run, score,
 };
 pub use coverage::{Coverage, ExplainParams};
 pub use matching::{MatchParams, Pair, ScanMatch, match_lines};

@@ -57,17 +57,18 @@ impl BenchReport {
             if let Some((_, c0)) = common.first() {
                 let _ = write!(
                     s,
-                    "\nErrors on the {} significant pieces that every extractor found:\n\n| algorithm | RMS dr [mm] | RMS dalpha [deg] | median end-point error [mm] |\n|---|---:|---:|---:|\n",
+                    "\nErrors on the {} significant pieces that every extractor found:\n\n| algorithm | RMS dr [mm] | RMS dalpha [deg] | median end-point error [mm] | 90 % of end-point errors below [mm] |\n|---|---:|---:|---:|---:|\n",
                     c0.pieces
                 );
                 for (m, c) in &common {
                     let _ = writeln!(
                         s,
-                        "| {} | {:.2} | {:.3} | {:.1} |",
+                        "| {} | {:.2} | {:.3} | {:.1} | {:.1} |",
                         m.algorithm,
                         c.rms_dr_m * 1e3,
                         c.rms_dalpha_rad.to_degrees(),
-                        c.median_endpoint_error_m * 1e3
+                        c.median_endpoint_error_m * 1e3,
+                        c.p90_endpoint_error_m * 1e3
                     );
                 }
             }
@@ -135,7 +136,7 @@ impl BenchReport {
     #[must_use]
     pub fn to_csv(&self) -> String {
         let mut s = String::from(
-            "group,algorithm,scans,lines,lines_per_scan,pieces,found,true_positive_rate,false_lines,false_positive_rate,on_wall_lines,f1,rms_dr_m,rms_dalpha_rad,median_endpoint_error_m,common_pieces,common_rms_dr_m,common_rms_dalpha_rad,common_median_endpoint_error_m,explained_fraction,residual_rms_m,median_us_per_scan,mean_us_per_scan,scans_per_second\n",
+            "group,algorithm,scans,lines,lines_per_scan,pieces,found,true_positive_rate,false_lines,false_positive_rate,on_wall_lines,f1,rms_dr_m,rms_dalpha_rad,median_endpoint_error_m,p90_endpoint_error_m,common_pieces,common_rms_dr_m,common_rms_dalpha_rad,common_median_endpoint_error_m,common_p90_endpoint_error_m,explained_fraction,residual_rms_m,median_us_per_scan,mean_us_per_scan,scans_per_second\n",
         );
         for m in self.overall.iter().chain(&self.by_group) {
             csv_row(&mut s, m);
@@ -171,15 +172,20 @@ fn csv_row(s: &mut String, m: &AlgorithmMetrics) {
             )
         },
     );
-    let endpoint = m
-        .truth
-        .map_or_else(String::new, |t| t.median_endpoint_error_m.to_string());
+    let endpoint = m.truth.map_or_else(
+        || ",".to_string(),
+        |t| format!("{},{}", t.median_endpoint_error_m, t.p90_endpoint_error_m),
+    );
     let common = m.common.map_or_else(
-        || ",,,".to_string(),
+        || ",,,,".to_string(),
         |c| {
             format!(
-                "{},{},{},{}",
-                c.pieces, c.rms_dr_m, c.rms_dalpha_rad, c.median_endpoint_error_m
+                "{},{},{},{},{}",
+                c.pieces,
+                c.rms_dr_m,
+                c.rms_dalpha_rad,
+                c.median_endpoint_error_m,
+                c.p90_endpoint_error_m
             )
         },
     );

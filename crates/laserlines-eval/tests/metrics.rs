@@ -9,7 +9,7 @@ use laserlines::math::{Matrix2, Point2};
 use laserlines::{Line, Scan};
 use laserlines_eval::{
     Coverage, ExpectedPiece, ExplainParams, MatchParams, SpeedMetrics, TruthTally, match_lines,
-    median,
+    median, quantile,
 };
 
 fn p(x: f64, y: f64) -> Point2 {
@@ -255,8 +255,9 @@ fn tallies_add_up_to_rates_rms_and_medians() {
     let rms = ((0.003f64.powi(2) + 0.004f64.powi(2)) / 2.0).sqrt();
     assert!((t.rms_dr_m - rms).abs() < 1e-9);
     assert!(t.rms_dalpha_rad < 1e-12);
-    // End-point errors 3, 3, 4, 4 mm: median 3.5 mm.
+    // End-point errors 3, 3, 4, 4 mm: median 3.5 mm, 90th percentile 4 mm.
     assert!((t.median_endpoint_error_m - 0.0035).abs() < 1e-9);
+    assert!((t.p90_endpoint_error_m - 0.004).abs() < 1e-9);
 }
 
 #[test]
@@ -264,6 +265,11 @@ fn medians_and_speed() {
     assert_eq!(median(&[]), None);
     assert_eq!(median(&[3.0, 1.0, 2.0]), Some(2.0));
     assert_eq!(median(&[4.0, 1.0, 2.0, 3.0]), Some(2.5));
+    let ten: Vec<f64> = (1..=10).map(f64::from).collect();
+    assert_eq!(quantile(&ten, 0.9), Some(9.0));
+    assert_eq!(quantile(&ten, 1.0), Some(10.0));
+    assert_eq!(quantile(&ten, 0.0), Some(1.0));
+    assert_eq!(quantile(&[], 0.5), None);
     let s = SpeedMetrics::of_times(&[10e-6, 30e-6, 20e-6, 40e-6]);
     assert!((s.median_us_per_scan - 25.0).abs() < 1e-9);
     assert!((s.mean_us_per_scan - 25.0).abs() < 1e-9);
