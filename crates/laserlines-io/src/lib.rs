@@ -65,9 +65,9 @@ pub use error::{At, ReadError, SourcePos, WriteError};
 pub use format::{Format, UnknownFormatName};
 pub use lines::{LineRecord, LinesReader, ScanLines};
 pub use reader::{
-    Input, ReadOptions, ScanReader, ScanSource, from_reader, from_reader_with, open, open_input,
-    open_with,
+    DeferredParse, Input, Pending, ReadOptions, ScanReader, ScanSource, from_reader,
+    from_reader_with, open, open_input, open_with,
 };
 pub use record::{Pose2, ScanRecord};
 pub use skip::SkipCounts;
-pub use writer::{LinesWriter, Output, ScanWriter, encode_lines};
+pub use writer::{LinesWriter, Output, ScanWriter, encode_unnumbered};

@@ -30,6 +30,47 @@ pub trait ScanSource: Send {
     /// record when the format allows it, or returns `None`. Records skipped by design (not
     /// returned as errors) are counted in `skipped`.
     fn next_record(&mut self, skipped: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>>;
+
+    /// The next item like [`ScanSource::next_record`], possibly left unparsed so that the
+    /// caller can parse it on another thread ([`Pending::parse`]). Formats whose parsing
+    /// costs much more than reading (CARMEN text) override it; the default parses at once.
+    /// [`Pending::parse`] must give exactly what `next_record` would have given.
+    fn next_pending(&mut self, skipped: &mut SkipCounts) -> Option<Pending> {
+        self.next_record(skipped).map(Pending::Ready)
+    }
+}
+
+/// A parser of one record that may run on any thread.
+pub type DeferredParse = Box<dyn FnOnce() -> Result<ScanRecord, ReadError> + Send>;
+
+/// An item of [`ScanReader::next_pending`]: a record (or error), or what parses it.
+pub enum Pending {
+    /// Parsed already.
+    Ready(Result<ScanRecord, ReadError>),
+    /// Read but not parsed: [`Pending::parse`] parses it, on any thread.
+    Deferred(DeferredParse),
+}
+
+impl Pending {
+    /// The record or error, parsing it now when it was deferred.
+    ///
+    /// # Errors
+    /// The error the format's parser gives for this record.
+    pub fn parse(self) -> Result<ScanRecord, ReadError> {
+        match self {
+            Self::Ready(item) => item,
+            Self::Deferred(parse) => parse(),
+        }
+    }
+}
+
+impl std::fmt::Debug for Pending {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Ready(item) => f.debug_tuple("Ready").field(item).finish(),
+            Self::Deferred(_) => f.write_str("Deferred"),
+        }
+    }
 }
 
 /// A streaming reader of scans: an iterator of records (or errors) that reads its input
@@ -90,10 +131,31 @@ impl ScanReader {
         &self.skipped
     }
 
-    /// Number of records returned so far (not counting errors).
+    /// Number of records returned so far (not counting errors, nor items of
+    /// [`ScanReader::next_pending`] that were left to parse).
     #[must_use]
     pub fn records(&self) -> u64 {
         self.records
+    }
+
+    /// The next item like [`Iterator::next`], but possibly still to parse, so that a caller can
+    /// parse records on several threads ([`Pending::parse`]) and keep them in input order.
+    ///
+    /// Errors of deferred items appear only when they are parsed: they are not in
+    /// [`ScanReader::skipped`], and [`ScanReader::records`] does not count deferred records.
+    /// The caller counts them (e.g. `skipped.add(e.reason())`, then [`SkipCounts::merge`]).
+    pub fn next_pending(&mut self) -> Option<Pending> {
+        if self.finished {
+            return None;
+        }
+        let pending = self.source.next_pending(&mut self.skipped);
+        match &pending {
+            None => self.finished = true,
+            Some(Pending::Ready(Ok(_))) => self.records += 1,
+            Some(Pending::Ready(Err(e))) => self.skipped.add(e.reason()),
+            Some(Pending::Deferred(_)) => {}
+        }
+        pending
     }
 }
 

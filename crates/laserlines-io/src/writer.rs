@@ -21,7 +21,7 @@ pub struct Output {
 
 enum OutputInner {
     Plain(BufWriter<File>),
-    Gzip(flate2::write::GzEncoder<BufWriter<File>>),
+    Gzip(Box<flate2::write::GzEncoder<BufWriter<File>>>),
     Stdout(BufWriter<io::Stdout>),
 }
 
@@ -47,10 +47,10 @@ impl Output {
         } else {
             let file = BufWriter::with_capacity(1 << 16, File::create(path)?);
             if has_gz_extension(path) {
-                OutputInner::Gzip(flate2::write::GzEncoder::new(
+                OutputInner::Gzip(Box::new(flate2::write::GzEncoder::new(
                     file,
                     flate2::Compression::default(),
-                ))
+                )))
             } else {
                 OutputInner::Plain(file)
             }
@@ -160,12 +160,22 @@ impl<W: Write> LinesWriter<W> {
         written.map_err(|e| self.io(e))
     }
 
-    /// Writes a line that [`encode_lines`] made (e.g. on another thread), as is.
+    /// Writes scan number `scan` from what [`encode_unnumbered`] made of it (e.g. on another
+    /// thread, before the scan's number was known): the same bytes as
+    /// [`LinesWriter::write_record`].
     ///
     /// # Errors
-    /// [`WriteError::Io`] when writing fails.
-    pub fn write_encoded(&mut self, encoded: &[u8]) -> Result<(), WriteError> {
-        self.out.write_all(encoded).map_err(|e| self.io(e))
+    /// [`WriteError::Io`] when writing fails, or when `unnumbered` does not start with `{`.
+    pub fn write_numbered(&mut self, scan: u64, unnumbered: &[u8]) -> Result<(), WriteError> {
+        let Some(rest) = unnumbered.strip_prefix(b"{") else {
+            return Err(self.io(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "not an object made by encode_unnumbered",
+            )));
+        };
+        write!(self.out, "{{\"scan\":{scan},")
+            .and_then(|()| self.out.write_all(rest))
+            .map_err(|e| self.io(e))
     }
 
     /// Writes the lines of scan number `scan`, taking the stamp and pose from its record.
@@ -191,26 +201,32 @@ impl<W: Write> LinesWriter<W> {
     }
 }
 
-/// Appends to `buf` the JSONL line (with its newline) that [`LinesWriter::write_record`]
-/// writes for scan number `scan`, so that callers can encode scans in parallel and write the
-/// bytes in order with [`LinesWriter::write_encoded`].
+/// Appends to `buf` the JSONL line of a scan without its number, `{"stamp":..,"pose":..,
+/// "lines":[..]}` and a newline, for [`LinesWriter::write_numbered`]: so that callers encode
+/// scans on several threads before knowing which number each gets (bad records skipped
+/// before it do not count), and write them in order.
 ///
 /// # Errors
 /// An error of the JSON encoder (none is expected for these types).
-pub fn encode_lines(
-    scan: u64,
-    record: &ScanRecord,
-    lines: &[Line],
-    buf: &mut Vec<u8>,
-) -> io::Result<()> {
-    encode_scan_lines(
-        scan,
-        record.scan.stamp,
-        record.pose,
-        lines,
-        &mut Vec::new(),
-        buf,
-    )
+pub fn encode_unnumbered(record: &ScanRecord, lines: &[Line], buf: &mut Vec<u8>) -> io::Result<()> {
+    /// [`ScanLines`] without `scan`.
+    #[derive(serde::Serialize)]
+    struct Unnumbered<'a> {
+        #[serde(skip_serializing_if = "Option::is_none")]
+        stamp: Option<f64>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        pose: Option<Pose2>,
+        lines: &'a [LineRecord],
+    }
+    let records: Vec<LineRecord> = lines.iter().map(LineRecord::from).collect();
+    let object = Unnumbered {
+        stamp: record.scan.stamp,
+        pose: record.pose,
+        lines: &records,
+    };
+    serde_json::to_writer(&mut *buf, &object).map_err(io::Error::other)?;
+    buf.push(b'\n');
+    Ok(())
 }
 
 fn encode_scan_lines(

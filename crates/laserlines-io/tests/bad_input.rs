@@ -311,12 +311,16 @@ fn truncated_gzip_is_a_read_error_naming_the_line_and_ends_the_reader() {
     let cut = gz[..gz.len() * 2 / 3].to_vec();
     let mut reader = from_reader("cut.dat.gz", Cursor::new(cut), Format::BreezyDat).unwrap();
     let items: Vec<String> = reader.by_ref().map(describe).collect();
-    assert_eq!(items.len(), 1, "{items:?}");
+    // How much of a cut stream inflates before the error depends on the inflater's buffering:
+    // whole lines before the cut come out, then one read error naming the line it stopped in.
+    let (last, before) = items.split_last().unwrap();
+    assert!(before.iter().all(|i| i.starts_with("ok ")), "{items:?}");
+    let line = before.len() + 1;
     assert!(
-        items[0].starts_with("cut.dat.gz:1: read failed: "),
-        "{}",
-        items[0]
+        last.starts_with(&format!("cut.dat.gz:{line}: read failed: ")),
+        "{items:?}"
     );
+    assert!(before.len() < 2, "{items:?}");
     assert_eq!(reader.skipped().to_string(), "1 read failed");
 }
 

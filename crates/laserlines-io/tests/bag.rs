@@ -437,7 +437,9 @@ fn chunks_over_the_limit_are_errors_and_skipped() {
     assert_eq!(errors.len(), 4, "{errors:?}");
     for (e, (at, _, _)) in errors.iter().zip(chunks(&bytes)) {
         assert!(
-            e.starts_with(&format!("t.bag: byte {at}: expected a chunk of at most 1000 bytes")),
+            e.starts_with(&format!(
+                "t.bag: byte {at}: expected a chunk of at most 1000 bytes"
+            )),
             "{e}"
         );
     }

@@ -1,10 +1,11 @@
-//! `encode_lines` gives the very bytes `LinesWriter::write_record` writes, so that callers may
-//! encode scans on other threads and write them in order.
+//! `encode_unnumbered` and `LinesWriter::write_numbered` give the very bytes
+//! `LinesWriter::write_record` writes, so that callers may encode scans on other threads
+//! before their numbers are known and write them in order.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, Scan};
-use laserlines_io::{LinesWriter, Pose2, ScanRecord, encode_lines};
+use laserlines_io::{LinesWriter, Pose2, ScanRecord, encode_unnumbered};
 
 #[test]
 fn encoded_lines_equal_written_lines() {
@@ -27,12 +28,13 @@ fn encoded_lines_equal_written_lines() {
         writer.write_record(k as u64, &record, &lines).unwrap();
         writer.write_record(k as u64 + 1, &record, &[]).unwrap();
         let written = writer.finish().unwrap();
-        let mut encoded = Vec::new();
-        encode_lines(k as u64, &record, &lines, &mut encoded).unwrap();
-        encode_lines(k as u64 + 1, &record, &[], &mut encoded).unwrap();
-        assert_eq!(encoded, written);
+        let (mut first, mut second) = (Vec::new(), Vec::new());
+        encode_unnumbered(&record, &lines, &mut first).unwrap();
+        encode_unnumbered(&record, &[], &mut second).unwrap();
         let mut again = LinesWriter::new(Vec::new());
-        again.write_encoded(&encoded).unwrap();
+        again.write_numbered(k as u64, &first).unwrap();
+        again.write_numbered(k as u64 + 1, &second).unwrap();
+        assert!(again.write_numbered(0, b"[1]").is_err());
         assert_eq!(again.finish().unwrap(), written);
     }
 }

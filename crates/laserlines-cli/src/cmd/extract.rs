@@ -1,17 +1,24 @@
 //! `laserlines extract`: lines of every scan, one JSON object per scan, in input order.
 //!
-//! The work runs as a pipeline over bounded batches of [`BATCH`] records, so that memory
-//! stays flat on any log and every core is busy:
+//! The work flows through bounded batches of [`BATCH`] records, so that memory stays flat on
+//! any log and every core is busy:
 //!
-//! - a reader thread parses the input and hands over batches (at most [`QUEUED`] wait);
-//! - the batch is extracted on a rayon pool, one extractor per pool thread, each scan's JSON
-//!   line encoded there too;
-//! - meanwhile this thread writes the previous batch, in input order.
+//! - a reader thread reads the input and hands each batch to the rayon pool as one task (the
+//!   records still unparsed where the format allows it: [`laserlines_io::Pending`]);
+//! - pool threads parse the records, extract their lines (one extractor per thread) and
+//!   encode each scan's JSON line;
+//! - this thread puts the finished batches back in input order, numbers the scans and writes
+//!   them.
+//!
+//! At most [`IN_FLIGHT`] batches per thread are read, extracted or waiting to be written at
+//! any time: the reader waits for a finished batch to be written before reading one more.
 
+use std::collections::BTreeMap;
 use std::io::{self, IsTerminal};
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-use std::sync::mpsc::{Receiver, sync_channel};
+use std::sync::mpsc::{Receiver, SyncSender, channel, sync_channel};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
@@ -19,15 +26,14 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use laserlines::{Line, LineExtractor};
 use laserlines_foxglove::LinesOutput;
-use laserlines_io::{ReadError, ScanReader, ScanRecord, encode_lines};
-use rayon::prelude::*;
+use laserlines_io::{Pending, ReadError, ScanReader, ScanRecord, SkipCounts, encode_unnumbered};
 
 use crate::InputArgs;
 
 /// Records per batch.
-pub const BATCH: usize = 256;
-/// Batches read ahead of the one being extracted.
-pub const QUEUED: usize = 2;
+pub const BATCH: usize = 64;
+/// Batches in flight per extraction thread.
+pub const IN_FLIGHT: usize = 4;
 
 /// Arguments of `laserlines extract`.
 #[derive(Debug, Args)]
@@ -52,20 +58,26 @@ pub struct ExtractArgs {
     jobs: Option<usize>,
 }
 
-/// What the reader hands over: records and errors, in input order.
+/// A record or the error in its place.
 type Item = Result<ScanRecord, ReadError>;
 
-/// The result of one record: its number among the scans, its lines, its encoded JSON line.
-#[derive(Default)]
+/// One extractor per pool thread.
+type Extractors = Vec<Mutex<Box<dyn LineExtractor + Send>>>;
+
+/// One record on its way: as read, then parsed, with its lines and its JSON line (without
+/// the scan number, known only when writing).
 struct Slot {
-    scan: u64,
+    pending: Option<Pending>,
+    /// Its parsing was left to the pool: its error is not in the reader's skip counts.
+    deferred: bool,
+    item: Option<Item>,
     lines: Vec<Line>,
     encoded: Vec<u8>,
 }
 
-/// A batch on its way through the pipeline.
+/// A batch on its way through the pipeline: its place in the input and its records.
 struct Batch {
-    items: Vec<Item>,
+    seq: u64,
     slots: Vec<Slot>,
 }
 
@@ -74,6 +86,8 @@ struct Batch {
 struct Totals {
     scans: u64,
     lines: u64,
+    /// Errors of records parsed by the pool, by reason.
+    skipped: SkipCounts,
 }
 
 /// Runs the command.
@@ -88,9 +102,9 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
         .thread_name(|i| format!("extract-{i}"))
         .build()
         .context("cannot start the extraction threads")?;
-    let extractors = (0..jobs)
+    let extractors: Extractors = (0..jobs)
         .map(|_| super::make_extractor(&args.algorithm, args.params.as_deref()).map(Mutex::new))
-        .collect::<Result<Vec<_>>>()?;
+        .collect::<Result<_>>()?;
     let reader = super::open_input(&args.input)?;
     let name = reader.name().to_owned();
     let input_bytes = input_size(&args.input.input);
@@ -99,47 +113,26 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     let progress = progress_bar();
     let start = Instant::now();
 
-    let (batches, reader_thread) = spawn_reader(reader)?;
+    let in_flight = IN_FLIGHT * jobs;
+    let (tokens, finished, reader_thread) = spawn_reader(
+        reader,
+        Arc::new(pool),
+        Arc::new(extractors),
+        encode,
+        in_flight,
+    )?;
     let mut totals = Totals::default();
-    let mut next_scan = 0u64;
-    let mut pending: Option<Batch> = None;
-    let mut spare: Vec<Vec<Slot>> = Vec::new();
-    loop {
-        let mut next = batches.recv().ok().map(|items| {
-            let mut slots = spare.pop().unwrap_or_default();
-            slots.resize_with(items.len(), Slot::default);
-            slots.truncate(items.len());
-            for (slot, item) in slots.iter_mut().zip(&items) {
-                if item.is_ok() {
-                    slot.scan = next_scan;
-                    next_scan += 1;
-                }
-            }
-            Batch { items, slots }
-        });
-        let mut written = Ok(());
-        pool.in_place_scope(|scope| {
-            if let Some(batch) = next.as_mut() {
-                let extractors = &extractors;
-                scope.spawn(move |_| extract_batch(extractors, batch, encode));
-            }
-            if let Some(done) = pending.take() {
-                written = write_batch(
-                    &mut writer,
-                    done.items,
-                    &done.slots,
-                    args.skip_bad,
-                    &progress,
-                    &mut totals,
-                );
-                spare.push(done.slots);
-            }
-        });
-        // On an error, return: dropping the receiver ends the reader thread.
-        written?;
-        match next {
-            Some(batch) => pending = Some(batch),
-            None => break,
+    let mut waiting: BTreeMap<u64, Batch> = BTreeMap::new();
+    let mut next = 0u64;
+    // Ends when the reader thread and every extraction task are done (all senders dropped).
+    // On an error, return: dropping the receivers ends the reader thread.
+    for batch in finished {
+        waiting.insert(batch.seq, batch);
+        while let Some(batch) = waiting.remove(&next) {
+            write_batch(&mut writer, batch, args.skip_bad, &progress, &mut totals)?;
+            next += 1;
+            // The reader may read one more batch; it may also be done already.
+            let _ = tokens.send(());
         }
     }
     writer.close()?;
@@ -147,9 +140,16 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     let reader = reader_thread
         .join()
         .map_err(|_| anyhow::anyhow!("the reader thread panicked"))?;
+    anyhow::ensure!(
+        waiting.is_empty(),
+        "internal error: {} batches were extracted but never written",
+        waiting.len()
+    );
+    let mut skipped = reader.skipped().clone();
+    skipped.merge(&totals.skipped);
     summary(
         &name,
-        &reader,
+        &skipped,
         &totals,
         input_bytes,
         start.elapsed().as_secs_f64(),
@@ -157,78 +157,118 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     Ok(())
 }
 
-/// Starts the thread that reads batches of records.
+/// Starts the thread that reads batches and hands each to the pool. Returns the sender of
+/// tokens (one per written batch: the reader may read one more), the receiver of extracted
+/// batches, and the thread, which gives the reader back at the end for its skip counts.
 fn spawn_reader(
     mut reader: ScanReader,
-) -> Result<(Receiver<Vec<Item>>, std::thread::JoinHandle<ScanReader>)> {
-    let (tx, rx) = sync_channel::<Vec<Item>>(QUEUED);
+    pool: Arc<rayon::ThreadPool>,
+    extractors: Arc<Extractors>,
+    encode: bool,
+    in_flight: usize,
+) -> Result<(SyncSender<()>, Receiver<Batch>, JoinHandle<ScanReader>)> {
+    let (token_tx, token_rx) = sync_channel::<()>(in_flight);
+    for _ in 0..in_flight {
+        token_tx
+            .send(())
+            .context("cannot start the extraction pipeline")?;
+    }
+    let (done_tx, done_rx) = channel::<Batch>();
     let handle = std::thread::Builder::new()
         .name("read".to_owned())
         .spawn(move || {
-            loop {
-                let batch: Vec<Item> = reader.by_ref().take(BATCH).collect();
-                if batch.is_empty() || tx.send(batch).is_err() {
-                    return reader;
+            for seq in 0u64.. {
+                if token_rx.recv().is_err() {
+                    break; // the writer stopped
                 }
+                let slots: Vec<Slot> = std::iter::from_fn(|| reader.next_pending())
+                    .take(BATCH)
+                    .map(|pending| Slot {
+                        deferred: matches!(pending, Pending::Deferred(_)),
+                        pending: Some(pending),
+                        item: None,
+                        lines: Vec::new(),
+                        encoded: Vec::new(),
+                    })
+                    .collect();
+                if slots.is_empty() {
+                    break;
+                }
+                let mut batch = Batch { seq, slots };
+                let (extractors, done_tx) = (Arc::clone(&extractors), done_tx.clone());
+                pool.spawn_fifo(move || {
+                    extract_batch(&extractors, &mut batch, encode);
+                    // The writer may have stopped on an error: nothing more to do then.
+                    let _ = done_tx.send(batch);
+                });
             }
+            reader
         })
         .context("cannot start the reader thread")?;
-    Ok((rx, handle))
+    Ok((token_tx, done_rx, handle))
 }
 
-/// Extracts (and encodes) every record of a batch, in parallel, one extractor per thread.
-fn extract_batch(
-    extractors: &[Mutex<Box<dyn LineExtractor + Send>>],
-    batch: &mut Batch,
-    encode: bool,
-) {
-    batch
-        .items
-        .par_iter()
-        .zip(batch.slots.par_iter_mut())
-        .with_min_len(4)
-        .for_each(|(item, slot)| {
-            let Ok(record) = item else { return };
-            let index = rayon::current_thread_index().unwrap_or(0) % extractors.len();
-            // Each pool thread takes its own extractor: the lock is never contended. A
-            // poisoned lock means an extractor panicked, which ends the process anyway.
-            let mut extractor = extractors[index]
-                .lock()
-                .unwrap_or_else(std::sync::PoisonError::into_inner);
+/// Parses, extracts and encodes every record of a batch, on the calling pool thread with its
+/// own extractor.
+///
+/// A batch is one task: the parallelism comes from the batches in flight. (Splitting a batch
+/// further with rayon would let a thread that waits for its other half run whole later
+/// batches meanwhile, so that batches finish out of order and the in-order writer waits.)
+fn extract_batch(extractors: &Extractors, batch: &mut Batch, encode: bool) {
+    let index = rayon::current_thread_index().unwrap_or(0) % extractors.len();
+    // Each pool thread takes its own extractor: the lock is never contended. A poisoned lock
+    // means an extractor panicked, which ends the process anyway.
+    let mut extractor = extractors[index]
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    for slot in &mut batch.slots {
+        let Some(pending) = slot.pending.take() else {
+            continue;
+        };
+        let item = pending.parse();
+        if let Ok(record) = &item {
             extractor.extract_into(&record.scan, &mut slot.lines);
             slot.encoded.clear();
-            if encode {
-                // Encoding into memory cannot fail; should it, the writer re-encodes below.
-                if encode_lines(slot.scan, record, &slot.lines, &mut slot.encoded).is_err() {
-                    slot.encoded.clear();
-                }
+            // Encoding into memory cannot fail; should it, the writer encodes again.
+            if encode && encode_unnumbered(record, &slot.lines, &mut slot.encoded).is_err() {
+                slot.encoded.clear();
             }
-        });
+        }
+        slot.item = Some(item);
+    }
 }
 
-/// Writes a batch in input order; reports or returns its read errors.
+/// Writes a batch in input order, numbering its scans; reports or returns its errors.
 fn write_batch(
     writer: &mut LinesOutput,
-    items: Vec<Item>,
-    slots: &[Slot],
+    batch: Batch,
     skip_bad: bool,
     progress: &ProgressBar,
     totals: &mut Totals,
 ) -> Result<()> {
-    let count = items.len() as u64;
-    for (item, slot) in items.into_iter().zip(slots) {
-        let record = match item {
-            Ok(record) => record,
-            Err(e) if skip_bad => {
-                // The reader counts it under its reason for the summary.
+    let count = batch.slots.len() as u64;
+    for slot in batch.slots {
+        let record = match slot.item {
+            Some(Ok(record)) => record,
+            Some(Err(e)) => {
+                if slot.deferred {
+                    // The reader counted the others.
+                    totals.skipped.add(e.reason());
+                }
+                if !skip_bad {
+                    return Err(e.into());
+                }
                 progress.suspend(|| eprintln!("laserlines: skipped: {e}"));
                 continue;
             }
-            Err(e) => return Err(e.into()),
+            None => anyhow::bail!("internal error: a record was never parsed"),
         };
+        let scan = totals.scans;
         match &mut *writer {
-            LinesOutput::Jsonl(w) if !slot.encoded.is_empty() => w.write_encoded(&slot.encoded)?,
-            other => other.write_record(slot.scan, &record, &slot.lines)?,
+            LinesOutput::Jsonl(w) if !slot.encoded.is_empty() => {
+                w.write_numbered(scan, &slot.encoded)?;
+            }
+            other => other.write_record(scan, &record, &slot.lines)?,
         }
         totals.scans += 1;
         totals.lines += slot.lines.len() as u64;
@@ -259,7 +299,7 @@ fn input_size(path: &Path) -> Option<u64> {
 }
 
 /// The summary on stderr: scans, lines, skips with reasons, speed.
-fn summary(name: &str, reader: &ScanReader, totals: &Totals, bytes: Option<u64>, secs: f64) {
+fn summary(name: &str, skipped: &SkipCounts, totals: &Totals, bytes: Option<u64>, secs: f64) {
     let per = |n: f64| if secs > 0.0 { n / secs } else { 0.0 };
     let per_scan = if totals.scans > 0 {
         totals.lines as f64 / totals.scans as f64
@@ -276,8 +316,6 @@ fn summary(name: &str, reader: &ScanReader, totals: &Totals, bytes: Option<u64>,
     };
     eprintln!(
         "{name}: {} scans, {} lines ({per_scan:.1} per scan), skipped: {}, {secs:.2} s, {speed}",
-        totals.scans,
-        totals.lines,
-        reader.skipped(),
+        totals.scans, totals.lines, skipped,
     );
 }
