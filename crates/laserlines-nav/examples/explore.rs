@@ -7,10 +7,10 @@
 //! Arguments: an arena (a `.raf` path, or `maze:SEED` / `maze:SEED:islands`), the first
 //! seed, the number of seeds, and optionally the duration in seconds (default 900).
 
-use laserlines::math::{Isometry2, Vector2};
 use laserlines_nav::{RunConfig, run};
-use laserlines_sim::arena::{ArenaOptions, load_raf};
+use laserlines_sim::arena::{ArenaOptions, interior_start, load_raf};
 use laserlines_sim::maze::{MazeParams, generate};
+use laserlines_sim::robot::Footprint;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -32,7 +32,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (m.world, m.start)
     } else {
         let a = load_raf(std::path::Path::new(&what), &ArenaOptions::default())?;
-        (a.world, Isometry2::new(Vector2::zeros(), 0.0))
+        let start = interior_start(&a.world, Footprint::naji_v().circumradius())
+            .ok_or("no enclosed free region in the arena")?;
+        eprintln!("start {:?}", start.translation.vector);
+        (a.world, start)
     };
     for seed in first..first + count {
         let config = RunConfig {
@@ -43,13 +46,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let r = run(&world, start, &config)?;
         let m = r.metrics;
         println!(
-            "seed {seed:3}: coverage {:.3} collisions {} min_clearance {:.3} path {:.1} m t90 {:?} loops {} wall {:.2} s ({:.0}x) stop {}",
+            "seed {seed:3}: coverage {:.3} collisions {} min_clearance {:.3} path {:.1} m t90 {:?} loops {} frontiers {} pose_err {:.2} m {:.3} rad wall {:.2} s ({:.0}x) stop {}",
             m.coverage,
             m.collisions,
             m.min_clearance_m,
             m.path_length_m,
             m.time_to_90_percent_s.map(|t| t.round()),
             m.loops,
+            m.frontiers,
+            m.max_pose_error_m,
+            m.max_heading_error_rad,
             m.wall_time_s,
             m.sim_time_s / m.wall_time_s,
             m.stop.name()

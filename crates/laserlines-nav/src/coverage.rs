@@ -17,6 +17,8 @@ use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines_sim::index::WorldIndex;
 use laserlines_sim::world::Target;
 
+use crate::raster::FanRaster;
+
 /// Side of a coverage cell, m.
 pub const COVERAGE_CELL: f64 = 0.1;
 
@@ -35,8 +37,8 @@ pub struct CoverageGrid {
     seen_count: usize,
     /// Scratch: the fan polygon of the last scan, cell units.
     polygon: Vec<(f64, f64)>,
-    /// Scratch: the polygon's crossings of the rows' centre lines, `(row, x)`.
-    crossings: Vec<(u32, f32)>,
+    /// Scratch of the fan filling.
+    raster: FanRaster,
 }
 
 impl CoverageGrid {
@@ -81,7 +83,7 @@ impl CoverageGrid {
             reachable_count: 0,
             seen_count: 0,
             polygon: Vec::new(),
-            crossings: Vec::new(),
+            raster: FanRaster::default(),
         };
         let radius = if radius.is_finite() {
             radius.max(0.0)
@@ -176,6 +178,15 @@ impl CoverageGrid {
         }
     }
 
+    /// The centres of the reachable cells not seen so far.
+    #[must_use]
+    pub fn unseen(&self) -> Vec<Point2> {
+        (0..self.cols * self.rows)
+            .filter(|&c| self.reachable[c] && !self.seen[c])
+            .map(|c| self.centre(c))
+            .collect()
+    }
+
     /// True when the cell holding `p` is reachable.
     #[must_use]
     pub fn is_reachable(&self, p: Point2) -> bool {
@@ -226,78 +237,20 @@ impl CoverageGrid {
             let len = if len.is_finite() { len.max(0.0) } else { 0.0 };
             poly.push(to_cells(o + dir * len));
         }
-        if poly.len() >= 3 {
-            self.fill_polygon(&poly);
-        }
-        self.polygon = poly;
-    }
-
-    /// Marks every cell whose centre is inside the closed polygon `poly` (cell units,
-    /// even-odd rule), by scan lines through the cell centres.
-    fn fill_polygon(&mut self, poly: &[(f64, f64)]) {
-        let rows = self.rows as i64;
-        let (mut y_lo, mut y_hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for &(_, y) in poly {
-            y_lo = y_lo.min(y);
-            y_hi = y_hi.max(y);
-        }
-        // Rows whose centre line y = j + 0.5 lies within the polygon's extent.
-        let j0 = ((y_lo - 0.5).ceil() as i64).max(0);
-        let j1 = ((y_hi - 0.5).ceil() as i64 - 1).min(rows - 1);
-        if !(y_lo.is_finite() && y_hi.is_finite()) || j0 > j1 {
-            return;
-        }
-        let mut crossings = std::mem::take(&mut self.crossings);
-        crossings.clear();
-        // Every edge crossing a row's centre line, as (row, x).
-        let mut prev = poly[poly.len() - 1];
-        for &cur in poly {
-            let ((xa, ya), (xb, yb)) = (prev, cur);
-            prev = cur;
-            if ya == yb {
-                continue;
-            }
-            let (lo, hi) = if ya < yb { (ya, yb) } else { (yb, ya) };
-            // Half-open in y, so that a vertex on a centre line counts once.
-            let first = ((lo - 0.5).ceil() as i64).max(j0);
-            let last = ((hi - 0.5).ceil() as i64 - 1).min(j1);
-            let slope = (xb - xa) / (yb - ya);
-            for j in first..=last {
-                let yc = j as f64 + 0.5;
-                crossings.push(((j - j0) as u32, (xa + (yc - ya) * slope) as f32));
-            }
-        }
-        crossings.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
-        let cols = self.cols as i64;
-        let mut k = 0;
-        while k + 1 < crossings.len() {
-            let (row, xa) = crossings[k];
-            let (row_b, xb) = crossings[k + 1];
-            if row_b != row {
-                // An odd crossing left over (rounding at a vertex): skip it.
-                k += 1;
-                continue;
-            }
-            k += 2;
-            // Cells whose centre x = i + 0.5 lies in [xa, xb).
-            let i0 = ((f64::from(xa) - 0.5).ceil() as i64).max(0);
-            let i1 = ((f64::from(xb) - 0.5).ceil() as i64 - 1).min(cols - 1);
-            if i0 > i1 {
-                continue;
-            }
-            let base = (j0 + i64::from(row)) as usize * self.cols;
-            let (from, to) = (base + i0 as usize, base + i1 as usize);
-            for (seen, reachable) in self.seen[from..=to]
-                .iter_mut()
-                .zip(&self.reachable[from..=to])
-            {
-                if !*seen {
-                    *seen = true;
-                    self.seen_count += usize::from(*reachable);
+        let mut raster = std::mem::take(&mut self.raster);
+        let (seen, reachable, count) = (&mut self.seen, &self.reachable, &mut self.seen_count);
+        let cols = self.cols;
+        raster.fill(&poly, cols, self.rows, |row, first, last| {
+            let (from, to) = (row * cols + first, row * cols + last);
+            for (s, r) in seen[from..=to].iter_mut().zip(&reachable[from..=to]) {
+                if !*s {
+                    *s = true;
+                    *count += usize::from(*r);
                 }
             }
-        }
-        self.crossings = crossings;
+        });
+        self.raster = raster;
+        self.polygon = poly;
     }
 }
 

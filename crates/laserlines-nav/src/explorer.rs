@@ -22,30 +22,44 @@
 //! the spot away from the followed side until the way ahead is free again: 90 deg at a
 //! corner, 180 deg in a dead end.
 //!
-//! **Leaving a wall followed all the way round.** Every 0.5 m of travel the odometry pose is
+//! **The robot's own map.** Every scan is fitted onto the map built from the scans before
+//! it ([`RobotMap::match_scan`], point-to-line ICP pulled toward the odometry's prediction)
+//! and then added to it ([`RobotMap::insert_scan`]): the map frame is the odometry frame at
+//! the start, corrected by the matching, so that the map stays true while the wheel
+//! odometry drifts. The explorer never reads the world: only its scans, lines and odometry.
+//!
+//! **Leaving a wall followed all the way round.** Every 0.5 m of travel the map pose is
 //! dropped as a breadcrumb. Coming back within `loop_match` of a breadcrumb laid at least
 //! `loop_min_path` earlier, heading the same way (within `loop_heading`) on the same
-//! followed side, means the wall has been followed all the way round: the explorer switches
-//! the followed side. From then on it takes the other branch at every junction, which leads
-//! it off the wall group it circled and onto others, such as islands that a pure wall
-//! follower never reaches.
+//! followed side, means the wall has been followed all the way round. Then, or when wall
+//! following has shown nothing new for `stale_s` (it is going over ground already seen),
+//! the explorer leaves the wall: it plans on its own map to the nearest *frontier* (a cell
+//! where the robot fits at the edge of what it has seen, see [`crate::planner`]) not given
+//! up before, drives there along the path (pure pursuit, re-planned every `replan_s`, so
+//! that the plan always starts from where the robot is), and when it gets there, or the
+//! frontier has been seen meanwhile, resumes wall following on the wall it finds there.
+//! This is how it reaches islands, wall groups that a pure wall follower never reaches. A
+//! frontier it makes no progress toward for `give_up_s` is given up. When no frontier is
+//! left the exploration is complete.
 //!
 //! **Safety.** Before a velocity command is committed, the footprint, grown by
 //! `safety_margin`, is swept along the arc the command drives over the time the robot needs
 //! to stop, and checked against the points of the latest scans (kept for a short while in
 //! the odometry frame, so that obstacles beside and behind the laser's field of view are
 //! remembered). A command that would touch a point is slowed; if even turning on the spot
-//! is unsafe the robot stops, and if it stays stuck it backs off.
+//! is unsafe the robot stops, and if it stays stuck it backs off. This layer has the last
+//! word over the wall follower and the path follower alike.
 //!
-//! **Stopping.** The explorer keeps its own coarse map of the cells its scans have hit, in
-//! the odometry frame; when no new cell has been seen for `idle_timeout_s` it reports that
-//! it is done.
+//! **Stopping.** The explorer reports that it is done when no frontier is left (the whole
+//! reachable area has been seen), or when its map has gained nothing for `idle_timeout_s`.
 
 use laserlines::Line;
 use laserlines::Scan;
 use laserlines::math::{Isometry2, Point2, Vector2, wrap_angle};
 use laserlines_sim::robot::{Footprint, RobotParams, VelocityCommand, arc};
 
+use crate::map::{MatchParams, MatchPoint, RobotMap};
+use crate::planner::{Plan, Planner, PlannerParams};
 use crate::sectors::{Sector, SectorObjects, SectorParams, select_objects};
 
 /// Which side the followed wall is on.
@@ -115,20 +129,43 @@ pub struct ExplorerParams {
     pub front_band_margin: f64,
     /// Margin the safety layer keeps around the footprint, m. Default 0.08.
     pub safety_margin: f64,
-    /// How long scan points are remembered for the safety layer, s. Default 3.0.
-    pub memory_s: f64,
+    /// Scan points within this of the robot are remembered for the safety layer while they
+    /// are out of the laser's view, m. Default 1.5.
+    pub memory_range_m: f64,
     /// Breadcrumb match radius for loop detection, m. Default 0.5.
     pub loop_match: f64,
     /// Breadcrumb heading tolerance, rad. Default 0.6.
     pub loop_heading: f64,
     /// Least travel between a breadcrumb and its revisit for a loop, m. Default 8.0.
     pub loop_min_path: f64,
-    /// Cell size of the explorer's own seen map, m. Default 0.3.
-    pub seen_cell: f64,
-    /// Done when no new cell has been seen for this long, s. Default 120.
+    /// Wall following that has made no cell of the map known for this long leaves the
+    /// wall for the nearest frontier, s. Default 8.
+    pub stale_s: f64,
+    /// A scan that makes fewer cells of the map known than this shows nothing new.
+    /// Default 4 (0.04 m^2).
+    pub new_cells: usize,
+    /// Time between plans on the way to a frontier, s. Default 1.
+    pub replan_s: f64,
+    /// Distance ahead along the path that the path follower steers to, m. Default 0.6.
+    pub lookahead_m: f64,
+    /// Speed on the way to a frontier, m/s. Default 0.5.
+    pub travel_speed: f64,
+    /// A frontier whose path the robot has not shortened by 0.2 m for this long is given up, s.
+    /// Default 12.
+    pub give_up_s: f64,
+    /// A re-plan keeps its frontier while its path is at most this much longer than the
+    /// path to the nearest one, m. Default 1.
+    pub hysteresis_m: f64,
+    /// Frontiers within this of one given up are not chosen again, m. Default 0.6.
+    pub avoid_radius_m: f64,
+    /// Done when the map has gained nothing for this long, s. Default 120.
     pub idle_timeout_s: f64,
     /// The sector selection.
     pub sectors: SectorParams,
+    /// The scan matching.
+    pub matching: MatchParams,
+    /// The planner.
+    pub planner: PlannerParams,
 }
 
 impl Default for ExplorerParams {
@@ -146,13 +183,22 @@ impl Default for ExplorerParams {
             front_turn_corner: 0.15,
             front_band_margin: 0.1,
             safety_margin: 0.08,
-            memory_s: 3.0,
+            memory_range_m: 1.5,
             loop_match: 0.5,
             loop_heading: 0.6,
             loop_min_path: 8.0,
-            seen_cell: 0.3,
+            stale_s: 8.0,
+            new_cells: 4,
+            replan_s: 1.0,
+            lookahead_m: 0.6,
+            travel_speed: 0.5,
+            give_up_s: 12.0,
+            hysteresis_m: 1.0,
+            avoid_radius_m: 0.6,
             idle_timeout_s: 120.0,
             sectors: SectorParams::default(),
+            matching: MatchParams::default(),
+            planner: PlannerParams::default(),
         }
     }
 }
@@ -170,6 +216,8 @@ pub enum Mode {
     TurnAway,
     /// Backing off after being stuck.
     BackOff,
+    /// Driving along a planned path to a frontier.
+    Travel,
 }
 
 /// The explorer's decision for one scan.
@@ -189,6 +237,13 @@ pub struct Decision {
     pub side: WallSide,
     /// The explorer considers the exploration done.
     pub done: bool,
+    /// Done because no frontier is left (rather than because nothing new was seen for the
+    /// idle timeout).
+    pub explored: bool,
+    /// The robot's pose in its map frame (the odometry corrected by scan matching).
+    pub map_from_robot: Isometry2,
+    /// The frontier the robot is driving to, map frame.
+    pub goal: Option<Point2>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -197,12 +252,6 @@ struct Crumb {
     heading: f64,
     path: f64,
     side: WallSide,
-}
-
-#[derive(Debug, Clone, Copy)]
-struct Remembered {
-    point: Point2,
-    time: f64,
 }
 
 /// The explorer (see the [module docs](self)). Feed it every scan with
@@ -215,21 +264,55 @@ pub struct Explorer {
     max_accel: f64,
     mode: Mode,
     side: WallSide,
-    /// End of the followed wall ahead, odometry frame.
+    /// End of the followed wall ahead, map frame.
     wall_end: Option<Point2>,
-    /// Scan points of the last `memory_s`, odometry frame.
-    memory: Vec<Remembered>,
+    /// Near scan points, map frame: the last scan's, and older ones now out of the
+    /// laser's view.
+    memory: Vec<Point2>,
     crumbs: Vec<Crumb>,
     last_crumb: Option<Point2>,
     path: f64,
     last_pose: Option<Isometry2>,
     turned: f64,
-    stuck_since: Option<f64>,
+    /// Scans the safety layer found the robot stuck, recently (see `safe_command`).
+    stuck_score: f64,
     backoff_until: f64,
-    seen: std::collections::HashSet<(i32, i32)>,
-    last_new_seen: f64,
     loops: usize,
     scratch_points: Vec<Point2>,
+    /// The laser's blind wedge, in the robot's axes: the directions of the first and the
+    /// last beam, and whether the wedge is narrower than a half turn (from the last scan).
+    blind: (Vector2, Vector2, bool),
+    map: RobotMap,
+    planner: Planner,
+    map_from_odom: Isometry2,
+    map_from_robot: Isometry2,
+    /// Scans the map could not place (the odometry's prediction was kept).
+    unmatched: u64,
+    /// Time the map last gained `new_cells` from one scan (wall following goes stale).
+    last_new: f64,
+    /// Time the map last gained any cell (the idle timeout).
+    last_gain: f64,
+    travel: Option<Travel>,
+    /// Frontiers given up, map frame.
+    avoid: Vec<Point2>,
+    /// Plans that found no frontier in a row.
+    failed_plans: usize,
+    /// Frontiers reached or seen on the way.
+    frontiers: usize,
+    explored: bool,
+    match_points: Vec<MatchPoint>,
+}
+
+/// The way to a frontier.
+#[derive(Debug, Clone)]
+struct Travel {
+    plan: Plan,
+    /// Index of the path point nearest the robot at the last scan.
+    along: usize,
+    planned_at: f64,
+    /// The least length of path left so far, m, and when it was reached.
+    best: f64,
+    best_at: f64,
 }
 
 impl Explorer {
@@ -250,12 +333,24 @@ impl Explorer {
             path: 0.0,
             last_pose: None,
             turned: 0.0,
-            stuck_since: None,
+            stuck_score: 0.0,
             backoff_until: 0.0,
-            seen: std::collections::HashSet::new(),
-            last_new_seen: 0.0,
             loops: 0,
             scratch_points: Vec::new(),
+            blind: (Vector2::zeros(), Vector2::zeros(), false),
+            map: RobotMap::new(),
+            planner: Planner::new(),
+            map_from_odom: Isometry2::identity(),
+            map_from_robot: Isometry2::identity(),
+            unmatched: 0,
+            last_new: 0.0,
+            last_gain: 0.0,
+            travel: None,
+            avoid: Vec::new(),
+            failed_plans: 0,
+            frontiers: 0,
+            explored: false,
+            match_points: Vec::new(),
         }
     }
 
@@ -277,6 +372,30 @@ impl Explorer {
         self.mode
     }
 
+    /// The robot's own map.
+    #[must_use]
+    pub fn map(&self) -> &RobotMap {
+        &self.map
+    }
+
+    /// The robot's pose in its map frame.
+    #[must_use]
+    pub fn map_from_robot(&self) -> Isometry2 {
+        self.map_from_robot
+    }
+
+    /// Scans the map could not place, whose pose came from the odometry alone.
+    #[must_use]
+    pub fn unmatched_scans(&self) -> u64 {
+        self.unmatched
+    }
+
+    /// Frontiers reached (or seen on the way) so far.
+    #[must_use]
+    pub fn frontiers(&self) -> usize {
+        self.frontiers
+    }
+
     /// Decides the velocity command for one scan: `lines` were extracted from `scan`,
     /// `odom_from_robot` is the odometry pose at the scan, `time_s` its time.
     pub fn on_scan(
@@ -288,7 +407,20 @@ impl Explorer {
     ) -> Decision {
         let p = self.params;
         self.track_odometry(odom_from_robot);
-        self.remember(scan, odom_from_robot, time_s);
+        let last_beam =
+            scan.angle_min + scan.angle_increment * scan.ranges.len().saturating_sub(1) as f64;
+        let (lo, hi) = (scan.angle_min.min(last_beam), scan.angle_min.max(last_beam));
+        let yaw = self.robot_from_laser.rotation.angle();
+        self.blind = (
+            Vector2::new((lo + yaw).cos(), (lo + yaw).sin()),
+            Vector2::new((hi + yaw).cos(), (hi + yaw).sin()),
+            hi - lo >= std::f64::consts::PI,
+        );
+        self.localise_and_map(scan, odom_from_robot, time_s);
+        // From here on the robot works in its map frame: the scan-matched pose is true to
+        // the millimetre where the odometry slips by centimetres (turning on the spot).
+        let map_from_robot = self.map_from_robot;
+        self.remember(scan, &map_from_robot);
         let objects = select_objects(lines, &self.robot_from_laser, &p.sectors);
         let robot_lines: Vec<(Point2, Point2)> = lines
             .iter()
@@ -300,8 +432,59 @@ impl Explorer {
             })
             .collect();
         let front_free = self.front_free(&robot_lines);
-        self.check_loop(odom_from_robot);
+        let looped = self.check_loop();
 
+        // Backing off has the first say, then the way to a frontier, then the wall.
+        let mut wanted = None;
+        if self.mode == Mode::BackOff && time_s < self.backoff_until {
+            wanted = Some(VelocityCommand::new(-0.15, 0.0));
+        } else if self.travel.is_some() {
+            wanted = self.travel_step(time_s, front_free);
+            if wanted.is_none() {
+                // Arrived (or the frontier was seen on the way): back to the wall.
+                self.mode = Mode::Seek;
+                self.wall_end = None;
+                self.last_new = time_s;
+            }
+        } else {
+            let stale = time_s - self.last_new > p.stale_s;
+            if (looped || stale) && !self.explored {
+                wanted = self.start_travel(time_s, front_free);
+            }
+        }
+        let wanted = match wanted {
+            Some(w) => w,
+            None => self.follow_wall(&objects, &robot_lines, front_free, &map_from_robot),
+        };
+
+        let command = self.safe_command(wanted, &map_from_robot, time_s);
+        if self.mode == Mode::TurnAway {
+            self.turned += (command.angular_rad_s * 0.1).abs();
+        }
+        let idle = time_s - self.last_gain > p.idle_timeout_s;
+        Decision {
+            command,
+            wanted,
+            objects,
+            front_free_m: front_free,
+            mode: self.mode,
+            side: self.side,
+            done: self.explored || idle,
+            explored: self.explored,
+            map_from_robot: self.map_from_robot,
+            goal: self.travel.as_ref().map(|t| t.plan.goal),
+        }
+    }
+
+    /// The wall follower (the paper's Chart 1): mode transitions and the command.
+    fn follow_wall(
+        &mut self,
+        objects: &SectorObjects,
+        robot_lines: &[(Point2, Point2)],
+        front_free: f64,
+        map_from_robot: &Isometry2,
+    ) -> VelocityCommand {
+        let p = self.params;
         let s = self.side.sign();
         let wall = objects
             .get(self.side.sector())
@@ -311,12 +494,11 @@ impl Explorer {
             // The end of the followed wall ahead (the full line's end farther forward).
             let (a, b) = robot_lines[w.line];
             let ahead = if a.x >= b.x { a } else { b };
-            self.wall_end = Some(odom_from_robot * ahead);
+            self.wall_end = Some(map_from_robot * ahead);
         }
-        let robot_from_odom = odom_from_robot.inverse();
-        let end_in_robot = self.wall_end.map(|e| robot_from_odom * e);
+        let robot_from_map = map_from_robot.inverse();
+        let end_in_robot = self.wall_end.map(|e| robot_from_map * e);
 
-        // Mode transitions.
         // Arcing around a wall end, or following a wall that curves toward the followed
         // side (round the end of a free-standing wall), the robot turns away from what is
         // straight ahead: only a very near obstacle stops it (the safety layer watches the
@@ -332,7 +514,6 @@ impl Explorer {
         };
         let blocked = front_free < turn_at;
         self.mode = match self.mode {
-            Mode::BackOff if time_s < self.backoff_until => Mode::BackOff,
             Mode::TurnAway
                 if front_free < p.front_turn + 0.4 && self.turned < 2.0 * std::f64::consts::PI =>
             {
@@ -351,11 +532,10 @@ impl Explorer {
         if self.mode == Mode::Seek {
             self.wall_end = None;
         }
-
-        let wanted = match self.mode {
+        match self.mode {
             Mode::Follow => {
                 let Some(w) = wall else {
-                    return self.decide_stop(objects, front_free);
+                    return VelocityCommand::STOP;
                 };
                 let e_d = (w.distance_m - p.follow_distance).clamp(-0.4, 0.4);
                 let omega = p.k_heading * w.angle_rad + s * p.k_distance * e_d;
@@ -383,40 +563,205 @@ impl Explorer {
                 VelocityCommand::new(v, omega)
             }
             Mode::TurnAway => VelocityCommand::new(0.0, -s * p.turn_rate),
-            Mode::Seek => VelocityCommand::new(
+            Mode::BackOff => VelocityCommand::new(-0.15, 0.0),
+            Mode::Seek | Mode::Travel => VelocityCommand::new(
                 p.cruise_speed * ((front_free - 0.2) / 1.0).clamp(0.3, 1.0),
                 0.0,
             ),
-            Mode::BackOff => VelocityCommand::new(-0.1, 0.0),
-        };
-
-        let command = self.safe_command(wanted, odom_from_robot, time_s);
-        if self.mode == Mode::TurnAway {
-            self.turned += (command.angular_rad_s * 0.1).abs();
-        }
-        let done = time_s - self.last_new_seen > p.idle_timeout_s;
-        Decision {
-            command,
-            wanted,
-            objects,
-            front_free_m: front_free,
-            mode: self.mode,
-            side: self.side,
-            done,
         }
     }
 
-    /// A stop decision (never taken in practice: follow mode always has its wall).
-    fn decide_stop(&self, objects: SectorObjects, front_free: f64) -> Decision {
-        Decision {
-            command: VelocityCommand::STOP,
-            wanted: VelocityCommand::STOP,
-            objects,
-            front_free_m: front_free,
-            mode: self.mode,
-            side: self.side,
-            done: false,
+    /// Places the scan on the map (scan matching) and adds it.
+    fn localise_and_map(&mut self, scan: &Scan, odom_from_robot: &Isometry2, time_s: f64) {
+        let predicted = self.map_from_odom * odom_from_robot;
+        // Scan points in the robot frame, at least 5 cm apart along the scan.
+        let mut pts = std::mem::take(&mut self.match_points);
+        pts.clear();
+        let mut outline = std::mem::take(&mut self.scratch_points);
+        outline.clear();
+        let window = scan.range_window(None);
+        let (s0, c0) = scan.angle_min.sin_cos();
+        let (s_inc, c_inc) = scan.angle_increment.sin_cos();
+        let mut dir = Vector2::new(c0, s0);
+        let mut last: Option<Point2> = None;
+        for (i, &r) in scan.ranges.iter().enumerate() {
+            if i > 0 {
+                dir = Vector2::new(c_inc * dir.x - s_inc * dir.y, s_inc * dir.x + c_inc * dir.y);
+            }
+            if !window.contains(r) || r > 5.0 {
+                continue;
+            }
+            let q = Point2::from(dir * r);
+            if last.is_some_and(|l| (q - l).norm_squared() < MATCH_SPACING * MATCH_SPACING) {
+                continue;
+            }
+            last = Some(q);
+            outline.push(self.robot_from_laser * q);
         }
+        // The outline's normal at each point from its neighbours, where they are near
+        // (within 15 cm): a point pairs only with map lines of about its direction.
+        for (k, &q) in outline.iter().enumerate() {
+            let prev = k.checked_sub(1).map(|i| outline[i]);
+            let next = outline.get(k + 1).copied();
+            let near = |o: Option<Point2>| o.filter(|o| (o - q).norm_squared() < 0.15 * 0.15);
+            let tangent = match (near(prev), near(next)) {
+                (Some(a), Some(b)) => Some(b - a),
+                (Some(a), None) => Some(q - a),
+                (None, Some(b)) => Some(b - q),
+                (None, None) => None,
+            };
+            let normal = tangent
+                .filter(|t| t.norm_squared() > 1e-8)
+                .map(|t| Vector2::new(-t.y, t.x).normalize());
+            // The URG-04LX's noise: 5 mm to 1 m, 0.5 % of the range beyond.
+            let range = (q - self.robot_from_laser.translation.vector).coords.norm();
+            let weight = 1.0 / range.max(1.0).powi(2);
+            pts.push(MatchPoint {
+                point: q,
+                normal,
+                weight,
+            });
+        }
+        self.scratch_points = outline;
+        let matched = if self.map.scans() > 0 {
+            self.map.match_scan(&pts, &predicted, &self.params.matching)
+        } else {
+            None
+        };
+        self.match_points = pts;
+        if matched.is_none() && self.map.scans() > 0 {
+            self.unmatched += 1;
+        }
+        self.map_from_robot = matched.unwrap_or(predicted);
+        self.map_from_odom = self.map_from_robot * odom_from_robot.inverse();
+        let newly = self
+            .map
+            .insert_scan(&(self.map_from_robot * self.robot_from_laser), scan);
+        if newly >= self.params.new_cells {
+            self.last_new = time_s;
+        }
+        if newly > 0 {
+            self.last_gain = time_s;
+        }
+    }
+
+    /// Plans to the nearest frontier and starts driving there; `None` when there is none
+    /// (then wall following goes on, and after a few such plans the exploration is
+    /// complete).
+    fn start_travel(&mut self, time_s: f64, front_free: f64) -> Option<VelocityCommand> {
+        let from = Point2::from(self.map_from_robot.translation.vector);
+        let plan = self.planner.nearest_frontier(
+            &self.map,
+            from,
+            &self.avoid,
+            self.params.avoid_radius_m,
+            None,
+            &self.params.planner,
+        );
+        let Some(plan) = plan else {
+            self.failed_plans += 1;
+            // Try again after another stale spell; three empty plans in a row: done.
+            self.last_new = time_s;
+            if self.failed_plans >= 3 {
+                self.explored = true;
+            }
+            return None;
+        };
+        self.failed_plans = 0;
+        let best = plan.length_m;
+        self.travel = Some(Travel {
+            plan,
+            along: 0,
+            planned_at: time_s,
+            best,
+            best_at: time_s,
+        });
+        self.mode = Mode::Travel;
+        self.travel_step(time_s, front_free)
+    }
+
+    /// One step on the way to the frontier: re-plans when due, gives up a frontier without
+    /// progress, and steers along the path. `None` when the way has ended (arrived, the
+    /// frontier seen on the way, or no frontier left).
+    fn travel_step(&mut self, time_s: f64, front_free: f64) -> Option<VelocityCommand> {
+        let p = self.params;
+        let from = Point2::from(self.map_from_robot.translation.vector);
+        let mut travel = self.travel.take()?;
+        let goal = travel.plan.goal;
+        let dist = (from - goal).norm();
+        // Arrived, or the frontier is no longer one (seen on the way, or blocked).
+        let resolved = self.map.unknown_around(goal, 2) < p.planner.min_unknown
+            || self.map.state(goal) != crate::map::CellState::Free;
+        if dist < 0.3 || resolved {
+            self.frontiers += 1;
+            return None;
+        }
+        // Progress is measured along the path: what is left of it.
+        let left = remaining(&travel.plan.path, travel.along, from);
+        if left < travel.best - 0.2 {
+            travel.best = left;
+            travel.best_at = time_s;
+        }
+        // Seeing new ground on the way is progress too.
+        if self.last_new >= time_s {
+            travel.best_at = time_s;
+        }
+        let give_up = time_s - travel.best_at > p.give_up_s;
+        if give_up {
+            self.avoid.push(goal);
+            travel.best_at = time_s;
+        }
+        if give_up || time_s - travel.planned_at >= p.replan_s {
+            let keep = (!give_up).then_some((goal, p.hysteresis_m));
+            let plan = self.planner.nearest_frontier(
+                &self.map,
+                from,
+                &self.avoid,
+                p.avoid_radius_m,
+                keep,
+                &p.planner,
+            )?;
+            if (plan.goal - goal).norm() > 0.3 {
+                // Another frontier: its path is measured from here on, but the clock runs on.
+                travel.best = plan.length_m;
+            }
+            travel.plan = plan;
+            travel.along = 0;
+            travel.planned_at = time_s;
+        }
+        // Pure pursuit: the path point nearest the robot (searched ahead of the last one),
+        // then the first one at least the lookahead away.
+        let path = &travel.plan.path;
+        let mut along = travel.along.min(path.len().saturating_sub(1));
+        let mut best = f64::INFINITY;
+        for (k, q) in path.iter().enumerate().skip(travel.along).take(40) {
+            let d = (q - from).norm_squared();
+            if d < best {
+                best = d;
+                along = k;
+            }
+        }
+        travel.along = along;
+        let target = path
+            .iter()
+            .skip(along)
+            .find(|q| (*q - from).norm() >= p.lookahead_m)
+            .or(path.last())
+            .copied()
+            .unwrap_or(goal);
+        self.travel = Some(travel);
+        self.mode = Mode::Travel;
+        let local = self.map_from_robot.inverse() * target;
+        let alpha = local.y.atan2(local.x);
+        Some(if alpha.abs() > 0.7 {
+            VelocityCommand::new(0.0, alpha.signum() * p.turn_rate)
+        } else {
+            let omega = (2.0 * alpha).clamp(-p.turn_rate, p.turn_rate);
+            let v = p.travel_speed
+                * (1.0 - alpha.abs() / 0.9).max(0.2)
+                * ((front_free - 0.1) / 0.8).clamp(0.25, 1.0);
+            VelocityCommand::new(v, omega)
+        })
     }
 
     fn track_odometry(&mut self, odom_from_robot: &Isometry2) {
@@ -426,15 +771,22 @@ impl Explorer {
         self.last_pose = Some(*odom_from_robot);
     }
 
-    /// Keeps the scan's points (odometry frame) for the safety layer and marks the
-    /// explorer's own seen map.
-    fn remember(&mut self, scan: &Scan, odom_from_robot: &Isometry2, time_s: f64) {
-        let keep = self.params.memory_s;
-        self.memory.retain(|m| time_s - m.time <= keep);
-        let odom_from_laser = odom_from_robot * self.robot_from_laser;
+    /// Keeps the scan's near points (map frame) for the safety layer: the points
+    /// remembered from earlier scans stay while they are out of the laser's view (behind
+    /// it) and within `memory_range_m`; in view, this scan's points replace them.
+    fn remember(&mut self, scan: &Scan, map_from_robot: &Isometry2) {
+        let map_from_laser = map_from_robot * self.robot_from_laser;
+        let robot_at = Point2::from(map_from_robot.translation.vector);
+        let keep2 = self.params.memory_range_m * self.params.memory_range_m;
+        let robot_from_map = map_from_robot.inverse();
+        let laser = self.robot_from_laser.translation.vector;
+        let mut memory = std::mem::take(&mut self.memory);
+        memory.retain(|m| {
+            (m - robot_at).norm_squared() <= keep2
+                && self.in_blind_wedge((robot_from_map * m).coords - laser)
+        });
+        self.memory = memory;
         let window = scan.range_window(None);
-        let cell = self.params.seen_cell.max(0.05);
-        let mut new_cell = false;
         let (s0, c0) = scan.angle_min.sin_cos();
         let (s_inc, c_inc) = scan.angle_increment.sin_cos();
         let mut dir = Vector2::new(c0, s0);
@@ -442,26 +794,26 @@ impl Explorer {
             if i > 0 {
                 dir = Vector2::new(c_inc * dir.x - s_inc * dir.y, s_inc * dir.x + c_inc * dir.y);
             }
-            if !window.contains(r) {
+            // Near points only: only they matter to the safety layer.
+            if i % 2 != 0 || r >= 1.2 || !window.contains(r) {
                 continue;
             }
-            let p = odom_from_laser * Point2::from(dir * r);
-            // Keep near points only: only they matter to the safety layer.
-            if r < 1.2 && i % 3 == 0 {
-                self.memory.push(Remembered {
-                    point: p,
-                    time: time_s,
-                });
-            }
-            if i % 4 == 0 {
-                let key = ((p.x / cell).floor() as i32, (p.y / cell).floor() as i32);
-                if self.seen.insert(key) {
-                    new_cell = true;
-                }
-            }
+            self.memory.push(map_from_laser * Point2::from(dir * r));
         }
-        if new_cell {
-            self.last_new_seen = time_s;
+    }
+
+    /// True when the direction `v` (from the laser, in the robot's axes) lies outside the
+    /// laser's field of view.
+    fn in_blind_wedge(&self, v: Vector2) -> bool {
+        let (d_first, d_last, narrow) = self.blind;
+        let cross = |a: Vector2, b: Vector2| a.x * b.y - a.y * b.x;
+        // The blind wedge runs counter-clockwise from the last beam round to the first.
+        let after_last = cross(d_last, v) >= 0.0;
+        let before_first = cross(v, d_first) >= 0.0;
+        if narrow {
+            after_last && before_first
+        } else {
+            after_last || before_first
         }
     }
 
@@ -481,16 +833,19 @@ impl Explorer {
         (best - half.x).max(0.0)
     }
 
-    fn check_loop(&mut self, odom_from_robot: &Isometry2) {
+    /// Drops a breadcrumb every 0.5 m (map frame); true when the wall being followed has
+    /// been followed all the way round.
+    fn check_loop(&mut self) -> bool {
         let p = self.params;
-        let at = Point2::from(odom_from_robot.translation.vector);
-        let heading = odom_from_robot.rotation.angle();
+        let at = Point2::from(self.map_from_robot.translation.vector);
+        let heading = self.map_from_robot.rotation.angle();
         if self.last_crumb.is_some_and(|c| (at - c).norm() < 0.5) {
-            return;
+            return false;
         }
         self.last_crumb = Some(at);
+        let mut looped = false;
         if self.mode == Mode::Follow || self.mode == Mode::Corner {
-            let looped = self.crumbs.iter().any(|c| {
+            looped = self.crumbs.iter().any(|c| {
                 c.side == self.side
                     && self.path - c.path >= p.loop_min_path
                     && (c.at - at).norm() < p.loop_match
@@ -498,9 +853,6 @@ impl Explorer {
             });
             if looped {
                 self.loops += 1;
-                self.side = self.side.other();
-                // Breadcrumbs of the wall just finished stay: coming back onto it with the
-                // same side is a loop again.
             }
             self.crumbs.push(Crumb {
                 at,
@@ -509,6 +861,7 @@ impl Explorer {
                 side: self.side,
             });
         }
+        looped
     }
 
     /// The safety layer: checks `wanted` against the remembered points and returns the
@@ -516,77 +869,113 @@ impl Explorer {
     fn safe_command(
         &mut self,
         wanted: VelocityCommand,
-        odom_from_robot: &Isometry2,
+        map_from_robot: &Isometry2,
         time_s: f64,
     ) -> VelocityCommand {
-        let robot_from_odom = odom_from_robot.inverse();
+        let robot_from_map = map_from_robot.inverse();
         let mut pts = std::mem::take(&mut self.scratch_points);
         pts.clear();
         let reach = self.footprint.circumradius() + 0.5;
         for m in &self.memory {
-            let q = robot_from_odom * m.point;
-            if q.coords.norm() < reach {
+            let q = robot_from_map * m;
+            if q.coords.norm_squared() < reach * reach {
                 pts.push(q);
             }
         }
         let s = self.side.sign();
+        // Slower, then turning on the spot, then turning while creeping forward or back,
+        // then creeping straight out (a corner too tight to turn in), then turning either
+        // way.
         let candidates = [
             wanted,
             VelocityCommand::new(wanted.linear_m_s * 0.5, wanted.angular_rad_s),
             VelocityCommand::new(wanted.linear_m_s * 0.25, wanted.angular_rad_s * 0.5),
             VelocityCommand::new(0.0, wanted.angular_rad_s),
+            VelocityCommand::new(0.1, wanted.angular_rad_s),
+            VelocityCommand::new(-0.1, wanted.angular_rad_s),
+            VelocityCommand::new(0.12, 0.0),
+            VelocityCommand::new(-0.1, 0.0),
             VelocityCommand::new(0.0, -s * self.params.turn_rate),
             VelocityCommand::new(0.0, s * self.params.turn_rate),
         ];
+        // A command is safe when the footprint stays the safety margin clear of everything
+        // along its sweep; or, where the robot already stands closer than that, when the
+        // sweep never comes closer than the robot is now (and keeps 2 cm), so that it can
+        // turn or back out of a tight spot.
+        let now = self.sweep_clearance(&pts, VelocityCommand::STOP, 0.0);
+        let margin = self.params.safety_margin;
+        let safe = |clearance: f64| {
+            clearance >= margin
+                || (clearance >= now.min(margin) - 1e-3 && clearance >= now.min(0.02))
+        };
         let mut chosen = VelocityCommand::STOP;
         for c in candidates {
-            if self.sweep_is_free(&pts, c) {
+            if safe(self.sweep_clearance(&pts, c, 1.0)) {
                 chosen = c;
                 break;
             }
         }
-        self.scratch_points = pts;
-        if chosen == VelocityCommand::STOP && wanted != VelocityCommand::STOP {
-            let since = *self.stuck_since.get_or_insert(time_s);
-            if time_s - since > 1.0 {
+        // Stuck: nothing safe, or only a turn the other way than a turn on the spot asked
+        // for (a corner too tight to turn in), for a second: back off a little.
+        let against = wanted.linear_m_s == 0.0 && wanted.angular_rad_s * chosen.angular_rad_s < 0.0;
+        let stuck = (chosen == VelocityCommand::STOP && wanted != VelocityCommand::STOP) || against;
+        // Stuck scans add up, free ones count half back: a robot that keeps switching
+        // between a blocked turn and a way out is stuck too.
+        self.stuck_score = if stuck {
+            self.stuck_score + 1.0
+        } else {
+            (self.stuck_score - 0.5).max(0.0)
+        };
+        if stuck {
+            if self.stuck_score > 10.0 {
                 self.mode = Mode::BackOff;
                 self.backoff_until = time_s + 1.0;
-                self.stuck_since = None;
+                self.stuck_score = 0.0;
             }
             if self.mode == Mode::BackOff {
-                let back = VelocityCommand::new(-0.1, 0.0);
-                if self.sweep_is_free(&self.scratch_points.clone(), back) {
-                    return back;
+                let back = VelocityCommand::new(-0.15, 0.0);
+                if safe(self.sweep_clearance(&pts, back, 1.0)) {
+                    chosen = back;
                 }
             }
-        } else {
-            self.stuck_since = None;
         }
+        self.scratch_points = pts;
         chosen
     }
 
-    /// True when the footprint, grown by the safety margin, stays clear of `pts` (robot
-    /// frame) while driving `c` for the time to react and stop.
-    fn sweep_is_free(&self, pts: &[Point2], c: VelocityCommand) -> bool {
-        let margin = self.params.safety_margin;
-        let half = self.footprint.half() + Vector2::new(margin, margin);
+    /// The least distance between the footprint and the points `pts` (robot frame) while
+    /// driving `c` for the time to react and stop (`horizon` 0: where the robot stands
+    /// now); at most 1 m.
+    fn sweep_clearance(&self, pts: &[Point2], c: VelocityCommand, horizon: f64) -> f64 {
+        let half = self.footprint.half();
         let v = c.linear_m_s.abs();
         // One scan period to react, then braking.
-        let horizon = 0.15 + v / self.max_accel.max(1e-3);
-        let steps = 6;
+        let span = horizon * (0.15 + v / self.max_accel.max(1e-3));
+        let steps = if horizon > 0.0 { 6 } else { 1 };
+        let mut least2: f64 = 1.0;
         for k in 1..=steps {
-            let t = horizon * f64::from(k) / f64::from(steps);
+            let t = span * f64::from(k) / f64::from(steps);
             let pose = arc(c.linear_m_s * t, c.angular_rad_s * t.min(0.3));
             let inv = pose.inverse();
             for q in pts {
                 let l = inv * q;
-                if l.x.abs() <= half.x && l.y.abs() <= half.y {
-                    return false;
-                }
+                let dx = (l.x.abs() - half.x).max(0.0);
+                let dy = (l.y.abs() - half.y).max(0.0);
+                least2 = least2.min(dx * dx + dy * dy);
             }
         }
-        true
+        least2.sqrt()
     }
+}
+
+/// Least spacing of the scan points given to the scan matching, m.
+const MATCH_SPACING: f64 = 0.03;
+
+/// The length of `path` left from point `along` on, plus the way from `from` to that point.
+fn remaining(path: &[Point2], along: usize, from: Point2) -> f64 {
+    let rest = path.get(along..).unwrap_or(&[]);
+    let to_path = rest.first().map_or(0.0, |p| (p - from).norm());
+    to_path + rest.windows(2).map(|s| (s[1] - s[0]).norm()).sum::<f64>()
 }
 
 /// The part of the segment `a`-`b` with `|y| <= band` and `x >= 0`.

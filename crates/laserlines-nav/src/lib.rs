@@ -28,6 +28,9 @@
 pub mod arenas;
 pub mod coverage;
 pub mod explorer;
+pub mod map;
+pub mod planner;
+mod raster;
 pub mod run;
 pub mod sectors;
 

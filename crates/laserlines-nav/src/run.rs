@@ -79,15 +79,18 @@ pub enum StopReason {
     TimeLimit,
     /// The explorer saw nothing new for its idle timeout.
     NothingNew,
+    /// The explorer found no frontier left on its map: it has seen all it can reach.
+    Explored,
 }
 
 impl StopReason {
-    /// `time_limit` or `nothing_new`.
+    /// `time_limit`, `nothing_new` or `explored`.
     #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Self::TimeLimit => "time_limit",
             Self::NothingNew => "nothing_new",
+            Self::Explored => "explored",
         }
     }
 }
@@ -117,6 +120,15 @@ pub struct Metrics {
     pub lines: u64,
     /// Walls followed all the way round (the explorer's loop detections).
     pub loops: usize,
+    /// Frontiers the explorer reached (or saw on its way there).
+    pub frontiers: usize,
+    /// Largest distance between the robot's own position estimate (odometry corrected by
+    /// scan matching against its map) and the true position, m.
+    pub max_pose_error_m: f64,
+    /// Largest error of the robot's own heading estimate, rad.
+    pub max_heading_error_rad: f64,
+    /// Scans the robot could not place on its map (their pose came from the odometry).
+    pub unmatched_scans: u64,
     /// Why the run ended.
     pub stop: StopReason,
 }
@@ -157,6 +169,8 @@ pub struct RunRecord {
     pub snapshot: Option<Snapshot>,
     /// Coverage over time: `(sim time s, coverage)` once per simulated second.
     pub coverage_curve: Vec<(f64, f64)>,
+    /// Centres of the reachable coverage cells never seen, world frame.
+    pub unseen: Vec<Point2>,
 }
 
 /// Runs an exploration of `world` from `start` (see the [module docs](self)).
@@ -216,6 +230,10 @@ pub fn run_with_progress(
             scans: 0,
             lines: 0,
             loops: 0,
+            frontiers: 0,
+            max_pose_error_m: 0.0,
+            max_heading_error_rad: 0.0,
+            unmatched_scans: 0,
             stop: StopReason::TimeLimit,
         },
         path: Vec::new(),
@@ -223,6 +241,7 @@ pub fn run_with_progress(
         lines_seen: Vec::new(),
         snapshot: None,
         coverage_curve: Vec::new(),
+        unseen: Vec::new(),
     };
     let steps = (config.duration_s / config.robot.physics_dt_s).round() as u64;
     let mut next_report = 0.0;
@@ -234,6 +253,20 @@ pub fn run_with_progress(
             extractor.extract_into(&scan, &mut lines);
             let odom = robot.odom_from_robot();
             let decision = explorer.on_scan(&scan, &lines, &odom, t);
+            // How far the robot's own pose estimate (its map frame is the start pose) is
+            // from the truth: evaluation only.
+            let believed = start * decision.map_from_robot;
+            let world_from_robot_now = robot.world_from_robot();
+            let pose_error =
+                (believed.translation.vector - world_from_robot_now.translation.vector).norm();
+            let m = &mut record.metrics;
+            m.max_pose_error_m = m.max_pose_error_m.max(pose_error);
+            m.max_heading_error_rad = m.max_heading_error_rad.max(
+                laserlines::math::wrap_angle(
+                    believed.rotation.angle() - world_from_robot_now.rotation.angle(),
+                )
+                .abs(),
+            );
             command = decision.command;
             coverage.mark_scan(
                 &robot.world_from_laser(),
@@ -289,7 +322,11 @@ pub fn run_with_progress(
                 next_report += 1.0;
             }
             if decision.done {
-                stop = StopReason::NothingNew;
+                stop = if decision.explored {
+                    StopReason::Explored
+                } else {
+                    StopReason::NothingNew
+                };
                 break;
             }
         }
@@ -302,11 +339,14 @@ pub fn run_with_progress(
     m.path_length_m = robot.path_length();
     m.sim_time_s = robot.time_s();
     m.loops = explorer.loops();
+    m.frontiers = explorer.frontiers();
+    m.unmatched_scans = explorer.unmatched_scans();
     m.stop = stop;
     record
         .coverage_curve
         .push((robot.time_s(), coverage.coverage()));
     progress(robot.time_s());
+    record.unseen = coverage.unseen();
     m.wall_time_s = wall_clock.elapsed().as_secs_f64();
     Ok(record)
 }

@@ -31,9 +31,10 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use laserlines::math::{Point2, Vector2};
+use laserlines::math::{Isometry2, Point2, Vector2};
 
-use crate::world::World;
+use crate::index::WorldIndex;
+use crate::world::{Target, World};
 
 /// The arena grid, m: one element cell is 1.2 m x 1.2 m.
 pub const ARENA_GRID: f64 = 1.2;
@@ -293,6 +294,157 @@ pub fn parse_raf(text: &str, name: &str, options: &ArenaOptions) -> Result<Arena
         world,
         report,
     })
+}
+
+/// Side of the cells of [`interior_start`]'s search, m.
+pub const START_SEARCH_CELL: f64 = 0.1;
+
+/// A start pose inside the arena: the centre of the grid cell (a point `(1.2 i, 1.2 j)`)
+/// nearest to the origin within the largest *enclosed* free region, facing +x (yaw 0).
+///
+/// Free means at least `clearance` m (e.g. a robot's circumradius) from every wall and
+/// disc, on a [`START_SEARCH_CELL`] grid over the world's bounding box and 1 m around it;
+/// regions are 4-connected; a region touching the grid's edge is outside the arena and
+/// never chosen. Real arena files put their origin anywhere: inside the arena, in a small
+/// pocket closed by barrels, or outside the outer wall. `None` when no enclosed region
+/// holds a grid cell's centre with that clearance.
+///
+/// ```
+/// use laserlines_sim::World;
+/// use laserlines_sim::arena::interior_start;
+/// use laserlines::math::Point2;
+/// // A 6 m x 4 m room around (10, 10), and a 1 m pocket at the origin.
+/// let mut world = World::new();
+/// world.add_box(Point2::new(10.8, 10.8), 6.0, 4.0, 0.0);
+/// world.add_box(Point2::new(0.0, 0.0), 1.0, 1.0, 0.0);
+/// let start = interior_start(&world, 0.32).unwrap();
+/// let p = start.translation.vector;
+/// assert!((p.x - 8.4).abs() < 1e-9 && (p.y - 9.6).abs() < 1e-9, "{p:?}");
+/// ```
+#[must_use]
+pub fn interior_start(world: &World, clearance: f64) -> Option<Isometry2> {
+    let index = WorldIndex::new(world, 0.6);
+    let mut lo = Point2::new(f64::INFINITY, f64::INFINITY);
+    let mut hi = Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
+    let mut grow = |p: Point2| {
+        if p.x.is_finite() && p.y.is_finite() {
+            lo = Point2::new(lo.x.min(p.x), lo.y.min(p.y));
+            hi = Point2::new(hi.x.max(p.x), hi.y.max(p.y));
+        }
+    };
+    for w in &world.walls {
+        grow(w.a);
+        grow(w.b);
+    }
+    for d in &world.discs {
+        grow(d.centre);
+    }
+    if !(lo.x.is_finite() && hi.x.is_finite() && clearance.is_finite()) {
+        return None;
+    }
+    let cell = START_SEARCH_CELL;
+    let origin = Point2::new(lo.x - 1.0, lo.y - 1.0);
+    let cols = (((hi.x - lo.x + 2.0) / cell).ceil() as usize).clamp(1, 4000);
+    let rows = (((hi.y - lo.y + 2.0) / cell).ceil() as usize).clamp(1, 4000);
+    let centre = |c: usize| {
+        Point2::new(
+            origin.x + ((c % cols) as f64 + 0.5) * cell,
+            origin.y + ((c / cols) as f64 + 0.5) * cell,
+        )
+    };
+    let clear_at = |p: Point2, need: f64| {
+        let r = Vector2::new(need, need);
+        let mut ok = true;
+        index.near_box(p - r, p + r, |t| {
+            let d = match t {
+                Target::Wall(i) => {
+                    let w = &world.walls[i];
+                    laserlines::line::distance_to_segment(p, w.a, w.b)
+                }
+                Target::Disc(i) => {
+                    let d = &world.discs[i];
+                    (p - d.centre).norm() - d.radius
+                }
+            };
+            if d < need {
+                ok = false;
+            }
+        });
+        ok
+    };
+    let free: Vec<bool> = (0..cols * rows)
+        .map(|c| clear_at(centre(c), clearance))
+        .collect();
+    // Regions by flood fill: the size of each, and whether it touches the grid's edge.
+    let mut region = vec![usize::MAX; cols * rows];
+    let mut regions: Vec<(usize, bool)> = Vec::new();
+    let mut stack = Vec::new();
+    for seed in 0..cols * rows {
+        if !free[seed] || region[seed] != usize::MAX {
+            continue;
+        }
+        let id = regions.len();
+        let (mut size, mut outside) = (0, false);
+        region[seed] = id;
+        stack.push(seed);
+        while let Some(c) = stack.pop() {
+            size += 1;
+            let (x, y) = (c % cols, c / cols);
+            outside |= x == 0 || y == 0 || x + 1 == cols || y + 1 == rows;
+            let mut visit = |n: usize| {
+                if free[n] && region[n] == usize::MAX {
+                    region[n] = id;
+                    stack.push(n);
+                }
+            };
+            if x > 0 {
+                visit(c - 1);
+            }
+            if x + 1 < cols {
+                visit(c + 1);
+            }
+            if y > 0 {
+                visit(c - cols);
+            }
+            if y + 1 < rows {
+                visit(c + cols);
+            }
+        }
+        regions.push((size, outside));
+    }
+    let (best, _) = regions
+        .iter()
+        .enumerate()
+        .filter(|(_, (_, outside))| !outside)
+        .max_by_key(|(id, (size, _))| (*size, std::cmp::Reverse(*id)))?;
+    // The grid cell centre in that region nearest to the origin.
+    let (i0, i1) = (
+        (lo.x / ARENA_GRID).floor() as i64,
+        (hi.x / ARENA_GRID).ceil() as i64,
+    );
+    let (j0, j1) = (
+        (lo.y / ARENA_GRID).floor() as i64,
+        (hi.y / ARENA_GRID).ceil() as i64,
+    );
+    let mut pick: Option<Point2> = None;
+    for j in j0..=j1 {
+        for i in i0..=i1 {
+            let p = cell_centre(i, j);
+            let fx = ((p.x - origin.x) / cell).floor();
+            let fy = ((p.y - origin.y) / cell).floor();
+            if !(fx >= 0.0 && fy >= 0.0 && (fx as usize) < cols && (fy as usize) < rows) {
+                continue;
+            }
+            let c = fy as usize * cols + fx as usize;
+            if region[c] == best
+                && clear_at(p, clearance)
+                && pick.is_none_or(|q| p.coords.norm() < q.coords.norm())
+            {
+                pick = Some(p);
+            }
+        }
+    }
+    pick.map(|p| Isometry2::new(p.coords, 0.0))
 }
 
 /// The centre of grid cell `(x, y)`, m.

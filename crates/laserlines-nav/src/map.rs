@@ -1,0 +1,747 @@
+//! The robot's own map, built from its scans placed by its own pose estimate, and the scan
+//! matching that keeps that estimate from drifting.
+//!
+//! A real robot has its scans and its wheel odometry, nothing else; so does this map. It
+//! lives in the *map frame*: the odometry frame at the start, corrected by scan matching as
+//! the run goes on (the odometry drifts, about 1 m in a few minutes with the simulator's
+//! default noise, more than a 1.2 m corridor allows).
+//!
+//! Two grids, both grown on demand in steps of [`GROW_STEP`] up to [`MAX_EXTENT`]:
+//!
+//! - **Knowledge** ([`MAP_CELL`] = 0.1 m): each cell is [`CellState::Unknown`] until a scan
+//!   says something about it, then holds evidence that moves toward *occupied* by
+//!   [`HIT_STEP`] for every beam ending in it and toward *free* by [`FREE_STEP`] for every
+//!   scan whose fan covers its centre (the fan from the laser through the end points of
+//!   consecutive beams; a beam without a return saw nothing within its range, and its end
+//!   is taken [`NO_RETURN_FREE`] along it). Cells at [`OCCUPIED_AT`] or more
+//!   are occupied. The explorer's frontiers and paths come from this grid.
+//! - **Surfaces** ([`SURFACE_CELL`] = 0.2 m): the end points of beams shorter than
+//!   [`SURFACE_RANGE`] (where the URG-04LX's noise is under 2 cm), summed per cell (count,
+//!   mean, second moments, a window of about the last [`SURFACE_WINDOW`] points); a cell
+//!   whose points lie along a line (smaller spread at most a tenth of the larger) holds that
+//!   line. [`RobotMap::match_scan`] fits a scan onto these lines: point-to-line ICP, each
+//!   point paired with the nearest line among its cell and the eight around it, a few
+//!   Gauss-Newton rounds on the pose, with a weak prior toward the odometry's prediction so
+//!   that directions a scan cannot fix (along a featureless corridor) stay with the
+//!   odometry. Lines fitted to the points themselves place walls to a few millimetres
+//!   wherever they fall in a cell, which a grid of cell values cannot.
+
+use laserlines::Scan;
+use laserlines::math::{Isometry2, Point2, Vector2, wrap_angle};
+use nalgebra::{Matrix3, Vector3};
+
+use crate::raster::FanRaster;
+
+/// Side of a cell of the surface grid, m.
+pub const SURFACE_CELL: f64 = 0.2;
+/// End points of beams longer than this do not enter the surface grid, m.
+pub const SURFACE_RANGE: f64 = 3.0;
+/// A surface cell takes its first this many points and no more.
+pub const SURFACE_WINDOW: f32 = 40.0;
+/// A surface cell holds a line when the smaller spread of its points is at most this
+/// fraction of the larger (variances).
+pub const LINEARITY: f32 = 0.05;
+/// A scan point pairs only with a line whose normal is within 30 deg of its own: the cosine.
+const NORMAL_AGREEMENT: f64 = 0.866;
+/// Side of a cell of the knowledge grid, m.
+pub const MAP_CELL: f64 = 0.1;
+/// The grids grow in whole steps of this many metres (a multiple of both cell sizes, so that
+/// the grids stay aligned).
+pub const GROW_STEP: f64 = 4.0;
+/// Largest extent of the map along either axis, m: scan points beyond are not mapped.
+pub const MAX_EXTENT: f64 = 200.0;
+/// How far a beam without a return counts as having seen free space, m (the URG-04LX reports
+/// no return when nothing is within its 5.6 m; a real one also for dark or glancing
+/// surfaces, hence less than the full range).
+pub const NO_RETURN_FREE: f64 = 3.0;
+/// Evidence of a cell seen for the first time, before its first update.
+pub const NEUTRAL: u8 = 128;
+/// Evidence added by one beam ending in a cell.
+pub const HIT_STEP: u8 = 40;
+/// Evidence removed by one scan whose fan covers a cell's centre.
+pub const FREE_STEP: u8 = 6;
+/// Evidence at which a cell is occupied.
+pub const OCCUPIED_AT: u8 = 150;
+
+/// The points of one surface cell: sums of their offsets from the cell's centre, and the
+/// line fitted to them.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct Surface {
+    n: f32,
+    sx: f32,
+    sy: f32,
+    sxx: f32,
+    sxy: f32,
+    syy: f32,
+    /// The scan that last touched the cell (1-based; 0: none).
+    stamp: u32,
+    /// The fitted line: a point on it (offset from the cell's centre) and its unit normal.
+    line: Option<([f32; 2], [f32; 2])>,
+}
+
+impl Surface {
+    fn add(&mut self, dx: f32, dy: f32) {
+        if self.n >= SURFACE_WINDOW {
+            return;
+        }
+        self.n += 1.0;
+        self.sx += dx;
+        self.sy += dy;
+        self.sxx += dx * dx;
+        self.sxy += dx * dy;
+        self.syy += dy * dy;
+    }
+
+    /// Fits the line (see the [module docs](self)).
+    fn refit(&mut self) {
+        self.line = None;
+        if self.n < 4.0 {
+            return;
+        }
+        let (mx, my) = (self.sx / self.n, self.sy / self.n);
+        let a = self.sxx / self.n - mx * mx;
+        let b = self.sxy / self.n - mx * my;
+        let c = self.syy / self.n - my * my;
+        let half_sum = 0.5 * (a + c);
+        let root = (0.25 * (a - c) * (a - c) + b * b).sqrt();
+        let (big, small) = (half_sum + root, half_sum - root);
+        if !(big > 1e-6 && small <= LINEARITY * big) {
+            return;
+        }
+        // The eigenvector of the smaller eigenvalue, from whichever row is better
+        // conditioned.
+        let (u, v) = if (a - small).abs() >= (c - small).abs() {
+            (b, small - a)
+        } else {
+            (small - c, b)
+        };
+        let norm = u.hypot(v);
+        if norm > 0.0 && norm.is_finite() {
+            self.line = Some(([mx, my], [u / norm, v / norm]));
+        }
+    }
+}
+
+/// What the robot knows about a cell of its map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CellState {
+    /// No scan has said anything about it.
+    Unknown,
+    /// Seen through more than hit.
+    Free,
+    /// Hit more than seen through.
+    Occupied,
+}
+
+impl CellState {
+    fn of(evidence: u8) -> Self {
+        match evidence {
+            0 => Self::Unknown,
+            e if e >= OCCUPIED_AT => Self::Occupied,
+            _ => Self::Free,
+        }
+    }
+}
+
+/// A growable grid over the map frame; cell `(i, j)` spans `origin + cell * [i, i + 1] x
+/// [j, j + 1]`.
+#[derive(Debug, Clone)]
+pub(crate) struct Grid<T> {
+    pub(crate) origin: Point2,
+    pub(crate) cell: f64,
+    pub(crate) cols: usize,
+    pub(crate) rows: usize,
+    pub(crate) cells: Vec<T>,
+    fill: T,
+}
+
+impl<T: Copy> Grid<T> {
+    fn new(cell: f64, fill: T) -> Self {
+        Self {
+            origin: Point2::origin(),
+            cell,
+            cols: 0,
+            rows: 0,
+            cells: Vec::new(),
+            fill,
+        }
+    }
+
+    /// `p` in continuous cell units (cell `(i, j)` spans `[i, i + 1] x [j, j + 1]`).
+    pub(crate) fn to_cells(&self, p: Point2) -> (f64, f64) {
+        (
+            (p.x - self.origin.x) / self.cell,
+            (p.y - self.origin.y) / self.cell,
+        )
+    }
+
+    /// The index of cell `(i, j)`, if it is in the grid.
+    pub(crate) fn index_of(&self, i: i64, j: i64) -> Option<usize> {
+        (i >= 0 && j >= 0 && i < self.cols as i64 && j < self.rows as i64)
+            .then(|| j as usize * self.cols + i as usize)
+    }
+
+    /// The index of the cell holding `p`, if any.
+    pub(crate) fn index(&self, p: Point2) -> Option<usize> {
+        let (u, v) = self.to_cells(p);
+        if !(u.is_finite() && v.is_finite()) {
+            return None;
+        }
+        self.index_of(u.floor() as i64, v.floor() as i64)
+    }
+
+    /// The centre of cell `index`, map frame.
+    pub(crate) fn centre(&self, index: usize) -> Point2 {
+        let (i, j) = (index % self.cols.max(1), index / self.cols.max(1));
+        Point2::new(
+            self.origin.x + (i as f64 + 0.5) * self.cell,
+            self.origin.y + (j as f64 + 0.5) * self.cell,
+        )
+    }
+
+    /// Grows the grid to hold the box `lo..hi` (map frame), in whole [`GROW_STEP`]s on a
+    /// lattice through the map origin; growth beyond [`MAX_EXTENT`] is refused (the grid
+    /// stays as it is).
+    fn ensure(&mut self, lo: Point2, hi: Point2) {
+        if !(lo.x.is_finite() && lo.y.is_finite() && hi.x.is_finite() && hi.y.is_finite()) {
+            return;
+        }
+        let have_lo = self.origin;
+        let have_hi = Point2::new(
+            self.origin.x + self.cols as f64 * self.cell,
+            self.origin.y + self.rows as f64 * self.cell,
+        );
+        let empty = self.cols == 0 || self.rows == 0;
+        if !empty
+            && lo.x >= have_lo.x
+            && lo.y >= have_lo.y
+            && hi.x <= have_hi.x
+            && hi.y <= have_hi.y
+        {
+            return;
+        }
+        let snap_lo = |v: f64| (v / GROW_STEP).floor() * GROW_STEP;
+        let snap_hi = |v: f64| (v / GROW_STEP).ceil() * GROW_STEP;
+        let (mut new_lo, mut new_hi) = (
+            Point2::new(snap_lo(lo.x), snap_lo(lo.y)),
+            Point2::new(snap_hi(hi.x), snap_hi(hi.y)),
+        );
+        if !empty {
+            new_lo = Point2::new(new_lo.x.min(have_lo.x), new_lo.y.min(have_lo.y));
+            new_hi = Point2::new(new_hi.x.max(have_hi.x), new_hi.y.max(have_hi.y));
+        }
+        if new_hi.x - new_lo.x > MAX_EXTENT || new_hi.y - new_lo.y > MAX_EXTENT {
+            return;
+        }
+        let cols = ((new_hi.x - new_lo.x) / self.cell).round() as usize;
+        let rows = ((new_hi.y - new_lo.y) / self.cell).round() as usize;
+        let mut cells = vec![self.fill; cols * rows];
+        if !empty {
+            let di = ((have_lo.x - new_lo.x) / self.cell).round() as usize;
+            let dj = ((have_lo.y - new_lo.y) / self.cell).round() as usize;
+            for j in 0..self.rows {
+                let from = j * self.cols;
+                let to = (j + dj) * cols + di;
+                cells[to..to + self.cols].copy_from_slice(&self.cells[from..from + self.cols]);
+            }
+        }
+        self.origin = new_lo;
+        self.cols = cols;
+        self.rows = rows;
+        self.cells = cells;
+    }
+}
+
+/// A scan point to be matched: robot frame, with the unit normal of the scan's outline
+/// there when its neighbours give one, and its weight.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MatchPoint {
+    /// The point, robot frame, m.
+    pub point: Point2,
+    /// The outline's unit normal at the point, robot frame (either sense).
+    pub normal: Option<Vector2>,
+    /// Weight of the point, 0..1: `(sigma_0 / sigma)^2` for a range noise `sigma`, where
+    /// `sigma_0` is the noise of the best points (1 for them).
+    pub weight: f64,
+}
+
+/// Settings of the scan matching.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MatchParams {
+    /// Most rounds of pairing and Gauss-Newton step per scan. Default 5.
+    pub iterations: usize,
+    /// Points farther than this from their line in the first round are left out, m (half
+    /// that in later rounds). Default 0.1.
+    pub gate_m: f64,
+    /// Weight of the prior toward the odometry's prediction on x and y, 1/m^2, where each
+    /// paired point's distance from its line weighs 1/m^2: about (the points' noise / the
+    /// odometry's error over one scan)^2, (1.5 cm / 3 mm)^2. Default 25.
+    pub prior_xy: f64,
+    /// Weight of the prior on the heading, 1/rad^2 in the same units: (1.5 cm / 9 mrad)^2.
+    /// Default 3.
+    pub prior_theta: f64,
+    /// A match that moves the pose farther than this from the prediction is refused, m.
+    /// Default 0.25.
+    pub max_shift_m: f64,
+    /// The same for the heading, rad. Default 0.25.
+    pub max_turn_rad: f64,
+    /// Fewer points paired with mapped lines than this and the match is refused. Default 20.
+    pub min_support: usize,
+}
+
+impl Default for MatchParams {
+    fn default() -> Self {
+        Self {
+            iterations: 5,
+            gate_m: 0.1,
+            prior_xy: 25.0,
+            prior_theta: 3.0,
+            max_shift_m: 0.25,
+            max_turn_rad: 0.25,
+            min_support: 20,
+        }
+    }
+}
+
+/// The robot's map (see the [module docs](self)).
+#[derive(Debug, Clone)]
+pub struct RobotMap {
+    surfaces: Grid<Surface>,
+    touched: Vec<usize>,
+    knowledge: Grid<u8>,
+    /// Per knowledge cell: the sum of the end points in it (offsets from its centre) and
+    /// their count, so that walls are known better than to a cell.
+    centroids: Grid<[f32; 3]>,
+    known: usize,
+    scans: usize,
+    /// The box holding every scan's laser position and end points, map frame.
+    extent: Option<(Point2, Point2)>,
+    raster: FanRaster,
+    poly: Vec<(f64, f64)>,
+}
+
+impl Default for RobotMap {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl RobotMap {
+    /// An empty map.
+    #[must_use]
+    pub fn new() -> Self {
+        Self {
+            surfaces: Grid::new(SURFACE_CELL, Surface::default()),
+            touched: Vec::new(),
+            knowledge: Grid::new(MAP_CELL, 0),
+            centroids: Grid::new(MAP_CELL, [0.0; 3]),
+            known: 0,
+            scans: 0,
+            extent: None,
+            raster: FanRaster::default(),
+            poly: Vec::new(),
+        }
+    }
+
+    /// Scans inserted so far.
+    #[must_use]
+    pub fn scans(&self) -> usize {
+        self.scans
+    }
+
+    /// Knowledge cells no longer unknown.
+    #[must_use]
+    pub fn known_cells(&self) -> usize {
+        self.known
+    }
+
+    /// What the map knows about the point `p` (map frame).
+    #[must_use]
+    pub fn state(&self, p: Point2) -> CellState {
+        self.knowledge.index(p).map_or(CellState::Unknown, |c| {
+            CellState::of(self.knowledge.cells[c])
+        })
+    }
+
+    /// Appends the occupied knowledge cells within `reach` of `p` (map frame) to `out`:
+    /// the mean of the end points in each (the cell's centre if it has none).
+    pub fn occupied_near(&self, p: Point2, reach: f64, out: &mut Vec<Point2>) {
+        let (u, v) = self.knowledge.to_cells(p);
+        if !(u.is_finite() && v.is_finite() && reach.is_finite()) {
+            return;
+        }
+        let r = (reach / self.knowledge.cell).ceil() as i64;
+        let (i, j) = (u.floor() as i64, v.floor() as i64);
+        for dj in -r..=r {
+            for di in -r..=r {
+                if let Some(c) = self.knowledge.index_of(i + di, j + dj)
+                    && self.knowledge.cells[c] >= OCCUPIED_AT
+                {
+                    let [sx, sy, n] = self.centroids.cells[c];
+                    let q = self.knowledge.centre(c)
+                        + if n > 0.0 {
+                            Vector2::new(f64::from(sx / n), f64::from(sy / n))
+                        } else {
+                            Vector2::zeros()
+                        };
+                    if (q - p).norm_squared() <= reach * reach {
+                        out.push(q);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Unknown knowledge cells among the `(2 radius + 1)^2` cells around the one holding `p`
+    /// (cells outside the grid count as unknown).
+    #[must_use]
+    pub fn unknown_around(&self, p: Point2, radius: usize) -> usize {
+        let (u, v) = self.knowledge.to_cells(p);
+        if !(u.is_finite() && v.is_finite()) {
+            return 0;
+        }
+        let (i, j) = (u.floor() as i64, v.floor() as i64);
+        let r = radius as i64;
+        let mut unknown = 0;
+        for dj in -r..=r {
+            for di in -r..=r {
+                let known = self
+                    .knowledge
+                    .index_of(i + di, j + dj)
+                    .is_some_and(|c| self.knowledge.cells[c] != 0);
+                unknown += usize::from(!known);
+            }
+        }
+        unknown
+    }
+
+    /// The box holding every scan's laser position and end points so far, map frame.
+    #[must_use]
+    pub fn extent(&self) -> Option<(Point2, Point2)> {
+        self.extent
+    }
+
+    /// The knowledge grid, for the planner.
+    pub(crate) fn knowledge(&self) -> &Grid<u8> {
+        &self.knowledge
+    }
+
+    /// The state of knowledge cell `index`.
+    pub(crate) fn state_at(&self, index: usize) -> CellState {
+        CellState::of(self.knowledge.cells[index])
+    }
+
+    /// Inserts a scan taken with the laser at `map_from_laser` (see the [module
+    /// docs](self)); returns how many knowledge cells it made known.
+    pub fn insert_scan(&mut self, map_from_laser: &Isometry2, scan: &Scan) -> usize {
+        let o = Point2::from(map_from_laser.translation.vector);
+        let yaw = map_from_laser.rotation.angle();
+        if !(o.x.is_finite() && o.y.is_finite() && yaw.is_finite()) {
+            return 0;
+        }
+        let window = scan.range_window(None);
+        let reach = if scan.range_max.is_finite() {
+            scan.range_max.clamp(0.0, 20.0)
+        } else {
+            20.0
+        } + 0.5;
+        let r = Vector2::new(reach, reach);
+        self.surfaces.ensure(o - r, o + r);
+        self.knowledge.ensure(o - r, o + r);
+        self.centroids.ensure(o - r, o + r);
+        if self.knowledge.cols == 0 {
+            return 0;
+        }
+        self.scans += 1;
+        let before = self.known;
+        // The fan, knowledge-grid cell units.
+        let mut poly = std::mem::take(&mut self.poly);
+        poly.clear();
+        poly.push(self.knowledge.to_cells(o));
+        let (s0, c0) = (yaw + scan.angle_min).sin_cos();
+        let (s_inc, c_inc) = scan.angle_increment.sin_cos();
+        let mut dir = Vector2::new(c0, s0);
+        let mut ends = Vec::with_capacity(scan.ranges.len());
+        for (i, &range) in scan.ranges.iter().enumerate() {
+            if i > 0 {
+                dir = Vector2::new(c_inc * dir.x - s_inc * dir.y, s_inc * dir.x + c_inc * dir.y);
+            }
+            if window.contains(range) {
+                let p = o + dir * range;
+                poly.push(self.knowledge.to_cells(p));
+                ends.push((p, range));
+            } else {
+                let free = NO_RETURN_FREE.min(scan.range_max.max(0.0));
+                poly.push(self.knowledge.to_cells(o + dir * free));
+            }
+        }
+        let mut raster = std::mem::take(&mut self.raster);
+        let (cells, cols, known) = (
+            &mut self.knowledge.cells,
+            self.knowledge.cols,
+            &mut self.known,
+        );
+        raster.fill(&poly, cols, self.knowledge.rows, |row, first, last| {
+            for v in &mut cells[row * cols + first..=row * cols + last] {
+                if *v == 0 {
+                    *v = NEUTRAL;
+                    *known += 1;
+                }
+                *v = v.saturating_sub(FREE_STEP).max(1);
+            }
+        });
+        self.raster = raster;
+        self.poly = poly;
+        let (mut lo, mut hi) = self.extent.unwrap_or((o, o));
+        for &(p, _) in ends.iter().chain(std::iter::once(&(o, 0.0))) {
+            lo = Point2::new(lo.x.min(p.x), lo.y.min(p.y));
+            hi = Point2::new(hi.x.max(p.x), hi.y.max(p.y));
+        }
+        self.extent = Some((lo, hi));
+        let stamp = u32::try_from(self.scans).unwrap_or(u32::MAX);
+        self.touched.clear();
+        for &(p, range) in &ends {
+            if let Some(c) = self.knowledge.index(p) {
+                let v = &mut self.knowledge.cells[c];
+                if *v == 0 {
+                    *v = NEUTRAL;
+                    self.known += 1;
+                }
+                *v = v.saturating_add(HIT_STEP);
+                let centre = self.knowledge.centre(c);
+                let sum = &mut self.centroids.cells[c];
+                if sum[2] < 1000.0 {
+                    sum[0] += (p.x - centre.x) as f32;
+                    sum[1] += (p.y - centre.y) as f32;
+                    sum[2] += 1.0;
+                }
+            }
+            if range <= SURFACE_RANGE
+                && let Some(c) = self.surfaces.index(p)
+            {
+                let centre = self.surfaces.centre(c);
+                let cell = &mut self.surfaces.cells[c];
+                cell.add((p.x - centre.x) as f32, (p.y - centre.y) as f32);
+                if cell.stamp != stamp {
+                    cell.stamp = stamp;
+                    self.touched.push(c);
+                }
+            }
+        }
+        for &c in &self.touched {
+            self.surfaces.cells[c].refit();
+        }
+        self.known - before
+    }
+
+    /// The line nearest to `q` (map frame) among the surface cells around it whose normal is
+    /// within 30 deg of `normal` (either sense; any line when `normal` is `None`): its signed
+    /// distance from `q` and its unit normal.
+    fn nearest_line(&self, q: Point2, normal: Option<Vector2>) -> Option<(f64, Vector2)> {
+        let (u, v) = self.surfaces.to_cells(q);
+        if !(u.is_finite() && v.is_finite()) {
+            return None;
+        }
+        let (i, j) = (u.floor() as i64, v.floor() as i64);
+        let mut best: Option<(f64, Vector2)> = None;
+        for dj in -1..=1_i64 {
+            for di in -1..=1_i64 {
+                let Some(c) = self.surfaces.index_of(i + di, j + dj) else {
+                    continue;
+                };
+                let Some((m, n)) = self.surfaces.cells[c].line else {
+                    continue;
+                };
+                let centre = self.surfaces.centre(c);
+                let n = Vector2::new(f64::from(n[0]), f64::from(n[1]));
+                if normal.is_some_and(|m| m.dot(&n).abs() < NORMAL_AGREEMENT) {
+                    continue;
+                }
+                let on = Point2::new(centre.x + f64::from(m[0]), centre.y + f64::from(m[1]));
+                let r = n.dot(&(q - on));
+                if best.is_none_or(|(b, _)| r.abs() < b.abs()) {
+                    best = Some((r, n));
+                }
+            }
+        }
+        best
+    }
+
+    /// Fits the scan points `points` (robot frame) onto the map's lines (each point onto
+    /// the nearest line whose normal agrees with its own within 30 deg), starting from and
+    /// pulled toward the predicted pose `guess` (map frame); returns the matched pose, or
+    /// `None` when the map cannot place the scan (too few points near mapped lines, or a
+    /// match farther from the prediction than `params` allow).
+    #[must_use]
+    pub fn match_scan(
+        &self,
+        points: &[MatchPoint],
+        guess: &Isometry2,
+        params: &MatchParams,
+    ) -> Option<Isometry2> {
+        let (x0, y0, t0) = (
+            guess.translation.vector.x,
+            guess.translation.vector.y,
+            guess.rotation.angle(),
+        );
+        if self.scans == 0 || !(x0.is_finite() && y0.is_finite() && t0.is_finite()) {
+            return None;
+        }
+        let prior = Vector3::new(params.prior_xy, params.prior_xy, params.prior_theta);
+        let mut xi = Vector3::new(x0, y0, t0);
+        let mut support = 0;
+        for round in 0..params.iterations.max(1) {
+            let (s, c) = xi.z.sin_cos();
+            let mut h = Matrix3::<f64>::zeros();
+            let mut g = Vector3::<f64>::zeros();
+            support = 0;
+            // Pairs farther than the gate are not the same wall; the gate narrows as the
+            // rounds converge.
+            let gate = if round == 0 {
+                params.gate_m
+            } else {
+                0.5 * params.gate_m
+            };
+            for m in points {
+                let p = m.point;
+                let q = Point2::new(c * p.x - s * p.y + xi.x, s * p.x + c * p.y + xi.y);
+                let normal = m
+                    .normal
+                    .map(|v| Vector2::new(c * v.x - s * v.y, s * v.x + c * v.y));
+                let Some((r, n)) = self.nearest_line(q, normal) else {
+                    continue;
+                };
+                if r.abs() > gate {
+                    continue;
+                }
+                support += 1;
+                let dq_dt = Vector2::new(-s * p.x - c * p.y, c * p.x - s * p.y);
+                let j = Vector3::new(n.x, n.y, n.dot(&dq_dt));
+                // Huber weight beyond 2 cm.
+                let w =
+                    m.weight.clamp(0.0, 1.0) * if r.abs() <= 0.02 { 1.0 } else { 0.02 / r.abs() };
+                h += w * j * j.transpose();
+                g -= w * j * r;
+            }
+            let off = Vector3::new(xi.x - x0, xi.y - y0, wrap_angle(xi.z - t0));
+            for k in 0..3 {
+                h[(k, k)] += prior[k];
+                g[k] -= prior[k] * off[k];
+            }
+            let step = h.lu().solve(&g)?;
+            if !(step.x.is_finite() && step.y.is_finite() && step.z.is_finite()) {
+                return None;
+            }
+            xi += step;
+            if step.x.abs() < 1e-4 && step.y.abs() < 1e-4 && step.z.abs() < 1e-4 {
+                break;
+            }
+        }
+        let shift = (xi.x - x0).hypot(xi.y - y0);
+        let turn = wrap_angle(xi.z - t0).abs();
+        (support >= params.min_support
+            && shift <= params.max_shift_m
+            && turn <= params.max_turn_rad)
+            .then(|| Isometry2::new(Vector2::new(xi.x, xi.y), wrap_angle(xi.z)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use laserlines_sim::{LaserModel, Rng, World, simulate};
+
+    fn room() -> World {
+        let mut w = World::new();
+        w.add_box(Point2::new(1.0, 0.5), 4.0, 3.0, 0.0);
+        // A pillar, so that every direction is fixed.
+        w.add_box(Point2::new(2.0, 1.2), 0.4, 0.3, 0.0);
+        w
+    }
+
+    #[test]
+    fn a_scan_maps_free_and_occupied_cells() {
+        let world = room();
+        let mut rng = Rng::new(1);
+        let pose = Isometry2::identity();
+        let sim = simulate(&world, pose, &LaserModel::urg04lx(), &mut rng);
+        let mut map = RobotMap::new();
+        let newly = map.insert_scan(&pose, &sim.scan);
+        assert!(newly > 300, "{newly}");
+        assert_eq!(newly, map.known_cells());
+        assert_eq!(map.state(Point2::new(1.0, 0.0)), CellState::Free);
+        // The wall x = 3 ahead, on the boundary between two columns of cells.
+        let wall = [Point2::new(2.95, 0.3), Point2::new(3.05, 0.3)];
+        assert!(wall.iter().any(|&p| map.state(p) == CellState::Occupied));
+        // Behind the laser's 240 degrees, and outside the room: unknown.
+        assert_eq!(map.state(Point2::new(-0.8, 0.0)), CellState::Unknown);
+        assert_eq!(map.state(Point2::new(3.5, 0.0)), CellState::Unknown);
+        // Growing the grids keeps what they hold.
+        map.knowledge
+            .ensure(Point2::new(-30.0, -30.0), Point2::new(30.0, 30.0));
+        map.surfaces
+            .ensure(Point2::new(-30.0, -30.0), Point2::new(30.0, 30.0));
+        assert_eq!(map.state(Point2::new(1.0, 0.0)), CellState::Free);
+        assert!(wall.iter().any(|&p| map.state(p) == CellState::Occupied));
+        assert_eq!(map.knowledge.origin, Point2::new(-32.0, -32.0));
+        // Beyond the largest extent nothing grows.
+        let cols = map.knowledge.cols;
+        map.knowledge
+            .ensure(Point2::new(0.0, 0.0), Point2::new(500.0, 1.0));
+        assert_eq!(map.knowledge.cols, cols);
+    }
+
+    #[test]
+    fn matching_undoes_an_offset() {
+        let world = room();
+        let mut rng = Rng::new(2);
+        let model = LaserModel::urg04lx();
+        let mut map = RobotMap::new();
+        // Map from a few poses, then place a scan from an offset guess.
+        for k in 0..5 {
+            let pose = Isometry2::new(Vector2::new(0.1 * f64::from(k), 0.0), 0.0);
+            let sim = simulate(&world, pose, &model, &mut rng);
+            map.insert_scan(&pose, &sim.scan);
+        }
+        let truth = Isometry2::new(Vector2::new(0.3, -0.2), 0.3);
+        let sim = simulate(&world, truth, &model, &mut rng);
+        let window = sim.scan.range_window(None);
+        let points: Vec<MatchPoint> = sim
+            .scan
+            .points(window)
+            .iter()
+            .step_by(3)
+            .map(|p| MatchPoint {
+                point: p.point,
+                normal: None,
+                weight: 1.0,
+            })
+            .collect();
+        // Offsets of one scan's odometry error with the default prior; offsets of several
+        // centimetres and degrees with a weak prior.
+        let weak = MatchParams {
+            prior_xy: 0.5,
+            prior_theta: 0.5,
+            ..MatchParams::default()
+        };
+        for (dx, dy, dt, params) in [
+            (0.0, 0.0, 0.0, MatchParams::default()),
+            (0.01, -0.01, 0.01, MatchParams::default()),
+            (-0.01, 0.005, -0.01, MatchParams::default()),
+            (0.04, -0.03, 0.03, weak),
+            (-0.05, 0.02, -0.04, weak),
+        ] {
+            let guess = Isometry2::new(Vector2::new(0.3 + dx, -0.2 + dy), 0.3 + dt);
+            let got = map.match_scan(&points, &guess, &params).unwrap();
+            let e = got.translation.vector - truth.translation.vector;
+            assert!(e.norm() < 0.015, "{e:?} from {dx} {dy} {dt}");
+            assert!((got.rotation.angle() - 0.3).abs() < 0.01);
+        }
+        // An empty map places nothing.
+        assert!(
+            RobotMap::new()
+                .match_scan(&points, &truth, &MatchParams::default())
+                .is_none()
+        );
+    }
+}

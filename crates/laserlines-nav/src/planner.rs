@@ -1,0 +1,394 @@
+//! Paths on the robot's own map: the nearest frontier and the way there.
+//!
+//! Everything here reads the robot's [`RobotMap`] only. Its knowledge grid (0.1 m) is
+//! turned, within the box the scans have covered, into:
+//!
+//! - **clearance**: a chamfer distance transform (weights 5 and 7 per straight and diagonal
+//!   step, i.e. 1 and 1.4 cells) from the occupied cells;
+//! - **passable cells**: known free cells at least [`PlannerParams::clearance_m`] from any
+//!   occupied cell (the footprint's circumradius is 0.32 m; cell centres are within 0.05 m
+//!   of the walls they stand for). The robot's own cell and cells within 0.6 m of it need
+//!   only [`PlannerParams::escape_clearance_m`], so that a robot that stands near a wall
+//!   can still leave;
+//! - **frontier cells**: passable cells with at least [`PlannerParams::min_unknown`] unknown
+//!   cells among the 5 x 5 around them: the edge of what has been seen, where the robot
+//!   can stand.
+//!
+//! [`Planner::nearest_frontier`] runs Dijkstra's algorithm from the robot's cell over the
+//! passable cells (8-neighbour steps; a step costs its length, more where the clearance is
+//! below [`PlannerParams::preferred_clearance_m`], so that paths keep to the middle of
+//! corridors) to the cheapest frontier cell away from the cells to avoid (frontiers tried
+//! before), and returns the path to it.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use laserlines::math::Point2;
+
+use crate::map::{CellState, RobotMap};
+
+/// Settings of the planner. Distances in metres.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlannerParams {
+    /// Least clearance of a passable cell, m. Default 0.3.
+    pub clearance_m: f64,
+    /// Least clearance near the robot (within 0.6 m of it), m. Default 0.15.
+    pub escape_clearance_m: f64,
+    /// Below this clearance a cell costs more, m. Default 0.6.
+    pub preferred_clearance_m: f64,
+    /// Extra cost of a step at zero clearance, as a multiple of its length (falling
+    /// linearly to 0 at the preferred clearance). Default 4.
+    pub clearance_cost: f64,
+    /// Unknown cells among the 5 x 5 around a passable cell that make it a frontier.
+    /// Default 4.
+    pub min_unknown: usize,
+}
+
+impl Default for PlannerParams {
+    fn default() -> Self {
+        Self {
+            clearance_m: 0.3,
+            escape_clearance_m: 0.15,
+            preferred_clearance_m: 0.6,
+            clearance_cost: 4.0,
+            min_unknown: 4,
+        }
+    }
+}
+
+/// A path to a frontier.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    /// The frontier cell's centre, map frame.
+    pub goal: Point2,
+    /// Cell centres from the robot's cell to the goal, map frame.
+    pub path: Vec<Point2>,
+    /// Length of the path, m.
+    pub length_m: f64,
+}
+
+/// Chamfer weight of a straight step.
+const STRAIGHT: u32 = 5;
+/// Chamfer weight of a diagonal step.
+const DIAGONAL: u32 = 7;
+/// Clearance at most this is computed (chamfer units, 2 m); farther counts as this.
+const FAR: u16 = 100;
+
+/// The planner's working memory, kept between plans (see the [module docs](self)).
+#[derive(Debug, Clone, Default)]
+pub struct Planner {
+    /// The window of the knowledge grid planned over: first column and row, size.
+    window: (usize, usize, usize, usize),
+    clearance: Vec<u16>,
+    cost: Vec<u32>,
+    parent: Vec<u32>,
+    heap: BinaryHeap<Reverse<(u32, u32)>>,
+}
+
+impl Planner {
+    /// A planner.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The path from `from` (map frame) to the nearest frontier of `map` that is farther
+    /// than `avoid_radius` from every point of `avoid`; `None` when no such frontier can be
+    /// reached. When `keep` is a frontier within `hysteresis_m` of path length of the
+    /// nearest one, the path to `keep` is returned instead (so that a robot on its way does
+    /// not waver between two frontiers about as near).
+    pub fn nearest_frontier(
+        &mut self,
+        map: &RobotMap,
+        from: Point2,
+        avoid: &[Point2],
+        avoid_radius: f64,
+        keep: Option<(Point2, f64)>,
+        params: &PlannerParams,
+    ) -> Option<Plan> {
+        let grid = map.knowledge();
+        let (lo, hi) = map.extent()?;
+        let cell = grid.cell;
+        // The window: the scanned box and a margin of 3 cells, within the grid.
+        let (u0, v0) = grid.to_cells(lo);
+        let (u1, v1) = grid.to_cells(hi);
+        let clamp = |x: f64, n: usize| (x.floor() as i64).clamp(0, n as i64 - 1) as usize;
+        if grid.cols == 0 || grid.rows == 0 {
+            return None;
+        }
+        let (i0, j0) = (clamp(u0 - 3.0, grid.cols), clamp(v0 - 3.0, grid.rows));
+        let (i1, j1) = (clamp(u1 + 3.0, grid.cols), clamp(v1 + 3.0, grid.rows));
+        let (w, h) = (i1 - i0 + 1, j1 - j0 + 1);
+        self.window = (i0, j0, w, h);
+        let n = w * h;
+        let at = |i: usize, j: usize| (j0 + j) * grid.cols + i0 + i;
+        let state = |k: usize| map.state_at(at(k % w, k / w));
+
+        // Clearance: chamfer distance transform from the occupied cells.
+        self.clearance.clear();
+        self.clearance.resize(n, FAR);
+        for k in 0..n {
+            if state(k) == CellState::Occupied {
+                self.clearance[k] = 0;
+            }
+        }
+        let d = &mut self.clearance;
+        let relax = |d: &mut Vec<u16>, k: usize, other: usize, weight: u32| {
+            let via = u32::from(d[other]) + weight;
+            if via < u32::from(d[k]) {
+                d[k] = via as u16;
+            }
+        };
+        for j in 0..h {
+            for i in 0..w {
+                let k = j * w + i;
+                if i > 0 {
+                    relax(d, k, k - 1, STRAIGHT);
+                }
+                if j > 0 {
+                    relax(d, k, k - w, STRAIGHT);
+                    if i > 0 {
+                        relax(d, k, k - w - 1, DIAGONAL);
+                    }
+                    if i + 1 < w {
+                        relax(d, k, k - w + 1, DIAGONAL);
+                    }
+                }
+            }
+        }
+        for j in (0..h).rev() {
+            for i in (0..w).rev() {
+                let k = j * w + i;
+                if i + 1 < w {
+                    relax(d, k, k + 1, STRAIGHT);
+                }
+                if j + 1 < h {
+                    relax(d, k, k + w, STRAIGHT);
+                    if i + 1 < w {
+                        relax(d, k, k + w + 1, DIAGONAL);
+                    }
+                    if i > 0 {
+                        relax(d, k, k + w - 1, DIAGONAL);
+                    }
+                }
+            }
+        }
+
+        // The start cell.
+        let (us, vs) = grid.to_cells(from);
+        if !(us.is_finite() && vs.is_finite()) {
+            return None;
+        }
+        let (si, sj) = (us.floor() as i64 - i0 as i64, vs.floor() as i64 - j0 as i64);
+        if !(si >= 0 && sj >= 0 && (si as usize) < w && (sj as usize) < h) {
+            return None;
+        }
+        let start = sj as usize * w + si as usize;
+        let units = |m: f64| (m / cell * f64::from(STRAIGHT)).round().max(0.0) as u32;
+        let need = units(params.clearance_m);
+        let need_near = units(params.escape_clearance_m);
+        let prefer = units(params.preferred_clearance_m).max(1);
+        let near_start2 = (0.6 / cell) * (0.6 / cell);
+        let passable = |k: usize, clearance: &[u16]| {
+            if k == start {
+                return true;
+            }
+            if state(k) != CellState::Free {
+                return false;
+            }
+            let c = u32::from(clearance[k]);
+            if c >= need {
+                return true;
+            }
+            let (di, dj) = ((k % w) as f64 - si as f64, (k / w) as f64 - sj as f64);
+            c >= need_near && di * di + dj * dj <= near_start2
+        };
+        let is_frontier = |k: usize| {
+            let (i, j) = ((k % w) as i64, (k / w) as i64);
+            let mut unknown = 0;
+            for dj in -2..=2_i64 {
+                for di in -2..=2_i64 {
+                    let (x, y) = (i + di, j + dj);
+                    let outside = x < 0 || y < 0 || x >= w as i64 || y >= h as i64;
+                    if outside || state(y as usize * w + x as usize) == CellState::Unknown {
+                        unknown += 1;
+                    }
+                }
+            }
+            unknown >= params.min_unknown
+        };
+        let avoided = |p: Point2| {
+            avoid
+                .iter()
+                .any(|a| (a - p).norm_squared() < avoid_radius * avoid_radius)
+        };
+        let centre = |k: usize| grid.centre(at(k % w, k / w));
+
+        // Dijkstra from the start.
+        self.cost.clear();
+        self.cost.resize(n, u32::MAX);
+        self.parent.clear();
+        self.parent.resize(n, u32::MAX);
+        self.heap.clear();
+        self.cost[start] = 0;
+        self.heap.push(Reverse((0, start as u32)));
+        let mut nearest: Option<(u32, usize)> = None;
+        let keep_cost_limit = keep.map(|(_, m)| units(m));
+        let mut kept: Option<usize> = None;
+        while let Some(Reverse((c, k))) = self.heap.pop() {
+            let k = k as usize;
+            if c > self.cost[k] {
+                continue;
+            }
+            if let Some((nc, _)) = nearest {
+                // Looking for the kept goal only, within the hysteresis.
+                match (keep, keep_cost_limit) {
+                    (Some(_), Some(extra)) if c <= nc.saturating_add(extra) => {}
+                    _ => break,
+                }
+            }
+            if k != start && is_frontier(k) && !avoided(centre(k)) {
+                if nearest.is_none() {
+                    nearest = Some((c, k));
+                }
+                if let Some((goal, _)) = keep
+                    && (centre(k) - goal).norm() <= 0.3
+                {
+                    kept = Some(k);
+                    break;
+                }
+                if keep.is_none() {
+                    break;
+                }
+            }
+            let (i, j) = (k % w, k / w);
+            for (di, dj, weight) in [
+                (-1_i64, 0_i64, STRAIGHT),
+                (1, 0, STRAIGHT),
+                (0, -1, STRAIGHT),
+                (0, 1, STRAIGHT),
+                (-1, -1, DIAGONAL),
+                (1, -1, DIAGONAL),
+                (-1, 1, DIAGONAL),
+                (1, 1, DIAGONAL),
+            ] {
+                let (x, y) = (i as i64 + di, j as i64 + dj);
+                if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
+                    continue;
+                }
+                let m = y as usize * w + x as usize;
+                if !passable(m, &self.clearance) {
+                    continue;
+                }
+                let clear = u32::from(self.clearance[m]).min(prefer);
+                let extra =
+                    params.clearance_cost.max(0.0) * f64::from(prefer - clear) / f64::from(prefer);
+                let step = (f64::from(weight) * (1.0 + extra)).round() as u32;
+                let via = c.saturating_add(step.max(1));
+                if via < self.cost[m] {
+                    self.cost[m] = via;
+                    self.parent[m] = k as u32;
+                    self.heap.push(Reverse((via, m as u32)));
+                }
+            }
+        }
+        let goal = kept.or(nearest.map(|(_, k)| k))?;
+        let mut path = Vec::new();
+        let mut k = goal;
+        path.push(centre(k));
+        while k != start {
+            let p = self.parent[k];
+            if p == u32::MAX {
+                return None;
+            }
+            k = p as usize;
+            path.push(centre(k));
+        }
+        path.reverse();
+        let length_m = path.windows(2).map(|s| (s[1] - s[0]).norm()).sum();
+        Some(Plan {
+            goal: centre(goal),
+            path,
+            length_m,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use laserlines::math::{Isometry2, Vector2};
+    use laserlines_sim::{LaserModel, Rng, World, simulate};
+
+    /// A 1.2 m corridor from x = -0.6 to 6, closed at the start, open at the far end,
+    /// with a side corridor at x = 3 going up.
+    fn corridor() -> World {
+        let mut w = World::new();
+        w.add_segment(Point2::new(-0.6, -0.6), Point2::new(-0.6, 0.6));
+        w.add_segment(Point2::new(-0.6, -0.6), Point2::new(6.0, -0.6));
+        w.add_segment(Point2::new(-0.6, 0.6), Point2::new(2.4, 0.6));
+        w.add_segment(Point2::new(3.6, 0.6), Point2::new(6.0, 0.6));
+        w.add_segment(Point2::new(2.4, 0.6), Point2::new(2.4, 4.0));
+        w.add_segment(Point2::new(3.6, 0.6), Point2::new(3.6, 4.0));
+        w
+    }
+
+    #[test]
+    fn the_nearest_frontier_and_a_path_through_the_middle() {
+        let world = corridor();
+        let mut rng = Rng::new(3);
+        let mut map = RobotMap::new();
+        let model = LaserModel {
+            range_max: 2.5,
+            ..LaserModel::urg04lx()
+        };
+        for (x, yaw) in [
+            (0.0, std::f64::consts::PI),
+            (0.0, 0.0),
+            (0.5, 0.0),
+            (1.0, 0.0),
+        ] {
+            let pose = Isometry2::new(Vector2::new(x, 0.0), yaw);
+            map.insert_scan(&pose, &simulate(&world, pose, &model, &mut rng).scan);
+        }
+        let mut planner = Planner::new();
+        let params = PlannerParams::default();
+        let from = Point2::new(1.0, 0.0);
+        let plan = planner
+            .nearest_frontier(&map, from, &[], 0.5, None, &params)
+            .unwrap();
+        // The frontier is ahead, about 2.5 m from the laser's last position, in the
+        // corridor (the side corridor's mouth or straight on).
+        assert!(plan.goal.x > 2.4 && plan.goal.x < 4.2, "{plan:?}");
+        assert!(plan.path.len() > 10);
+        assert!((plan.path[0] - from).norm() < 0.1);
+        // The path keeps to the middle.
+        for p in &plan.path {
+            assert!(p.y.abs() < 0.35 || p.x > 2.5, "{p:?}");
+        }
+        // Avoiding that frontier, another one (or none).
+        if let Some(other) = planner.nearest_frontier(&map, from, &[plan.goal], 1.0, None, &params)
+        {
+            assert!((other.goal - plan.goal).norm() > 1.0);
+        }
+        // Keeping a goal a little farther than the nearest one.
+        let far = planner
+            .nearest_frontier(&map, from, &[plan.goal], 0.2, None, &params)
+            .unwrap();
+        let kept = planner
+            .nearest_frontier(&map, from, &[], 0.5, Some((far.goal, 5.0)), &params)
+            .unwrap();
+        assert!((kept.goal - far.goal).norm() <= 0.3, "{kept:?} vs {far:?}");
+        // Nothing is planned from outside the map, nor in an empty map.
+        assert!(
+            planner
+                .nearest_frontier(&map, Point2::new(50.0, 0.0), &[], 0.5, None, &params)
+                .is_none()
+        );
+        assert!(
+            planner
+                .nearest_frontier(&RobotMap::new(), from, &[], 0.5, None, &params)
+                .is_none()
+        );
+    }
+}
