@@ -66,7 +66,8 @@ fn perception_matches_ground_truth_on_clean_walls() {
                     .map(|p| (robot_from_laser * p.start, robot_from_laser * p.end))
                     .collect();
                 // Where a piece ends at a grazing angle, its true end lies somewhere between
-                // its last beam and the next one: the width is known to that spacing only.
+                // its last beam and the next one, and the range noise moves the last points
+                // along the wall by sigma / sin(incidence): the width is known to that only.
                 let end_slack: Vec<f64> = pieces
                     .iter()
                     .map(|p| {
@@ -74,7 +75,17 @@ fn perception_matches_ground_truth_on_clean_walls() {
                             i.and_then(|i| sim.truth.point(&sim.scan, i))
                                 .map_or(0.0, |q| (q - end).norm())
                         };
-                        gap(p.first.checked_sub(1), p.start) + gap(Some(p.last + 1), p.end)
+                        let along = (p.end - p.start).normalize();
+                        let grazing = |end: Point2| {
+                            let r = end.coords.norm();
+                            let beam = end.coords / r;
+                            let sin = (beam.x * along.y - beam.y * along.x).abs().max(0.05);
+                            2.0 * model.noise.sigma(r) / sin
+                        };
+                        gap(p.first.checked_sub(1), p.start)
+                            + gap(Some(p.last + 1), p.end)
+                            + grazing(p.start)
+                            + grazing(p.end)
                     })
                     .collect();
                 let want = select_segments(&truth, &params);
