@@ -3,8 +3,9 @@
 //! The work flows through bounded batches of [`BATCH`] records, so that memory stays flat on
 //! any log and every core is busy:
 //!
-//! - a reader thread reads the input and hands each batch to the rayon pool as one task (the
-//!   records still unparsed where the format allows it: [`laserlines_io::Pending`]);
+//! - one pool thread reads the input and hands each batch to the pool as one task (the
+//!   records still unparsed where the format allows it: [`laserlines_io::Pending`]); when
+//!   enough batches wait, it extracts one itself;
 //! - pool threads parse the records, extract their lines (one extractor per thread) and
 //!   encode each scan's JSON line;
 //! - this thread puts the finished batches back in input order, numbers the scans and writes
@@ -16,9 +17,9 @@
 use std::collections::BTreeMap;
 use std::io::{self, IsTerminal};
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::{Receiver, SyncSender, channel, sync_channel};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::mpsc::{Receiver, Sender, SyncSender, TryRecvError, channel, sync_channel};
 use std::sync::{Arc, Mutex};
-use std::thread::JoinHandle;
 use std::time::Instant;
 
 use anyhow::{Context, Result};
@@ -27,6 +28,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use laserlines::{Line, LineExtractor};
 use laserlines_foxglove::LinesOutput;
 use laserlines_io::{Pending, ReadError, ScanReader, ScanRecord, SkipCounts, encode_unnumbered};
+use rayon::Yield;
 
 use crate::InputArgs;
 
@@ -113,14 +115,7 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     let progress = progress_bar();
     let start = Instant::now();
 
-    let in_flight = IN_FLIGHT * jobs;
-    let (tokens, finished, reader_thread) = spawn_reader(
-        reader,
-        Arc::new(pool),
-        Arc::new(extractors),
-        encode,
-        in_flight,
-    )?;
+    let (tokens, finished, reader_back) = start_reader(reader, &pool, extractors, encode, jobs)?;
     let mut totals = Totals::default();
     let mut waiting: BTreeMap<u64, Batch> = BTreeMap::new();
     let mut next = 0u64;
@@ -137,9 +132,9 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     }
     writer.close()?;
     progress.finish_and_clear();
-    let reader = reader_thread
-        .join()
-        .map_err(|_| anyhow::anyhow!("the reader thread panicked"))?;
+    let reader = reader_back
+        .recv()
+        .map_err(|_| anyhow::anyhow!("internal error: the reader did not come back"))?;
     anyhow::ensure!(
         waiting.is_empty(),
         "internal error: {} batches were extracted but never written",
@@ -157,55 +152,109 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     Ok(())
 }
 
-/// Starts the thread that reads batches and hands each to the pool. Returns the sender of
-/// tokens (one per written batch: the reader may read one more), the receiver of extracted
-/// batches, and the thread, which gives the reader back at the end for its skip counts.
-fn spawn_reader(
-    mut reader: ScanReader,
-    pool: Arc<rayon::ThreadPool>,
+/// The reading side of the pipeline, run on one pool thread.
+struct ReadLoop {
+    reader: ScanReader,
     extractors: Arc<Extractors>,
     encode: bool,
-    in_flight: usize,
-) -> Result<(SyncSender<()>, Receiver<Batch>, JoinHandle<ScanReader>)> {
+    jobs: usize,
+    tokens: Receiver<()>,
+    finished: Sender<Batch>,
+    /// Batches handed to the pool and not yet started.
+    waiting: Arc<AtomicUsize>,
+}
+
+impl ReadLoop {
+    /// Reads batches and hands each to the pool, while a token allows one more batch in flight.
+    /// When enough batches wait (or no token is left), this thread extracts one of them
+    /// instead, so that reading is never starved of a core and no core idles.
+    fn run(mut self) -> ScanReader {
+        let mut seq = 0u64;
+        loop {
+            if self.waiting.load(Ordering::Acquire) > self.jobs
+                && rayon::yield_now() == Some(Yield::Executed)
+            {
+                continue;
+            }
+            let token = match self.tokens.try_recv() {
+                Ok(()) => true,
+                Err(TryRecvError::Empty) => {
+                    if rayon::yield_now() == Some(Yield::Executed) {
+                        continue;
+                    }
+                    // Nothing to extract here: wait for the writer to make room.
+                    self.tokens.recv().is_ok()
+                }
+                Err(TryRecvError::Disconnected) => false,
+            };
+            if !token {
+                break; // the writer stopped
+            }
+            let slots: Vec<Slot> = std::iter::from_fn(|| self.reader.next_pending())
+                .take(BATCH)
+                .map(|pending| Slot {
+                    deferred: matches!(pending, Pending::Deferred(_)),
+                    pending: Some(pending),
+                    item: None,
+                    lines: Vec::new(),
+                    encoded: Vec::new(),
+                })
+                .collect();
+            if slots.is_empty() {
+                break;
+            }
+            let mut batch = Batch { seq, slots };
+            seq += 1;
+            let extractors = Arc::clone(&self.extractors);
+            let (finished, waiting) = (self.finished.clone(), Arc::clone(&self.waiting));
+            let encode = self.encode;
+            waiting.fetch_add(1, Ordering::AcqRel);
+            rayon::spawn_fifo(move || {
+                waiting.fetch_sub(1, Ordering::AcqRel);
+                extract_batch(&extractors, &mut batch, encode);
+                // The writer may have stopped on an error: nothing more to do then.
+                let _ = finished.send(batch);
+            });
+        }
+        // Extract what still waits (with one thread, nobody else will).
+        while rayon::yield_now() == Some(Yield::Executed) {}
+        self.reader
+    }
+}
+
+/// Starts the reading loop on a pool thread. Returns the sender of tokens (one per written
+/// batch: the reader may read one more), the receiver of extracted batches, and the receiver
+/// of the reader at the end (for its skip counts).
+fn start_reader(
+    reader: ScanReader,
+    pool: &rayon::ThreadPool,
+    extractors: Extractors,
+    encode: bool,
+    jobs: usize,
+) -> Result<(SyncSender<()>, Receiver<Batch>, Receiver<ScanReader>)> {
+    let in_flight = IN_FLIGHT * jobs;
     let (token_tx, token_rx) = sync_channel::<()>(in_flight);
     for _ in 0..in_flight {
         token_tx
             .send(())
             .context("cannot start the extraction pipeline")?;
     }
-    let (done_tx, done_rx) = channel::<Batch>();
-    let handle = std::thread::Builder::new()
-        .name("read".to_owned())
-        .spawn(move || {
-            for seq in 0u64.. {
-                if token_rx.recv().is_err() {
-                    break; // the writer stopped
-                }
-                let slots: Vec<Slot> = std::iter::from_fn(|| reader.next_pending())
-                    .take(BATCH)
-                    .map(|pending| Slot {
-                        deferred: matches!(pending, Pending::Deferred(_)),
-                        pending: Some(pending),
-                        item: None,
-                        lines: Vec::new(),
-                        encoded: Vec::new(),
-                    })
-                    .collect();
-                if slots.is_empty() {
-                    break;
-                }
-                let mut batch = Batch { seq, slots };
-                let (extractors, done_tx) = (Arc::clone(&extractors), done_tx.clone());
-                pool.spawn_fifo(move || {
-                    extract_batch(&extractors, &mut batch, encode);
-                    // The writer may have stopped on an error: nothing more to do then.
-                    let _ = done_tx.send(batch);
-                });
-            }
-            reader
-        })
-        .context("cannot start the reader thread")?;
-    Ok((token_tx, done_rx, handle))
+    let (finished_tx, finished_rx) = channel::<Batch>();
+    let (back_tx, back_rx) = sync_channel::<ScanReader>(1);
+    let read_loop = ReadLoop {
+        reader,
+        extractors: Arc::new(extractors),
+        encode,
+        jobs,
+        tokens: token_rx,
+        finished: finished_tx,
+        waiting: Arc::new(AtomicUsize::new(0)),
+    };
+    pool.spawn(move || {
+        let reader = read_loop.run();
+        let _ = back_tx.send(reader);
+    });
+    Ok((token_tx, finished_rx, back_rx))
 }
 
 /// Parses, extracts and encodes every record of a batch, on the calling pool thread with its
