@@ -129,8 +129,8 @@ pub struct ExplorerParams {
     pub front_band_margin: f64,
     /// Margin the safety layer keeps around the footprint, m. Default 0.08.
     pub safety_margin: f64,
-    /// Scan points within this of the robot are remembered for the safety layer while they
-    /// are out of the laser's view, m. Default 1.5.
+    /// Scan points within this of the robot are remembered for the safety layer, m.
+    /// Default 1.5.
     pub memory_range_m: f64,
     /// Breadcrumb match radius for loop detection, m. Default 0.5.
     pub loop_match: f64,
@@ -144,6 +144,9 @@ pub struct ExplorerParams {
     /// A scan that makes fewer cells of the map known than this shows nothing new.
     /// Default 4 (0.04 m^2).
     pub new_cells: usize,
+    /// Seeking a wall (none in reach) for longer than this leaves for the nearest frontier,
+    /// s. Default 6.
+    pub seek_s: f64,
     /// Time between plans on the way to a frontier, s. Default 1.
     pub replan_s: f64,
     /// Distance ahead along the path that the path follower steers to, m. Default 0.6.
@@ -158,6 +161,9 @@ pub struct ExplorerParams {
     pub hysteresis_m: f64,
     /// Frontiers within this of one given up are not chosen again, m. Default 0.6.
     pub avoid_radius_m: f64,
+    /// When no frontier is left but some were given up, they are all tried again, at most
+    /// this many times in a run. Default 2.
+    pub retries: usize,
     /// Done when the map has gained nothing for this long, s. Default 120.
     pub idle_timeout_s: f64,
     /// The sector selection.
@@ -189,12 +195,14 @@ impl Default for ExplorerParams {
             loop_min_path: 8.0,
             stale_s: 8.0,
             new_cells: 4,
+            seek_s: 6.0,
             replan_s: 1.0,
-            lookahead_m: 0.6,
+            lookahead_m: 0.5,
             travel_speed: 0.5,
             give_up_s: 12.0,
             hysteresis_m: 1.0,
             avoid_radius_m: 0.6,
+            retries: 2,
             idle_timeout_s: 120.0,
             sectors: SectorParams::default(),
             matching: MatchParams::default(),
@@ -214,8 +222,9 @@ pub enum Mode {
     Corner,
     /// Turning on the spot away from the followed side (corner ahead, dead end, obstacle).
     TurnAway,
-    /// Backing off after being stuck.
-    BackOff,
+    /// Moving out of a tight spot after being stuck: the short motion that leaves the most
+    /// room around the footprint.
+    Escape,
     /// Driving along a planned path to a frontier.
     Travel,
 }
@@ -266,9 +275,11 @@ pub struct Explorer {
     side: WallSide,
     /// End of the followed wall ahead, map frame.
     wall_end: Option<Point2>,
-    /// Near scan points, map frame: the last scan's, and older ones now out of the
-    /// laser's view.
-    memory: Vec<Point2>,
+    /// Near scan points, map frame, one per [`MEMORY_CELL`] square (the latest), with the
+    /// number of the scan that saw them.
+    memory: std::collections::HashMap<(i32, i32), (Point2, u64), CellHash>,
+    /// Scans seen.
+    scans: u64,
     crumbs: Vec<Crumb>,
     last_crumb: Option<Point2>,
     path: f64,
@@ -276,9 +287,13 @@ pub struct Explorer {
     turned: f64,
     /// Scans the safety layer found the robot stuck, recently (see `safe_command`).
     stuck_score: f64,
-    backoff_until: f64,
+    escape_until: f64,
+    /// The escape motion while escaping.
+    escape: VelocityCommand,
     loops: usize,
     scratch_points: Vec<Point2>,
+    /// Remembered points out of the laser's view, robot frame (for the safety layer).
+    scratch_blind: Vec<Point2>,
     /// The laser's blind wedge, in the robot's axes: the directions of the first and the
     /// last beam, and whether the wedge is narrower than a half turn (from the last scan).
     blind: (Vector2, Vector2, bool),
@@ -292,11 +307,15 @@ pub struct Explorer {
     last_new: f64,
     /// Time the map last gained any cell (the idle timeout).
     last_gain: f64,
+    /// Time the robot began seeking a wall (or now when it is not seeking).
+    seek_since: f64,
     travel: Option<Travel>,
     /// Frontiers given up, map frame.
     avoid: Vec<Point2>,
     /// Plans that found no frontier in a row.
     failed_plans: usize,
+    /// Times the given-up frontiers were tried again.
+    retries: usize,
     /// Frontiers reached or seen on the way.
     frontiers: usize,
     explored: bool,
@@ -327,16 +346,19 @@ impl Explorer {
             mode: Mode::Seek,
             side: params.side,
             wall_end: None,
-            memory: Vec::new(),
+            memory: std::collections::HashMap::default(),
+            scans: 0,
             crumbs: Vec::new(),
             last_crumb: None,
             path: 0.0,
             last_pose: None,
             turned: 0.0,
             stuck_score: 0.0,
-            backoff_until: 0.0,
+            escape_until: 0.0,
+            escape: VelocityCommand::STOP,
             loops: 0,
             scratch_points: Vec::new(),
+            scratch_blind: Vec::new(),
             blind: (Vector2::zeros(), Vector2::zeros(), false),
             map: RobotMap::new(),
             planner: Planner::new(),
@@ -345,9 +367,11 @@ impl Explorer {
             unmatched: 0,
             last_new: 0.0,
             last_gain: 0.0,
+            seek_since: 0.0,
             travel: None,
             avoid: Vec::new(),
             failed_plans: 0,
+            retries: 0,
             frontiers: 0,
             explored: false,
             match_points: Vec::new(),
@@ -388,6 +412,12 @@ impl Explorer {
     #[must_use]
     pub fn unmatched_scans(&self) -> u64 {
         self.unmatched
+    }
+
+    /// The frontiers given up so far, map frame.
+    #[must_use]
+    pub fn given_up(&self) -> &[Point2] {
+        &self.avoid
     }
 
     /// Frontiers reached (or seen on the way) so far.
@@ -434,10 +464,14 @@ impl Explorer {
         let front_free = self.front_free(&robot_lines);
         let looped = self.check_loop();
 
-        // Backing off has the first say, then the way to a frontier, then the wall.
+        // Seeking a wall in the open for long: no wall is near, go to a frontier.
+        if self.mode != Mode::Seek {
+            self.seek_since = time_s;
+        }
+        // Escaping has the first say, then the way to a frontier, then the wall.
         let mut wanted = None;
-        if self.mode == Mode::BackOff && time_s < self.backoff_until {
-            wanted = Some(VelocityCommand::new(-0.15, 0.0));
+        if self.mode == Mode::Escape && time_s < self.escape_until {
+            wanted = Some(self.escape);
         } else if self.travel.is_some() {
             wanted = self.travel_step(time_s, front_free);
             if wanted.is_none() {
@@ -448,7 +482,8 @@ impl Explorer {
             }
         } else {
             let stale = time_s - self.last_new > p.stale_s;
-            if (looped || stale) && !self.explored {
+            let lost = time_s - self.seek_since > p.seek_s;
+            if (looped || stale || lost) && !self.explored {
                 wanted = self.start_travel(time_s, front_free);
             }
         }
@@ -563,7 +598,7 @@ impl Explorer {
                 VelocityCommand::new(v, omega)
             }
             Mode::TurnAway => VelocityCommand::new(0.0, -s * p.turn_rate),
-            Mode::BackOff => VelocityCommand::new(-0.15, 0.0),
+            Mode::Escape => self.escape,
             Mode::Seek | Mode::Travel => VelocityCommand::new(
                 p.cruise_speed * ((front_free - 0.2) / 1.0).clamp(0.3, 1.0),
                 0.0,
@@ -583,7 +618,6 @@ impl Explorer {
         let (s0, c0) = scan.angle_min.sin_cos();
         let (s_inc, c_inc) = scan.angle_increment.sin_cos();
         let mut dir = Vector2::new(c0, s0);
-        let mut last: Option<Point2> = None;
         for (i, &r) in scan.ranges.iter().enumerate() {
             if i > 0 {
                 dir = Vector2::new(c_inc * dir.x - s_inc * dir.y, s_inc * dir.x + c_inc * dir.y);
@@ -592,10 +626,9 @@ impl Explorer {
                 continue;
             }
             let q = Point2::from(dir * r);
-            if last.is_some_and(|l| (q - l).norm_squared() < MATCH_SPACING * MATCH_SPACING) {
+            if i % MATCH_STRIDE != 0 {
                 continue;
             }
-            last = Some(q);
             outline.push(self.robot_from_laser * q);
         }
         // The outline's normal at each point from its neighbours, where they are near
@@ -650,7 +683,7 @@ impl Explorer {
     /// complete).
     fn start_travel(&mut self, time_s: f64, front_free: f64) -> Option<VelocityCommand> {
         let from = Point2::from(self.map_from_robot.translation.vector);
-        let plan = self.planner.nearest_frontier(
+        let mut plan = self.planner.nearest_frontier(
             &self.map,
             from,
             &self.avoid,
@@ -658,6 +691,20 @@ impl Explorer {
             None,
             &self.params.planner,
         );
+        // No frontier left but some given up: try those again (from wherever the robot is
+        // now), a limited number of times.
+        if plan.is_none() && !self.avoid.is_empty() && self.retries < self.params.retries {
+            self.retries += 1;
+            self.avoid.clear();
+            plan = self.planner.nearest_frontier(
+                &self.map,
+                from,
+                &self.avoid,
+                self.params.avoid_radius_m,
+                None,
+                &self.params.planner,
+            );
+        }
         let Some(plan) = plan else {
             self.failed_plans += 1;
             // Try again after another stale spell; three empty plans in a row: done.
@@ -677,7 +724,13 @@ impl Explorer {
             best_at: time_s,
         });
         self.mode = Mode::Travel;
-        self.travel_step(time_s, front_free)
+        let step = self.travel_step(time_s, front_free);
+        if step.is_none() {
+            // Done at once (the frontier seen already): wall following for another spell.
+            self.mode = Mode::Seek;
+            self.last_new = time_s;
+        }
+        step
     }
 
     /// One step on the way to the frontier: re-plans when due, gives up a frontier without
@@ -692,8 +745,14 @@ impl Explorer {
         // Arrived, or the frontier is no longer one (seen on the way, or blocked).
         let resolved = self.map.unknown_around(goal, 2) < p.planner.min_unknown
             || self.map.state(goal) != crate::map::CellState::Free;
-        if dist < 0.3 || resolved {
+        if resolved {
             self.frontiers += 1;
+            return None;
+        }
+        if dist < 0.3 {
+            // There, and still unknown around it: the robot cannot see it from where it
+            // can stand (behind a post, in a wall's shadow). Not a frontier to come back to.
+            self.avoid.push(goal);
             return None;
         }
         // Progress is measured along the path: what is left of it.
@@ -753,12 +812,12 @@ impl Explorer {
         self.mode = Mode::Travel;
         let local = self.map_from_robot.inverse() * target;
         let alpha = local.y.atan2(local.x);
-        Some(if alpha.abs() > 0.7 {
+        Some(if alpha.abs() > 0.5 {
             VelocityCommand::new(0.0, alpha.signum() * p.turn_rate)
         } else {
-            let omega = (2.0 * alpha).clamp(-p.turn_rate, p.turn_rate);
+            let omega = (2.5 * alpha).clamp(-p.turn_rate, p.turn_rate);
             let v = p.travel_speed
-                * (1.0 - alpha.abs() / 0.9).max(0.2)
+                * (1.0 - alpha.abs() / 0.7).max(0.2)
                 * ((front_free - 0.1) / 0.8).clamp(0.25, 1.0);
             VelocityCommand::new(v, omega)
         })
@@ -771,21 +830,17 @@ impl Explorer {
         self.last_pose = Some(*odom_from_robot);
     }
 
-    /// Keeps the scan's near points (map frame) for the safety layer: the points
-    /// remembered from earlier scans stay while they are out of the laser's view (behind
-    /// it) and within `memory_range_m`; in view, this scan's points replace them.
+    /// Keeps the scan's near points (map frame) for the safety layer: one per
+    /// [`MEMORY_CELL`] square, the latest, while within `memory_range_m` of the robot.
+    /// Points stay when the laser no longer sees them, behind the robot or in view (the
+    /// end of a thin wall seen end-on is between beams).
     fn remember(&mut self, scan: &Scan, map_from_robot: &Isometry2) {
+        self.scans += 1;
         let map_from_laser = map_from_robot * self.robot_from_laser;
         let robot_at = Point2::from(map_from_robot.translation.vector);
         let keep2 = self.params.memory_range_m * self.params.memory_range_m;
-        let robot_from_map = map_from_robot.inverse();
-        let laser = self.robot_from_laser.translation.vector;
-        let mut memory = std::mem::take(&mut self.memory);
-        memory.retain(|m| {
-            (m - robot_at).norm_squared() <= keep2
-                && self.in_blind_wedge((robot_from_map * m).coords - laser)
-        });
-        self.memory = memory;
+        self.memory
+            .retain(|_, (m, _)| (*m - robot_at).norm_squared() <= keep2);
         let window = scan.range_window(None);
         let (s0, c0) = scan.angle_min.sin_cos();
         let (s_inc, c_inc) = scan.angle_increment.sin_cos();
@@ -798,7 +853,9 @@ impl Explorer {
             if i % 2 != 0 || r >= 1.2 || !window.contains(r) {
                 continue;
             }
-            self.memory.push(map_from_laser * Point2::from(dir * r));
+            let p = map_from_laser * Point2::from(dir * r);
+            let key = (floor_i32(p.x / MEMORY_CELL), floor_i32(p.y / MEMORY_CELL));
+            self.memory.insert(key, (p, self.scans));
         }
     }
 
@@ -874,18 +931,27 @@ impl Explorer {
     ) -> VelocityCommand {
         let robot_from_map = map_from_robot.inverse();
         let mut pts = std::mem::take(&mut self.scratch_points);
+        let mut blind = std::mem::take(&mut self.scratch_blind);
         pts.clear();
+        blind.clear();
         let reach = self.footprint.circumradius() + 0.5;
-        for m in &self.memory {
+        let laser = self.robot_from_laser.translation.vector;
+        for (m, seen) in self.memory.values() {
             let q = robot_from_map * m;
             if q.coords.norm_squared() < reach * reach {
-                pts.push(q);
+                // This scan's points in view are sure; the others were seen from elsewhere.
+                if *seen < self.scans || self.in_blind_wedge(q.coords - laser) {
+                    blind.push(q);
+                } else {
+                    pts.push(q);
+                }
             }
         }
+        self.scratch_blind = blind;
         let s = self.side.sign();
-        // Slower, then turning on the spot, then turning while creeping forward or back,
-        // then creeping straight out (a corner too tight to turn in), then turning either
-        // way.
+        // Slower, then turning on the spot, then turning while creeping forward or back
+        // (a corner too tight to turn in), then turning either way. When none of these
+        // will do for a while, the robot escapes (below).
         let candidates = [
             wanted,
             VelocityCommand::new(wanted.linear_m_s * 0.5, wanted.angular_rad_s),
@@ -893,8 +959,6 @@ impl Explorer {
             VelocityCommand::new(0.0, wanted.angular_rad_s),
             VelocityCommand::new(0.1, wanted.angular_rad_s),
             VelocityCommand::new(-0.1, wanted.angular_rad_s),
-            VelocityCommand::new(0.12, 0.0),
-            VelocityCommand::new(-0.1, 0.0),
             VelocityCommand::new(0.0, -s * self.params.turn_rate),
             VelocityCommand::new(0.0, s * self.params.turn_rate),
         ];
@@ -902,23 +966,33 @@ impl Explorer {
         // along its sweep; or, where the robot already stands closer than that, when the
         // sweep never comes closer than the robot is now (and keeps 2 cm), so that it can
         // turn or back out of a tight spot.
-        let now = self.sweep_clearance(&pts, VelocityCommand::STOP, 0.0);
+        // Where the robot stands now, as a command that keeps the extra margin for points
+        // out of view sees it, and as one that does not.
+        let now_plain = self.sweep_clearance(&pts, VelocityCommand::STOP, 0.0);
+        let now_turning = self.sweep_clearance(&pts, VelocityCommand::new(0.0, 1.0), 0.0);
         let margin = self.params.safety_margin;
-        let safe = |clearance: f64| {
+        let safe = |c: VelocityCommand, clearance: f64| {
+            let now = if toward_blind(c) {
+                now_turning
+            } else {
+                now_plain
+            };
             clearance >= margin
                 || (clearance >= now.min(margin) - 1e-3 && clearance >= now.min(0.02))
         };
         let mut chosen = VelocityCommand::STOP;
-        for c in candidates {
-            if safe(self.sweep_clearance(&pts, c, 1.0)) {
+        let mut blocked = wanted != VelocityCommand::STOP;
+        for (k, c) in candidates.into_iter().enumerate() {
+            if safe(c, self.sweep_clearance(&pts, c, 1.0)) {
                 chosen = c;
+                // Only a slower version of the wanted motion: not blocked.
+                blocked = k > 2 && c != wanted;
                 break;
             }
         }
-        // Stuck: nothing safe, or only a turn the other way than a turn on the spot asked
-        // for (a corner too tight to turn in), for a second: back off a little.
-        let against = wanted.linear_m_s == 0.0 && wanted.angular_rad_s * chosen.angular_rad_s < 0.0;
-        let stuck = (chosen == VelocityCommand::STOP && wanted != VelocityCommand::STOP) || against;
+        // Stuck: the wanted motion blocked (nothing safe, or only a way round it) for about
+        // a second: escape.
+        let stuck = blocked && self.mode != Mode::Escape;
         // Stuck scans add up, free ones count half back: a robot that keeps switching
         // between a blocked turn and a way out is stuck too.
         self.stuck_score = if stuck {
@@ -926,21 +1000,52 @@ impl Explorer {
         } else {
             (self.stuck_score - 0.5).max(0.0)
         };
-        if stuck {
-            if self.stuck_score > 10.0 {
-                self.mode = Mode::BackOff;
-                self.backoff_until = time_s + 1.0;
-                self.stuck_score = 0.0;
-            }
-            if self.mode == Mode::BackOff {
-                let back = VelocityCommand::new(-0.15, 0.0);
-                if safe(self.sweep_clearance(&pts, back, 1.0)) {
-                    chosen = back;
+        if stuck && self.stuck_score > 10.0 {
+            // Of short straight and curved motions either way, the safe one that ends with
+            // the most room around the footprint, held for ESCAPE_S.
+            let mut best: Option<(f64, VelocityCommand)> = None;
+            for v in [0.15, -0.15] {
+                for w in [0.0, 0.8, -0.8] {
+                    let c = VelocityCommand::new(v, w);
+                    if !safe(c, self.sweep_clearance(&pts, c, 1.0)) {
+                        continue;
+                    }
+                    let end = self.clearance_after(&pts, c, ESCAPE_S);
+                    if best.is_none_or(|(b, _)| end > b + 1e-9) {
+                        best = Some((end, c));
+                    }
                 }
             }
+            if let Some((_, c)) = best {
+                self.mode = Mode::Escape;
+                self.escape = c;
+                self.escape_until = time_s + ESCAPE_S;
+                chosen = c;
+            }
+            self.stuck_score = 0.0;
         }
         self.scratch_points = pts;
         chosen
+    }
+
+    /// The least distance between the footprint and the points `pts` (robot frame) after
+    /// driving `c` for `t` seconds (the points out of view counting `BLIND_MARGIN` nearer).
+    fn clearance_after(&self, pts: &[Point2], c: VelocityCommand, t: f64) -> f64 {
+        let half = self.footprint.half();
+        let inv = arc(c.linear_m_s * t, c.angular_rad_s * t).inverse();
+        let gap = |q: &Point2| {
+            let l = inv * q;
+            let dx = (l.x.abs() - half.x).max(0.0);
+            let dy = (l.y.abs() - half.y).max(0.0);
+            (dx * dx + dy * dy).sqrt()
+        };
+        let seen = pts.iter().map(gap).fold(1.0, f64::min);
+        let blind = self
+            .scratch_blind
+            .iter()
+            .map(|q| gap(q) - BLIND_MARGIN)
+            .fold(1.0, f64::min);
+        seen.min(blind)
     }
 
     /// The least distance between the footprint and the points `pts` (robot frame) while
@@ -948,11 +1053,16 @@ impl Explorer {
     /// now); at most 1 m.
     fn sweep_clearance(&self, pts: &[Point2], c: VelocityCommand, horizon: f64) -> f64 {
         let half = self.footprint.half();
+        // Points remembered out of the laser's view were seen from elsewhere: an obstacle
+        // may reach nearer on its unseen side (the far side of a barrel). Turning or
+        // backing toward them keeps BLIND_MARGIN more.
+        let extra = if toward_blind(c) { BLIND_MARGIN } else { 0.0 };
         let v = c.linear_m_s.abs();
         // One scan period to react, then braking.
         let span = horizon * (0.15 + v / self.max_accel.max(1e-3));
         let steps = if horizon > 0.0 { 6 } else { 1 };
         let mut least2: f64 = 1.0;
+        let mut least_blind2: f64 = (1.0 + extra) * (1.0 + extra);
         for k in 1..=steps {
             let t = span * f64::from(k) / f64::from(steps);
             let pose = arc(c.linear_m_s * t, c.angular_rad_s * t.min(0.3));
@@ -963,13 +1073,73 @@ impl Explorer {
                 let dy = (l.y.abs() - half.y).max(0.0);
                 least2 = least2.min(dx * dx + dy * dy);
             }
+            for q in &self.scratch_blind {
+                let l = inv * q;
+                let dx = (l.x.abs() - half.x).max(0.0);
+                let dy = (l.y.abs() - half.y).max(0.0);
+                least_blind2 = least_blind2.min(dx * dx + dy * dy);
+            }
         }
-        least2.sqrt()
+        least2.sqrt().min((least_blind2.sqrt() - extra).max(0.0))
     }
 }
 
-/// Least spacing of the scan points given to the scan matching, m.
-const MATCH_SPACING: f64 = 0.03;
+/// Side of the squares in which the safety layer remembers one scan point, m.
+const MEMORY_CELL: f64 = 0.03;
+
+/// A hasher for small integer keys (multiply and fold): deterministic, and far cheaper than
+/// the default for the safety layer's few hundred points a scan.
+#[derive(Debug, Clone, Copy, Default)]
+struct CellHasher(u64);
+
+impl std::hash::Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+
+    fn write_i32(&mut self, v: i32) {
+        self.write_u64(u64::from(v as u32));
+    }
+
+    fn write_u64(&mut self, v: u64) {
+        self.0 = (self.0.rotate_left(5) ^ v).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+}
+
+/// The [`CellHasher`] for the remembered points.
+type CellHash = std::hash::BuildHasherDefault<CellHasher>;
+
+/// `x.floor() as i32`, saturating, without a library call.
+fn floor_i32(x: f64) -> i32 {
+    let t = x as i32;
+    if f64::from(t) > x {
+        t.saturating_sub(1)
+    } else {
+        t
+    }
+}
+
+/// How long an escape from a tight spot lasts, s.
+const ESCAPE_S: f64 = 1.2;
+
+/// Extra margin the safety layer keeps from points it remembers but does not see in this
+/// scan when turning or backing, m.
+const BLIND_MARGIN: f64 = 0.06;
+
+/// True for a command that turns or backs: toward points out of the laser's view.
+fn toward_blind(c: VelocityCommand) -> bool {
+    c.linear_m_s < 0.0 || c.angular_rad_s.abs() > 0.05
+}
+
+/// Every this many beams give a point to the scan matching (a stride, not a spacing: a
+/// choice that depended on the points' noise would bias the match).
+const MATCH_STRIDE: usize = 4;
 
 /// The length of `path` left from point `along` on, plus the way from `from` to that point.
 fn remaining(path: &[Point2], along: usize, from: Point2) -> f64 {

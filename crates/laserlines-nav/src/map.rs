@@ -16,8 +16,9 @@
 //!   is taken [`NO_RETURN_FREE`] along it). Cells at [`OCCUPIED_AT`] or more
 //!   are occupied. The explorer's frontiers and paths come from this grid.
 //! - **Surfaces** ([`SURFACE_CELL`] = 0.2 m): the end points of beams shorter than
-//!   [`SURFACE_RANGE`] (where the URG-04LX's noise is under 2 cm), summed per cell (count,
-//!   mean, second moments, a window of about the last [`SURFACE_WINDOW`] points); a cell
+//!   [`SURFACE_RANGE`] (where the URG-04LX's noise is under 2 cm), summed per cell (weight,
+//!   mean, second moments, weighted by the inverse variance of the range noise, until the
+//!   weights add up to [`SURFACE_WINDOW`]); a cell
 //!   whose points lie along a line (smaller spread at most a tenth of the larger) holds that
 //!   line. [`RobotMap::match_scan`] fits a scan onto these lines: point-to-line ICP, each
 //!   point paired with the nearest line among its cell and the eight around it, a few
@@ -36,11 +37,22 @@ use crate::raster::FanRaster;
 pub const SURFACE_CELL: f64 = 0.2;
 /// End points of beams longer than this do not enter the surface grid, m.
 pub const SURFACE_RANGE: f64 = 3.0;
-/// A surface cell takes its first this many points and no more.
+/// The range noise the robot assumes for its URG-04LX, m: 5 mm up to 1 m, growing as
+/// 0.5 % of the range beyond (the data sheet's +-1 % read as two standard deviations).
+pub const NOISE_FLOOR: f64 = 0.005;
+/// A surface cell takes points until their weights (1 for a point at most 1 m away,
+/// `1 / range^2` beyond) add up to this, and no more.
 pub const SURFACE_WINDOW: f32 = 40.0;
 /// A surface cell holds a line when the smaller spread of its points is at most this
 /// fraction of the larger (variances).
 pub const LINEARITY: f32 = 0.05;
+/// `x.floor() as i64` without a call to `floor` (which the baseline x86-64 target makes
+/// a library call); for `|x|` below 2^53.
+fn floor_i64(x: f64) -> i64 {
+    let t = x as i64;
+    if (t as f64) > x { t - 1 } else { t }
+}
+
 /// A scan point pairs only with a line whose normal is within 30 deg of its own: the cosine.
 const NORMAL_AGREEMENT: f64 = 0.866;
 /// Side of a cell of the knowledge grid, m.
@@ -75,28 +87,30 @@ struct Surface {
     syy: f32,
     /// The scan that last touched the cell (1-based; 0: none).
     stamp: u32,
-    /// The fitted line: a point on it (offset from the cell's centre) and its unit normal.
-    line: Option<([f32; 2], [f32; 2])>,
 }
 
 impl Surface {
-    fn add(&mut self, dx: f32, dy: f32) {
+    /// Adds a point (offset from the cell's centre) of weight `w` (the inverse variance of
+    /// its range noise relative to [`NOISE_FLOOR`]'s).
+    fn add(&mut self, dx: f32, dy: f32, w: f32) {
         if self.n >= SURFACE_WINDOW {
             return;
         }
-        self.n += 1.0;
-        self.sx += dx;
-        self.sy += dy;
-        self.sxx += dx * dx;
-        self.sxy += dx * dy;
-        self.syy += dy * dy;
+        self.n += w;
+        self.sx += w * dx;
+        self.sy += w * dy;
+        self.sxx += w * dx * dx;
+        self.sxy += w * dx * dy;
+        self.syy += w * dy * dy;
     }
 
-    /// Fits the line (see the [module docs](self)).
-    fn refit(&mut self) {
-        self.line = None;
-        if self.n < 4.0 {
-            return;
+    /// The line fitted to the points (see the [module docs](self)) for a cell centred at
+    /// `centre`: its unit normal `(nx, ny)` and offset `d`, the line being `n . p = d` in
+    /// the map frame; `[0, 0, 0]` when the points do not lie along a line.
+    fn line(&self, centre: Point2) -> [f32; 3] {
+        const NONE: [f32; 3] = [0.0; 3];
+        if self.n < 2.0 {
+            return NONE;
         }
         let (mx, my) = (self.sx / self.n, self.sy / self.n);
         let a = self.sxx / self.n - mx * mx;
@@ -106,7 +120,7 @@ impl Surface {
         let root = (0.25 * (a - c) * (a - c) + b * b).sqrt();
         let (big, small) = (half_sum + root, half_sum - root);
         if !(big > 1e-6 && small <= LINEARITY * big) {
-            return;
+            return NONE;
         }
         // The eigenvector of the smaller eigenvalue, from whichever row is better
         // conditioned.
@@ -116,9 +130,12 @@ impl Surface {
             (small - c, b)
         };
         let norm = u.hypot(v);
-        if norm > 0.0 && norm.is_finite() {
-            self.line = Some(([mx, my], [u / norm, v / norm]));
+        if !(norm > 0.0 && norm.is_finite()) {
+            return NONE;
         }
+        let (nx, ny) = (f64::from(u / norm), f64::from(v / norm));
+        let d = nx * (centre.x + f64::from(mx)) + ny * (centre.y + f64::from(my));
+        [nx as f32, ny as f32, d as f32]
     }
 }
 
@@ -145,7 +162,7 @@ impl CellState {
 
 /// A growable grid over the map frame; cell `(i, j)` spans `origin + cell * [i, i + 1] x
 /// [j, j + 1]`.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Grid<T> {
     pub(crate) origin: Point2,
     pub(crate) cell: f64,
@@ -281,9 +298,9 @@ pub struct MatchParams {
     /// Default 3.
     pub prior_theta: f64,
     /// A match that moves the pose farther than this from the prediction is refused, m.
-    /// Default 0.25.
+    /// Default 0.1 (the odometry errs by millimetres over one scan).
     pub max_shift_m: f64,
-    /// The same for the heading, rad. Default 0.25.
+    /// The same for the heading, rad. Default 0.1.
     pub max_turn_rad: f64,
     /// Fewer points paired with mapped lines than this and the match is refused. Default 20.
     pub min_support: usize,
@@ -296,17 +313,20 @@ impl Default for MatchParams {
             gate_m: 0.1,
             prior_xy: 25.0,
             prior_theta: 3.0,
-            max_shift_m: 0.25,
-            max_turn_rad: 0.25,
+            max_shift_m: 0.1,
+            max_turn_rad: 0.1,
             min_support: 20,
         }
     }
 }
 
 /// The robot's map (see the [module docs](self)).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct RobotMap {
     surfaces: Grid<Surface>,
+    /// The line of each surface cell, `[nx, ny, d]` (see [`Surface::line`]), apart from the
+    /// sums so that the matching reads 12 bytes a cell.
+    lines: Grid<[f32; 3]>,
     touched: Vec<usize>,
     knowledge: Grid<u8>,
     /// Per knowledge cell: the sum of the end points in it (offsets from its centre) and
@@ -332,6 +352,7 @@ impl RobotMap {
     pub fn new() -> Self {
         Self {
             surfaces: Grid::new(SURFACE_CELL, Surface::default()),
+            lines: Grid::new(SURFACE_CELL, [0.0; 3]),
             touched: Vec::new(),
             knowledge: Grid::new(MAP_CELL, 0),
             centroids: Grid::new(MAP_CELL, [0.0; 3]),
@@ -447,6 +468,7 @@ impl RobotMap {
         } + 0.5;
         let r = Vector2::new(reach, reach);
         self.surfaces.ensure(o - r, o + r);
+        self.lines.ensure(o - r, o + r);
         self.knowledge.ensure(o - r, o + r);
         self.centroids.ensure(o - r, o + r);
         if self.knowledge.cols == 0 {
@@ -492,8 +514,13 @@ impl RobotMap {
         });
         self.raster = raster;
         self.poly = poly;
+        // The extent holds the whole fan (the ends of beams without a return too).
         let (mut lo, mut hi) = self.extent.unwrap_or((o, o));
-        for &(p, _) in ends.iter().chain(std::iter::once(&(o, 0.0))) {
+        for &(u, v) in &self.poly {
+            let p = Point2::new(
+                self.knowledge.origin.x + u * self.knowledge.cell,
+                self.knowledge.origin.y + v * self.knowledge.cell,
+            );
             lo = Point2::new(lo.x.min(p.x), lo.y.min(p.y));
             hi = Point2::new(hi.x.max(p.x), hi.y.max(p.y));
         }
@@ -521,7 +548,12 @@ impl RobotMap {
             {
                 let centre = self.surfaces.centre(c);
                 let cell = &mut self.surfaces.cells[c];
-                cell.add((p.x - centre.x) as f32, (p.y - centre.y) as f32);
+                // Weighted by the inverse variance of the URG-04LX's range noise (5 mm to
+                // 1 m, 0.5 % of the range beyond), relative to the nearest points: a
+                // cell's line comes mostly from its nearest views.
+                let sigma = NOISE_FLOOR * range.max(1.0);
+                let w = (NOISE_FLOOR / sigma).powi(2);
+                cell.add((p.x - centre.x) as f32, (p.y - centre.y) as f32, w as f32);
                 if cell.stamp != stamp {
                     cell.stamp = stamp;
                     self.touched.push(c);
@@ -529,42 +561,46 @@ impl RobotMap {
             }
         }
         for &c in &self.touched {
-            self.surfaces.cells[c].refit();
+            self.lines.cells[c] = self.surfaces.cells[c].line(self.surfaces.centre(c));
         }
         self.known - before
     }
 
     /// The line nearest to `q` (map frame) among the surface cells around it whose normal is
-    /// within 30 deg of `normal` (either sense; any line when `normal` is `None`): its signed
-    /// distance from `q` and its unit normal.
-    fn nearest_line(&self, q: Point2, normal: Option<Vector2>) -> Option<(f64, Vector2)> {
-        let (u, v) = self.surfaces.to_cells(q);
+    /// within 30 deg of `normal` (either sense; any line when `normal` is `None`):
+    /// `[nx, ny, d]` (the line `n . p = d`).
+    fn nearest_line(&self, q: Point2, normal: Option<Vector2>) -> Option<[f64; 3]> {
+        let grid = &self.lines;
+        let inv = 1.0 / grid.cell;
+        let (u, v) = ((q.x - grid.origin.x) * inv, (q.y - grid.origin.y) * inv);
         if !(u.is_finite() && v.is_finite()) {
             return None;
         }
-        let (i, j) = (u.floor() as i64, v.floor() as i64);
-        let mut best: Option<(f64, Vector2)> = None;
-        for dj in -1..=1_i64 {
-            for di in -1..=1_i64 {
-                let Some(c) = self.surfaces.index_of(i + di, j + dj) else {
-                    continue;
-                };
-                let Some((m, n)) = self.surfaces.cells[c].line else {
-                    continue;
-                };
-                let centre = self.surfaces.centre(c);
-                let n = Vector2::new(f64::from(n[0]), f64::from(n[1]));
-                if normal.is_some_and(|m| m.dot(&n).abs() < NORMAL_AGREEMENT) {
+        let (i, j) = (floor_i64(u), floor_i64(v));
+        let mut best: Option<(f64, [f64; 3])> = None;
+        for y in j - 1..=j + 1 {
+            if y < 0 || y >= grid.rows as i64 {
+                continue;
+            }
+            for x in i - 1..=i + 1 {
+                if x < 0 || x >= grid.cols as i64 {
                     continue;
                 }
-                let on = Point2::new(centre.x + f64::from(m[0]), centre.y + f64::from(m[1]));
-                let r = n.dot(&(q - on));
-                if best.is_none_or(|(b, _)| r.abs() < b.abs()) {
-                    best = Some((r, n));
+                let [nx, ny, d] = grid.cells[y as usize * grid.cols + x as usize];
+                if nx == 0.0 && ny == 0.0 {
+                    continue;
+                }
+                let (nx, ny, d) = (f64::from(nx), f64::from(ny), f64::from(d));
+                if normal.is_some_and(|m| (m.x * nx + m.y * ny).abs() < NORMAL_AGREEMENT) {
+                    continue;
+                }
+                let r = (nx * q.x + ny * q.y - d).abs();
+                if best.is_none_or(|(b, _)| r < b) {
+                    best = Some((r, [nx, ny, d]));
                 }
             }
         }
-        best
+        best.map(|(_, line)| line)
     }
 
     /// Fits the scan points `points` (robot frame) onto the map's lines (each point onto
@@ -589,34 +625,42 @@ impl RobotMap {
         }
         let prior = Vector3::new(params.prior_xy, params.prior_xy, params.prior_theta);
         let mut xi = Vector3::new(x0, y0, t0);
-        let mut support = 0;
+        // Pairs of a point (index) and its line; made afresh in the first two rounds, then
+        // kept while the pose settles.
+        let mut pairs: Vec<(usize, [f64; 3])> = Vec::with_capacity(points.len());
         for round in 0..params.iterations.max(1) {
             let (s, c) = xi.z.sin_cos();
+            if round < 2 {
+                // Pairs farther than the gate are not the same wall; the gate narrows once
+                // the first step is taken.
+                let gate = if round == 0 {
+                    params.gate_m
+                } else {
+                    0.5 * params.gate_m
+                };
+                pairs.clear();
+                for (k, m) in points.iter().enumerate() {
+                    let p = m.point;
+                    let q = Point2::new(c * p.x - s * p.y + xi.x, s * p.x + c * p.y + xi.y);
+                    let normal = m
+                        .normal
+                        .map(|v| Vector2::new(c * v.x - s * v.y, s * v.x + c * v.y));
+                    if let Some(line) = self.nearest_line(q, normal)
+                        && (line[0] * q.x + line[1] * q.y - line[2]).abs() <= gate
+                    {
+                        pairs.push((k, line));
+                    }
+                }
+            }
             let mut h = Matrix3::<f64>::zeros();
             let mut g = Vector3::<f64>::zeros();
-            support = 0;
-            // Pairs farther than the gate are not the same wall; the gate narrows as the
-            // rounds converge.
-            let gate = if round == 0 {
-                params.gate_m
-            } else {
-                0.5 * params.gate_m
-            };
-            for m in points {
+            for &(k, [nx, ny, d]) in &pairs {
+                let m = &points[k];
                 let p = m.point;
                 let q = Point2::new(c * p.x - s * p.y + xi.x, s * p.x + c * p.y + xi.y);
-                let normal = m
-                    .normal
-                    .map(|v| Vector2::new(c * v.x - s * v.y, s * v.x + c * v.y));
-                let Some((r, n)) = self.nearest_line(q, normal) else {
-                    continue;
-                };
-                if r.abs() > gate {
-                    continue;
-                }
-                support += 1;
+                let r = nx * q.x + ny * q.y - d;
                 let dq_dt = Vector2::new(-s * p.x - c * p.y, c * p.x - s * p.y);
-                let j = Vector3::new(n.x, n.y, n.dot(&dq_dt));
+                let j = Vector3::new(nx, ny, nx * dq_dt.x + ny * dq_dt.y);
                 // Huber weight beyond 2 cm.
                 let w =
                     m.weight.clamp(0.0, 1.0) * if r.abs() <= 0.02 { 1.0 } else { 0.02 / r.abs() };
@@ -633,10 +677,11 @@ impl RobotMap {
                 return None;
             }
             xi += step;
-            if step.x.abs() < 1e-4 && step.y.abs() < 1e-4 && step.z.abs() < 1e-4 {
+            if round >= 1 && step.x.abs() < 1e-4 && step.y.abs() < 1e-4 && step.z.abs() < 1e-4 {
                 break;
             }
         }
+        let support = pairs.len();
         let shift = (xi.x - x0).hypot(xi.y - y0);
         let turn = wrap_angle(xi.z - t0).abs();
         (support >= params.min_support

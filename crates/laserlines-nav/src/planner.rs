@@ -14,6 +14,10 @@
 //!   cells among the 5 x 5 around them: the edge of what has been seen, where the robot
 //!   can stand.
 //!
+//! Frontiers farther than [`PlannerParams::max_range_m`] from the start are left alone (a
+//! robot that slips out of an arena through a gap would otherwise explore the open space
+//! around it for ever).
+//!
 //! [`Planner::nearest_frontier`] runs Dijkstra's algorithm from the robot's cell over the
 //! passable cells (8-neighbour steps; a step costs its length, more where the clearance is
 //! below [`PlannerParams::preferred_clearance_m`], so that paths keep to the middle of
@@ -42,6 +46,9 @@ pub struct PlannerParams {
     /// Unknown cells among the 5 x 5 around a passable cell that make it a frontier.
     /// Default 4.
     pub min_unknown: usize,
+    /// Frontiers farther than this from the map's origin (the start) are not chosen, m:
+    /// the area a run explores. Default 30.
+    pub max_range_m: f64,
 }
 
 impl Default for PlannerParams {
@@ -52,6 +59,7 @@ impl Default for PlannerParams {
             preferred_clearance_m: 0.6,
             clearance_cost: 4.0,
             min_unknown: 4,
+            max_range_m: 30.0,
         }
     }
 }
@@ -247,7 +255,11 @@ impl Planner {
                     _ => break,
                 }
             }
-            if k != start && is_frontier(k) && !avoided(centre(k)) {
+            if k != start
+                && is_frontier(k)
+                && !avoided(centre(k))
+                && centre(k).coords.norm() <= params.max_range_m
+            {
                 if nearest.is_none() {
                     nearest = Some((c, k));
                 }

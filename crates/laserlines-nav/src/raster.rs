@@ -7,7 +7,7 @@
 //! its length in cells, beam after beam over the same cells near the laser).
 
 /// Reusable scratch for [`FanRaster::fill`].
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub(crate) struct FanRaster {
     /// The polygon's crossings of the rows' centre lines, `(row - first row, x)`.
     crossings: Vec<(u32, f32)>,

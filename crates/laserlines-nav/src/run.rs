@@ -16,6 +16,7 @@ use laserlines_sim::robot::{RobotError, RobotParams, RobotSim, VelocityCommand};
 
 use crate::coverage::CoverageGrid;
 use crate::explorer::{Explorer, ExplorerParams, Mode, WallSide};
+use crate::map::RobotMap;
 use crate::sectors::SectorObjects;
 
 /// Errors of [`run`].
@@ -171,6 +172,11 @@ pub struct RunRecord {
     pub coverage_curve: Vec<(f64, f64)>,
     /// Centres of the reachable coverage cells never seen, world frame.
     pub unseen: Vec<Point2>,
+    /// The robot's own map at the end; its map frame is the start pose (`world_from_map` =
+    /// the start).
+    pub map: RobotMap,
+    /// The frontiers the explorer gave up, world frame.
+    pub given_up: Vec<Point2>,
 }
 
 /// Runs an exploration of `world` from `start` (see the [module docs](self)).
@@ -242,6 +248,8 @@ pub fn run_with_progress(
         snapshot: None,
         coverage_curve: Vec::new(),
         unseen: Vec::new(),
+        map: RobotMap::new(),
+        given_up: Vec::new(),
     };
     let steps = (config.duration_s / config.robot.physics_dt_s).round() as u64;
     let mut next_report = 0.0;
@@ -347,6 +355,8 @@ pub fn run_with_progress(
         .push((robot.time_s(), coverage.coverage()));
     progress(robot.time_s());
     record.unseen = coverage.unseen();
+    record.given_up = explorer.given_up().iter().map(|p| start * p).collect();
+    record.map = explorer.map().clone();
     m.wall_time_s = wall_clock.elapsed().as_secs_f64();
     Ok(record)
 }
