@@ -1,5 +1,6 @@
 //! Arbitrary bytes through the CARMEN reader, with the default laser and with a chosen one:
-//! it must never panic, and every item is either a valid scan or an error naming the input.
+//! it must never panic, every item is either a valid scan or an error naming the input, and
+//! records left to parse later (`next_pending`) parse to the very items `next` gives.
 #![no_main]
 
 use laserlines_io::{Format, from_reader_with};
@@ -13,12 +14,15 @@ fuzz_target!(|data: &[u8]| {
         Some(3) => Some("ROBOTLASER2"),
         _ => None,
     };
-    let Ok(reader) =
+    let open = || {
         from_reader_with("fuzz", std::io::Cursor::new(data.to_vec()), Format::Carmen, topic)
-    else {
+    };
+    let (Ok(reader), Ok(mut pending)) = (open(), open()) else {
         return;
     };
     for item in reader.take(10_000) {
+        let later = pending.next_pending().map(|p| p.parse());
+        assert_eq!(format!("{:?}", Some(&item)), format!("{:?}", later.as_ref()));
         match item {
             Ok(record) => {
                 assert!(record.scan.validate().is_ok());
