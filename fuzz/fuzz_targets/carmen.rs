@@ -15,14 +15,22 @@ fuzz_target!(|data: &[u8]| {
         _ => None,
     };
     let open = || {
-        from_reader_with("fuzz", std::io::Cursor::new(data.to_vec()), Format::Carmen, topic)
+        from_reader_with(
+            "fuzz",
+            std::io::Cursor::new(data.to_vec()),
+            Format::Carmen,
+            topic,
+        )
     };
     let (Ok(reader), Ok(mut pending)) = (open(), open()) else {
         return;
     };
     for item in reader.take(10_000) {
         let later = pending.next_pending().map(|p| p.parse());
-        assert_eq!(format!("{:?}", Some(&item)), format!("{:?}", later.as_ref()));
+        assert_eq!(
+            format!("{:?}", Some(&item)),
+            format!("{:?}", later.as_ref())
+        );
         match item {
             Ok(record) => {
                 assert!(record.scan.validate().is_ok());
