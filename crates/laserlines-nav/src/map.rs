@@ -384,6 +384,15 @@ impl RobotMap {
         })
     }
 
+    /// The centres of all occupied knowledge cells, map frame (for pictures).
+    #[must_use]
+    pub fn occupied_cells(&self) -> Vec<Point2> {
+        (0..self.knowledge.cells.len())
+            .filter(|&c| self.knowledge.cells[c] >= OCCUPIED_AT)
+            .map(|c| self.knowledge.centre(c))
+            .collect()
+    }
+
     /// Appends the occupied knowledge cells within `reach` of `p` (map frame) to `out`:
     /// the mean of the end points in each (the cell's centre if it has none).
     pub fn occupied_near(&self, p: Point2, reach: f64, out: &mut Vec<Point2>) {

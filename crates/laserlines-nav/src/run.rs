@@ -161,10 +161,13 @@ pub struct RunRecord {
     /// The robot's true path, one point per scan, world frame.
     pub path: Vec<Point2>,
     /// The odometry path, one point per scan, in the world frame (odometry frame placed at
-    /// the start pose): what the robot believes.
+    /// the start pose): the wheel odometry alone, drifting.
     pub odometry_path: Vec<Point2>,
-    /// Lines seen (every `record_lines_every` scans), placed in the world by the odometry
-    /// pose, as the robot would map them.
+    /// The robot's own estimate of its path (odometry corrected by scan matching), one
+    /// point per scan, world frame (its map frame placed at the start pose).
+    pub estimated_path: Vec<Point2>,
+    /// Lines seen (every `record_lines_every` scans), placed in the world by the robot's own
+    /// pose estimate (odometry corrected by scan matching), as the robot maps them.
     pub lines_seen: Vec<(Point2, Point2)>,
     /// The sector snapshot, if the run lasted until its time.
     pub snapshot: Option<Snapshot>,
@@ -244,6 +247,7 @@ pub fn run_with_progress(
         },
         path: Vec::new(),
         odometry_path: Vec::new(),
+        estimated_path: Vec::new(),
         lines_seen: Vec::new(),
         snapshot: None,
         coverage_curve: Vec::new(),
@@ -297,8 +301,11 @@ pub fn run_with_progress(
             record
                 .odometry_path
                 .push(Point2::from(world_from_odom_robot.translation.vector));
+            record
+                .estimated_path
+                .push(Point2::from(believed.translation.vector));
             if config.record_lines_every > 0 && m.scans % config.record_lines_every as u64 == 1 {
-                let world_from_laser = world_from_odom_robot * config.robot.robot_from_laser;
+                let world_from_laser = believed * config.robot.robot_from_laser;
                 record.lines_seen.extend(
                     lines
                         .iter()

@@ -12,8 +12,9 @@ use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines_nav::{RunConfig, RunRecord, Sector, Snapshot, arenas, run_with_progress};
 use laserlines_render::{Canvas, Color, Extent, LegendEntry, Marker, Panel, Style, Swatch};
 use laserlines_sim::World;
-use laserlines_sim::arena::{ArenaOptions, WallLength, load_raf};
+use laserlines_sim::arena::{ArenaOptions, WallLength, interior_start, load_raf};
 use laserlines_sim::maze::{MazeParams, generate};
+use laserlines_sim::robot::RobotParams;
 
 /// Arguments of `laserlines simulate`.
 #[derive(Debug, Args)]
@@ -34,8 +35,10 @@ pub struct SimulateArgs {
     /// Seed of the laser and odometry noise.
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Start pose `x,y,yaw_deg` (m, m, deg) in the arena frame; default: the centre of
-    /// cell (0, 0) for arenas, the maze's start for mazes.
+    /// Start pose `x,y,yaw_deg` (m, m, deg) in the arena frame; default for arenas: the
+    /// grid cell centre nearest the origin in the largest free region the walls enclose
+    /// (cell (0, 0) in the bundled arenas; an arena file's origin may lie in a pocket
+    /// closed by barrels or outside the arena), facing +x; for mazes: the maze's start.
     #[arg(long, value_name = "X,Y,YAW_DEG", allow_hyphen_values = true)]
     start: Option<String>,
     /// Arena walls 1.0 m long (the plate's mesh) instead of the whole 1.2 m cell edge.
@@ -66,6 +69,8 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         duration_s: args.duration,
         seed: args.seed,
         snapshot_at_s: args.snapshot,
+        // The lines of one scan in 30 for the map picture (every 3 s).
+        record_lines_every: 30,
         ..RunConfig::default()
     };
 
@@ -90,7 +95,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
 
     fs::create_dir_all(&args.output)
         .with_context(|| format!("cannot create {}", args.output.display()))?;
-    let metrics = metrics_json(&name, args, &record);
+    let metrics = metrics_json(&name, args, start, &record);
     let metrics_path = args.output.join("metrics.json");
     fs::write(&metrics_path, format!("{metrics:#}\n"))
         .with_context(|| format!("cannot write {}", metrics_path.display()))?;
@@ -105,8 +110,10 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
 
     let m = &record.metrics;
     println!(
-        "laserlines simulate: {name}, seed {}: coverage {:.3}, collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage at {}",
+        "laserlines simulate: {name}, seed {}, start ({:.2}, {:.2}): coverage {:.3}, collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage at {}, pose error at most {:.2} m, stop {}",
         args.seed,
+        start.translation.vector.x,
+        start.translation.vector.y,
         m.coverage,
         m.collisions,
         m.min_clearance_m,
@@ -116,6 +123,8 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         m.sim_time_s / m.wall_time_s.max(1e-9),
         m.time_to_90_percent_s
             .map_or_else(|| "never".to_owned(), |t| format!("{t:.0} s")),
+        m.max_pose_error_m,
+        m.stop.name(),
     );
     println!(
         "  wrote {}, {}{}",
@@ -193,11 +202,12 @@ fn world_of(args: &SimulateArgs) -> Result<(String, World, Isometry2)> {
             );
         }
     }
-    Ok((
-        arena.name.clone(),
-        arena.world,
-        Isometry2::new(Vector2::zeros(), 0.0),
-    ))
+    let start = interior_start(
+        &arena.world,
+        RobotParams::default().footprint.circumradius(),
+    )
+    .unwrap_or_else(|| Isometry2::new(Vector2::zeros(), 0.0));
+    Ok((arena.name.clone(), arena.world, start))
 }
 
 fn parse_start(s: &str) -> Result<Isometry2> {
@@ -214,11 +224,18 @@ fn parse_start(s: &str) -> Result<Isometry2> {
     }
 }
 
-fn metrics_json(name: &str, args: &SimulateArgs, record: &RunRecord) -> serde_json::Value {
+fn metrics_json(
+    name: &str,
+    args: &SimulateArgs,
+    start: Isometry2,
+    record: &RunRecord,
+) -> serde_json::Value {
     let m = &record.metrics;
+    let s = start.translation.vector;
     serde_json::json!({
         "world": name,
         "seed": args.seed,
+        "start": [s.x, s.y, start.rotation.angle().to_degrees()],
         "duration_s": args.duration,
         "coverage": m.coverage,
         "collisions": m.collisions,
@@ -231,6 +248,10 @@ fn metrics_json(name: &str, args: &SimulateArgs, record: &RunRecord) -> serde_js
         "scans": m.scans,
         "lines": m.lines,
         "loops": m.loops,
+        "frontiers": m.frontiers,
+        "max_pose_error_m": m.max_pose_error_m,
+        "max_heading_error_rad": m.max_heading_error_rad,
+        "unmatched_scans": m.unmatched_scans,
         "stop": m.stop.name(),
     })
 }
@@ -240,6 +261,25 @@ const PATH: Color = Color::rgb(0x1b, 0x9e, 0x3a);
 const ODOM: Color = Color::rgb(0x99, 0x99, 0x99);
 const SEEN: Color = Color::BLUE;
 const SELECTED: Color = Color::rgb(0x10, 0x3c, 0xd6);
+const ROBOT_MAP: Color = Color::rgb(0xf5, 0xa6, 0x23);
+const UNSEEN: Color = Color::rgb(0xe0, 0x40, 0x40);
+
+/// A path drawn with points at least 15 cm apart (and its last point): a third of the
+/// scans' points at full speed, no visible corner cut at the picture's scale.
+fn thin(path: &[Point2]) -> Vec<Point2> {
+    let mut out: Vec<Point2> = Vec::with_capacity(path.len() / 2 + 1);
+    for &p in path {
+        if out.last().is_none_or(|q| (p - q).norm() >= 0.15) {
+            out.push(p);
+        }
+    }
+    if let (Some(&last), Some(&kept)) = (path.last(), out.last())
+        && last != kept
+    {
+        out.push(last);
+    }
+    out
+}
 
 /// The paper's Fig. 8: the arena, the robot's path and the lines it saw.
 fn map_svg(name: &str, world: &World, start: Isometry2, record: &RunRecord) -> String {
@@ -265,6 +305,27 @@ fn map_svg(name: &str, world: &World, start: Isometry2, record: &RunRecord) -> S
     for &(a, b) in &record.lines_seen {
         panel.line(a, b, &seen);
     }
+    // The robot's own map (occupied cells, placed by its start pose) and the reachable
+    // cells it never saw.
+    let cell_px = (0.1 * panel.px_per_unit()).max(1.0);
+    let robot_map: Vec<Point2> = record
+        .map
+        .occupied_cells()
+        .into_iter()
+        .map(|p| start * p)
+        .collect();
+    panel.markers(
+        &robot_map,
+        Marker::Square,
+        cell_px,
+        &Style::fill(ROBOT_MAP).with_class("robot-map"),
+    );
+    panel.markers(
+        &record.unseen,
+        Marker::Square,
+        cell_px,
+        &Style::fill(UNSEEN).with_opacity(0.6).with_class("unseen"),
+    );
     let wall = Style::stroke(WALL, 2.2).with_class("wall");
     for w in &world.walls {
         panel.line(w.a, w.b, &wall);
@@ -276,12 +337,19 @@ fn map_svg(name: &str, world: &World, start: Isometry2, record: &RunRecord) -> S
         panel.circle(d.centre, d.radius, &disc);
     }
     panel.polyline(
-        &record.odometry_path,
+        &thin(&record.odometry_path),
         &Style::stroke(ODOM, 1.0)
             .with_dash(4.0, 3.0)
             .with_class("odometry"),
     );
-    panel.polyline(&record.path, &Style::stroke(PATH, 1.8).with_class("path"));
+    panel.polyline(
+        &thin(&record.estimated_path),
+        &Style::stroke(ROBOT_MAP, 1.0).with_class("estimated-path"),
+    );
+    panel.polyline(
+        &thin(&record.path),
+        &Style::stroke(PATH, 1.8).with_class("path"),
+    );
     let s = Point2::from(start.translation.vector);
     panel.circle(
         s,
@@ -308,9 +376,23 @@ fn map_svg(name: &str, world: &World, start: Isometry2, record: &RunRecord) -> S
         "path by odometry",
     ));
     canvas.add_legend(LegendEntry::new(
-        Swatch::Line(Style::stroke(SEEN, 1.0).with_opacity(0.35)),
-        "extracted lines, placed by odometry (1 scan/s)",
+        Swatch::Line(Style::stroke(ROBOT_MAP, 1.0)),
+        "path by the robot's estimate (odometry and scan matching)",
     ));
+    canvas.add_legend(LegendEntry::new(
+        Swatch::Line(Style::stroke(SEEN, 1.0).with_opacity(0.35)),
+        "extracted lines, placed by the robot's own pose estimate (1 scan in 3 s)",
+    ));
+    canvas.add_legend(LegendEntry::new(
+        Swatch::Marker(Marker::Square, 8.0, Style::fill(ROBOT_MAP)),
+        "the robot's own map: occupied cells (0.1 m), placed by its start",
+    ));
+    if !record.unseen.is_empty() {
+        canvas.add_legend(LegendEntry::new(
+            Swatch::Marker(Marker::Square, 8.0, Style::fill(UNSEEN)),
+            "reachable cells never seen",
+        ));
+    }
     canvas.add_legend(LegendEntry::new(
         Swatch::Marker(Marker::Circle, 10.0, Style::stroke(PATH, 2.0)),
         "start",
