@@ -1,5 +1,6 @@
 //! Simulation speed of a navigation run: the laser at 10 Hz, line extraction of every scan,
-//! the explorer, physics at 50 Hz and the coverage evaluation, one thread.
+//! the explorer (sector objects, scan matching and its own map, frontier planning, the
+//! safety layer), physics at 50 Hz and the coverage evaluation, one thread.
 //!
 //! One iteration is 60 s of simulated time in the bundled arena `inner_explore_test.raf`;
 //! criterion's throughput is simulated seconds per wall-clock second (the real-time factor).

@@ -12,7 +12,7 @@
 //! (distance - follow_distance)`.
 //!
 //! **Corners and wall ends.** The end of the followed wall ahead of the robot is remembered
-//! in the odometry frame. When the followed side's object is lost (the wall ended: a corner
+//! in the map frame (below). When the followed side's object is lost (the wall ended: a corner
 //! or an opening on that side) the robot arcs around that end at `follow_distance`, so that
 //! it turns into the side corridor, or around the end of a free-standing wall.
 //!
@@ -24,9 +24,12 @@
 //!
 //! **The robot's own map.** Every scan is fitted onto the map built from the scans before
 //! it ([`RobotMap::match_scan`], point-to-line ICP pulled toward the odometry's prediction)
-//! and then added to it ([`RobotMap::insert_scan`]): the map frame is the odometry frame at
-//! the start, corrected by the matching, so that the map stays true while the wheel
-//! odometry drifts. The explorer never reads the world: only its scans, lines and odometry.
+//! and every `map_every`-th scan is added to it ([`RobotMap::insert_scan`]): the map frame
+//! is the odometry frame at the start, corrected by the matching, so that the map stays
+//! true while the wheel odometry drifts (the simulator's default odometry drifts by about
+//! a metre in two minutes; the map pose stays within a few decimetres over a run). From
+//! here on the explorer works in the map frame. It never reads the world: only its scans,
+//! lines and odometry.
 //!
 //! **Leaving a wall followed all the way round.** Every 0.5 m of travel the map pose is
 //! dropped as a breadcrumb. Coming back within `loop_match` of a breadcrumb laid at least
@@ -38,17 +41,26 @@
 //! up before, drives there along the path (pure pursuit, re-planned every `replan_s`, so
 //! that the plan always starts from where the robot is), and when it gets there, or the
 //! frontier has been seen meanwhile, resumes wall following on the wall it finds there.
-//! This is how it reaches islands, wall groups that a pure wall follower never reaches. A
-//! frontier it makes no progress toward for `give_up_s` is given up. When no frontier is
-//! left the exploration is complete.
+//! Wall following that finds no wall for `seek_s` leaves the same way. This is how it
+//! reaches islands, wall groups that a pure wall follower never reaches. A frontier whose
+//! path the robot does not shorten for `give_up_s`, or that it reaches without seeing it, is
+//! given up; when none is left, the given-up ones are tried again, at most `retries` times.
+//! When no frontier is left the exploration is complete.
 //!
-//! **Safety.** Before a velocity command is committed, the footprint, grown by
-//! `safety_margin`, is swept along the arc the command drives over the time the robot needs
-//! to stop, and checked against the points of the latest scans (kept for a short while in
-//! the odometry frame, so that obstacles beside and behind the laser's field of view are
-//! remembered). A command that would touch a point is slowed; if even turning on the spot
-//! is unsafe the robot stops, and if it stays stuck it backs off. This layer has the last
-//! word over the wall follower and the path follower alike.
+//! **Safety.** Before a velocity command is committed, the footprint is swept along the arc
+//! the command drives over the time the robot needs to stop, and its least distance to the
+//! near scan points is checked: this scan's, and those remembered in the map frame (one per
+//! 3 cm square within `memory_range_m`), so that obstacles beside and behind the laser's
+//! field of view, and the ends of thin walls seen end-on, are not forgotten. Points not seen
+//! in this scan count 6 cm nearer when the robot turns or backs (an obstacle's far side
+//! may reach nearer than the side that was seen). A command is safe when the footprint
+//! stays `safety_margin` clear; where the robot already stands nearer, when it comes no
+//! nearer (and keeps 2 cm), so that it can leave a tight spot. Otherwise slower versions,
+//! turning on the spot, creeping turns and turning the other way are tried, in that order;
+//! a robot whose wanted motion stays blocked for about a second *escapes*: of short straight
+//! and curved motions forward and back, it drives the safe one that leaves the most room
+//! around the footprint for 1.2 s. This layer has the last word over the wall follower and
+//! the path follower alike.
 //!
 //! **Stopping.** The explorer reports that it is done when no frontier is left (the whole
 //! reachable area has been seen), or when its map has gained nothing for `idle_timeout_s`.

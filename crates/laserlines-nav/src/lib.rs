@@ -7,13 +7,17 @@
 //!
 //! - [`sectors`]: the three sectors (left 70 deg, front 100 deg, right 70 deg) and the
 //!   "biggest and nearest" object in each, with its distance, width and angle;
-//! - [`explorer`]: the wall-following explorer with loop detection and a safety layer; it
-//!   reads only the scan, the extracted lines and the odometry;
+//! - [`explorer`]: the wall-following explorer with loop detection, frontier travel and a
+//!   safety layer; it reads only the scan, the extracted lines and the odometry;
+//! - [`map`]: the robot's own map (free / occupied / unknown, and wall lines for scan
+//!   matching) and the scan matching that corrects its odometry;
+//! - [`planner`]: the nearest frontier on that map and the path there;
 //! - [`coverage`]: the ground-truth coverage grid (0.1 m cells, reachable area by flood fill);
 //! - [`run()`]: one simulated run returning [`Metrics`] and what the pictures need.
 //!
 //! Units are SI (metres, radians, seconds); frames follow REP 103 (x forward, y left, angles
-//! counter-clockwise) and are named in variables (`world_from_robot`, `odom_from_robot`).
+//! counter-clockwise) and are named in variables (`world_from_robot`, `odom_from_robot`,
+//! `map_from_robot`).
 //!
 //! ```
 //! use laserlines_nav::{RunConfig, run};
@@ -36,6 +40,8 @@ pub mod sectors;
 
 pub use coverage::{COVERAGE_CELL, CoverageGrid};
 pub use explorer::{Decision, Explorer, ExplorerParams, Mode, WallSide};
+pub use map::{CellState, MatchParams, MatchPoint, RobotMap};
+pub use planner::{Plan, Planner, PlannerParams};
 pub use run::{
     Metrics, RunConfig, RunError, RunRecord, Snapshot, StopReason, run, run_with_progress,
 };
