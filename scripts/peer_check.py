@@ -490,6 +490,65 @@ def check_writer(bin_, fails, tmp):
                 fails.eq(f"{w} points", pts, wpts)
 
 
+def check_simulate(bin_, fails, tmp):
+    """`laserlines simulate --mcap` read by the Python mcap + mcap-protobuf-support readers:
+    topics, counts, frames, and each sector object's nearest point lying on one of the scan's
+    lines (laser frame, moved to base_link by the laser's mount) at the distance its label
+    gives."""
+    from mcap.reader import make_reader
+    from mcap_protobuf.decoder import DecoderFactory
+
+    out = tmp / "sim"
+    path = out / "run.mcap"
+    run([bin_, "simulate", "--arena", "inner_explore_test", "--duration", "4", "-o", out, "--mcap", path])
+    metrics = json.loads((out / "metrics.json").read_text())
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        by_topic = {}
+        for schema, channel, message, decoded in reader.iter_decoded_messages():
+            by_topic.setdefault(channel.topic, []).append((schema.name, message, decoded))
+    at = "simulate.mcap"
+    fails.eq(f"{at} topics", sorted(by_topic), ["/arena", "/explorer", "/lines", "/scan", "/sectors", "/tf"])
+    n = metrics["scans"]
+    for topic in ("/scan", "/lines", "/sectors", "/explorer"):
+        fails.eq(f"{at} {topic} count", len(by_topic.get(topic, [])), n)
+    fails.eq(f"{at} /tf count", len(by_topic.get("/tf", [])), 3 * n)
+    arena = by_topic.get("/arena", [])
+    fails.eq(f"{at} /arena once", len(arena), 1)
+    if arena:
+        e = arena[0][2].entities[0]
+        fails.eq(f"{at} /arena frame", e.frame_id, "world")
+        fails.eq(f"{at} /arena wall ends", len(e.lines[0].points) % 2, 0)
+    tfs = by_topic.get("/tf", [])
+    if len(tfs) >= 3:
+        world, laser, est = (t[2] for t in tfs[:3])
+        fails.eq(f"{at} /tf frames", [(t.parent_frame_id, t.child_frame_id) for t in (world, laser, est)],
+                 [("world", "base_link"), ("base_link", "laser"), ("world", "base_link_estimate")])
+        fails.eq(f"{at} start pose", (world.translation.x, world.translation.y, world.rotation.w), (0.0, 0.0, 1.0))
+        fails.eq(f"{at} laser mount within 1e-12", abs(laser.translation.x - 0.15) < 1e-12, True)
+    objects = 0
+    for k, (scan_item, lines_item, sect_item) in enumerate(zip(by_topic["/scan"], by_topic["/lines"], by_topic["/sectors"])):
+        fails.eq(f"{at} scan {k} beams", len(scan_item[2].ranges), 682)
+        pts = lines_item[2].entities[0].lines[0].points
+        segs = [((pts[i].x + 0.15, pts[i].y), (pts[i + 1].x + 0.15, pts[i + 1].y)) for i in range(0, len(pts), 2)]
+        e = sect_item[2].entities[0]
+        fails.eq(f"{at} /sectors {k} frame", e.frame_id, "base_link")
+        for sphere, text in zip(e.spheres, e.texts):
+            objects += 1
+            px, py = sphere.pose.position.x, sphere.pose.position.y
+
+            def off(seg):
+                (ax, ay), (bx, by) = seg
+                dx, dy = bx - ax, by - ay
+                t = max(0.0, min(1.0, ((px - ax) * dx + (py - ay) * dy) / (dx * dx + dy * dy)))
+                return math.hypot(ax + t * dx - px, ay + t * dy - py)
+
+            fails.eq(f"{at} /sectors {k} nearest point on a line", min(map(off, segs)) < 1e-9, True)
+            dist = float(text.text.split(": ")[1].split(" m")[0])
+            fails.eq(f"{at} /sectors {k} distance label", abs(math.hypot(px, py) - dist) <= 0.005 + 1e-9, True)
+    fails.eq(f"{at} sector objects seen", objects > 0, True)
+
+
 def check_bags(bin_, fails, tmp):
     """Bags written by rosbags: ROS 1 (laserlines-io), ROS 2 directories (MCAP storage: read;
     sqlite3 storage: reported as not read)."""
@@ -537,6 +596,7 @@ def main():
         expected = write_fixtures(tmp / "fixtures")
         check_reader(args.laserlines, tmp / "fixtures", expected, fails, tmp)
         check_writer(args.laserlines, fails, tmp)
+        check_simulate(args.laserlines, fails, tmp)
         check_bags(args.laserlines, fails, tmp)
     for item in fails.items[:50]:
         print(f"peer_check: MISMATCH {item}")

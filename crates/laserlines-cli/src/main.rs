@@ -66,8 +66,38 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("laserlines: error: {e:#}");
+            eprintln!("laserlines: error: {}", error_chain(&e));
             ExitCode::from(2)
         }
+    }
+}
+
+/// The error and its causes joined by `: `, leaving out a cause whose text the message
+/// already holds (many errors name their cause in their own message).
+fn error_chain(e: &anyhow::Error) -> String {
+    let mut message = e.to_string();
+    for cause in e.chain().skip(1) {
+        let c = cause.to_string();
+        if !message.contains(&c) {
+            message.push_str(": ");
+            message.push_str(&c);
+        }
+    }
+    message
+}
+
+#[cfg(test)]
+mod tests {
+    use super::error_chain;
+    use anyhow::Context;
+
+    #[test]
+    fn a_cause_already_in_the_message_is_not_repeated() {
+        let io = std::io::Error::other("disk full");
+        let named = anyhow::Error::new(io).context("out.mcap: disk full");
+        assert_eq!(error_chain(&named), "out.mcap: disk full");
+        let plain: anyhow::Result<()> = Err(anyhow::anyhow!("disk full"));
+        let e = plain.context("cannot write out.mcap").unwrap_err();
+        assert_eq!(error_chain(&e), "cannot write out.mcap: disk full");
     }
 }

@@ -75,3 +75,107 @@ fn simulate_rejects_bad_input() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("no_such_arena.raf"), "{err}");
 }
+
+#[test]
+fn simulate_records_the_run_as_mcap() {
+    use foxglove::messages::{FrameTransform, SceneUpdate};
+    use prost::Message as _;
+
+    let dir = std::env::temp_dir().join(format!("laserlines-simulate-mcap-{}", std::process::id()));
+    let mcap_path = dir.join("run.mcap");
+    let o = bin()
+        .args([
+            "simulate",
+            "--arena",
+            "inner_explore_test",
+            "--duration",
+            "3",
+            "-o",
+        ])
+        .arg(&dir)
+        .arg("--mcap")
+        .arg(&mcap_path)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(dir.join("metrics.json")).unwrap();
+    let m: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let scans = m["scans"].as_u64().unwrap();
+    assert_eq!(scans, 30, "3 s at 10 Hz");
+
+    // The scans as laserlines reads them back: the URG-04LX's 682 beams each.
+    let records: Vec<_> = laserlines_foxglove::read::open(
+        &mcap_path,
+        &laserlines_foxglove::McapReadOptions::default(),
+    )
+    .unwrap()
+    .collect::<Result<_, _>>()
+    .unwrap();
+    assert_eq!(records.len() as u64, scans);
+    assert!(records.iter().all(|r| r.scan.ranges.len() == 682));
+
+    // Every message by topic, with the stock reader of the `mcap` crate.
+    let bytes = std::fs::read(&mcap_path).unwrap();
+    let mut by_topic: std::collections::HashMap<String, Vec<Vec<u8>>> = Default::default();
+    for msg in mcap::MessageStream::new(&bytes).unwrap() {
+        let msg = msg.unwrap();
+        by_topic
+            .entry(msg.channel.topic.clone())
+            .or_default()
+            .push(msg.data.into_owned());
+    }
+    for topic in ["/lines", "/sectors", "/explorer"] {
+        assert_eq!(by_topic[topic].len() as u64, scans, "{topic}");
+    }
+    // The arena once, with every wall of the bundled arena.
+    let arena = laserlines_nav::arenas::bundled("inner_explore_test", &Default::default())
+        .unwrap()
+        .unwrap();
+    let walls = SceneUpdate::decode(by_topic["/arena"][0].as_slice()).unwrap();
+    assert_eq!(by_topic["/arena"].len(), 1);
+    assert_eq!(
+        walls.entities[0].lines[0].points.len(),
+        2 * arena.world.walls.len()
+    );
+    // Three transforms per scan; the first places the robot at the start (the origin,
+    // facing +x) and the laser 0.15 m ahead of the axle.
+    let tf = &by_topic["/tf"];
+    assert_eq!(tf.len() as u64, 3 * scans);
+    let world = FrameTransform::decode(tf[0].as_slice()).unwrap();
+    let laser = FrameTransform::decode(tf[1].as_slice()).unwrap();
+    let estimate = FrameTransform::decode(tf[2].as_slice()).unwrap();
+    assert_eq!(
+        (
+            world.parent_frame_id.as_str(),
+            world.child_frame_id.as_str()
+        ),
+        ("world", "base_link")
+    );
+    let t = world.translation.unwrap();
+    assert_eq!((t.x, t.y), (0.0, 0.0));
+    assert_eq!(laser.child_frame_id, "laser");
+    assert!((laser.translation.unwrap().x - 0.15).abs() < 1e-12);
+    assert_eq!(estimate.child_frame_id, "base_link_estimate");
+    // The sector objects: every object's label gives the distance of its nearest point.
+    let mut objects = 0;
+    for data in &by_topic["/sectors"] {
+        let e = &SceneUpdate::decode(data.as_slice()).unwrap().entities[0];
+        assert_eq!(e.frame_id, "base_link");
+        for (s, label) in e.spheres.iter().zip(&e.texts) {
+            let p = s.pose.as_ref().unwrap().position.as_ref().unwrap();
+            let d: f64 = label
+                .text
+                .split(": ")
+                .nth(1)
+                .unwrap()
+                .split(" m")
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            assert!((p.x.hypot(p.y) - d).abs() <= 0.005 + 1e-9, "{}", label.text);
+            objects += 1;
+        }
+    }
+    assert!(objects > 0);
+}

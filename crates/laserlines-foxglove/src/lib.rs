@@ -51,6 +51,8 @@ pub mod scene;
 mod wire;
 pub mod write;
 
+/// The Foxglove message types and their encoding, for [`McapSceneWriter::write_message`].
+pub use foxglove::{Encode, messages};
 pub use read::{McapReadOptions, McapScanSource, ScanEncoding};
 pub use ros::LaserScanMsg;
 pub use wire::DecodeError;

@@ -37,6 +37,8 @@ pub struct McapSceneWriter<W: Write + Seek> {
     scan: Slot,
     lines: Slot,
     tf: Slot,
+    /// Channels of [`McapSceneWriter::write_message`], by topic.
+    other: BTreeMap<String, Slot>,
     clock: SceneClock,
     buf: Vec<u8>,
     scans: u64,
@@ -115,6 +117,7 @@ impl<W: Write + Seek> McapSceneWriter<W> {
             scan: Slot::default(),
             lines: Slot::default(),
             tf: Slot::default(),
+            other: BTreeMap::new(),
             clock: SceneClock::new(),
             buf: Vec::new(),
             scans: 0,
@@ -133,7 +136,7 @@ impl<W: Write + Seek> McapSceneWriter<W> {
     /// [`WriteError::Io`] when writing fails.
     pub fn write_scan(&mut self, record: &ScanRecord) -> Result<(), WriteError> {
         let time = self.clock.time_of(record.scan.stamp);
-        self.write_messages(&scene_messages(record, None, time), record)
+        self.write_messages(&scene_messages(record, None, time), &record.scan)
     }
 
     /// Writes a scan, the lines extracted from it and, when it has one, the robot's pose
@@ -143,12 +146,89 @@ impl<W: Write + Seek> McapSceneWriter<W> {
     /// [`WriteError::Io`] when writing fails.
     pub fn write_lines(&mut self, record: &ScanRecord, lines: &[Line]) -> Result<(), WriteError> {
         let time = self.clock.time_of(record.scan.stamp);
-        self.write_messages(&scene_messages(record, Some(lines), time), record)
+        self.write_messages(&scene_messages(record, Some(lines), time), &record.scan)
+    }
+
+    /// Writes any Foxglove message on `topic` at `time` (s): the channel is added on the
+    /// topic's first message, with the message type's schema. For scenes beyond a scan and its
+    /// lines (`laserlines simulate --mcap`: arena walls, sector objects, estimated poses).
+    /// `/scan`, `/lines` and `/tf` keep their own channels: use [`Self::write_lines`] or
+    /// [`Self::write_transform`] for those.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails; a topic of the writer's own channels or one
+    /// already used with another message type is refused the same way.
+    pub fn write_message<T: Encode>(
+        &mut self,
+        topic: &str,
+        msg: &T,
+        time: f64,
+    ) -> Result<(), WriteError> {
+        if [SCAN_TOPIC, LINES_TOPIC, TF_TOPIC].contains(&topic) {
+            return Err(WriteError::Io {
+                file: self.name.clone(),
+                source: io::Error::other(format!(
+                    "topic {topic} is written by write_scan/write_lines/write_transform"
+                )),
+            });
+        }
+        let mut slot = self.other.get(topic).copied().unwrap_or_default();
+        self.log(&mut slot, topic, BTreeMap::new(), msg, log_time_ns(time))?;
+        self.other.insert(topic.to_owned(), slot);
+        Ok(())
+    }
+
+    /// Writes a transform on `/tf` at its own timestamp.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails.
+    pub fn write_transform(
+        &mut self,
+        transform: &foxglove::messages::FrameTransform,
+    ) -> Result<(), WriteError> {
+        let time = transform
+            .timestamp
+            .as_ref()
+            .map_or(0.0, crate::proto::seconds);
+        let mut slot = self.tf;
+        self.log(
+            &mut slot,
+            TF_TOPIC,
+            BTreeMap::new(),
+            transform,
+            log_time_ns(time),
+        )?;
+        self.tf = slot;
+        Ok(())
+    }
+
+    /// Writes a scan with its lines at `time` (s) without transforms; the caller places the
+    /// frames with [`Self::write_transform`] (a laser away from the robot's origin).
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails.
+    pub fn write_scan_lines_at(
+        &mut self,
+        scan: &laserlines::Scan,
+        lines: &[Line],
+        time: f64,
+    ) -> Result<(), WriteError> {
+        let messages = SceneMessages {
+            time,
+            scan: crate::proto::foxglove_from_scan(scan, crate::LASER_FRAME, time),
+            lines: Some(crate::scene::lines_update(lines, time)),
+            transforms: Vec::new(),
+        };
+        self.write_messages(&messages, scan)
     }
 
     /// Writes the messages of one scan: poses first, so that a reader meets the pose before
     /// the scan it belongs to.
-    fn write_messages(&mut self, m: &SceneMessages, record: &ScanRecord) -> Result<(), WriteError> {
+    fn write_messages(
+        &mut self,
+        m: &SceneMessages,
+        scan: &laserlines::Scan,
+    ) -> Result<(), WriteError> {
         let log_time = log_time_ns(m.time);
         for t in &m.transforms {
             let mut slot = self.tf;
@@ -157,8 +237,8 @@ impl<W: Write + Seek> McapSceneWriter<W> {
         }
         let mut slot = self.scan;
         let limits = BTreeMap::from([
-            ("range_min".to_owned(), record.scan.range_min.to_string()),
-            ("range_max".to_owned(), record.scan.range_max.to_string()),
+            ("range_min".to_owned(), scan.range_min.to_string()),
+            ("range_max".to_owned(), scan.range_max.to_string()),
         ]);
         self.log(&mut slot, SCAN_TOPIC, limits, &m.scan, log_time)?;
         self.scan = slot;
@@ -282,5 +362,61 @@ impl LinesOutput {
             Self::Jsonl(w) => w.close(),
             Self::Mcap(w) => w.finish().map(|_| ()),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::*;
+    use foxglove::messages::{FrameTransform, SceneUpdate};
+    use laserlines::Scan;
+    use laserlines_io::Pose2;
+    use prost::Message as _;
+    use std::io::Cursor;
+
+    fn by_topic(bytes: &[u8]) -> BTreeMap<String, Vec<(String, u64, Vec<u8>)>> {
+        let mut out: BTreeMap<String, Vec<(String, u64, Vec<u8>)>> = BTreeMap::new();
+        for m in mcap::MessageStream::new(bytes).unwrap() {
+            let m = m.unwrap();
+            let schema = m.channel.schema.as_ref().map(|s| s.name.clone()).unwrap();
+            out.entry(m.channel.topic.clone()).or_default().push((
+                schema,
+                m.log_time,
+                m.data.into_owned(),
+            ));
+        }
+        out
+    }
+
+    #[test]
+    fn own_topics_transforms_and_scans_at_a_time() {
+        let mut w = McapSceneWriter::new(Cursor::new(Vec::new()), "mem.mcap").unwrap();
+        let update = crate::scene::lines_update(&[], 0.5);
+        w.write_message("/arena", &update, 0.0).unwrap();
+        w.write_message("/arena", &update, 2.0).unwrap();
+        // The writer's own topics are refused (their channels carry metadata and order).
+        let e = w.write_message("/scan", &update, 1.0).unwrap_err();
+        assert!(e.to_string().contains("/scan"), "{e}");
+        let tf =
+            crate::proto::transform_from_pose("world", "base_link", Pose2::new(1.0, 2.0, 0.3), 1.5);
+        w.write_transform(&tf).unwrap();
+        let scan = Scan::new(-1.0, 0.01, 0.02, 4.0, vec![1.0; 201]).unwrap();
+        w.write_scan_lines_at(&scan, &[], 1.5).unwrap();
+        assert_eq!(w.scans(), 1);
+        let bytes = w.finish().unwrap().into_inner();
+        let topics = by_topic(&bytes);
+        let arena = &topics["/arena"];
+        assert_eq!(arena.len(), 2);
+        assert_eq!(arena[0].0, "foxglove.SceneUpdate");
+        assert_eq!((arena[0].1, arena[1].1), (0, 2_000_000_000));
+        assert_eq!(SceneUpdate::decode(arena[1].2.as_slice()).unwrap(), update);
+        let tfs = &topics["/tf"];
+        assert_eq!(tfs.len(), 1);
+        assert_eq!(tfs[0].1, 1_500_000_000);
+        assert_eq!(FrameTransform::decode(tfs[0].2.as_slice()).unwrap(), tf);
+        assert_eq!(topics["/scan"][0].1, 1_500_000_000);
+        assert_eq!(topics["/lines"].len(), 1);
     }
 }

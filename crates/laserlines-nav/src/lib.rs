@@ -43,6 +43,7 @@ pub use explorer::{Decision, Explorer, ExplorerParams, Mode, WallSide};
 pub use map::{CellState, MatchParams, MatchPoint, RobotMap};
 pub use planner::{Plan, Planner, PlannerParams};
 pub use run::{
-    Metrics, RunConfig, RunError, RunRecord, Snapshot, StopReason, run, run_with_progress,
+    Metrics, RunConfig, RunError, RunObserver, RunRecord, ScanFrame, Snapshot, StopReason, run,
+    run_observed, run_with_progress,
 };
 pub use sectors::{Sector, SectorObject, SectorObjects, SectorParams, select_objects};

@@ -15,7 +15,7 @@ use laserlines_sim::World;
 use laserlines_sim::robot::{RobotError, RobotParams, RobotSim, VelocityCommand};
 
 use crate::coverage::CoverageGrid;
-use crate::explorer::{Explorer, ExplorerParams, Mode, WallSide};
+use crate::explorer::{Decision, Explorer, ExplorerParams, Mode, WallSide};
 use crate::map::RobotMap;
 use crate::sectors::SectorObjects;
 
@@ -182,6 +182,56 @@ pub struct RunRecord {
     pub given_up: Vec<Point2>,
 }
 
+/// What a run shows its [`RunObserver`] at each scan: everything needed to replay the run
+/// (the robot's true and estimated poses, the scan, its lines, the sector objects and the
+/// explorer's state).
+#[derive(Debug, Clone, Copy)]
+pub struct ScanFrame<'a> {
+    /// Simulated time of the scan, s.
+    pub time_s: f64,
+    /// The robot's true pose (ground truth).
+    pub world_from_robot: Isometry2,
+    /// The robot's own estimate of its pose (odometry corrected by scan matching), placed in
+    /// the world by the start pose.
+    pub estimated_world_from_robot: Isometry2,
+    /// Where the laser sits on the robot.
+    pub robot_from_laser: Isometry2,
+    /// The scan, laser frame.
+    pub scan: &'a Scan,
+    /// Its lines, laser frame.
+    pub lines: &'a [Line],
+    /// The explorer's decision on this scan (command, sector objects in the robot frame,
+    /// mode, followed side, frontier goal in the map frame).
+    pub decision: &'a Decision,
+    /// Coverage so far (ground truth), 0..1.
+    pub coverage: f64,
+}
+
+/// Sees a run as it goes: every scan and the simulated time about once per simulated
+/// second. Both methods do nothing by default.
+pub trait RunObserver {
+    /// Called after each scan has been decided on.
+    fn on_scan(&mut self, frame: &ScanFrame<'_>) {
+        let _ = frame;
+    }
+    /// Called with the simulated time about once per simulated second and at the end, s.
+    fn on_progress(&mut self, time_s: f64) {
+        let _ = time_s;
+    }
+}
+
+/// Observes nothing.
+impl RunObserver for () {}
+
+/// Progress only.
+struct Progress<'a>(&'a mut dyn FnMut(f64));
+
+impl RunObserver for Progress<'_> {
+    fn on_progress(&mut self, time_s: f64) {
+        (self.0)(time_s);
+    }
+}
+
 /// Runs an exploration of `world` from `start` (see the [module docs](self)).
 ///
 /// # Errors
@@ -189,7 +239,7 @@ pub struct RunRecord {
 /// parameters), [`RunError::Extractor`] for invalid extractor parameters,
 /// [`RunError::BadSetting`] for a duration that is not positive and finite.
 pub fn run(world: &World, start: Isometry2, config: &RunConfig) -> Result<RunRecord, RunError> {
-    run_with_progress(world, start, config, &mut |_| {})
+    run_observed(world, start, config, &mut ())
 }
 
 /// [`run`], calling `progress` with the simulated time about once per simulated second.
@@ -201,6 +251,20 @@ pub fn run_with_progress(
     start: Isometry2,
     config: &RunConfig,
     progress: &mut dyn FnMut(f64),
+) -> Result<RunRecord, RunError> {
+    run_observed(world, start, config, &mut Progress(progress))
+}
+
+/// [`run`], showing `observer` every scan and the simulated time as the run goes (e.g. to
+/// record the run as MCAP or draw a progress bar).
+///
+/// # Errors
+/// As [`run`].
+pub fn run_observed(
+    world: &World,
+    start: Isometry2,
+    config: &RunConfig,
+    observer: &mut dyn RunObserver,
 ) -> Result<RunRecord, RunError> {
     if !(config.duration_s.is_finite() && config.duration_s > 0.0) {
         return Err(RunError::BadSetting {
@@ -331,9 +395,19 @@ pub fn run_with_progress(
                     side: decision.side,
                 });
             }
+            observer.on_scan(&ScanFrame {
+                time_s: t,
+                world_from_robot,
+                estimated_world_from_robot: believed,
+                robot_from_laser: config.robot.robot_from_laser,
+                scan: &scan,
+                lines: &lines,
+                decision: &decision,
+                coverage: coverage.coverage(),
+            });
             if t >= next_report {
                 record.coverage_curve.push((t, coverage.coverage()));
-                progress(t);
+                observer.on_progress(t);
                 next_report += 1.0;
             }
             if decision.done {
@@ -360,7 +434,7 @@ pub fn run_with_progress(
     record
         .coverage_curve
         .push((robot.time_s(), coverage.coverage()));
-    progress(robot.time_s());
+    observer.on_progress(robot.time_s());
     record.unseen = coverage.unseen();
     record.given_up = explorer.given_up().iter().map(|p| start * p).collect();
     record.map = explorer.map().clone();

@@ -6,6 +6,7 @@ pub mod demo;
 pub mod extract;
 pub mod render;
 pub mod simulate;
+pub mod simulate_mcap;
 pub mod view;
 
 use std::path::Path;

@@ -9,12 +9,16 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use laserlines::math::{Isometry2, Point2, Vector2};
-use laserlines_nav::{RunConfig, RunRecord, Sector, Snapshot, arenas, run_with_progress};
+use laserlines_nav::{
+    RunConfig, RunObserver, RunRecord, ScanFrame, Sector, Snapshot, arenas, run_observed,
+};
 use laserlines_render::{Canvas, Color, Extent, LegendEntry, Marker, Panel, Style, Swatch};
 use laserlines_sim::World;
 use laserlines_sim::arena::{ArenaOptions, WallLength, interior_start, load_raf};
 use laserlines_sim::maze::{MazeParams, generate};
 use laserlines_sim::robot::RobotParams;
+
+use super::simulate_mcap::McapRecorder;
 
 /// Arguments of `laserlines simulate`.
 #[derive(Debug, Args)]
@@ -50,6 +54,27 @@ pub struct SimulateArgs {
     /// Output folder.
     #[arg(short, long, default_value = "laserlines-simulate")]
     output: PathBuf,
+    /// Also record the run as MCAP for Foxglove: arena, true and estimated poses, scans,
+    /// lines, sector objects and the explorer's goal.
+    #[arg(long, value_name = "FILE")]
+    mcap: Option<PathBuf>,
+}
+
+/// What watches the run: the progress bar and, with `--mcap`, the recorder.
+struct Watch<'a> {
+    progress: &'a ProgressBar,
+    mcap: Option<McapRecorder>,
+}
+
+impl RunObserver for Watch<'_> {
+    fn on_scan(&mut self, frame: &ScanFrame<'_>) {
+        if let Some(m) = &mut self.mcap {
+            m.on_scan(frame);
+        }
+    }
+    fn on_progress(&mut self, time_s: f64) {
+        self.progress.set_position(time_s as u64);
+    }
 }
 
 /// Runs the command.
@@ -87,14 +112,31 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     } else {
         ProgressBar::hidden()
     };
-    let record = run_with_progress(&world, start, &config, &mut |t| {
-        progress.set_position(t as u64);
-    })
-    .with_context(|| format!("cannot run in {name}"))?;
-    progress.finish_and_clear();
-
     fs::create_dir_all(&args.output)
         .with_context(|| format!("cannot create {}", args.output.display()))?;
+    let mcap = match &args.mcap {
+        Some(path) => Some(
+            McapRecorder::create(path, &world, config.robot.footprint, start)
+                .with_context(|| format!("cannot record the run to {}", path.display()))?,
+        ),
+        None => None,
+    };
+    let mut watch = Watch {
+        progress: &progress,
+        mcap,
+    };
+    let record = run_observed(&world, start, &config, &mut watch)
+        .with_context(|| format!("cannot run in {name}"))?;
+    progress.finish_and_clear();
+    let mcap_scans = match (watch.mcap.take(), &args.mcap) {
+        (Some(recorder), Some(path)) => Some((
+            path,
+            recorder
+                .finish()
+                .with_context(|| format!("cannot record the run to {}", path.display()))?,
+        )),
+        _ => None,
+    };
     let metrics = metrics_json(&name, args, start, &record);
     let metrics_path = args.output.join("metrics.json");
     fs::write(&metrics_path, format!("{metrics:#}\n"))
@@ -136,6 +178,9 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             String::new()
         }
     );
+    if let Some((path, scans)) = mcap_scans {
+        println!("  wrote {} ({scans} scans)", path.display());
+    }
     Ok(())
 }
 
