@@ -17,7 +17,7 @@ use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines_sim::index::WorldIndex;
 use laserlines_sim::world::Target;
 
-use crate::raster::FanRaster;
+use crate::raster::{BeamTable, FanRaster};
 
 /// Side of a coverage cell, m.
 pub const COVERAGE_CELL: f64 = 0.1;
@@ -39,6 +39,8 @@ pub struct CoverageGrid {
     polygon: Vec<(f64, f64)>,
     /// Scratch of the fan filling.
     raster: FanRaster,
+    /// The beam directions, laser frame.
+    beams: BeamTable,
 }
 
 impl CoverageGrid {
@@ -84,6 +86,7 @@ impl CoverageGrid {
             seen_count: 0,
             polygon: Vec::new(),
             raster: FanRaster::default(),
+            beams: BeamTable::default(),
         };
         let radius = if radius.is_finite() {
             radius.max(0.0)
@@ -226,13 +229,12 @@ impl CoverageGrid {
         let mut poly = std::mem::take(&mut self.polygon);
         poly.clear();
         poly.push(to_cells(o));
-        let (s0, c0) = (yaw + angle_min).sin_cos();
-        let (s_inc, c_inc) = angle_increment.sin_cos();
-        let mut dir = Vector2::new(c0, s0);
-        for (i, &r) in true_ranges.iter().enumerate() {
-            if i > 0 {
-                dir = Vector2::new(c_inc * dir.x - s_inc * dir.y, s_inc * dir.x + c_inc * dir.y);
-            }
+        let (s_yaw, c_yaw) = yaw.sin_cos();
+        let dirs = self
+            .beams
+            .get(angle_min, angle_increment, true_ranges.len());
+        for (&r, d) in true_ranges.iter().zip(dirs) {
+            let dir = Vector2::new(c_yaw * d.x - s_yaw * d.y, s_yaw * d.x + c_yaw * d.y);
             let len = if r.is_finite() { r } else { range_max };
             let len = if len.is_finite() { len.max(0.0) } else { 0.0 };
             poly.push(to_cells(o + dir * len));

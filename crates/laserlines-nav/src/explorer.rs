@@ -72,6 +72,7 @@ use laserlines_sim::robot::{Footprint, RobotParams, VelocityCommand, arc};
 
 use crate::map::{MatchParams, MatchPoint, RobotMap};
 use crate::planner::{Plan, Planner, PlannerParams};
+use crate::raster::BeamTable;
 use crate::sectors::{Sector, SectorObjects, SectorParams, select_objects};
 
 /// Which side the followed wall is on.
@@ -156,10 +157,14 @@ pub struct ExplorerParams {
     /// A scan that makes fewer cells of the map known than this shows nothing new.
     /// Default 4 (0.04 m^2).
     pub new_cells: usize,
+    /// Every this many scans one is added to the map (each is matched against it).
+    /// Default 3: at the robot's speed (6 cm a scan), consecutive scans see nearly the
+    /// same.
+    pub map_every: usize,
     /// Seeking a wall (none in reach) for longer than this leaves for the nearest frontier,
     /// s. Default 6.
     pub seek_s: f64,
-    /// Time between plans on the way to a frontier, s. Default 1.
+    /// Time between plans on the way to a frontier, s. Default 2.
     pub replan_s: f64,
     /// Distance ahead along the path that the path follower steers to, m. Default 0.6.
     pub lookahead_m: f64,
@@ -207,8 +212,9 @@ impl Default for ExplorerParams {
             loop_min_path: 8.0,
             stale_s: 8.0,
             new_cells: 4,
+            map_every: 3,
             seek_s: 6.0,
-            replan_s: 1.0,
+            replan_s: 2.0,
             lookahead_m: 0.5,
             travel_speed: 0.5,
             give_up_s: 12.0,
@@ -332,6 +338,8 @@ pub struct Explorer {
     frontiers: usize,
     explored: bool,
     match_points: Vec<MatchPoint>,
+    /// The scan's beam directions, laser frame.
+    beams: BeamTable,
 }
 
 /// The way to a frontier.
@@ -387,6 +395,7 @@ impl Explorer {
             frontiers: 0,
             explored: false,
             match_points: Vec::new(),
+            beams: BeamTable::default(),
         }
     }
 
@@ -627,21 +636,14 @@ impl Explorer {
         let mut outline = std::mem::take(&mut self.scratch_points);
         outline.clear();
         let window = scan.range_window(None);
-        let (s0, c0) = scan.angle_min.sin_cos();
-        let (s_inc, c_inc) = scan.angle_increment.sin_cos();
-        let mut dir = Vector2::new(c0, s0);
-        for (i, &r) in scan.ranges.iter().enumerate() {
-            if i > 0 {
-                dir = Vector2::new(c_inc * dir.x - s_inc * dir.y, s_inc * dir.x + c_inc * dir.y);
-            }
+        let dirs = self
+            .beams
+            .get(scan.angle_min, scan.angle_increment, scan.ranges.len());
+        for (&r, dir) in scan.ranges.iter().zip(dirs).step_by(MATCH_STRIDE) {
             if !window.contains(r) || r > 5.0 {
                 continue;
             }
-            let q = Point2::from(dir * r);
-            if i % MATCH_STRIDE != 0 {
-                continue;
-            }
-            outline.push(self.robot_from_laser * q);
+            outline.push(self.robot_from_laser * Point2::from(dir * r));
         }
         // The outline's normal at each point from its neighbours, where they are near
         // (within 15 cm): a point pairs only with map lines of about its direction.
@@ -679,6 +681,11 @@ impl Explorer {
         }
         self.map_from_robot = matched.unwrap_or(predicted);
         self.map_from_odom = self.map_from_robot * odom_from_robot.inverse();
+        // Every `map_every`-th scan goes into the map (all are matched against it).
+        let every = self.params.map_every.max(1) as u64;
+        if !self.scans.is_multiple_of(every) {
+            return;
+        }
         let newly = self
             .map
             .insert_scan(&(self.map_from_robot * self.robot_from_laser), scan);
@@ -854,15 +861,13 @@ impl Explorer {
         self.memory
             .retain(|_, (m, _)| (*m - robot_at).norm_squared() <= keep2);
         let window = scan.range_window(None);
-        let (s0, c0) = scan.angle_min.sin_cos();
-        let (s_inc, c_inc) = scan.angle_increment.sin_cos();
-        let mut dir = Vector2::new(c0, s0);
-        for (i, &r) in scan.ranges.iter().enumerate() {
-            if i > 0 {
-                dir = Vector2::new(c_inc * dir.x - s_inc * dir.y, s_inc * dir.x + c_inc * dir.y);
-            }
-            // Near points only: only they matter to the safety layer.
-            if i % 2 != 0 || r >= 1.2 || !window.contains(r) {
+        let dirs = self
+            .beams
+            .get(scan.angle_min, scan.angle_increment, scan.ranges.len());
+        // Near points only (only they matter to the safety layer), every third beam (2 cm
+        // apart at 1 m).
+        for (&r, dir) in scan.ranges.iter().zip(dirs).step_by(3) {
+            if r >= 1.2 || !window.contains(r) {
                 continue;
             }
             let p = map_from_laser * Point2::from(dir * r);

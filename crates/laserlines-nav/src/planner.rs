@@ -7,8 +7,9 @@
 //!   step, i.e. 1 and 1.4 cells) from the occupied cells;
 //! - **passable cells**: known free cells at least [`PlannerParams::clearance_m`] from any
 //!   occupied cell (the footprint's circumradius is 0.32 m; cell centres are within 0.05 m
-//!   of the walls they stand for). The robot's own cell and cells within 0.6 m of it need
-//!   only [`PlannerParams::escape_clearance_m`], so that a robot that stands near a wall
+//!   of the walls they stand for). The robot's own cell and cells within
+//!   [`PlannerParams::escape_radius_m`] of it need only
+//!   [`PlannerParams::escape_clearance_m`], so that a robot that stands near a wall
 //!   can still leave;
 //! - **frontier cells**: passable cells with at least [`PlannerParams::min_unknown`] unknown
 //!   cells among the 5 x 5 around them: the edge of what has been seen, where the robot
@@ -30,14 +31,17 @@ use std::collections::BinaryHeap;
 use laserlines::math::Point2;
 
 use crate::map::{CellState, RobotMap};
+use crate::raster::floor_i64;
 
 /// Settings of the planner. Distances in metres.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlannerParams {
     /// Least clearance of a passable cell, m. Default 0.3.
     pub clearance_m: f64,
-    /// Least clearance near the robot (within 0.6 m of it), m. Default 0.15.
+    /// Least clearance near the robot (within `escape_radius_m` of it), m. Default 0.15.
     pub escape_clearance_m: f64,
+    /// Radius around the robot where `escape_clearance_m` is enough, m. Default 0.6.
+    pub escape_radius_m: f64,
     /// Below this clearance a cell costs more, m. Default 0.6.
     pub preferred_clearance_m: f64,
     /// Extra cost of a step at zero clearance, as a multiple of its length (falling
@@ -56,6 +60,7 @@ impl Default for PlannerParams {
         Self {
             clearance_m: 0.3,
             escape_clearance_m: 0.15,
+            escape_radius_m: 0.6,
             preferred_clearance_m: 0.6,
             clearance_cost: 4.0,
             min_unknown: 4,
@@ -87,7 +92,13 @@ const FAR: u16 = 100;
 pub struct Planner {
     /// The window of the knowledge grid planned over: first column and row, size.
     window: (usize, usize, usize, usize),
+    /// The window's cell states (`CellState as u8`).
+    state: Vec<u8>,
     clearance: Vec<u16>,
+    /// Summed-area table of the unknown cells, `(w + 1) x (h + 1)`.
+    summed: Vec<u32>,
+    /// Step cost factor per cell (`u32::MAX`: not passable).
+    factor: Vec<u32>,
     cost: Vec<u32>,
     parent: Vec<u32>,
     heap: BinaryHeap<Reverse<(u32, u32)>>,
@@ -120,7 +131,7 @@ impl Planner {
         // The window: the scanned box and a margin of 3 cells, within the grid.
         let (u0, v0) = grid.to_cells(lo);
         let (u1, v1) = grid.to_cells(hi);
-        let clamp = |x: f64, n: usize| (x.floor() as i64).clamp(0, n as i64 - 1) as usize;
+        let clamp = |x: f64, n: usize| floor_i64(x).clamp(0, n as i64 - 1) as usize;
         if grid.cols == 0 || grid.rows == 0 {
             return None;
         }
@@ -130,16 +141,23 @@ impl Planner {
         self.window = (i0, j0, w, h);
         let n = w * h;
         let at = |i: usize, j: usize| (j0 + j) * grid.cols + i0 + i;
-        let state = |k: usize| map.state_at(at(k % w, k / w));
+        // The window's states, row by row (no division per lookup later).
+        self.state.clear();
+        self.state.reserve(n);
+        for j in 0..h {
+            let row = at(0, j);
+            self.state
+                .extend((row..row + w).map(|c| map.state_at(c) as u8));
+        }
+        let state = &self.state;
+        const UNKNOWN: u8 = CellState::Unknown as u8;
+        const FREE: u8 = CellState::Free as u8;
+        const OCCUPIED: u8 = CellState::Occupied as u8;
 
         // Clearance: chamfer distance transform from the occupied cells.
         self.clearance.clear();
-        self.clearance.resize(n, FAR);
-        for k in 0..n {
-            if state(k) == CellState::Occupied {
-                self.clearance[k] = 0;
-            }
-        }
+        self.clearance
+            .extend(state.iter().map(|&s| if s == OCCUPIED { 0 } else { FAR }));
         let d = &mut self.clearance;
         let relax = |d: &mut Vec<u16>, k: usize, other: usize, weight: u32| {
             let via = u32::from(d[other]) + weight;
@@ -182,12 +200,42 @@ impl Planner {
             }
         }
 
+        // Unknown cells in the 5 x 5 around each cell (outside the window counts as
+        // unknown), by a summed-area table of (w + 1) x (h + 1).
+        let (sw, sh) = (w + 1, h + 1);
+        self.summed.clear();
+        self.summed.resize(sw * sh, 0);
+        for j in 0..h {
+            let mut row_sum = 0_u32;
+            for i in 0..w {
+                row_sum += u32::from(state[j * w + i] == UNKNOWN);
+                self.summed[(j + 1) * sw + i + 1] = self.summed[j * sw + i + 1] + row_sum;
+            }
+        }
+        let summed = &self.summed;
+        let unknown_around = |k: usize| {
+            let (i, j) = ((k % w) as i64, (k / w) as i64);
+            let (x0, x1) = (
+                (i - 2).max(0) as usize,
+                ((i + 2).min(w as i64 - 1)) as usize,
+            );
+            let (y0, y1) = (
+                (j - 2).max(0) as usize,
+                ((j + 2).min(h as i64 - 1)) as usize,
+            );
+            let inside = summed[(y1 + 1) * sw + x1 + 1] + summed[y0 * sw + x0]
+                - summed[y0 * sw + x1 + 1]
+                - summed[(y1 + 1) * sw + x0];
+            let outside = 25 - ((x1 - x0 + 1) * (y1 - y0 + 1)) as u32;
+            (inside + outside) as usize
+        };
+
         // The start cell.
         let (us, vs) = grid.to_cells(from);
         if !(us.is_finite() && vs.is_finite()) {
             return None;
         }
-        let (si, sj) = (us.floor() as i64 - i0 as i64, vs.floor() as i64 - j0 as i64);
+        let (si, sj) = (floor_i64(us) - i0 as i64, floor_i64(vs) - j0 as i64);
         if !(si >= 0 && sj >= 0 && (si as usize) < w && (sj as usize) < h) {
             return None;
         }
@@ -196,35 +244,50 @@ impl Planner {
         let need = units(params.clearance_m);
         let need_near = units(params.escape_clearance_m);
         let prefer = units(params.preferred_clearance_m).max(1);
-        let near_start2 = (0.6 / cell) * (0.6 / cell);
-        let passable = |k: usize, clearance: &[u16]| {
-            if k == start {
-                return true;
-            }
-            if state(k) != CellState::Free {
-                return false;
-            }
-            let c = u32::from(clearance[k]);
-            if c >= need {
-                return true;
-            }
-            let (di, dj) = ((k % w) as f64 - si as f64, (k / w) as f64 - sj as f64);
-            c >= need_near && di * di + dj * dj <= near_start2
-        };
-        let is_frontier = |k: usize| {
-            let (i, j) = ((k % w) as i64, (k / w) as i64);
-            let mut unknown = 0;
-            for dj in -2..=2_i64 {
-                for di in -2..=2_i64 {
-                    let (x, y) = (i + di, j + dj);
-                    let outside = x < 0 || y < 0 || x >= w as i64 || y >= h as i64;
-                    if outside || state(y as usize * w + x as usize) == CellState::Unknown {
-                        unknown += 1;
-                    }
+        let near_start = (params.escape_radius_m.max(0.0) / cell).ceil() as i64;
+        let near_start2 = (params.escape_radius_m / cell) * (params.escape_radius_m / cell);
+        // Per cell: u32::MAX when not passable, else the cost factor of a step onto it
+        // (10 per unit of step length, more where the clearance is small).
+        self.factor.clear();
+        self.factor
+            .extend(self.clearance.iter().zip(state).map(|(&c, &s)| {
+                let c = u32::from(c);
+                if s != FREE || c < need_near {
+                    return u32::MAX;
+                }
+                let clear = c.min(prefer);
+                let extra =
+                    params.clearance_cost.max(0.0) * f64::from(prefer - clear) / f64::from(prefer);
+                let factor = (10.0 * (1.0 + extra)).round() as u32;
+                // Below the clearance, passable only near the start (marked below).
+                if c < need { u32::MAX - factor } else { factor }
+            }));
+        for dj in -near_start..=near_start {
+            for di in -near_start..=near_start {
+                let (x, y) = (si + di, sj + dj);
+                if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
+                    continue;
+                }
+                if ((di * di + dj * dj) as f64) > near_start2 {
+                    continue;
+                }
+                let k = y as usize * w + x as usize;
+                let f = self.factor[k];
+                if f != u32::MAX && f > u32::MAX / 2 {
+                    self.factor[k] = u32::MAX - f;
                 }
             }
-            unknown >= params.min_unknown
-        };
+        }
+        for f in &mut self.factor {
+            if *f != u32::MAX && *f > u32::MAX / 2 {
+                *f = u32::MAX;
+            }
+        }
+        self.factor[start] =
+            self.factor[start].min(10 * (1 + params.clearance_cost.max(0.0) as u32));
+        let factor = &self.factor;
+        let is_frontier =
+            |k: usize| factor[k] != u32::MAX && unknown_around(k) >= params.min_unknown;
         let avoided = |p: Point2| {
             avoid
                 .iter()
@@ -241,8 +304,9 @@ impl Planner {
         self.cost[start] = 0;
         self.heap.push(Reverse((0, start as u32)));
         let mut nearest: Option<(u32, usize)> = None;
-        let keep_cost_limit = keep.map(|(_, m)| units(m));
+        let keep_cost_limit = keep.map(|(_, m)| units(m) * 10);
         let mut kept: Option<usize> = None;
+        let wi = w as i64;
         while let Some(Reverse((c, k))) = self.heap.pop() {
             let k = k as usize;
             if c > self.cost[k] {
@@ -273,7 +337,7 @@ impl Planner {
                     break;
                 }
             }
-            let (i, j) = (k % w, k / w);
+            let (i, j) = ((k % w) as i64, (k / w) as i64);
             for (di, dj, weight) in [
                 (-1_i64, 0_i64, STRAIGHT),
                 (1, 0, STRAIGHT),
@@ -284,19 +348,16 @@ impl Planner {
                 (-1, 1, DIAGONAL),
                 (1, 1, DIAGONAL),
             ] {
-                let (x, y) = (i as i64 + di, j as i64 + dj);
-                if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
+                let (x, y) = (i + di, j + dj);
+                if x < 0 || y < 0 || x >= wi || y >= h as i64 {
                     continue;
                 }
-                let m = y as usize * w + x as usize;
-                if !passable(m, &self.clearance) {
+                let m = (y * wi + x) as usize;
+                let f = factor[m];
+                if f == u32::MAX {
                     continue;
                 }
-                let clear = u32::from(self.clearance[m]).min(prefer);
-                let extra =
-                    params.clearance_cost.max(0.0) * f64::from(prefer - clear) / f64::from(prefer);
-                let step = (f64::from(weight) * (1.0 + extra)).round() as u32;
-                let via = c.saturating_add(step.max(1));
+                let via = c.saturating_add((weight * f).max(1));
                 if via < self.cost[m] {
                     self.cost[m] = via;
                     self.parent[m] = k as u32;

@@ -6,11 +6,61 @@
 //! polygon's edges plus the cells filled (where walking every beam through the grid costs
 //! its length in cells, beam after beam over the same cells near the laser).
 
+/// `x.floor() as i64` without a call to `floor` (which the baseline x86-64 target makes a
+/// library call); for finite `|x|` below 2^53 (saturating beyond, 0 for NaN).
+#[inline]
+pub(crate) fn floor_i64(x: f64) -> i64 {
+    let t = x as i64;
+    if (t as f64) > x { t - 1 } else { t }
+}
+
+/// `x.ceil() as i64` without a library call, as [`floor_i64`].
+#[inline]
+pub(crate) fn ceil_i64(x: f64) -> i64 {
+    let t = x as i64;
+    if (t as f64) < x { t + 1 } else { t }
+}
+
+/// The unit directions of a scan's beams in the laser frame, kept while the scan's
+/// geometry stays the same: a loop over the beams then needs no chain of rotations.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub(crate) struct BeamTable {
+    key: (u64, u64, usize),
+    dirs: Vec<laserlines::math::Vector2>,
+}
+
+impl BeamTable {
+    /// The directions of `n` beams from `angle_min` by `increment` (rad).
+    pub(crate) fn get(
+        &mut self,
+        angle_min: f64,
+        increment: f64,
+        n: usize,
+    ) -> &[laserlines::math::Vector2] {
+        let key = (angle_min.to_bits(), increment.to_bits(), n);
+        if key != self.key || self.dirs.len() != n {
+            self.key = key;
+            self.dirs.clear();
+            self.dirs.extend((0..n).map(|i| {
+                let (s, c) = (angle_min + i as f64 * increment).sin_cos();
+                laserlines::math::Vector2::new(c, s)
+            }));
+        }
+        &self.dirs
+    }
+}
+
 /// Reusable scratch for [`FanRaster::fill`].
 #[derive(Debug, Clone, Default, PartialEq)]
 pub(crate) struct FanRaster {
     /// The polygon's crossings of the rows' centre lines, `(row - first row, x)`.
     crossings: Vec<(u32, f32)>,
+    /// Where each row's crossings start in `xs` (a counting sort by row).
+    starts: Vec<u32>,
+    /// The crossings' x, row by row.
+    xs: Vec<f32>,
+    /// Scratch of the counting sort: the next free slot of each row.
+    next: Vec<u32>,
 }
 
 impl FanRaster {
@@ -23,7 +73,7 @@ impl FanRaster {
         poly: &[(f64, f64)],
         cols: usize,
         rows: usize,
-        mut span: impl FnMut(usize, usize, usize),
+        mut span_fn: impl FnMut(usize, usize, usize),
     ) {
         if poly.len() < 3 || cols == 0 || rows == 0 {
             return;
@@ -37,8 +87,8 @@ impl FanRaster {
             y_hi = y_hi.max(y);
         }
         // Rows whose centre line y = j + 0.5 lies within the polygon's extent.
-        let j0 = ((y_lo - 0.5).ceil() as i64).max(0);
-        let j1 = ((y_hi - 0.5).ceil() as i64 - 1).min(rows as i64 - 1);
+        let j0 = ceil_i64(y_lo - 0.5).max(0);
+        let j1 = (ceil_i64(y_hi - 0.5) - 1).min(rows as i64 - 1);
         if j0 > j1 {
             return;
         }
@@ -53,31 +103,56 @@ impl FanRaster {
             }
             let (lo, hi) = if ya < yb { (ya, yb) } else { (yb, ya) };
             // Half-open in y, so that a vertex on a centre line counts once.
-            let first = ((lo - 0.5).ceil() as i64).max(j0);
-            let last = ((hi - 0.5).ceil() as i64 - 1).min(j1);
+            let first = ceil_i64(lo - 0.5).max(j0);
+            let last = (ceil_i64(hi - 0.5) - 1).min(j1);
             let slope = (xb - xa) / (yb - ya);
             for j in first..=last {
                 let yc = j as f64 + 0.5;
                 crossings.push(((j - j0) as u32, (xa + (yc - ya) * slope) as f32));
             }
         }
-        crossings.sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        // Counting sort by row, then each row's few crossings by x.
+        let span = (j1 - j0 + 1) as usize;
+        let starts = &mut self.starts;
+        starts.clear();
+        starts.resize(span + 1, 0);
+        for &(row, _) in crossings.iter() {
+            starts[row as usize + 1] += 1;
+        }
+        for k in 0..span {
+            starts[k + 1] += starts[k];
+        }
+        let xs = &mut self.xs;
+        xs.clear();
+        xs.resize(crossings.len(), 0.0);
+        let next = &mut self.next;
+        next.clear();
+        next.extend_from_slice(&starts[..span]);
+        for &(row, x) in crossings.iter() {
+            let slot = &mut next[row as usize];
+            xs[*slot as usize] = x;
+            *slot += 1;
+        }
         let cols = cols as i64;
-        let mut k = 0;
-        while k + 1 < crossings.len() {
-            let (row, xa) = crossings[k];
-            let (row_b, xb) = crossings[k + 1];
-            if row_b != row {
-                // An odd crossing left over (rounding at a vertex): skip it.
-                k += 1;
-                continue;
+        for row in 0..span {
+            let run = &mut xs[starts[row] as usize..starts[row + 1] as usize];
+            // Insertion sort: a row of a fan has a handful of crossings.
+            for k in 1..run.len() {
+                let mut m = k;
+                while m > 0 && run[m - 1] > run[m] {
+                    run.swap(m - 1, m);
+                    m -= 1;
+                }
             }
-            k += 2;
-            // Cells whose centre x = i + 0.5 lies in [xa, xb).
-            let i0 = ((f64::from(xa) - 0.5).ceil() as i64).max(0);
-            let i1 = ((f64::from(xb) - 0.5).ceil() as i64 - 1).min(cols - 1);
-            if i0 <= i1 {
-                span((j0 + i64::from(row)) as usize, i0 as usize, i1 as usize);
+            // Pairs of crossings bound the runs inside; an odd one left over (rounding at
+            // a vertex) is skipped.
+            for pair in run.chunks_exact(2) {
+                // Cells whose centre x = i + 0.5 lies in [xa, xb).
+                let i0 = ceil_i64(f64::from(pair[0]) - 0.5).max(0);
+                let i1 = (ceil_i64(f64::from(pair[1]) - 0.5) - 1).min(cols - 1);
+                if i0 <= i1 {
+                    span_fn((j0 + row as i64) as usize, i0 as usize, i1 as usize);
+                }
             }
         }
     }

@@ -140,8 +140,8 @@ impl WorldIndex {
 
     fn cell_of(&self, p: Point2) -> (i64, i64) {
         (
-            ((p.x - self.origin.x) / self.cell).floor() as i64,
-            ((p.y - self.origin.y) / self.cell).floor() as i64,
+            floor_i64((p.x - self.origin.x) / self.cell),
+            floor_i64((p.y - self.origin.y) / self.cell),
         )
     }
 
@@ -348,10 +348,13 @@ impl WorldIndex {
     /// first, so that hidden ones cost one comparison per beam. The ranges are those of
     /// [`WorldIndex::cast_dir`] along the same directions.
     ///
-    /// The draws from `rng` are the same, in the same order, as in [`crate::simulate`]: for
-    /// the same world, pose, model and generator state the reported ranges agree to about
-    /// 1e-12 m before rounding (the beam directions are computed by repeated rotation
-    /// instead of a sine and cosine per beam).
+    /// The noise-free ranges agree with [`crate::simulate`]'s to about 1e-12 m (the beam
+    /// directions are computed by repeated rotation instead of a sine and cosine per beam).
+    /// The range noise is drawn from `rng` by a ziggurat sampler of the standard normal
+    /// distribution (Marsaglia and Tsang's method, in Doornik's form) rather than
+    /// [`Rng::gaussian`]'s Box-Muller transform, which costs a logarithm, a square root, a
+    /// sine and a cosine per pair of draws: the same distribution, other draws. Mixed
+    /// pixels and dropouts draw as in [`crate::simulate`].
     pub fn scan_into(
         &self,
         world_from_laser: &laserlines::math::Isometry2,
@@ -415,7 +418,7 @@ impl WorldIndex {
             if r.is_finite() {
                 let sigma = model.noise.sigma(*r);
                 if sigma > 0.0 {
-                    *r += sigma * rng.gaussian();
+                    *r += sigma * standard_normal(rng);
                 }
             }
         }
@@ -444,16 +447,24 @@ impl WorldIndex {
             }
         }
         let step = model.round_to.filter(|q| q.is_finite() && *q > 0.0);
-        for (i, r) in ranges.iter_mut().enumerate() {
-            if let Some(q) = step {
-                *r = (*r / q).round() * q;
+        if let Some(q) = step {
+            let per_step = 1.0 / q;
+            for r in ranges.iter_mut() {
+                *r = round_half_away(*r * per_step) * q;
             }
-            let measurable = r.is_finite() && *r > 0.0 && *r >= model.range_min && *r <= range_max;
-            if !measurable {
+        }
+        // Measurable: positive, within the limits, finite (NaN fails every comparison).
+        let lowest = model.range_min.max(f64::MIN_POSITIVE);
+        for r in ranges.iter_mut() {
+            if !(*r >= lowest && *r <= range_max && *r < f64::INFINITY) {
                 *r = f64::NAN;
             }
-            if no_hit[i] & NO_HIT != 0 && model.max_range_returns && no_hit[i] & DROPPED == 0 {
-                *r = model.range_max;
+        }
+        if model.max_range_returns {
+            for (r, &flags) in ranges.iter_mut().zip(&no_hit) {
+                if flags & NO_HIT != 0 && flags & DROPPED == 0 {
+                    *r = model.range_max;
+                }
             }
         }
         scan.angle_min = model.angle_min;
@@ -545,9 +556,23 @@ impl WorldIndex {
                     }
                 }
             };
+            // The wall's direction and length, once for all its beams.
+            let (e, len) = match target {
+                Target::Wall(k) => {
+                    let w = &self.world.walls[k];
+                    let e = w.b - w.a;
+                    (e, e.norm())
+                }
+                Target::Disc(_) => (Vector2::zeros(), 1.0),
+            };
+            if !(len > 0.0 && len.is_finite()) {
+                // A degenerate wall is never hit.
+                continue;
+            }
+            let hidden_below = d_near - TIE_TOLERANCE;
             let mut test = |i: usize| {
                 if let Some((bt, _)) = best[i]
-                    && bt < d_near - TIE_TOLERANCE
+                    && bt < hidden_below
                 {
                     return;
                 }
@@ -555,7 +580,7 @@ impl WorldIndex {
                 let t = match target {
                     Target::Wall(k) => {
                         let w = &self.world.walls[k];
-                        wall_ray_hit(w.a, w.b, origin, dir)
+                        wall_ray_hit_with(w.a, w.b, e, len, origin, dir)
                     }
                     Target::Disc(k) => {
                         let d = &self.world.discs[k];
@@ -612,7 +637,7 @@ impl Fan<'_> {
     /// The angle of the direction `v` counted from beam 0 in the beams' sense of rotation,
     /// in `[0, 2 pi)`: beam `i` is at `i * |increment|`.
     fn relative(&self, v: Vector2) -> f64 {
-        let a = self.increment.signum() * (v.y.atan2(v.x) - self.base);
+        let a = self.increment.signum() * (fast_atan2(v.y, v.x) - self.base);
         a.rem_euclid(std::f64::consts::TAU)
     }
 
@@ -624,11 +649,144 @@ impl Fan<'_> {
         let last = self.dirs.len() as f64 - 1.0;
         let tau = std::f64::consts::TAU;
         [-1.0, 0.0, 1.0].into_iter().filter_map(move |k: f64| {
-            let lo = ((from + k * tau - margin) / step).ceil().max(0.0);
-            let hi = ((to + k * tau + margin) / step).floor().min(last);
+            let lo = ceil_i64((from + k * tau - margin) / step).max(0);
+            let hi = (floor_i64((to + k * tau + margin) / step) as f64).min(last) as i64;
             (lo <= hi).then_some((lo as usize, hi as usize))
         })
     }
+}
+
+/// Layers of the ziggurat.
+const ZIGGURAT_LAYERS: usize = 128;
+/// The ziggurat's base layer starts at this x (Marsaglia and Tsang's 128-layer value).
+const ZIGGURAT_R: f64 = 3.442_619_855_899;
+/// The area of each layer (and of the base with its tail).
+const ZIGGURAT_V: f64 = 9.912_563_035_262_17e-3;
+
+/// The ziggurat's tables: the layers' right edges `x[0..=128]` (`x[0]` the base's width
+/// with its tail folded in, `x[1] = R`, `x[128] = 0`) and the ratios `x[i + 1] / x[i]`.
+struct Ziggurat {
+    x: [f64; ZIGGURAT_LAYERS + 1],
+    ratio: [f64; ZIGGURAT_LAYERS],
+}
+
+impl Ziggurat {
+    fn new() -> Self {
+        let mut x = [0.0; ZIGGURAT_LAYERS + 1];
+        let mut f = (-0.5 * ZIGGURAT_R * ZIGGURAT_R).exp();
+        x[0] = ZIGGURAT_V / f;
+        x[1] = ZIGGURAT_R;
+        for i in 2..ZIGGURAT_LAYERS {
+            x[i] = (-2.0 * (ZIGGURAT_V / x[i - 1] + f).ln()).sqrt();
+            f = (-0.5 * x[i] * x[i]).exp();
+        }
+        x[ZIGGURAT_LAYERS] = 0.0;
+        let mut ratio = [0.0; ZIGGURAT_LAYERS];
+        for i in 0..ZIGGURAT_LAYERS {
+            ratio[i] = x[i + 1] / x[i];
+        }
+        Self { x, ratio }
+    }
+}
+
+/// A draw from the standard normal distribution by the ziggurat method: one draw of the
+/// generator and a multiplication nearly always (99 %), a rejection test with two
+/// exponentials in the layers' wedges, and the tail beyond `R` by Marsaglia's method.
+fn standard_normal(rng: &mut Rng) -> f64 {
+    static TABLES: std::sync::OnceLock<Ziggurat> = std::sync::OnceLock::new();
+    let z = TABLES.get_or_init(Ziggurat::new);
+    loop {
+        let bits = rng.next_u64();
+        // The layer from the low 7 bits, a signed uniform from the top 53.
+        let i = (bits & (ZIGGURAT_LAYERS as u64 - 1)) as usize;
+        let u = 2.0 * ((bits >> 11) as f64 * (1.0 / (1_u64 << 53) as f64)) - 1.0;
+        if u.abs() < z.ratio[i] {
+            return u * z.x[i];
+        }
+        if i == 0 {
+            // The tail beyond R.
+            loop {
+                let a = (1.0 - rng.uniform()).ln() / ZIGGURAT_R;
+                let b = (1.0 - rng.uniform()).ln();
+                if -2.0 * b >= a * a {
+                    return if u < 0.0 {
+                        a - ZIGGURAT_R
+                    } else {
+                        ZIGGURAT_R - a
+                    };
+                }
+            }
+        }
+        let x = u * z.x[i];
+        let f0 = (-0.5 * (z.x[i] * z.x[i] - x * x)).exp();
+        let f1 = (-0.5 * (z.x[i + 1] * z.x[i + 1] - x * x)).exp();
+        if f1 + rng.uniform() * (f0 - f1) < 1.0 {
+            return x;
+        }
+    }
+}
+
+/// `atan2(y, x)` to within 1e-7 rad without a library call (arguments reduced to
+/// `|u| <= tan(pi/8)`, then eight terms of the series of `atan u`): for choosing the beams
+/// a wall subtends, whose one-beam margin (6 mrad for the URG-04LX) is far wider.
+#[inline]
+fn fast_atan2(y: f64, x: f64) -> f64 {
+    use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+    let (ax, ay) = (x.abs(), y.abs());
+    let (big, small) = if ax >= ay { (ax, ay) } else { (ay, ax) };
+    if big.is_nan() || big <= 0.0 || big.is_infinite() {
+        return y.atan2(x);
+    }
+    let t = small / big;
+    // atan t = pi/4 + atan((t - 1) / (t + 1)) brings t in [0, 1] to |u| <= tan(pi/8).
+    let (u, base) = if t > 0.414_213_562_373_095 {
+        ((t - 1.0) / (t + 1.0), FRAC_PI_4)
+    } else {
+        (t, 0.0)
+    };
+    let u2 = u * u;
+    let series = u
+        * (1.0
+            + u2 * (-1.0 / 3.0
+                + u2 * (1.0 / 5.0
+                    + u2 * (-1.0 / 7.0
+                        + u2 * (1.0 / 9.0 + u2 * (-1.0 / 11.0 + u2 * (1.0 / 13.0 - u2 / 15.0)))))));
+    let mut a = base + series;
+    if ay > ax {
+        a = FRAC_PI_2 - a;
+    }
+    if x < 0.0 {
+        a = PI - a;
+    }
+    if y < 0.0 { -a } else { a }
+}
+
+/// `x.floor() as i64` without a call to `floor` (which the baseline x86-64 target makes a
+/// library call); saturating for huge `|x|`, 0 for NaN.
+#[inline]
+fn floor_i64(x: f64) -> i64 {
+    let t = x as i64;
+    if (t as f64) > x { t - 1 } else { t }
+}
+
+/// `x.ceil() as i64` without a library call, as [`floor_i64`].
+#[inline]
+fn ceil_i64(x: f64) -> i64 {
+    let t = x as i64;
+    if (t as f64) < x { t + 1 } else { t }
+}
+
+/// `x.round()` (halves away from zero) without a library call; `x` unchanged when it is
+/// not finite or too large to have a fraction.
+#[inline]
+fn round_half_away(x: f64) -> f64 {
+    if x.is_nan() || x.abs() >= 4_503_599_627_370_496.0 {
+        return x;
+    }
+    let t = (x.abs() + 0.5) as i64 as f64;
+    // x.abs() + 0.5 may round up just below a half: keep f64::round's answer there.
+    let t = if x.abs() < t - 0.5 { t - 1.0 } else { t };
+    t.copysign(x)
 }
 
 /// True when `a` should win a tie against `b` (the world's order: walls by index, then discs).
@@ -657,6 +815,20 @@ pub fn wall_ray_hit(a: Point2, b: Point2, origin: Point2, dir: Vector2) -> Optio
     if !(len > 0.0 && len.is_finite()) {
         return None;
     }
+    wall_ray_hit_with(a, b, e, len, origin, dir)
+}
+
+/// [`wall_ray_hit`] with the wall's direction `e = b - a` and its length `len` (positive
+/// and finite) computed once.
+#[inline]
+fn wall_ray_hit_with(
+    a: Point2,
+    b: Point2,
+    e: Vector2,
+    len: f64,
+    origin: Point2,
+    dir: Vector2,
+) -> Option<f64> {
     let ao = a - origin;
     let denom = cross(dir, e);
     if denom.abs() <= 1e-12 * len {
@@ -894,6 +1066,81 @@ mod tests {
             hits > 100_000 && misses > 1000,
             "{hits} hits, {misses} misses"
         );
+    }
+
+    #[test]
+    fn the_ziggurat_draws_a_standard_normal() {
+        let mut rng = Rng::new(21);
+        let n = 2_000_000;
+        let (mut sum, mut sum2, mut beyond2, mut beyond3, mut beyond4) = (0.0, 0.0, 0, 0, 0);
+        let mut positive = 0;
+        for _ in 0..n {
+            let x = standard_normal(&mut rng);
+            assert!(x.is_finite());
+            sum += x;
+            sum2 += x * x;
+            beyond2 += usize::from(x.abs() > 2.0);
+            beyond3 += usize::from(x.abs() > 3.0);
+            beyond4 += usize::from(x.abs() > 4.0);
+            positive += usize::from(x > 0.0);
+        }
+        let nf = n as f64;
+        let mean = sum / nf;
+        let var = sum2 / nf - mean * mean;
+        assert!(mean.abs() < 0.003, "mean {mean}");
+        assert!((var - 1.0).abs() < 0.005, "variance {var}");
+        // P(|x| > 2) = 0.0455, P(|x| > 3) = 0.0027, P(|x| > 4) = 6.3e-5.
+        let p = |k: usize| k as f64 / nf;
+        assert!((p(beyond2) - 0.045_5).abs() < 0.001, "{}", p(beyond2));
+        assert!((p(beyond3) - 0.002_70).abs() < 0.000_2, "{}", p(beyond3));
+        assert!((p(beyond4) - 6.33e-5).abs() < 2.5e-5, "{}", p(beyond4));
+        assert!((p(positive) - 0.5).abs() < 0.002);
+    }
+
+    #[test]
+    fn fast_atan2_is_close() {
+        let mut rng = Rng::new(8);
+        let mut worst: f64 = 0.0;
+        for _ in 0..200_000 {
+            let (x, y) = (rng.range(-10.0, 10.0), rng.range(-10.0, 10.0));
+            worst = worst.max((fast_atan2(y, x) - y.atan2(x)).abs());
+        }
+        for (x, y) in [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0), (1.0, 1.0)] {
+            worst = worst.max((fast_atan2(y, x) - f64::atan2(y, x)).abs());
+        }
+        assert!(worst < 1e-7, "{worst}");
+        assert!(fast_atan2(f64::NAN, 1.0).is_nan());
+    }
+
+    #[test]
+    fn fast_rounding_agrees_with_the_library() {
+        let mut rng = Rng::new(5);
+        let specials = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.5,
+            2.5,
+            -2.5,
+            0.499_999_999_999_999_94,
+            1e15 + 0.5,
+            4_503_599_627_370_495.5,
+            1e300,
+            -7.000_000_000_000_001,
+        ];
+        for x in specials
+            .into_iter()
+            .chain((0..10_000).map(|_| rng.range(-5000.0, 5000.0)))
+        {
+            assert_eq!(round_half_away(x).to_bits(), x.round().to_bits(), "{x}");
+            if x.abs() < 1e15 {
+                assert_eq!(floor_i64(x), x.floor() as i64, "{x}");
+                assert_eq!(ceil_i64(x), x.ceil() as i64, "{x}");
+            }
+        }
+        assert!(round_half_away(f64::NAN).is_nan());
+        assert_eq!(round_half_away(f64::INFINITY), f64::INFINITY);
     }
 
     #[test]

@@ -123,7 +123,7 @@ impl Footprint {
         let to_box = |p: Point2| {
             let dx = (p.x.abs() - h.x).max(0.0);
             let dy = (p.y.abs() - h.y).max(0.0);
-            dx.hypot(dy)
+            (dx * dx + dy * dy).sqrt()
         };
         let corners = [lo, Point2::new(h.x, -h.y), hi, Point2::new(-h.x, h.y)];
         corners
@@ -151,7 +151,7 @@ impl Footprint {
         let h = self.half();
         let dx = (p.x.abs() - h.x).max(0.0);
         let dy = (p.y.abs() - h.y).max(0.0);
-        dx.hypot(dy)
+        (dx * dx + dy * dy).sqrt()
     }
 }
 
@@ -501,10 +501,26 @@ impl RobotSim {
         let world = self.index.world();
         let mut best = CLEARANCE_SEARCH;
         let mut nearest = None;
+        let circumradius = fp.circumradius();
+        // An obstacle is filed under every grid cell it crosses: the last few seen are
+        // skipped when they come again.
+        let mut recent = [None::<Target>; 8];
+        let mut next = 0;
         self.index.near_box(lo, hi, |t| {
+            if recent.contains(&Some(t)) {
+                return;
+            }
+            recent[next] = Some(t);
+            next = (next + 1) % recent.len();
             let d = match t {
                 Target::Wall(i) => {
                     let w = &world.walls[i];
+                    // The footprint is no nearer than its centre less its circumradius:
+                    // walls that cannot beat the best so far skip the exact distance.
+                    let bound = distance_to_segment(c, w.a, w.b) - circumradius;
+                    if bound > best {
+                        return;
+                    }
                     fp.distance_to_segment_local(robot_from_world * w.a, robot_from_world * w.b)
                 }
                 Target::Disc(i) => {
