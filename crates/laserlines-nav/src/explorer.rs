@@ -183,6 +183,19 @@ pub struct ExplorerParams {
     /// When no frontier is left but some were given up, they are all tried again, at most
     /// this many times in a run. Default 2.
     pub retries: usize,
+    /// A frontier given up while the robot stood within 0.5 m of where it last made
+    /// progress closes the spot its path led to next (0.4 m ahead) to the planner for
+    /// `blocked_s`, within this radius, m: a gap that the map shows open but that the
+    /// safety layer does not let the robot through. Default 0.3.
+    pub blocked_radius_m: f64,
+    /// How long a blocked spot stays closed, s. Default 90.
+    pub blocked_s: f64,
+    /// When no frontier can be reached with the planner's clearance, the planner tries
+    /// again with this one, m, before the exploration is called complete: a gap that the
+    /// 0.4 m wide robot passes driving straight but where it cannot turn (a post beside a
+    /// corridor wall). Default 0.2 (the robot's half width; on the map, whose occupied
+    /// cells reach up to half a cell into a gap, that is about 0.25 m of true clearance).
+    pub tight_clearance_m: f64,
     /// Done when the map has gained nothing for this long, s. Default 120.
     pub idle_timeout_s: f64,
     /// The sector selection.
@@ -223,6 +236,9 @@ impl Default for ExplorerParams {
             hysteresis_m: 1.0,
             avoid_radius_m: 0.6,
             retries: 2,
+            blocked_radius_m: 0.3,
+            blocked_s: 90.0,
+            tight_clearance_m: 0.2,
             idle_timeout_s: 120.0,
             sectors: SectorParams::default(),
             matching: MatchParams::default(),
@@ -332,6 +348,8 @@ pub struct Explorer {
     travel: Option<Travel>,
     /// Frontiers given up, map frame.
     avoid: Vec<Point2>,
+    /// Spots the robot could not get through (map frame) and when that was found.
+    blocked: Vec<(Point2, f64)>,
     /// Plans that found no frontier in a row.
     failed_plans: usize,
     /// Times the given-up frontiers were tried again.
@@ -351,9 +369,13 @@ struct Travel {
     /// Index of the path point nearest the robot at the last scan.
     along: usize,
     planned_at: f64,
-    /// The least length of path left so far, m, and when it was reached.
+    /// The least length of path left so far, m, when it was reached and where the robot
+    /// was then (map frame).
     best: f64,
     best_at: f64,
+    best_from: Point2,
+    /// Planned with [`ExplorerParams::tight_clearance_m`].
+    tight: bool,
 }
 
 impl Explorer {
@@ -392,6 +414,7 @@ impl Explorer {
             seek_since: 0.0,
             travel: None,
             avoid: Vec::new(),
+            blocked: Vec::new(),
             failed_plans: 0,
             retries: 0,
             frontiers: 0,
@@ -704,6 +727,7 @@ impl Explorer {
     /// complete).
     fn start_travel(&mut self, time_s: f64, front_free: f64) -> Option<VelocityCommand> {
         let from = Point2::from(self.map_from_robot.translation.vector);
+        self.update_blocked(time_s);
         let mut plan = self.planner.nearest_frontier(
             &self.map,
             from,
@@ -726,6 +750,39 @@ impl Explorer {
                 &self.params.planner,
             );
         }
+        // None with the usual clearance: through gaps where the robot cannot turn.
+        let mut tight = false;
+        if plan.is_none() {
+            plan = self.planner.nearest_frontier(
+                &self.map,
+                from,
+                &self.avoid,
+                self.params.avoid_radius_m,
+                None,
+                &self.planner_params(true),
+            );
+            tight = plan.is_some();
+        }
+        // Still none, with spots closed: open them again (a spot may be the only way on)
+        // rather than call the exploration complete.
+        if plan.is_none() && !self.blocked.is_empty() {
+            self.blocked.clear();
+            self.planner.set_blocked(&[], 0.0);
+            for t in [false, true] {
+                plan = self.planner.nearest_frontier(
+                    &self.map,
+                    from,
+                    &self.avoid,
+                    self.params.avoid_radius_m,
+                    None,
+                    &self.planner_params(t),
+                );
+                tight = t;
+                if plan.is_some() {
+                    break;
+                }
+            }
+        }
         let Some(plan) = plan else {
             self.failed_plans += 1;
             // Try again after another stale spell; three empty plans in a row: done.
@@ -743,6 +800,8 @@ impl Explorer {
             planned_at: time_s,
             best,
             best_at: time_s,
+            best_from: from,
+            tight,
         });
         self.mode = Mode::Travel;
         let step = self.travel_step(time_s, front_free);
@@ -752,6 +811,24 @@ impl Explorer {
             self.last_new = time_s;
         }
         step
+    }
+
+    /// The planner's settings, with the tight clearance when `tight`.
+    fn planner_params(&self, tight: bool) -> PlannerParams {
+        let mut p = self.params.planner;
+        if tight {
+            p.clearance_m = p.clearance_m.min(self.params.tight_clearance_m);
+        }
+        p
+    }
+
+    /// Drops the blocked spots older than `blocked_s` and hands the rest to the planner.
+    fn update_blocked(&mut self, time_s: f64) {
+        let keep_for = self.params.blocked_s;
+        self.blocked.retain(|&(_, at)| time_s - at <= keep_for);
+        let spots: Vec<Point2> = self.blocked.iter().map(|&(p, _)| p).collect();
+        self.planner
+            .set_blocked(&spots, self.params.blocked_radius_m);
     }
 
     /// One step on the way to the frontier: re-plans when due, gives up a frontier without
@@ -781,6 +858,7 @@ impl Explorer {
         if left < travel.best - 0.2 {
             travel.best = left;
             travel.best_at = time_s;
+            travel.best_from = from;
         }
         // Seeing new ground on the way is progress too.
         if self.last_new >= time_s {
@@ -789,9 +867,23 @@ impl Explorer {
         let give_up = time_s - travel.best_at > p.give_up_s;
         if give_up {
             self.avoid.push(goal);
+            // Stuck where the map shows a way: close the spot the path led to next.
+            if (from - travel.best_from).norm() < 0.5 {
+                let path = &travel.plan.path;
+                let ahead = path
+                    .iter()
+                    .skip(travel.along)
+                    .find(|q| (*q - from).norm() >= 0.4)
+                    .copied();
+                if let Some(spot) = ahead {
+                    self.blocked.push((spot, time_s));
+                }
+            }
             travel.best_at = time_s;
+            travel.best_from = from;
         }
         if give_up || time_s - travel.planned_at >= p.replan_s {
+            self.update_blocked(time_s);
             let keep = (!give_up).then_some((goal, p.hysteresis_m));
             let plan = self.planner.nearest_frontier(
                 &self.map,
@@ -799,7 +891,7 @@ impl Explorer {
                 &self.avoid,
                 p.avoid_radius_m,
                 keep,
-                &p.planner,
+                &self.planner_params(travel.tight),
             )?;
             if (plan.goal - goal).norm() > 0.3 {
                 // Another frontier: its path is measured from here on, but the clock runs on.

@@ -102,6 +102,9 @@ pub struct Planner {
     cost: Vec<u32>,
     parent: Vec<u32>,
     heap: BinaryHeap<Reverse<(u32, u32)>>,
+    /// Spots the robot could not pass (map frame) and the radius closed around each, m.
+    blocked: Vec<Point2>,
+    blocked_radius: f64,
 }
 
 impl Planner {
@@ -109,6 +112,21 @@ impl Planner {
     #[must_use]
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Closes the cells within `radius` of each of `spots` (map frame) to the paths planned
+    /// from now on, except those within `radius` of the robot itself: places where the
+    /// map shows a way but the robot could not get through (a gap its safety layer finds
+    /// too narrow). An empty list opens them all again.
+    pub fn set_blocked(&mut self, spots: &[Point2], radius: f64) {
+        self.blocked.clear();
+        self.blocked
+            .extend(spots.iter().filter(|p| p.x.is_finite() && p.y.is_finite()));
+        self.blocked_radius = if radius.is_finite() {
+            radius.max(0.0)
+        } else {
+            0.0
+        };
     }
 
     /// The path from `from` (map frame) to the nearest frontier of `map` that is farther
@@ -281,6 +299,31 @@ impl Planner {
         for f in &mut self.factor {
             if *f != u32::MAX && *f > u32::MAX / 2 {
                 *f = u32::MAX;
+            }
+        }
+        // The blocked spots, but never around the robot itself.
+        if !self.blocked.is_empty() && self.blocked_radius > 0.0 {
+            let r = self.blocked_radius / cell;
+            let reach = r.ceil() as i64;
+            for b in &self.blocked {
+                let (bu, bv) = grid.to_cells(*b);
+                let (bi, bj) = (floor_i64(bu) - i0 as i64, floor_i64(bv) - j0 as i64);
+                for dj in -reach..=reach {
+                    for di in -reach..=reach {
+                        let (x, y) = (bi + di, bj + dj);
+                        if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
+                            continue;
+                        }
+                        if ((di * di + dj * dj) as f64) > r * r {
+                            continue;
+                        }
+                        let (ds, dt) = ((x - si) as f64, (y - sj) as f64);
+                        if ds * ds + dt * dt <= r * r {
+                            continue;
+                        }
+                        self.factor[y as usize * w + x as usize] = u32::MAX;
+                    }
+                }
             }
         }
         self.factor[start] =
@@ -463,5 +506,83 @@ mod tests {
                 .nearest_frontier(&RobotMap::new(), from, &[], 0.5, None, &params)
                 .is_none()
         );
+    }
+
+    /// The corridor's map seen from its closed end, as the robot would have it.
+    fn corridor_map(world: &World) -> RobotMap {
+        let mut rng = Rng::new(3);
+        let mut map = RobotMap::new();
+        let model = LaserModel {
+            range_max: 2.5,
+            ..LaserModel::urg04lx()
+        };
+        for (x, yaw) in [
+            (0.0, std::f64::consts::PI),
+            (0.0, 0.0),
+            (0.5, 0.0),
+            (1.0, 0.0),
+        ] {
+            let pose = Isometry2::new(Vector2::new(x, 0.0), yaw);
+            map.insert_scan(&pose, &simulate(world, pose, &model, &mut rng).scan);
+        }
+        map
+    }
+
+    #[test]
+    fn blocked_spots_close_the_way_but_never_around_the_robot() {
+        let map = corridor_map(&corridor());
+        let mut planner = Planner::new();
+        let params = PlannerParams::default();
+        let from = Point2::new(1.0, 0.0);
+        assert!(
+            planner
+                .nearest_frontier(&map, from, &[], 0.5, None, &params)
+                .is_some()
+        );
+        // The corridor closed at x = 1.8 (it is 1.2 m wide: a 0.6 m radius closes it):
+        // no frontier lies behind the robot, so none is left.
+        planner.set_blocked(&[Point2::new(1.8, 0.0)], 0.6);
+        assert!(
+            planner
+                .nearest_frontier(&map, from, &[], 0.5, None, &params)
+                .is_none()
+        );
+        // A spot on the robot itself does not shut it in.
+        planner.set_blocked(&[from], 0.3);
+        let plan = planner
+            .nearest_frontier(&map, from, &[], 0.5, None, &params)
+            .unwrap();
+        assert!(plan.goal.x > 2.4, "{plan:?}");
+        // Opened again.
+        planner.set_blocked(&[], 0.0);
+        assert!(
+            planner
+                .nearest_frontier(&map, from, &[], 0.5, None, &params)
+                .is_some()
+        );
+    }
+
+    #[test]
+    fn a_gap_too_narrow_for_the_usual_clearance_is_open_to_the_tight_one() {
+        // The corridor with a post in its middle at x = 1.8: gaps of 0.6 - 0.03 = 0.57 m
+        // on either side, passable at the explorer's tight clearance (0.2 m) but not at
+        // 0.3 m (the map's occupied cells stand up to half a cell into the gap on either
+        // side, so that the gap is about 0.47 m on the map).
+        let mut world = corridor();
+        world.add_disc(Point2::new(1.8, 0.0), 0.03);
+        let map = corridor_map(&world);
+        let mut planner = Planner::new();
+        let from = Point2::new(0.6, 0.0);
+        let usual = PlannerParams::default();
+        let tight = PlannerParams {
+            clearance_m: 0.2,
+            ..usual
+        };
+        let found = planner.nearest_frontier(&map, from, &[], 0.5, None, &usual);
+        assert!(found.as_ref().is_none_or(|p| p.goal.x < 1.8), "{found:?}");
+        let plan = planner
+            .nearest_frontier(&map, from, &[], 0.5, None, &tight)
+            .unwrap();
+        assert!(plan.goal.x > 1.8, "{plan:?}");
     }
 }

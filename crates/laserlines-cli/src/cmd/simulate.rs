@@ -485,16 +485,21 @@ fn sectors_svg(name: &str, snap: &Snapshot) -> String {
             obj.nearest,
             &Style::stroke(SELECTED, 1.0).with_dash(3.0, 3.0),
         );
+        // The figures in the lower left corner, one row per sector (left, front, right), so
+        // that no label leaves the plot.
+        let row = obj.sector.index() as f64;
         panel.text(
-            obj.start + 0.5 * (obj.end - obj.start),
+            Point2::new(view.min_x + 0.1, view.min_y + 0.75 - 0.3 * row),
             &format!(
-                "{}: d {:.2} m, w {:.2} m, {:.0} deg",
+                "{}: distance {:.2} m, width {:.2} m, angle {:.0} deg",
                 obj.sector.name(),
                 obj.distance_m,
                 obj.width_m,
                 obj.angle_rad.to_degrees()
             ),
-            &laserlines_render::TextStyle::size(11.0).with_halo(),
+            &laserlines_render::TextStyle::size(11.0)
+                .anchored(laserlines_render::Anchor::Start)
+                .with_halo(),
         );
     }
     panel.robot(Point2::origin(), 0.0, 14.0, &Style::fill(Color::RED));
