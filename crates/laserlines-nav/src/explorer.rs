@@ -45,6 +45,12 @@
 //! reaches islands, wall groups that a pure wall follower never reaches. A frontier whose
 //! path the robot does not shorten for `give_up_s`, or that it reaches without seeing it, is
 //! given up; when none is left, the given-up ones are tried again, at most `retries` times.
+//! A frontier given up while the robot stood still (within 0.5 m of where it last made
+//! progress) closes the spot its path led to next, `blocked_radius_m` around it for
+//! `blocked_s`: the map showed a way there that the safety layer did not let the robot
+//! take, so the planner looks for another. When no frontier can be reached, the planner
+//! tries again with `tight_clearance_m` (gaps the robot passes driving straight but cannot
+//! turn in), then with the blocked spots opened again.
 //! When no frontier is left the exploration is complete.
 //!
 //! **Safety.** Before a velocity command is committed, the footprint is swept along the arc
