@@ -734,39 +734,18 @@ impl Explorer {
     fn start_travel(&mut self, time_s: f64, front_free: f64) -> Option<VelocityCommand> {
         let from = Point2::from(self.map_from_robot.translation.vector);
         self.update_blocked(time_s);
-        let mut plan = self.planner.nearest_frontier(
-            &self.map,
-            from,
-            &self.avoid,
-            self.params.avoid_radius_m,
-            None,
-            &self.params.planner,
-        );
+        let mut plan = self.plan_from(from, false);
         // No frontier left but some given up: try those again (from wherever the robot is
         // now), a limited number of times.
         if plan.is_none() && !self.avoid.is_empty() && self.retries < self.params.retries {
             self.retries += 1;
             self.avoid.clear();
-            plan = self.planner.nearest_frontier(
-                &self.map,
-                from,
-                &self.avoid,
-                self.params.avoid_radius_m,
-                None,
-                &self.params.planner,
-            );
+            plan = self.plan_from(from, false);
         }
         // None with the usual clearance: through gaps where the robot cannot turn.
         let mut tight = false;
         if plan.is_none() {
-            plan = self.planner.nearest_frontier(
-                &self.map,
-                from,
-                &self.avoid,
-                self.params.avoid_radius_m,
-                None,
-                &self.planner_params(true),
-            );
+            plan = self.plan_from(from, true);
             tight = plan.is_some();
         }
         // Still none, with spots closed: open them again (a spot may be the only way on)
@@ -775,14 +754,7 @@ impl Explorer {
             self.blocked.clear();
             self.planner.set_blocked(&[], 0.0);
             for t in [false, true] {
-                plan = self.planner.nearest_frontier(
-                    &self.map,
-                    from,
-                    &self.avoid,
-                    self.params.avoid_radius_m,
-                    None,
-                    &self.planner_params(t),
-                );
+                plan = self.plan_from(from, t);
                 tight = t;
                 if plan.is_some() {
                     break;
@@ -817,6 +789,20 @@ impl Explorer {
             self.last_new = time_s;
         }
         step
+    }
+
+    /// The path from `from` to the nearest frontier not given up, with the tight clearance
+    /// when `tight`.
+    fn plan_from(&mut self, from: Point2, tight: bool) -> Option<Plan> {
+        let params = self.planner_params(tight);
+        self.planner.nearest_frontier(
+            &self.map,
+            from,
+            &self.avoid,
+            self.params.avoid_radius_m,
+            None,
+            &params,
+        )
     }
 
     /// The planner's settings, with the tight clearance when `tight`.

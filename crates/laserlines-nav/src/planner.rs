@@ -451,22 +451,7 @@ mod tests {
 
     #[test]
     fn the_nearest_frontier_and_a_path_through_the_middle() {
-        let world = corridor();
-        let mut rng = Rng::new(3);
-        let mut map = RobotMap::new();
-        let model = LaserModel {
-            range_max: 2.5,
-            ..LaserModel::urg04lx()
-        };
-        for (x, yaw) in [
-            (0.0, std::f64::consts::PI),
-            (0.0, 0.0),
-            (0.5, 0.0),
-            (1.0, 0.0),
-        ] {
-            let pose = Isometry2::new(Vector2::new(x, 0.0), yaw);
-            map.insert_scan(&pose, &simulate(&world, pose, &model, &mut rng).scan);
-        }
+        let map = corridor_map(&corridor());
         let mut planner = Planner::new();
         let params = PlannerParams::default();
         let from = Point2::new(1.0, 0.0);

@@ -349,16 +349,22 @@ struct Tally {
     t90: Vec<f64>,
 }
 
+impl Tally {
+    fn new(name: String) -> Self {
+        Self {
+            name,
+            runs: 0,
+            collisions: 0,
+            min_coverage: 1.0,
+            mean_coverage: 0.0,
+            max_pose_error: 0.0,
+            t90: Vec::new(),
+        }
+    }
+}
+
 fn runs(name: &str, world: &World, start: Isometry2, seeds: std::ops::Range<u64>) -> Tally {
-    let mut t = Tally {
-        name: name.to_owned(),
-        runs: 0,
-        collisions: 0,
-        min_coverage: 1.0,
-        mean_coverage: 0.0,
-        max_pose_error: 0.0,
-        t90: Vec::new(),
-    };
+    let mut t = Tally::new(name.to_owned());
     for seed in seeds {
         let config = RunConfig {
             seed,
@@ -457,22 +463,14 @@ fn acceptance_no_collisions_elsewhere() {
 /// Runs seeded island mazes `mazes`, each with noise seeds `seeds`, asserting zero
 /// collisions; prints one row per maze and one for all.
 fn island_mazes(name: &str, mazes: std::ops::Range<u64>, seeds: std::ops::Range<u64>) {
-    let mut all = Tally {
-        name: format!(
-            "{name} with 3+ islands (`--maze N --islands`), {}",
-            if seeds.end - seeds.start == 1 {
-                format!("seed {}", seeds.start)
-            } else {
-                format!("seeds {}-{}", seeds.start, seeds.end - 1)
-            }
-        ),
-        runs: 0,
-        collisions: 0,
-        min_coverage: 1.0,
-        mean_coverage: 0.0,
-        max_pose_error: 0.0,
-        t90: Vec::new(),
-    };
+    let mut all = Tally::new(format!(
+        "{name} with 3+ islands (`--maze N --islands`), {}",
+        if seeds.end - seeds.start == 1 {
+            format!("seed {}", seeds.start)
+        } else {
+            format!("seeds {}-{}", seeds.start, seeds.end - 1)
+        }
+    ));
     for seed in mazes {
         let maze = generate(
             &MazeParams {
