@@ -195,6 +195,66 @@ fn render_draws_four_panels() {
 }
 
 #[test]
+fn render_sectors_reports_a_wall_ahead() {
+    // A straight wall 1 m ahead (x = 1, y from -2 to 2), exact ranges, URG-04LX beams.
+    let n = 682;
+    let inc = 360.0_f64.to_radians() / 1024.0;
+    let angle_min = -inc * (n as f64 - 1.0) / 2.0;
+    let ranges: Vec<String> = (0..n)
+        .map(|i| {
+            let phi = angle_min + inc * i as f64;
+            let r = 1.0 / phi.cos();
+            if phi.cos() > 0.0 && r * phi.sin().abs() <= 2.0 {
+                format!("{r}")
+            } else {
+                "null".to_owned()
+            }
+        })
+        .collect();
+    let json = tmp("wall.json");
+    std::fs::write(
+        &json,
+        format!(
+            "{{\"angle_min\": {angle_min}, \"angle_increment\": {inc}, \"range_min\": 0.02, \"range_max\": 5.6, \"ranges\": [{}]}}\n",
+            ranges.join(", ")
+        ),
+    )
+    .unwrap();
+    let svg = tmp("sectors.svg");
+    let o = run(bin()
+        .args(["render", "--sectors", "-o"])
+        .arg(&svg)
+        .arg(&json));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let figures = |sector: &str| -> (f64, f64, f64) {
+        let line = out
+            .lines()
+            .find(|l| l.starts_with(&format!("{sector}: ")))
+            .unwrap_or_else(|| panic!("no {sector} line in {out}"));
+        let nums: Vec<f64> = line
+            .split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-'))
+            .filter_map(|t| t.parse().ok())
+            .collect();
+        (nums[0], nums[1], nums[2])
+    };
+    // Front: the wall's nearest point straight ahead, the part between -50 and +50 deg
+    // (2 tan 50 deg = 2.384 m) visible, the wall running across the robot (+-90 deg).
+    let (d, w, a) = figures("front");
+    assert!((d - 1.0).abs() < 0.002, "{out}");
+    assert!((w - 2.0 * 50f64.to_radians().tan()).abs() < 0.01, "{out}");
+    assert!((a.abs() - 90.0).abs() < 0.2, "{out}");
+    // Left: the wall from +50 deg (1.192 m to the left, 1.556 m away) to its end at y = 2
+    // (the last beam falls short of the end by up to a beam's spacing there; widths are
+    // asked within 5 cm).
+    let (d, w, _) = figures("left");
+    assert!((d - 1.0 / 50f64.to_radians().cos()).abs() < 0.01, "{out}");
+    assert!((w - (2.0 - 50f64.to_radians().tan())).abs() < 0.05, "{out}");
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("sector-front") && text.contains("selected-object"));
+}
+
+#[test]
 fn demo_writes_lines_and_figures() {
     let dir = tmp("demo-out");
     let o = run(bin().args(["demo", "--repeat", "2", "-o"]).arg(&dir));

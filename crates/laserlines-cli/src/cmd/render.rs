@@ -5,6 +5,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
 use laserlines::LineExtractor;
+use laserlines::math::{Isometry2, Point2};
+use laserlines_nav::{Sector, SectorParams, select_objects};
 use laserlines_render::{RenderOptions, render_hough_split, render_scan_lines};
 
 use crate::InputArgs;
@@ -30,6 +32,12 @@ pub struct RenderArgs {
     /// Width of the figure, pixels.
     #[arg(long, default_value_t = 1200.0)]
     width: f64,
+    /// Draw the paper's Fig. 7 instead: the three sectors (left 50..120 deg, front -50..50,
+    /// right -120..-50; the laser frame taken as the robot's, x forward) and the "biggest
+    /// and nearest" object of each, selected from the scan's lines; the objects' distance,
+    /// width and angle are also printed, one line per sector.
+    #[arg(long)]
+    sectors: bool,
 }
 
 /// Runs the command.
@@ -47,7 +55,36 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         width: args.width,
         ..RenderOptions::default()
     };
-    let svg = if args.algorithm == "hough-split" {
+    let svg = if args.sectors {
+        let mut ex = super::make_extractor(&args.algorithm, args.params.as_deref())?;
+        let lines = ex.extract(&record.scan);
+        let objects = select_objects(&lines, &Isometry2::identity(), &SectorParams::default());
+        for sector in Sector::ALL {
+            match objects.get(sector) {
+                Some(o) => println!(
+                    "{}: distance {:.3} m, width {:.3} m, angle {:.1} deg",
+                    sector.name(),
+                    o.distance_m,
+                    o.width_m,
+                    o.angle_rad.to_degrees()
+                ),
+                None => println!("{}: none", sector.name()),
+            }
+        }
+        let points: Vec<Point2> = record
+            .scan
+            .points(record.scan.range_window(None))
+            .iter()
+            .map(|p| p.point)
+            .collect();
+        let segments: Vec<(Point2, Point2)> = lines.iter().map(|l| (l.start, l.end)).collect();
+        let title = format!(
+            "{}, scan {}: three sectors and the selected objects (laser frame)",
+            args.input.input.display(),
+            args.scan
+        );
+        super::simulate::sectors_svg(&title, &points, &segments, &objects)
+    } else if args.algorithm == "hough-split" {
         let mut hs = super::make_hough_split(args.params.as_deref())?;
         let lines = hs.extract(&record.scan);
         render_hough_split(&record.scan, &hs, &lines, &opts)

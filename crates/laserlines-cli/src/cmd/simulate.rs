@@ -10,7 +10,7 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines_nav::{
-    RunConfig, RunObserver, RunRecord, ScanFrame, Sector, Snapshot, arenas, run_observed,
+    RunConfig, RunObserver, RunRecord, ScanFrame, Sector, SectorObjects, arenas, run_observed,
 };
 use laserlines_render::{Canvas, Color, Extent, LegendEntry, Marker, Panel, Style, Swatch};
 use laserlines_sim::World;
@@ -146,8 +146,15 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         .with_context(|| format!("cannot write {}", map_path.display()))?;
     let sectors_path = args.output.join("sectors.svg");
     if let Some(snap) = &record.snapshot {
-        fs::write(&sectors_path, sectors_svg(&name, snap))
-            .with_context(|| format!("cannot write {}", sectors_path.display()))?;
+        let title = format!(
+            "{name}, t = {:.1} s: three sectors and the selected objects (robot frame)",
+            snap.time_s
+        );
+        fs::write(
+            &sectors_path,
+            sectors_svg(&title, &snap.points, &snap.lines, &snap.objects),
+        )
+        .with_context(|| format!("cannot write {}", sectors_path.display()))?;
     }
 
     let m = &record.metrics;
@@ -446,13 +453,24 @@ fn map_svg(name: &str, world: &World, start: Isometry2, record: &RunRecord) -> S
 }
 
 /// The paper's Fig. 7: the three sectors around the robot and the selected objects.
-fn sectors_svg(name: &str, snap: &Snapshot) -> String {
-    let view = Extent::new(-3.0, -3.0, 3.0, 3.0);
+/// The paper's Fig. 7: the three sectors around the robot, the scan points, the extracted
+/// lines and the selected object of each sector with its figures, robot frame. The view
+/// reaches 3 m, or as far as the scan points when they are farther (at most 10 m).
+pub(crate) fn sectors_svg(
+    title: &str,
+    points: &[Point2],
+    lines: &[(Point2, Point2)],
+    objects: &SectorObjects,
+) -> String {
+    let reach = points
+        .iter()
+        .map(|p| p.coords.norm())
+        .filter(|r| r.is_finite())
+        .fold(2.5_f64, f64::max);
+    let half = (reach + 0.5).clamp(3.0, 10.0);
+    let view = Extent::new(-half, -half, half, half);
     let mut panel = Panel::map(view, 560.0);
-    panel.set_title(format!(
-        "{name}, t = {:.1} s: three sectors and the selected objects (robot frame)",
-        snap.time_s
-    ));
+    panel.set_title(title.to_owned());
     let fills = [
         Color::rgb(0xfd, 0xe0, 0xc0),
         Color::rgb(0xd8, 0xec, 0xd8),
@@ -463,22 +481,23 @@ fn sectors_svg(name: &str, snap: &Snapshot) -> String {
         let style = Style::fill(fills[sector.index()])
             .with_opacity(0.7)
             .with_class(format!("sector-{}", sector.name()));
-        panel.wedge(Point2::origin(), 0.0, 2.9, from, to, &style);
+        panel.wedge(Point2::origin(), 0.0, half - 0.1, from, to, &style);
     }
     panel.markers(
-        &snap.points,
+        points,
         Marker::Dot,
         2.5,
         &Style::fill(Color::GREY).with_class("scan-point"),
     );
     let line = Style::stroke(Color::NAVY, 1.6).with_class("extracted-line");
-    for &(a, b) in &snap.lines {
+    for &(a, b) in lines {
         panel.line(a, b, &line);
     }
     let selected = Style::stroke(SELECTED, 5.0)
         .with_opacity(0.85)
         .with_class("selected-object");
-    for obj in snap.objects.objects.iter().flatten() {
+    let row_step = 0.1 * half;
+    for obj in objects.objects.iter().flatten() {
         panel.line(obj.start, obj.end, &selected);
         panel.line(
             Point2::origin(),
@@ -489,7 +508,7 @@ fn sectors_svg(name: &str, snap: &Snapshot) -> String {
         // that no label leaves the plot.
         let row = obj.sector.index() as f64;
         panel.text(
-            Point2::new(view.min_x + 0.1, view.min_y + 0.75 - 0.3 * row),
+            Point2::new(view.min_x + 0.1, view.min_y + (2.5 - row) * row_step),
             &format!(
                 "{}: distance {:.2} m, width {:.2} m, angle {:.0} deg",
                 obj.sector.name(),
