@@ -554,6 +554,109 @@ fn settle(
     (cut > a.start && cut < b.end).then_some(cut)
 }
 
+/// The settings of the split-based extractors ([`super::Iepf`], [`super::SplitAndMerge`]),
+/// which differ only in the line a split measures from and in their defaults.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SplitSettings {
+    pub(crate) breakpoints: Breakpoints,
+    pub(crate) min_cluster_points: usize,
+    pub(crate) threshold: Scaled,
+    pub(crate) merge_collinear: bool,
+    pub(crate) filter: LineFilter,
+    pub(crate) range_limits: Option<crate::scan::RangeWindow>,
+}
+
+impl SplitSettings {
+    /// Checks every setting, naming the parameter fields.
+    pub(crate) fn validate(&self) -> Result<(), ParamsError> {
+        check_breakpoints(self.breakpoints.incidence, self.breakpoints.noise)?;
+        check_scaled(
+            ("split_distance", self.threshold.base),
+            ("split_distance_per_metre", self.threshold.per_metre),
+        )?;
+        check_filter(self.filter.min_length)
+    }
+}
+
+/// The [`SplitSettings`] of a parameter struct with the split extractors' field names.
+macro_rules! split_settings {
+    ($p:expr) => {
+        $crate::extractors::common::SplitSettings {
+            breakpoints: $crate::extractors::common::Breakpoints {
+                incidence: $p.breakpoint_incidence,
+                noise: $p.breakpoint_noise,
+                max_gap: $p.breakpoint_max_gap,
+            },
+            min_cluster_points: $p.min_cluster_points,
+            threshold: $crate::extractors::common::Scaled {
+                base: $p.split_distance,
+                per_metre: $p.split_distance_per_metre,
+            },
+            merge_collinear: $p.merge_collinear,
+            filter: $crate::extractors::common::LineFilter {
+                min_points: $p.min_line_points,
+                min_length: $p.min_line_length,
+            },
+            range_limits: $p.range_limits,
+        }
+    };
+}
+pub(crate) use split_settings;
+
+/// Breakpoint clusters, recursive split, optional merge and the common finish, with working
+/// memory kept between scans.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct SplitEngine {
+    points: Vec<ScanPoint>,
+    clusters: Vec<Run>,
+    pieces: Vec<Run>,
+    runs: Vec<Run>,
+    stack: Vec<(usize, usize)>,
+    member: Vec<bool>,
+}
+
+impl SplitEngine {
+    /// The lines of `scan` into `out` (cleared first).
+    pub(crate) fn extract_into(
+        &mut self,
+        scan: &crate::scan::Scan,
+        s: &SplitSettings,
+        line: SplitLine,
+        out: &mut Vec<Line>,
+    ) {
+        out.clear();
+        scan.points_into(scan.range_window(s.range_limits), &mut self.points);
+        s.breakpoints
+            .clusters(&self.points, s.min_cluster_points, &mut self.clusters);
+        self.runs.clear();
+        for &cluster in &self.clusters {
+            self.pieces.clear();
+            split(
+                &self.points,
+                cluster,
+                line,
+                s.threshold,
+                &mut self.stack,
+                &mut self.pieces,
+            );
+            if s.merge_collinear {
+                merge_collinear(&self.points, &mut self.pieces, s.threshold);
+            }
+            self.runs.extend_from_slice(&self.pieces);
+        }
+        self.member.clear();
+        self.member.resize(self.points.len(), true);
+        finish(
+            &self.points,
+            &mut self.runs,
+            &self.member,
+            &s.breakpoints,
+            s.filter,
+            out,
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

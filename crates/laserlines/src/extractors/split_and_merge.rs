@@ -13,10 +13,10 @@
 //! the fitted line, not the chord between the end points.
 
 use super::ParamsError;
-use super::common::{self, Breakpoints, LineFilter, Run, Scaled, SplitLine};
+use super::common::{SplitEngine, SplitLine, SplitSettings, split_settings};
 use crate::extractor::LineExtractor;
 use crate::line::Line;
-use crate::scan::{RangeWindow, Scan, ScanPoint};
+use crate::scan::{RangeWindow, Scan};
 
 /// Parameters of [`SplitAndMerge`].
 ///
@@ -82,12 +82,11 @@ impl SplitAndMergeParams {
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
     pub fn validate(&self) -> Result<(), ParamsError> {
-        common::check_breakpoints(self.breakpoint_incidence, self.breakpoint_noise)?;
-        common::check_scaled(
-            ("split_distance", self.split_distance),
-            ("split_distance_per_metre", self.split_distance_per_metre),
-        )?;
-        common::check_filter(self.min_line_length)
+        self.settings().validate()
+    }
+
+    fn settings(&self) -> SplitSettings {
+        split_settings!(self)
     }
 }
 
@@ -96,12 +95,8 @@ impl SplitAndMergeParams {
 #[derive(Debug, Clone)]
 pub struct SplitAndMerge {
     params: SplitAndMergeParams,
-    points: Vec<ScanPoint>,
-    clusters: Vec<Run>,
-    pieces: Vec<Run>,
-    runs: Vec<Run>,
-    stack: Vec<(usize, usize)>,
-    member: Vec<bool>,
+    settings: SplitSettings,
+    engine: SplitEngine,
 }
 
 impl SplitAndMerge {
@@ -112,13 +107,9 @@ impl SplitAndMerge {
     pub fn new(params: SplitAndMergeParams) -> Result<Self, ParamsError> {
         params.validate()?;
         Ok(Self {
+            settings: params.settings(),
             params,
-            points: Vec::new(),
-            clusters: Vec::new(),
-            pieces: Vec::new(),
-            runs: Vec::new(),
-            stack: Vec::new(),
-            member: Vec::new(),
+            engine: SplitEngine::default(),
         })
     }
 
@@ -135,48 +126,7 @@ impl LineExtractor for SplitAndMerge {
     }
 
     fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
-        out.clear();
-        let p = &self.params;
-        scan.points_into(scan.range_window(p.range_limits), &mut self.points);
-        let rule = Breakpoints {
-            incidence: p.breakpoint_incidence,
-            noise: p.breakpoint_noise,
-            max_gap: p.breakpoint_max_gap,
-        };
-        let threshold = Scaled {
-            base: p.split_distance,
-            per_metre: p.split_distance_per_metre,
-        };
-        rule.clusters(&self.points, p.min_cluster_points, &mut self.clusters);
-        self.runs.clear();
-        for &cluster in &self.clusters {
-            self.pieces.clear();
-            common::split(
-                &self.points,
-                cluster,
-                SplitLine::LeastSquares,
-                threshold,
-                &mut self.stack,
-                &mut self.pieces,
-            );
-            if p.merge_collinear {
-                common::merge_collinear(&self.points, &mut self.pieces, threshold);
-            }
-            self.runs.extend_from_slice(&self.pieces);
-        }
-        self.member.clear();
-        self.member.resize(self.points.len(), true);
-        let filter = LineFilter {
-            min_points: p.min_line_points,
-            min_length: p.min_line_length,
-        };
-        common::finish(
-            &self.points,
-            &mut self.runs,
-            &self.member,
-            &rule,
-            filter,
-            out,
-        );
+        self.engine
+            .extract_into(scan, &self.settings, SplitLine::LeastSquares, out);
     }
 }
