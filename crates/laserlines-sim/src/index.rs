@@ -14,12 +14,8 @@ use laserlines::Scan;
 use crate::laser::{LaserModel, MAX_BEAMS};
 use crate::rng::Rng;
 use crate::simulation::MIXED_PIXEL_MIN_JUMP;
-use crate::world::{Hit, Target, World};
+use crate::world::{Hit, Target, World, circle_ray_hit, segment_ray_hit};
 
-/// Parameters of a hit closer than this behind the origin (m) still count, at range 0.
-const BEHIND_TOLERANCE: f64 = 1e-9;
-/// Relative tolerance on the segment parameter at the ends of a wall.
-const END_TOLERANCE: f64 = 1e-12;
 /// Hits closer to each other than this (m) are a tie, won by the earlier obstacle.
 const TIE_TOLERANCE: f64 = 1e-12;
 /// Margin added around every obstacle when filing it under cells, m.
@@ -580,7 +576,7 @@ impl WorldIndex {
                 let t = match target {
                     Target::Wall(k) => {
                         let w = &self.world.walls[k];
-                        wall_ray_hit_with(w.a, w.b, e, len, origin, dir)
+                        segment_ray_hit(w.a, w.b, e, len, origin, dir)
                     }
                     Target::Disc(k) => {
                         let d = &self.world.discs[k];
@@ -802,10 +798,6 @@ fn finite(p: Point2) -> bool {
     p.x.is_finite() && p.y.is_finite()
 }
 
-fn cross(a: Vector2, b: Vector2) -> f64 {
-    a.x * b.y - a.y * b.x
-}
-
 /// The ray parameter at which the ray from `origin` along unit `dir` meets the segment
 /// `a`-`b`, with the conventions of [`World::cast`].
 #[must_use]
@@ -815,70 +807,14 @@ pub fn wall_ray_hit(a: Point2, b: Point2, origin: Point2, dir: Vector2) -> Optio
     if !(len > 0.0 && len.is_finite()) {
         return None;
     }
-    wall_ray_hit_with(a, b, e, len, origin, dir)
-}
-
-/// [`wall_ray_hit`] with the wall's direction `e = b - a` and its length `len` (positive
-/// and finite) computed once.
-#[inline]
-fn wall_ray_hit_with(
-    a: Point2,
-    b: Point2,
-    e: Vector2,
-    len: f64,
-    origin: Point2,
-    dir: Vector2,
-) -> Option<f64> {
-    let ao = a - origin;
-    let denom = cross(dir, e);
-    if denom.abs() <= 1e-12 * len {
-        let offset = cross(dir, ao).abs();
-        if offset > 1e-9 * (1.0 + ao.norm()) {
-            return None;
-        }
-        let ta = ao.dot(&dir);
-        let tb = (b - origin).dot(&dir);
-        let (near, far) = if ta <= tb { (ta, tb) } else { (tb, ta) };
-        if far < -BEHIND_TOLERANCE {
-            return None;
-        }
-        return Some(near.max(0.0));
-    }
-    let t = cross(ao, e) / denom;
-    let s = cross(ao, dir) / denom;
-    if t >= -BEHIND_TOLERANCE && (-END_TOLERANCE..=1.0 + END_TOLERANCE).contains(&s) {
-        Some(t.max(0.0))
-    } else {
-        None
-    }
+    segment_ray_hit(a, b, e, len, origin, dir)
 }
 
 /// The ray parameter at which the ray from `origin` along unit `dir` meets the circle of
 /// `radius` around `centre` (0 from inside), with the conventions of [`World::cast`].
 #[must_use]
 pub fn disc_ray_hit(centre: Point2, radius: f64, origin: Point2, dir: Vector2) -> Option<f64> {
-    let r = radius;
-    if !(r > 0.0 && r.is_finite()) {
-        return None;
-    }
-    let f = origin - centre;
-    let c = f.norm_squared() - r * r;
-    if !c.is_finite() {
-        return None;
-    }
-    if c <= 0.0 {
-        return Some(0.0);
-    }
-    let b = f.dot(&dir);
-    if b >= 0.0 {
-        return None;
-    }
-    let perp = cross(f, dir);
-    let disc = r * r - perp * perp;
-    if disc < 0.0 {
-        return None;
-    }
-    Some(c / (-b + disc.sqrt()))
+    circle_ray_hit(centre, radius, origin, dir)
 }
 
 /// The parameters `(t_in, t_out)` (`t_in >= 0`) over which the ray stays in the box.

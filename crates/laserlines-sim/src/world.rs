@@ -61,31 +61,7 @@ impl Wall {
         if !(len > 0.0 && len.is_finite()) {
             return None;
         }
-        let ao = self.a - origin;
-        let denom = cross(dir, e);
-        if denom.abs() <= 1e-12 * len {
-            // Parallel. Only a ray running along the wall's own line meets it, at the nearer
-            // end (or at 0 when the origin is on the wall).
-            let offset = cross(dir, ao).abs();
-            // All finite here: the wall's ends and the origin are.
-            if offset > 1e-9 * (1.0 + ao.norm()) {
-                return None;
-            }
-            let ta = ao.dot(&dir);
-            let tb = (self.b - origin).dot(&dir);
-            let (near, far) = if ta <= tb { (ta, tb) } else { (tb, ta) };
-            if far < -BEHIND_TOLERANCE {
-                return None;
-            }
-            return Some(near.max(0.0));
-        }
-        let t = cross(ao, e) / denom;
-        let s = cross(ao, dir) / denom;
-        if t >= -BEHIND_TOLERANCE && (-END_TOLERANCE..=1.0 + END_TOLERANCE).contains(&s) {
-            Some(t.max(0.0))
-        } else {
-            None
-        }
+        segment_ray_hit(self.a, self.b, e, len, origin, dir)
     }
 }
 
@@ -126,32 +102,82 @@ impl Disc {
     }
 
     fn ray_hit(&self, origin: Point2, dir: Vector2) -> Option<f64> {
-        let r = self.radius;
-        if !(r > 0.0 && r.is_finite()) {
-            return None;
-        }
-        let f = origin - self.centre;
-        let c = f.norm_squared() - r * r;
-        if !c.is_finite() {
-            return None;
-        }
-        if c <= 0.0 {
-            // The origin is inside the disc or on its rim.
-            return Some(0.0);
-        }
-        let b = f.dot(&dir);
-        if b >= 0.0 {
-            return None;
-        }
-        let perp = cross(f, dir);
-        let disc = r * r - perp * perp;
-        if disc < 0.0 {
-            return None;
-        }
-        // The nearer root -b - sqrt(disc), computed as c / (-b + sqrt(disc)) so that it
-        // stays accurate when the origin is close to the rim.
-        Some(c / (-b + disc.sqrt()))
+        circle_ray_hit(self.centre, self.radius, origin, dir)
     }
+}
+
+/// The ray parameter at which the ray from `origin` along unit `dir` meets the segment
+/// `a`-`b` of direction `e = b - a` and length `len` (positive and finite), if it does: the
+/// conventions of [`World::cast`] (0 for an origin on the segment; a ray along the segment's
+/// own line meets it at its nearer end).
+#[inline]
+pub(crate) fn segment_ray_hit(
+    a: Point2,
+    b: Point2,
+    e: Vector2,
+    len: f64,
+    origin: Point2,
+    dir: Vector2,
+) -> Option<f64> {
+    let ao = a - origin;
+    let denom = cross(dir, e);
+    if denom.abs() <= 1e-12 * len {
+        // Parallel. Only a ray running along the wall's own line meets it, at the nearer
+        // end (or at 0 when the origin is on the wall).
+        let offset = cross(dir, ao).abs();
+        if offset > 1e-9 * (1.0 + ao.norm()) {
+            return None;
+        }
+        let ta = ao.dot(&dir);
+        let tb = (b - origin).dot(&dir);
+        let (near, far) = if ta <= tb { (ta, tb) } else { (tb, ta) };
+        if far < -BEHIND_TOLERANCE {
+            return None;
+        }
+        return Some(near.max(0.0));
+    }
+    let t = cross(ao, e) / denom;
+    let s = cross(ao, dir) / denom;
+    if t >= -BEHIND_TOLERANCE && (-END_TOLERANCE..=1.0 + END_TOLERANCE).contains(&s) {
+        Some(t.max(0.0))
+    } else {
+        None
+    }
+}
+
+/// The ray parameter at which the ray from `origin` along unit `dir` meets the circle of
+/// `radius` around `centre`, if it does (0 from inside or on the rim).
+pub(crate) fn circle_ray_hit(
+    centre: Point2,
+    radius: f64,
+    origin: Point2,
+    dir: Vector2,
+) -> Option<f64> {
+    let r = radius;
+    if !(r > 0.0 && r.is_finite()) {
+        return None;
+    }
+    let f = origin - centre;
+    let c = f.norm_squared() - r * r;
+    if !c.is_finite() {
+        return None;
+    }
+    if c <= 0.0 {
+        // The origin is inside the disc or on its rim.
+        return Some(0.0);
+    }
+    let b = f.dot(&dir);
+    if b >= 0.0 {
+        return None;
+    }
+    let perp = cross(f, dir);
+    let disc = r * r - perp * perp;
+    if disc < 0.0 {
+        return None;
+    }
+    // The nearer root -b - sqrt(disc), computed as c / (-b + sqrt(disc)) so that it stays
+    // accurate when the origin is close to the rim.
+    Some(c / (-b + disc.sqrt()))
 }
 
 /// What a ray hit: an index into [`World::walls`] or [`World::discs`].
