@@ -274,3 +274,40 @@ fn demo_writes_lines_and_figures() {
             .is_some_and(|x| x == "svg"))
     );
 }
+
+#[test]
+fn a_closed_standard_output_ends_quietly() {
+    // The reader of the pipe stops at once (as `| head` does): no panic, no error, exit 0.
+    let dat = tmp("excerpt-pipe.dat.gz");
+    std::fs::write(&dat, laserlines_io::demo::URG04LX_EXCERPT).unwrap();
+    let svg = tmp("pipe.svg");
+    let runs: [Vec<std::ffi::OsString>; 2] = [
+        vec![
+            "extract".into(),
+            dat.clone().into(),
+            "-o".into(),
+            "-".into(),
+        ],
+        vec![
+            "render".into(),
+            dat.clone().into(),
+            "--sectors".into(),
+            "-o".into(),
+            svg.into(),
+        ],
+    ];
+    for args in runs {
+        let mut child = bin()
+            .args(&args)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let o = child.wait_with_output().unwrap();
+        let err = stderr(&o);
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(o.status.success(), "{args:?}: {err}");
+        assert!(!err.contains("error"), "{args:?}: {err}");
+    }
+}

@@ -95,19 +95,19 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     });
     progress.finish_and_clear();
 
-    println!("{source}\n");
+    outln!("{source}\n");
     print!("{}", report.to_markdown());
     let ratio = report.speed_ratio(FAST, BASELINE);
-    println!();
+    outln!();
     match (ratio, report.get(FAST), report.get(BASELINE)) {
-        (Some(r), Some(f), Some(b)) => println!(
+        (Some(r), Some(f), Some(b)) => outln!(
             "{FAST} is {:.1} times faster than {BASELINE} in this run (median {:.1} us vs {:.0} us per scan; median of per-scan ratios {:.1}), one thread.",
             r.of_medians,
             f.speed.median_us_per_scan,
             b.speed.median_us_per_scan,
             r.median_of_ratios
         ),
-        _ => println!("speed ratio {FAST} / {BASELINE}: not measured (select both to measure it)"),
+        _ => outln!("speed ratio {FAST} / {BASELINE}: not measured (select both to measure it)"),
     }
     write_outputs(&args.output, &report, ratio)?;
     eprintln!(
@@ -258,11 +258,11 @@ fn tune(args: &BenchArgs, algorithm: &str) -> Result<()> {
         &mut |line| eprintln!("  {line}"),
     )?;
     let (a, b) = (&result.start_metrics, &result.chosen_metrics);
-    println!(
+    outln!(
         "# {algorithm} tuned on {source}: {} parameter sets evaluated",
         result.evaluations
     );
-    println!(
+    outln!(
         "# F1 {:.4} -> {:.4}, TP rate {:.4} -> {:.4}, FP rate {:.4} -> {:.4}",
         a.f1,
         b.f1,
@@ -272,7 +272,7 @@ fn tune(args: &BenchArgs, algorithm: &str) -> Result<()> {
         b.false_positive_rate
     );
     for (from, to) in result.changed() {
-        println!("# {}: {} -> {}", to.name, from.value, to.value);
+        outln!("# {}: {} -> {}", to.name, from.value, to.value);
     }
     print!("{}", result.to_toml());
     Ok(())

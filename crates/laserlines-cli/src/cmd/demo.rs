@@ -66,21 +66,21 @@ pub fn run(args: &DemoArgs) -> Result<()> {
 
     let total: usize = counts.iter().sum();
     let n = counts.len().max(1);
-    println!(
+    outln!(
         "laserlines demo: {} real URG-04LX scans (BreezySLAM exp1 excerpt)",
         records.len()
     );
-    println!(
+    outln!(
         "  lines per scan: mean {:.1}, min {}, max {}",
         total as f64 / n as f64,
         counts.iter().min().copied().unwrap_or(0),
         counts.iter().max().copied().unwrap_or(0)
     );
-    println!(
+    outln!(
         "  hough-split: {median_us:.1} us per scan (median of {} passes, one thread)",
         per_scan.len()
     );
-    println!("  wrote {}", jsonl.display());
-    println!("  wrote {}", figure.display());
+    outln!("  wrote {}", jsonl.display());
+    outln!("  wrote {}", figure.display());
     Ok(())
 }

@@ -61,14 +61,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let objects = select_objects(&lines, &Isometry2::identity(), &SectorParams::default());
         for sector in Sector::ALL {
             match objects.get(sector) {
-                Some(o) => println!(
+                Some(o) => outln!(
                     "{}: distance {:.3} m, width {:.3} m, angle {:.1} deg",
                     sector.name(),
                     o.distance_m,
                     o.width_m,
                     o.angle_rad.to_degrees()
                 ),
-                None => println!("{}: none", sector.name()),
+                None => outln!("{}: none", sector.name()),
             }
         }
         let points: Vec<Point2> = record

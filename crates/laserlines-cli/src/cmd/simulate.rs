@@ -158,7 +158,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     }
 
     let m = &record.metrics;
-    println!(
+    outln!(
         "laserlines simulate: {name}, seed {}, start ({:.2}, {:.2}): coverage {:.3}, collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage at {}, pose error at most {:.2} m, stop {}",
         args.seed,
         start.translation.vector.x,
@@ -175,7 +175,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         m.max_pose_error_m,
         m.stop.name(),
     );
-    println!(
+    outln!(
         "  wrote {}, {}{}",
         metrics_path.display(),
         map_path.display(),
@@ -186,7 +186,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         }
     );
     if let Some((path, scans)) = mcap_scans {
-        println!("  wrote {} ({scans} scans)", path.display());
+        outln!("  wrote {} ({scans} scans)", path.display());
     }
     Ok(())
 }

@@ -53,7 +53,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     // Open once before serving, so that a bad input fails at once.
     let mut reader = super::open_input(&args.input)?;
     let server = LiveServer::start("127.0.0.1", args.port)?;
-    println!(
+    outln!(
         "laserlines: serving ws://127.0.0.1:{} (in Foxglove: Open connection, Foxglove WebSocket)",
         server.port()
     );
