@@ -95,13 +95,13 @@ fn is_broken_pipe(e: &anyhow::Error) -> bool {
     })
 }
 
-/// The error and its causes joined by `: `, leaving out a cause whose text the message
-/// already holds (many errors name their cause in their own message).
+/// The error and its causes joined by `: `, leaving out a cause that the message already
+/// ends with (many errors end their own message with their cause's).
 fn error_chain(e: &anyhow::Error) -> String {
     let mut message = e.to_string();
     for cause in e.chain().skip(1) {
         let c = cause.to_string();
-        if !message.contains(&c) {
+        if !(message == c || message.ends_with(&format!(": {c}"))) {
             message.push_str(": ");
             message.push_str(&c);
         }
@@ -122,5 +122,9 @@ mod tests {
         let plain: anyhow::Result<()> = Err(anyhow::anyhow!("disk full"));
         let e = plain.context("cannot write out.mcap").unwrap_err();
         assert_eq!(error_chain(&e), "cannot write out.mcap: disk full");
+        // A short cause that only appears inside the message is still given.
+        let short: anyhow::Result<()> = Err(anyhow::anyhow!("full"));
+        let e = short.context("disk full check failed").unwrap_err();
+        assert_eq!(error_chain(&e), "disk full check failed: full");
     }
 }

@@ -37,8 +37,8 @@ pub struct McapSceneWriter<W: Write + Seek> {
     scan: Slot,
     lines: Slot,
     tf: Slot,
-    /// Channels of [`McapSceneWriter::write_message`], by topic.
-    other: BTreeMap<String, Slot>,
+    /// Channels of [`McapSceneWriter::write_message`], by topic, with their schema's name.
+    other: BTreeMap<String, (Slot, String)>,
     clock: SceneClock,
     buf: Vec<u8>,
     scans: u64,
@@ -172,9 +172,21 @@ impl<W: Write + Seek> McapSceneWriter<W> {
                 )),
             });
         }
-        let mut slot = self.other.get(topic).copied().unwrap_or_default();
+        let schema = T::get_schema().map(|s| s.name).unwrap_or_default();
+        let mut slot = match self.other.get(topic) {
+            Some((slot, name)) if *name == schema => *slot,
+            Some((_, name)) => {
+                return Err(WriteError::Io {
+                    file: self.name.clone(),
+                    source: io::Error::other(format!(
+                        "topic {topic} carries {name}, not {schema}: one message type per topic"
+                    )),
+                });
+            }
+            None => Slot::default(),
+        };
         self.log(&mut slot, topic, BTreeMap::new(), msg, log_time_ns(time))?;
-        self.other.insert(topic.to_owned(), slot);
+        self.other.insert(topic.to_owned(), (slot, schema));
         Ok(())
     }
 
@@ -399,6 +411,14 @@ mod tests {
         // The writer's own topics are refused (their channels carry metadata and order).
         let e = w.write_message("/scan", &update, 1.0).unwrap_err();
         assert!(e.to_string().contains("/scan"), "{e}");
+        // One message type per topic.
+        let tf0 = crate::proto::transform_from_pose("world", "a", Pose2::new(0.0, 0.0, 0.0), 0.5);
+        let e = w.write_message("/arena", &tf0, 1.0).unwrap_err();
+        assert!(
+            e.to_string().contains("foxglove.SceneUpdate")
+                && e.to_string().contains("foxglove.FrameTransform"),
+            "{e}"
+        );
         let tf =
             crate::proto::transform_from_pose("world", "base_link", Pose2::new(1.0, 2.0, 0.3), 1.5);
         w.write_transform(&tf).unwrap();

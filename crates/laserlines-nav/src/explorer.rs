@@ -855,6 +855,7 @@ impl Explorer {
         // Seeing new ground on the way is progress too.
         if self.last_new >= time_s {
             travel.best_at = time_s;
+            travel.best_from = from;
         }
         let give_up = time_s - travel.best_at > p.give_up_s;
         if give_up {

@@ -403,11 +403,15 @@ impl RobotMap {
         if !(u.is_finite() && v.is_finite() && reach.is_finite()) {
             return;
         }
-        let r = (reach / self.knowledge.cell).ceil() as i64;
+        // No farther than the grid reaches (a huge `reach` would only loop over nothing).
+        let span = self.knowledge.cols.max(self.knowledge.rows) as f64;
+        let r = (reach / self.knowledge.cell).ceil().clamp(0.0, span) as i64;
         let (i, j) = (floor_i64(u), floor_i64(v));
         for dj in -r..=r {
             for di in -r..=r {
-                if let Some(c) = self.knowledge.index_of(i + di, j + dj)
+                if let Some(c) = self
+                    .knowledge
+                    .index_of(i.saturating_add(di), j.saturating_add(dj))
                     && self.knowledge.cells[c] >= OCCUPIED_AT
                 {
                     let [sx, sy, n] = self.centroids.cells[c];
@@ -440,7 +444,7 @@ impl RobotMap {
             for di in -r..=r {
                 let known = self
                     .knowledge
-                    .index_of(i + di, j + dj)
+                    .index_of(i.saturating_add(di), j.saturating_add(dj))
                     .is_some_and(|c| self.knowledge.cells[c] != 0);
                 unknown += usize::from(!known);
             }
@@ -596,8 +600,14 @@ impl RobotMap {
         }
         let (i, j) = (floor_i64(u), floor_i64(v));
         let mut best: Option<(f64, [f64; 3])> = None;
-        let (x0, x1) = ((i - 1).max(0), (i + 1).min(grid.cols as i64 - 1));
-        let (y0, y1) = ((j - 1).max(0), (j + 1).min(grid.rows as i64 - 1));
+        let (x0, x1) = (
+            i.saturating_sub(1).max(0),
+            i.saturating_add(1).min(grid.cols as i64 - 1),
+        );
+        let (y0, y1) = (
+            j.saturating_sub(1).max(0),
+            j.saturating_add(1).min(grid.rows as i64 - 1),
+        );
         if x0 > x1 || y0 > y1 {
             return None;
         }

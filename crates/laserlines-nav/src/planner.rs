@@ -80,6 +80,31 @@ pub struct Plan {
     pub length_m: f64,
 }
 
+/// The largest cost factor of a step onto a cell (10 per unit of length at full
+/// clearance), so that path costs stay far from `u32::MAX` for any `clearance_cost`.
+const MAX_FACTOR: f64 = (1 << 20) as f64;
+
+/// The cells of a `w` x `h` window within the square of half side `radius` (cells, rounded
+/// up) around `(ci, cj)`, as indices `y * w + x`; nothing when the square misses the window.
+fn disc_cells(
+    (ci, cj): (i64, i64),
+    radius: f64,
+    (w, h): (usize, usize),
+) -> impl Iterator<Item = usize> {
+    let reach = if radius.is_finite() {
+        radius.max(0.0).ceil().min((w.max(h) + 1) as f64) as i64
+    } else if radius > 0.0 {
+        (w.max(h) + 1) as i64
+    } else {
+        0
+    };
+    let x0 = ci.saturating_sub(reach).max(0);
+    let x1 = ci.saturating_add(reach).min(w as i64 - 1);
+    let y0 = cj.saturating_sub(reach).max(0);
+    let y1 = cj.saturating_add(reach).min(h as i64 - 1);
+    (y0..=y1).flat_map(move |y| (x0..=x1).map(move |x| y as usize * w + x as usize))
+}
+
 /// Chamfer weight of a straight step.
 const STRAIGHT: u32 = 5;
 /// Chamfer weight of a diagonal step.
@@ -117,7 +142,8 @@ impl Planner {
     /// Closes the cells within `radius` of each of `spots` (map frame) to the paths planned
     /// from now on, except those within `radius` of the robot itself: places where the
     /// map shows a way but the robot could not get through (a gap its safety layer finds
-    /// too narrow). An empty list opens them all again.
+    /// too narrow). An empty list, or a radius that is not finite and positive, opens them
+    /// all again.
     pub fn set_blocked(&mut self, spots: &[Point2], radius: f64) {
         self.blocked.clear();
         self.blocked
@@ -253,7 +279,10 @@ impl Planner {
         if !(us.is_finite() && vs.is_finite()) {
             return None;
         }
-        let (si, sj) = (floor_i64(us) - i0 as i64, floor_i64(vs) - j0 as i64);
+        let (si, sj) = (
+            floor_i64(us).saturating_sub(i0 as i64),
+            floor_i64(vs).saturating_sub(j0 as i64),
+        );
         if !(si >= 0 && sj >= 0 && (si as usize) < w && (sj as usize) < h) {
             return None;
         }
@@ -262,7 +291,6 @@ impl Planner {
         let need = units(params.clearance_m);
         let need_near = units(params.escape_clearance_m);
         let prefer = units(params.preferred_clearance_m).max(1);
-        let near_start = (params.escape_radius_m.max(0.0) / cell).ceil() as i64;
         let near_start2 = (params.escape_radius_m / cell) * (params.escape_radius_m / cell);
         // Per cell: u32::MAX when not passable, else the cost factor of a step onto it
         // (10 per unit of step length, more where the clearance is small).
@@ -276,24 +304,18 @@ impl Planner {
                 let clear = c.min(prefer);
                 let extra =
                     params.clearance_cost.max(0.0) * f64::from(prefer - clear) / f64::from(prefer);
-                let factor = (10.0 * (1.0 + extra)).round() as u32;
+                let factor = (10.0 * (1.0 + extra)).round().min(MAX_FACTOR) as u32;
                 // Below the clearance, passable only near the start (marked below).
                 if c < need { u32::MAX - factor } else { factor }
             }));
-        for dj in -near_start..=near_start {
-            for di in -near_start..=near_start {
-                let (x, y) = (si + di, sj + dj);
-                if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
-                    continue;
-                }
-                if ((di * di + dj * dj) as f64) > near_start2 {
-                    continue;
-                }
-                let k = y as usize * w + x as usize;
-                let f = self.factor[k];
-                if f != u32::MAX && f > u32::MAX / 2 {
-                    self.factor[k] = u32::MAX - f;
-                }
+        for k in disc_cells((si, sj), params.escape_radius_m.max(0.0) / cell, (w, h)) {
+            let (di, dj) = ((k % w) as i64 - si, (k / w) as i64 - sj);
+            if ((di * di + dj * dj) as f64) > near_start2 {
+                continue;
+            }
+            let f = self.factor[k];
+            if f != u32::MAX && f > u32::MAX / 2 {
+                self.factor[k] = u32::MAX - f;
             }
         }
         for f in &mut self.factor {
@@ -304,30 +326,24 @@ impl Planner {
         // The blocked spots, but never around the robot itself.
         if !self.blocked.is_empty() && self.blocked_radius > 0.0 {
             let r = self.blocked_radius / cell;
-            let reach = r.ceil() as i64;
             for b in &self.blocked {
                 let (bu, bv) = grid.to_cells(*b);
-                let (bi, bj) = (floor_i64(bu) - i0 as i64, floor_i64(bv) - j0 as i64);
-                for dj in -reach..=reach {
-                    for di in -reach..=reach {
-                        let (x, y) = (bi + di, bj + dj);
-                        if x < 0 || y < 0 || x >= w as i64 || y >= h as i64 {
-                            continue;
-                        }
-                        if ((di * di + dj * dj) as f64) > r * r {
-                            continue;
-                        }
-                        let (ds, dt) = ((x - si) as f64, (y - sj) as f64);
-                        if ds * ds + dt * dt <= r * r {
-                            continue;
-                        }
-                        self.factor[y as usize * w + x as usize] = u32::MAX;
+                let (bi, bj) = (
+                    floor_i64(bu).saturating_sub(i0 as i64),
+                    floor_i64(bv).saturating_sub(j0 as i64),
+                );
+                for k in disc_cells((bi, bj), r, (w, h)) {
+                    let (x, y) = ((k % w) as i64, (k / w) as i64);
+                    let (di, dj) = ((x - bi) as f64, (y - bj) as f64);
+                    let (ds, dt) = ((x - si) as f64, (y - sj) as f64);
+                    if di * di + dj * dj <= r * r && ds * ds + dt * dt > r * r {
+                        self.factor[k] = u32::MAX;
                     }
                 }
             }
         }
-        self.factor[start] =
-            self.factor[start].min(10 * (1 + params.clearance_cost.max(0.0) as u32));
+        let worst = (10.0 * (1.0 + params.clearance_cost.max(0.0))).min(MAX_FACTOR) as u32;
+        self.factor[start] = self.factor[start].min(worst);
         let factor = &self.factor;
         let is_frontier =
             |k: usize| factor[k] != u32::MAX && unknown_around(k) >= params.min_unknown;

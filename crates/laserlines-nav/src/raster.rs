@@ -6,20 +6,7 @@
 //! polygon's edges plus the cells filled (where walking every beam through the grid costs
 //! its length in cells, beam after beam over the same cells near the laser).
 
-/// `x.floor() as i64` without a call to `floor` (which the baseline x86-64 target makes a
-/// library call); for finite `|x|` below 2^53 (saturating beyond, 0 for NaN).
-#[inline]
-pub(crate) fn floor_i64(x: f64) -> i64 {
-    let t = x as i64;
-    if (t as f64) > x { t - 1 } else { t }
-}
-
-/// `x.ceil() as i64` without a library call, as [`floor_i64`].
-#[inline]
-pub(crate) fn ceil_i64(x: f64) -> i64 {
-    let t = x as i64;
-    if (t as f64) < x { t + 1 } else { t }
-}
+pub(crate) use laserlines::math::{ceil_i64, floor_i64};
 
 /// The unit directions of a scan's beams in the laser frame, kept while the scan's
 /// geometry stays the same: a loop over the beams then needs no chain of rotations.
@@ -88,7 +75,7 @@ impl FanRaster {
         }
         // Rows whose centre line y = j + 0.5 lies within the polygon's extent.
         let j0 = ceil_i64(y_lo - 0.5).max(0);
-        let j1 = (ceil_i64(y_hi - 0.5) - 1).min(rows as i64 - 1);
+        let j1 = ceil_i64(y_hi - 0.5).saturating_sub(1).min(rows as i64 - 1);
         if j0 > j1 {
             return;
         }
@@ -104,7 +91,7 @@ impl FanRaster {
             let (lo, hi) = if ya < yb { (ya, yb) } else { (yb, ya) };
             // Half-open in y, so that a vertex on a centre line counts once.
             let first = ceil_i64(lo - 0.5).max(j0);
-            let last = (ceil_i64(hi - 0.5) - 1).min(j1);
+            let last = ceil_i64(hi - 0.5).saturating_sub(1).min(j1);
             let slope = (xb - xa) / (yb - ya);
             for j in first..=last {
                 let yc = j as f64 + 0.5;
@@ -149,7 +136,9 @@ impl FanRaster {
             for pair in run.chunks_exact(2) {
                 // Cells whose centre x = i + 0.5 lies in [xa, xb).
                 let i0 = ceil_i64(f64::from(pair[0]) - 0.5).max(0);
-                let i1 = (ceil_i64(f64::from(pair[1]) - 0.5) - 1).min(cols - 1);
+                let i1 = ceil_i64(f64::from(pair[1]) - 0.5)
+                    .saturating_sub(1)
+                    .min(cols - 1);
                 if i0 <= i1 {
                     span_fn((j0 + row as i64) as usize, i0 as usize, i1 as usize);
                 }

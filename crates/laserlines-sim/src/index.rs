@@ -7,7 +7,7 @@
 //! It gives the same ranges as [`World::cast`] (the same intersection formulas); where two
 //! obstacles tie exactly, the target reported may differ.
 
-use laserlines::math::{Point2, Vector2};
+use laserlines::math::{Point2, Vector2, ceil_i64, floor_i64};
 
 use laserlines::Scan;
 
@@ -755,21 +755,6 @@ fn fast_atan2(y: f64, x: f64) -> f64 {
         a = PI - a;
     }
     if y < 0.0 { -a } else { a }
-}
-
-/// `x.floor() as i64` without a call to `floor` (which the baseline x86-64 target makes a
-/// library call); saturating for huge `|x|`, 0 for NaN.
-#[inline]
-fn floor_i64(x: f64) -> i64 {
-    let t = x as i64;
-    if (t as f64) > x { t - 1 } else { t }
-}
-
-/// `x.ceil() as i64` without a library call, as [`floor_i64`].
-#[inline]
-fn ceil_i64(x: f64) -> i64 {
-    let t = x as i64;
-    if (t as f64) < x { t + 1 } else { t }
 }
 
 /// `x.round()` (halves away from zero) without a library call; `x` unchanged when it is

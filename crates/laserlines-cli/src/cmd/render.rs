@@ -29,7 +29,8 @@ pub struct RenderArgs {
     /// TOML file of parameters (one table per algorithm).
     #[arg(long)]
     params: Option<PathBuf>,
-    /// Width of the figure, pixels.
+    /// Width of the four-panel figure, pixels (the `--sectors` figure has a plot 560 px
+    /// wide).
     #[arg(long, default_value_t = 1200.0)]
     width: f64,
     /// Draw the paper's Fig. 7 instead: the three sectors (left 50..120 deg, front -50..50,

@@ -452,7 +452,6 @@ fn map_svg(name: &str, world: &World, start: Isometry2, record: &RunRecord) -> S
     canvas.to_svg()
 }
 
-/// The paper's Fig. 7: the three sectors around the robot and the selected objects.
 /// The paper's Fig. 7: the three sectors around the robot, the scan points, the extracted
 /// lines and the selected object of each sector with its figures, robot frame. The view
 /// reaches 3 m, or as far as the scan points when they are farther (at most 10 m).

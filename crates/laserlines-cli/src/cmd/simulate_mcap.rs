@@ -184,8 +184,9 @@ impl McapRecorder {
             outline.push(point3(corners[k]));
             outline.push(point3(corners[(k + 1) % 4]));
         }
-        // The sector bounds, 1.5 m long rays from the laser.
-        let origin = frame.robot_from_laser * Point2::origin();
+        // The sector bounds, 1.5 m long rays from the robot's origin (the sectors' bearings
+        // are measured from there).
+        let origin = Point2::origin();
         let mut bounds = Vec::new();
         for s in Sector::ALL {
             let (from, to) = s.bounds_rad();
