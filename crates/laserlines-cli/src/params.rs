@@ -19,6 +19,22 @@
 //! seed = 7
 //! inlier_distance = 0.02    # m
 //! ```
+//!
+//! `laserlines simulate` also reads `[robot]` (the simulated robot: footprint, drive limits,
+//! odometry noise, the laser's mount, rates) and `[explorer]` (the wall follower and its
+//! travel to frontiers); other commands leave those two tables alone.
+//!
+//! ```toml
+//! [robot]
+//! footprint_length = 0.6    # m
+//! footprint_width = 0.45    # m
+//! max_speed = 0.4           # m/s
+//! laser_x = 0.2             # m ahead of the axle
+//!
+//! [explorer]
+//! side = "right"            # the wall followed: "left" or "right"
+//! follow_distance = 0.5     # m
+//! ```
 
 use std::path::Path;
 
@@ -28,7 +44,10 @@ use laserlines::extractors::{
     IterativeHoughParams, LineRegression, LineRegressionParams, Ransac, RansacParams,
     SplitAndMerge, SplitAndMergeParams,
 };
+use laserlines::math::{Isometry2, Vector2};
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, RangeWindow, Weight};
+use laserlines_nav::{ExplorerParams, WallSide};
+use laserlines_sim::robot::RobotParams;
 use serde::Deserialize;
 
 /// The whole file.
@@ -47,6 +66,54 @@ pub struct ParamsFile {
     line_regression: Option<LineRegressionToml>,
     ransac: Option<RansacToml>,
     em: Option<EmToml>,
+    robot: Option<RobotToml>,
+    explorer: Option<ExplorerToml>,
+}
+
+/// `[robot]`: overrides of the simulated robot ([`RobotParams`]).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RobotToml {
+    footprint_length: Option<f64>,
+    footprint_width: Option<f64>,
+    max_speed: Option<f64>,
+    max_reverse: Option<f64>,
+    max_turn_rate: Option<f64>,
+    max_accel: Option<f64>,
+    max_angular_accel: Option<f64>,
+    wheel_base: Option<f64>,
+    wheel_sigma: Option<f64>,
+    laser_x: Option<f64>,
+    laser_y: Option<f64>,
+    laser_yaw: Option<f64>,
+    scan_period_s: Option<f64>,
+    physics_dt_s: Option<f64>,
+}
+
+/// The followed side by name.
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum SideName {
+    Left,
+    Right,
+}
+
+/// `[explorer]`: overrides of the explorer ([`ExplorerParams`]); all lengths, speeds and
+/// times must be positive and finite.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ExplorerToml {
+    side: Option<SideName>,
+    follow_distance: Option<f64>,
+    follow_range: Option<f64>,
+    cruise_speed: Option<f64>,
+    corner_speed: Option<f64>,
+    turn_rate: Option<f64>,
+    safety_margin: Option<f64>,
+    travel_speed: Option<f64>,
+    lookahead_m: Option<f64>,
+    give_up_s: Option<f64>,
+    idle_timeout_s: Option<f64>,
 }
 
 /// The weight function by name, for the classic extractors' tables.
@@ -240,6 +307,83 @@ struct HoughSplitToml {
 }
 
 impl ParamsFile {
+    /// The simulated robot: NAJI V's defaults overridden by `[robot]`, validated.
+    pub fn robot(&self) -> Result<RobotParams> {
+        let mut p = RobotParams::default();
+        let Some(t) = &self.robot else {
+            return Ok(p);
+        };
+        macro_rules! set {
+            ($($key:ident => $field:expr),* $(,)?) => { $( if let Some(v) = t.$key { $field = v; } )* };
+        }
+        set!(
+            footprint_length => p.footprint.length,
+            footprint_width => p.footprint.width,
+            max_speed => p.limits.max_speed,
+            max_reverse => p.limits.max_reverse,
+            max_turn_rate => p.limits.max_turn_rate,
+            max_accel => p.limits.max_accel,
+            max_angular_accel => p.limits.max_angular_accel,
+            wheel_base => p.wheel_base,
+            wheel_sigma => p.odometry.wheel_sigma,
+            scan_period_s => p.scan_period_s,
+            physics_dt_s => p.physics_dt_s,
+        );
+        if t.laser_x.is_some() || t.laser_y.is_some() || t.laser_yaw.is_some() {
+            let at = p.robot_from_laser.translation.vector;
+            let (x, y, yaw) = (
+                t.laser_x.unwrap_or(at.x),
+                t.laser_y.unwrap_or(at.y),
+                t.laser_yaw.unwrap_or(p.robot_from_laser.rotation.angle()),
+            );
+            for (key, v) in [("laser_x", x), ("laser_y", y), ("laser_yaw", yaw)] {
+                if !v.is_finite() {
+                    bail!("[robot] {key} = {v} is not a finite number");
+                }
+            }
+            p.robot_from_laser = Isometry2::new(Vector2::new(x, y), yaw);
+        }
+        p.validate().context("[robot] parameters")?;
+        Ok(p)
+    }
+
+    /// The explorer: defaults overridden by `[explorer]`, each value checked.
+    pub fn explorer(&self) -> Result<ExplorerParams> {
+        let mut p = ExplorerParams::default();
+        let Some(t) = &self.explorer else {
+            return Ok(p);
+        };
+        if let Some(side) = t.side {
+            p.side = match side {
+                SideName::Left => WallSide::Left,
+                SideName::Right => WallSide::Right,
+            };
+        }
+        macro_rules! set {
+            ($($f:ident),* $(,)?) => { $(
+                if let Some(v) = t.$f {
+                    if !(v.is_finite() && v > 0.0) {
+                        bail!("[explorer] {} = {v}: expected a positive, finite number", stringify!($f));
+                    }
+                    p.$f = v;
+                }
+            )* };
+        }
+        set!(
+            follow_distance,
+            follow_range,
+            cruise_speed,
+            corner_speed,
+            turn_rate,
+            safety_margin,
+            travel_speed,
+            lookahead_m,
+            give_up_s,
+            idle_timeout_s,
+        );
+        Ok(p)
+    }
+
     /// Reads and parses a params file.
     pub fn load(path: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(path)

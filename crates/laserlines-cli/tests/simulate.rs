@@ -179,3 +179,61 @@ fn simulate_records_the_run_as_mcap() {
     }
     assert!(objects > 0);
 }
+
+#[test]
+fn simulate_takes_robot_and_explorer_settings_from_a_params_file() {
+    let dir =
+        std::env::temp_dir().join(format!("laserlines-simulate-params-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let params = dir.join("robot.toml");
+    std::fs::write(
+        &params,
+        "[robot]\nmax_speed = 0.2\nfootprint_width = 0.35\nlaser_x = 0.1\n\n[explorer]\nside = \"right\"\ncruise_speed = 0.2\n",
+    )
+    .unwrap();
+    let o = bin()
+        .args([
+            "simulate",
+            "--arena",
+            "inner_explore_test",
+            "--duration",
+            "20",
+            "-o",
+        ])
+        .arg(&dir)
+        .arg("--params")
+        .arg(&params)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(dir.join("metrics.json")).unwrap();
+    let m: serde_json::Value = serde_json::from_str(&text).unwrap();
+    // At most 0.2 m/s for 20 s (the default robot drives up to 0.6 m/s).
+    let path = m["path_length_m"].as_f64().unwrap();
+    assert!(path > 0.5 && path <= 0.2 * 20.0 + 1e-9, "{text}");
+    assert_eq!(m["collisions"], 0);
+    assert!(m["params"].as_str().unwrap().ends_with("robot.toml"));
+
+    // Bad settings: a clear error naming the table and the key, exit code 2.
+    for (body, needle) in [
+        ("[robot]\nfootprint_width = -1\n", "footprint.width"),
+        ("[robot]\nwheels = 3\n", "wheels"),
+        ("[explorer]\nfollow_distance = 0\n", "follow_distance"),
+        ("[explorer]\nside = \"up\"\n", "side"),
+    ] {
+        std::fs::write(&params, body).unwrap();
+        let o = bin()
+            .args(["simulate", "--duration", "1", "-o"])
+            .arg(&dir)
+            .arg("--params")
+            .arg(&params)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{body}: {err}");
+        assert!(
+            err.contains(needle) && !err.contains("panicked"),
+            "{body}: {err}"
+        );
+    }
+}

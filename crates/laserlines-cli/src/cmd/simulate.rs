@@ -54,6 +54,11 @@ pub struct SimulateArgs {
     /// Output folder.
     #[arg(short, long, default_value = "laserlines-simulate")]
     output: PathBuf,
+    /// TOML file of settings: `[robot]` (footprint, drive limits, odometry noise, laser
+    /// mount, rates), `[explorer]` (followed side, distances, speeds, timeouts) and
+    /// `[hough-split]` (the line extractor); keys as in the README.
+    #[arg(long, value_name = "FILE.toml")]
+    params: Option<PathBuf>,
     /// Also record the run as MCAP for Foxglove: arena, true and estimated poses, scans,
     /// lines, sector objects and the explorer's goal.
     #[arg(long, value_name = "FILE")]
@@ -85,12 +90,20 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             args.duration
         );
     }
-    let (name, world, default_start) = world_of(args)?;
+    let file = match &args.params {
+        Some(p) => crate::params::ParamsFile::load(p)?,
+        None => crate::params::ParamsFile::default(),
+    };
+    let robot = file.robot()?;
+    let (name, world, default_start) = world_of(args, &robot)?;
     let start = match &args.start {
         Some(s) => parse_start(s)?,
         None => default_start,
     };
     let config = RunConfig {
+        robot,
+        explorer: file.explorer()?,
+        extractor: file.hough_split()?,
         duration_s: args.duration,
         seed: args.seed,
         snapshot_at_s: args.snapshot,
@@ -192,7 +205,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
 }
 
 /// The world to explore, its name and the default start.
-fn world_of(args: &SimulateArgs) -> Result<(String, World, Isometry2)> {
+fn world_of(args: &SimulateArgs, robot: &RobotParams) -> Result<(String, World, Isometry2)> {
     if let Some(seed) = args.maze {
         let params = MazeParams {
             islands: if args.islands { 3 } else { 0 },
@@ -254,11 +267,8 @@ fn world_of(args: &SimulateArgs) -> Result<(String, World, Isometry2)> {
             );
         }
     }
-    let start = interior_start(
-        &arena.world,
-        RobotParams::default().footprint.circumradius(),
-    )
-    .unwrap_or_else(|| Isometry2::new(Vector2::zeros(), 0.0));
+    let start = interior_start(&arena.world, robot.footprint.circumradius())
+        .unwrap_or_else(|| Isometry2::new(Vector2::zeros(), 0.0));
     Ok((arena.name.clone(), arena.world, start))
 }
 
@@ -287,6 +297,7 @@ fn metrics_json(
     serde_json::json!({
         "world": name,
         "seed": args.seed,
+        "params": args.params.as_ref().map(|p| p.display().to_string()),
         "start": [s.x, s.y, start.rotation.angle().to_degrees()],
         "duration_s": args.duration,
         "coverage": m.coverage,
