@@ -109,7 +109,6 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         snapshot_at_s: args.snapshot,
         // The lines of one scan in 30 for the map picture (every 3 s).
         record_lines_every: 30,
-        ..RunConfig::default()
     };
 
     let progress = if io::stderr().is_terminal() {
