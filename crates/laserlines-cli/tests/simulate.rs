@@ -2,32 +2,40 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use std::ffi::OsStr;
+use std::path::Path;
 use std::process::Command;
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_laserlines"))
 }
 
-#[test]
-fn simulate_writes_metrics_and_pictures() {
-    let dir = std::env::temp_dir().join(format!("laserlines-simulate-{}", std::process::id()));
+/// Runs `laserlines simulate` in the bundled `inner_explore_test` for `duration` seconds into
+/// `dir`, with `extra` arguments; asserts that it succeeds and returns its `metrics.json`
+/// (and the file's text).
+fn simulate_ok(dir: &Path, duration: &str, extra: &[&OsStr]) -> (serde_json::Value, String) {
     let o = bin()
         .args([
             "simulate",
             "--arena",
             "inner_explore_test",
             "--duration",
-            "25",
-            "--snapshot",
-            "5",
+            duration,
             "-o",
         ])
-        .arg(&dir)
+        .arg(dir)
+        .args(extra)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = std::fs::read_to_string(dir.join("metrics.json")).unwrap();
-    let m: serde_json::Value = serde_json::from_str(&text).unwrap();
+    (serde_json::from_str(&text).unwrap(), text)
+}
+
+#[test]
+fn simulate_writes_metrics_and_pictures() {
+    let dir = std::env::temp_dir().join(format!("laserlines-simulate-{}", std::process::id()));
+    let (m, text) = simulate_ok(&dir, "25", &["--snapshot".as_ref(), "5".as_ref()]);
     for key in [
         "coverage",
         "collisions",
@@ -83,23 +91,7 @@ fn simulate_records_the_run_as_mcap() {
 
     let dir = std::env::temp_dir().join(format!("laserlines-simulate-mcap-{}", std::process::id()));
     let mcap_path = dir.join("run.mcap");
-    let o = bin()
-        .args([
-            "simulate",
-            "--arena",
-            "inner_explore_test",
-            "--duration",
-            "3",
-            "-o",
-        ])
-        .arg(&dir)
-        .arg("--mcap")
-        .arg(&mcap_path)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let text = std::fs::read_to_string(dir.join("metrics.json")).unwrap();
-    let m: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let (m, _) = simulate_ok(&dir, "3", &["--mcap".as_ref(), mcap_path.as_os_str()]);
     let scans = m["scans"].as_u64().unwrap();
     assert_eq!(scans, 30, "3 s at 10 Hz");
 
@@ -191,23 +183,7 @@ fn simulate_takes_robot_and_explorer_settings_from_a_params_file() {
         "[robot]\nmax_speed = 0.2\nfootprint_width = 0.35\nlaser_x = 0.1\n\n[explorer]\nside = \"right\"\ncruise_speed = 0.2\n",
     )
     .unwrap();
-    let o = bin()
-        .args([
-            "simulate",
-            "--arena",
-            "inner_explore_test",
-            "--duration",
-            "20",
-            "-o",
-        ])
-        .arg(&dir)
-        .arg("--params")
-        .arg(&params)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let text = std::fs::read_to_string(dir.join("metrics.json")).unwrap();
-    let m: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let (m, text) = simulate_ok(&dir, "20", &["--params".as_ref(), params.as_os_str()]);
     // At most 0.2 m/s for 20 s (the default robot drives up to 0.6 m/s).
     let path = m["path_length_m"].as_f64().unwrap();
     assert!(path > 0.5 && path <= 0.2 * 20.0 + 1e-9, "{text}");
