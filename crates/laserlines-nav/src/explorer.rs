@@ -70,6 +70,52 @@
 //!
 //! **Stopping.** The explorer reports that it is done when no frontier is left (the whole
 //! reachable area has been seen), or when its map has gained nothing for `idle_timeout_s`.
+//!
+//! **On a real robot** the loop is the simulator's without the simulator: for each scan of
+//! the laser, the odometry pose at its time, the lines, one decision, one velocity command
+//! to the drive. [`RobotParams`] describes the robot (footprint, limits, the laser's mount).
+//!
+//! ```
+//! use laserlines::math::Isometry2;
+//! use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, Scan};
+//! use laserlines_nav::{Explorer, ExplorerParams};
+//! use laserlines_sim::robot::RobotParams;
+//!
+//! let robot = RobotParams::default(); // NAJI V: 0.5 m x 0.4 m, the URG-04LX 0.15 m ahead
+//! let mut extractor = HoughSplit::new(HoughSplitParams::default()).unwrap();
+//! let mut explorer = Explorer::new(ExplorerParams::default(), &robot);
+//! let mut lines = Vec::new();
+//! // Stand-ins for the laser driver and the wheel odometry: a wall 1 m to the left.
+//! let n = 682;
+//! let inc = 360.0_f64.to_radians() / 1024.0;
+//! let angle_min = -inc * (n as f64 - 1.0) / 2.0;
+//! let ranges = (0..n)
+//!     .map(|i| {
+//!         let (s, c) = (angle_min + inc * i as f64).sin_cos();
+//!         // The laser is 0.15 m ahead of the axle: the wall y = 1 in its frame too.
+//!         if s > 0.05 && (c / s).abs() < 3.0 { 1.0 / s } else { f64::NAN }
+//!     })
+//!     .collect();
+//! let scan = Scan::new(angle_min, inc, 0.02, 5.6, ranges).unwrap();
+//! for k in 0..20 {
+//!     let t = 0.1 * f64::from(k);
+//!     let odom_from_robot = Isometry2::identity(); // from the wheel encoders
+//!     extractor.extract_into(&scan, &mut lines);
+//!     let decision = explorer.on_scan(&scan, &lines, &odom_from_robot, t);
+//!     // Send decision.command (linear_m_s, angular_rad_s) to the drive; never faster
+//!     // than the robot's limits.
+//!     assert!(decision.command.linear_m_s.abs() <= robot.limits.max_speed + 1e-9);
+//!     assert!(decision.command.angular_rad_s.abs() <= robot.limits.max_turn_rate + 1e-9);
+//! }
+//! // The wall on the left is the left sector's object, about 1 m away.
+//! let objects = laserlines_nav::select_objects(
+//!     &lines,
+//!     &robot.robot_from_laser,
+//!     &Default::default(),
+//! );
+//! let left = objects.get(laserlines_nav::Sector::Left).unwrap();
+//! assert!((left.distance_m - 1.0).abs() < 0.02);
+//! ```
 
 use laserlines::Line;
 use laserlines::Scan;
