@@ -126,15 +126,18 @@ impl FitSums {
             return None;
         }
         let mut alpha = 0.5 * (-2.0 * mxy).atan2(myy - mxx);
-        let mut r = cx * alpha.cos() + cy * alpha.sin();
+        // One sine and cosine: turning the normal by pi only flips their signs.
+        let (mut sin, mut cos) = alpha.sin_cos();
+        let mut r = cx * cos + cy * sin;
         if r < 0.0 {
             r = -r;
             alpha += std::f64::consts::PI;
+            (sin, cos) = (-sin, -cos);
         }
         alpha = wrap_angle(alpha);
         let s2 = if self.n > 2 { sse / (n - 2.0) } else { 0.0 };
         let var_alpha = s2 / spread;
-        let t0 = -cx * alpha.sin() + cy * alpha.cos();
+        let t0 = -cx * sin + cy * cos;
         let covariance = Matrix2::new(
             s2 / n + t0 * t0 * var_alpha,
             t0 * var_alpha,
@@ -182,6 +185,13 @@ impl PolarFit {
         p.coords.dot(&self.normal()) - self.r
     }
 
+    /// [`PolarFit::distance`] as a function with the normal computed once, for loops over
+    /// many points (the same values, bit for bit).
+    pub fn distance_fn(&self) -> impl Fn(Point2) -> f64 + Copy + use<> {
+        let (normal, r) = (self.normal(), self.r);
+        move |p: Point2| p.coords.dot(&normal) - r
+    }
+
     /// Orthogonal projection of `p` onto the line.
     #[must_use]
     pub fn project(&self, p: Point2) -> Point2 {
@@ -214,6 +224,21 @@ mod tests {
         let f = fit_points(&pts).unwrap();
         assert!((f.r - 3.0).abs() < 1e-12);
         assert!((f.alpha + std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn distance_fn_gives_distance_bit_for_bit() {
+        let pts: Vec<Point2> = (0..12)
+            .map(|i| Point2::new(1.0 + 0.3 * f64::from(i), -2.0 + 0.11 * f64::from(i * i % 5)))
+            .collect();
+        let f = fit_points(&pts).unwrap();
+        let d = f.distance_fn();
+        for p in pts
+            .iter()
+            .chain([Point2::origin(), Point2::new(-7.5, 3.25)].iter())
+        {
+            assert_eq!(d(*p).to_bits(), f.distance(*p).to_bits(), "{p}");
+        }
     }
 
     #[test]

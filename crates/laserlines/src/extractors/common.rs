@@ -369,8 +369,9 @@ pub(crate) fn split(
                     FitSums::from_points(points[a..=b].iter().map(|sp| sp.point)).fit()
                 {
                     // Interior points only: splitting at an end would make no progress.
+                    let distance = fit.distance_fn();
                     for (m, sp) in points.iter().enumerate().take(b).skip(a + 1) {
-                        let d = fit.distance(sp.point).abs();
+                        let d = distance(sp.point).abs();
                         if best.is_none_or(|(bd, _)| d > bd) {
                             best = Some((d, m));
                         }
@@ -400,9 +401,10 @@ pub(crate) fn collinear(points: &[ScanPoint], from: usize, to: usize, threshold:
     let Some(fit) = FitSums::from_points(points[from..to].iter().map(|sp| sp.point)).fit() else {
         return false;
     };
+    let distance = fit.distance_fn();
     points[from..to]
         .iter()
-        .all(|sp| fit.distance(sp.point).abs() <= threshold.at(sp.range))
+        .all(|sp| distance(sp.point).abs() <= threshold.at(sp.range))
 }
 
 /// Merges adjacent pieces (`pieces[i].end == pieces[i + 1].start`, all members) greedily from

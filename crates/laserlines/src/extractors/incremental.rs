@@ -134,9 +134,10 @@ impl Incremental {
         while cluster.end - i >= seed {
             let sums = FitSums::from_points(pts[i..i + seed].iter().map(|sp| sp.point));
             let seeded = sums.fit().filter(|fit| {
+                let distance = fit.distance_fn();
                 pts[i..i + seed]
                     .iter()
-                    .all(|sp| fit.distance(sp.point).abs() <= threshold.at(sp.range))
+                    .all(|sp| distance(sp.point).abs() <= threshold.at(sp.range))
             });
             let Some(mut fit) = seeded else {
                 i += 1;

@@ -165,10 +165,19 @@ impl Accumulator {
                     j += 1;
                 }
             }
-            // A sector holds a handful of votes: insertion sort by ring, stable.
+            // A sector holds a handful of votes, in beam order: sorted by (ring, point), the
+            // order in which cells are made and summed. A surface that comes nearer along
+            // the sector gives them in falling ring order: reversed first, the insertion
+            // sort then only swaps each point's own pair of rings.
+            let key = |v: &Vote| (u64::from(v.ring) << 32) | u64::from(v.point);
+            if let (Some(first), Some(last)) = (self.votes.first(), self.votes.last())
+                && first.ring > last.ring
+            {
+                self.votes.reverse();
+            }
             for i in 1..self.votes.len() {
                 let mut k = i;
-                while k > 0 && self.votes[k - 1].ring > self.votes[k].ring {
+                while k > 0 && key(&self.votes[k - 1]) > key(&self.votes[k]) {
                     self.votes.swap(k - 1, k);
                     k -= 1;
                 }

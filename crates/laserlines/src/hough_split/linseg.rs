@@ -106,9 +106,10 @@ fn collinear(
     let Some(fit) = sums(pre, from, to).fit() else {
         return false;
     };
+    let distance = fit.distance_fn();
     seg[from..to].iter().all(|&i| {
         let sp = &points[i as usize];
-        fit.distance(sp.point).abs() <= p.split_threshold(sp.range)
+        distance(sp.point).abs() <= p.split_threshold(sp.range)
     })
 }
 
@@ -142,14 +143,15 @@ fn best_cut(
         return b + 1;
     }
     // cost(c) = sum over window points before c of dL^2 + from c on of dR^2.
+    let (dl, dr) = (left.distance_fn(), right.distance_fn());
     let mut cost: f64 = seg[wlo..=whi]
         .iter()
-        .map(|&k| right.distance(points[k as usize].point).powi(2))
+        .map(|&k| dr(points[k as usize].point).powi(2))
         .sum();
     let mut best = (cost, wlo);
     for c in wlo..=whi {
         let q = points[seg[c] as usize].point;
-        cost += left.distance(q).powi(2) - right.distance(q).powi(2);
+        cost += dl(q).powi(2) - dr(q).powi(2);
         // Ties keep the cut nearest the split point.
         let better =
             cost < best.0 || (cost == best.0 && (c + 1).abs_diff(b + 1) < best.1.abs_diff(b + 1));
@@ -192,12 +194,13 @@ fn trim_ends(
             rest.remove(points[seg[idx(k - 1)] as usize].point);
             let Some(fit) = rest.fit() else { break };
             let (sa, ca) = fit.alpha.sin_cos();
+            let distance = fit.distance_fn();
             let cov = fit.covariance;
             let (mut chi2, mut sign) = (0.0, 0.0f64);
             let mut one_side = true;
             for j in 0..k {
                 let sp = &points[seg[idx(j)] as usize];
-                let d = fit.distance(sp.point);
+                let d = distance(sp.point);
                 if sign == 0.0 {
                     sign = d.signum();
                 } else if d.signum() != sign {
