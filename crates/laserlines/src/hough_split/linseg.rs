@@ -193,8 +193,10 @@ fn trim_ends(
             let idx = |j: usize| if from_end { hi - 1 - j } else { lo + j };
             rest.remove(points[seg[idx(k - 1)] as usize].point);
             let Some(fit) = rest.fit() else { break };
-            let (sa, ca) = fit.alpha.sin_cos();
-            let distance = fit.distance_fn();
+            // The normal once, for the distances and the positions along the line.
+            let normal = fit.normal();
+            let (ca, sa) = (normal.x, normal.y);
+            let distance = |q: Point2| q.coords.dot(&normal) - fit.r;
             let cov = fit.covariance;
             let (mut chi2, mut sign) = (0.0, 0.0f64);
             let mut one_side = true;
