@@ -569,23 +569,15 @@ impl BagSource {
                 let conn = header.conn().map_err(|bad| loc.error(&self.name, bad));
                 let topic = header.topic.map(<[u8]>::to_vec);
                 if data_len > MAX_HEADER_BYTES {
-                    self.skip_data(start, data_len, "connection data")?;
-                    return Ok(Some(Err(loc.error(
-                        &self.name,
-                        Bad::new(
-                            format!("connection data of at most {MAX_HEADER_BYTES} bytes"),
-                            format!("{data_len} bytes"),
-                        ),
-                    ))));
+                    return self.too_large(
+                        start,
+                        data_len,
+                        MAX_HEADER_BYTES,
+                        ("connection data", "connection data"),
+                    );
                 }
                 let mut data = std::mem::take(&mut self.raw);
-                let got = self
-                    .input
-                    .read_vec(data_len, &mut data)
-                    .map_err(|e| self.io_error(e))?;
-                if got < data_len {
-                    return Err(self.truncated(start, "connection data", data_len, got));
-                }
+                self.read_data(start, data_len, "connection data", &mut data)?;
                 let result = conn.and_then(|conn| {
                     self.state
                         .connection(conn, topic.as_deref(), &data)
@@ -597,23 +589,10 @@ impl BagSource {
             op::MESSAGE_DATA => {
                 let max = self.max_chunk_bytes;
                 if data_len > max {
-                    self.skip_data(start, data_len, "message data")?;
-                    return Ok(Some(Err(loc.error(
-                        &self.name,
-                        Bad::new(
-                            format!("a message of at most {max} bytes"),
-                            format!("{data_len} bytes"),
-                        ),
-                    ))));
+                    return self.too_large(start, data_len, max, ("message data", "a message"));
                 }
                 let mut data = std::mem::take(&mut self.raw);
-                let got = self
-                    .input
-                    .read_vec(data_len, &mut data)
-                    .map_err(|e| self.io_error(e))?;
-                if got < data_len {
-                    return Err(self.truncated(start, "message data", data_len, got));
-                }
+                self.read_data(start, data_len, "message data", &mut data)?;
                 let result = header
                     .conn()
                     .map_err(|bad| loc.error(&self.name, bad))
@@ -635,6 +614,43 @@ impl BagSource {
                 Ok(None)
             }
         }
+    }
+
+    /// Reads `len` bytes of record data into `out`; a short read is an error naming `what`.
+    fn read_data(
+        &mut self,
+        start: u64,
+        len: u64,
+        what: &str,
+        out: &mut Vec<u8>,
+    ) -> Result<(), ReadError> {
+        let got = self
+            .input
+            .read_vec(len, out)
+            .map_err(|e| self.io_error(e))?;
+        if got < len {
+            return Err(self.truncated(start, what, len, got));
+        }
+        Ok(())
+    }
+
+    /// Skips `what` (record data) of `len` bytes, more than the `max` allowed for one
+    /// `item`: the record is reported as an error and reading goes on after it.
+    fn too_large(
+        &mut self,
+        start: u64,
+        len: u64,
+        max: u64,
+        (what, item): (&str, &str),
+    ) -> Result<Option<Result<ScanRecord, ReadError>>, ReadError> {
+        self.skip_data(start, len, what)?;
+        Ok(Some(Err(Loc::File(start).error(
+            &self.name,
+            Bad::new(
+                format!("{item} of at most {max} bytes"),
+                format!("{len} bytes"),
+            ),
+        ))))
     }
 
     fn skip_data(&mut self, start: u64, len: u64, what: &str) -> Result<(), ReadError> {
@@ -688,13 +704,7 @@ impl BagSource {
             }
         };
         let mut raw = std::mem::take(&mut self.raw);
-        let got = self
-            .input
-            .read_vec(data_len, &mut raw)
-            .map_err(|e| self.io_error(e))?;
-        if got < data_len {
-            return Err(self.truncated(start, "chunk data", data_len, got));
-        }
+        self.read_data(start, data_len, "chunk data", &mut raw)?;
         let data = match compression {
             "none" => {
                 self.chunk = Some(Chunk {
