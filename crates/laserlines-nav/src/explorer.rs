@@ -1301,24 +1301,7 @@ fn remaining(path: &[Point2], along: usize, from: Point2) -> f64 {
 /// The part of the segment `a`-`b` with `|y| <= band` and `x >= 0`.
 fn clip_to_band(a: Point2, b: Point2, band: f64) -> Option<(Point2, Point2)> {
     let d = b - a;
-    let mut t0: f64 = 0.0;
-    let mut t1: f64 = 1.0;
-    for (p, q) in [(-d.x, a.x), (-d.y, a.y + band), (d.y, band - a.y)] {
-        if p == 0.0 {
-            if q < 0.0 {
-                return None;
-            }
-        } else {
-            let r = q / p;
-            if p < 0.0 {
-                t0 = t0.max(r);
-            } else {
-                t1 = t1.min(r);
-            }
-            if t0 > t1 {
-                return None;
-            }
-        }
-    }
+    let (t0, t1) =
+        laserlines_sim::index::clip_segment(&[(-d.x, a.x), (-d.y, a.y + band), (d.y, band - a.y)])?;
     Some((a + d * t0, a + d * t1))
 }

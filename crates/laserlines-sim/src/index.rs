@@ -821,21 +821,17 @@ fn clip_ray_to_box(origin: Point2, dir: Vector2, lo: Point2, hi: Point2) -> Opti
     (t0 <= t1).then_some((t0, t1))
 }
 
-/// True when the segment `a`-`b` meets the axis-aligned box `lo..hi` (Liang-Barsky).
+/// Liang-Barsky clipping: the parameter range `t0..=t1` within `0..=1` over which the
+/// points `a + t d` of a segment keep every constraint `p t <= q`, given as `(p, q)`;
+/// `None` when no part does.
 #[must_use]
-pub fn segment_touches_box(a: Point2, b: Point2, lo: Point2, hi: Point2) -> bool {
-    let d = b - a;
+pub fn clip_segment(constraints: &[(f64, f64)]) -> Option<(f64, f64)> {
     let mut t0: f64 = 0.0;
     let mut t1: f64 = 1.0;
-    for (p, q) in [
-        (-d.x, a.x - lo.x),
-        (d.x, hi.x - a.x),
-        (-d.y, a.y - lo.y),
-        (d.y, hi.y - a.y),
-    ] {
+    for &(p, q) in constraints {
         if p == 0.0 {
             if q < 0.0 {
-                return false;
+                return None;
             }
         } else {
             let r = q / p;
@@ -845,11 +841,24 @@ pub fn segment_touches_box(a: Point2, b: Point2, lo: Point2, hi: Point2) -> bool
                 t1 = t1.min(r);
             }
             if t0 > t1 {
-                return false;
+                return None;
             }
         }
     }
-    true
+    Some((t0, t1))
+}
+
+/// True when the segment `a`-`b` meets the axis-aligned box `lo..hi` (Liang-Barsky).
+#[must_use]
+pub fn segment_touches_box(a: Point2, b: Point2, lo: Point2, hi: Point2) -> bool {
+    let d = b - a;
+    clip_segment(&[
+        (-d.x, a.x - lo.x),
+        (d.x, hi.x - a.x),
+        (-d.y, a.y - lo.y),
+        (d.y, hi.y - a.y),
+    ])
+    .is_some()
 }
 
 #[cfg(test)]
