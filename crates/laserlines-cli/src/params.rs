@@ -45,7 +45,9 @@ use laserlines::extractors::{
     SplitAndMerge, SplitAndMergeParams,
 };
 use laserlines::math::{Isometry2, Vector2};
-use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, RangeWindow, Weight};
+use laserlines::{
+    HoughSplit, HoughSplitParams, LineExtractor, NoiseModel, RangeNoise, RangeWindow, Weight,
+};
 use laserlines_nav::{ExplorerParams, WallSide};
 use laserlines_sim::robot::RobotParams;
 use serde::Deserialize;
@@ -292,18 +294,46 @@ struct HoughSplitToml {
     weight: Option<String>,
     criterion: Option<f64>,
     group_gap: Option<usize>,
+    noise: Option<String>,
+    noise_sigma_min: Option<f64>,
+    noise_fraction: Option<f64>,
+    noise_floor: Option<f64>,
     bridge_beams: Option<bool>,
     bridge_incidence: Option<f64>,
-    bridge_noise: Option<f64>,
+    bridge_sigmas: Option<f64>,
     bridge_max_gap: Option<usize>,
     min_segment_points: Option<usize>,
-    split_distance: Option<f64>,
-    split_distance_per_metre: Option<f64>,
+    split_sigmas: Option<f64>,
+    split_significance: Option<f64>,
     merge_collinear: Option<bool>,
+    refine_ends: Option<bool>,
     min_line_points: Option<usize>,
     min_line_length: Option<f64>,
+    max_rms_sigmas: Option<f64>,
+    min_range: Option<f64>,
     range_limits: Option<[f64; 2]>,
     paper: Option<bool>,
+}
+
+/// `[hough-split] noise`: "auto", a preset name, or "fixed" with `noise_sigma_min` and
+/// `noise_fraction`.
+fn noise_model(t: &HoughSplitToml) -> Result<NoiseModel> {
+    let custom = t.noise_sigma_min.is_some() || t.noise_fraction.is_some();
+    match t.noise.as_deref() {
+        None if !custom => Ok(HoughSplitParams::default().noise),
+        None | Some("fixed") => Ok(NoiseModel::Fixed(RangeNoise::new(
+            t.noise_sigma_min.unwrap_or(0.0),
+            t.noise_fraction.unwrap_or(0.0),
+        ))),
+        Some("auto") => Ok(NoiseModel::Auto),
+        Some(name) => RangeNoise::preset(name).map(NoiseModel::Fixed).ok_or_else(|| {
+            let names: Vec<&str> = laserlines::noise::PRESETS.iter().map(|p| p.name).collect();
+            anyhow::anyhow!(
+                "hough-split.noise: expected \"auto\", \"fixed\" or a preset ({}), found {name:?}",
+                names.join(", ")
+            )
+        }),
+    }
 }
 
 impl ParamsFile {
@@ -410,17 +440,22 @@ impl ParamsFile {
             window,
             criterion,
             group_gap,
+            noise_floor,
             bridge_beams,
             bridge_incidence,
-            bridge_noise,
+            bridge_sigmas,
             bridge_max_gap,
             min_segment_points,
-            split_distance,
-            split_distance_per_metre,
+            split_sigmas,
+            split_significance,
             merge_collinear,
+            refine_ends,
             min_line_points,
-            min_line_length
+            min_line_length,
+            max_rms_sigmas,
+            min_range
         );
+        p.noise = noise_model(t)?;
         if let Some(w) = &t.weight {
             p.weight = match w.as_str() {
                 "one" => Weight::One,

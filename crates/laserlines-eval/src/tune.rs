@@ -119,9 +119,9 @@ macro_rules! line_filters {
     };
 }
 
-/// The knobs of `hough-split`. Its `min_line_length` is not one: the search would raise it
-/// to 0.15 m, and sparse real URG-04LX scans (a few dozen valid beams in short runs) then
-/// give no line at all, which the real-data tests forbid.
+/// The knobs of `hough-split`. Its `min_line_length` is not one: it is the size of the
+/// smallest surface that counts as a wall (legs and posts up to 12 cm give no line), a
+/// definition rather than a tuning.
 fn hough_split_knobs() -> Vec<Knob<HoughSplitParams>> {
     vec![
         real!(
@@ -129,16 +129,14 @@ fn hough_split_knobs() -> Vec<Knob<HoughSplitParams>> {
             criterion,
             vec![0.0, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0]
         ),
+        real!(HoughSplitParams, split_sigmas, vec![2.5, 3.0, 3.5, 4.0, 5.0]),
         real!(
             HoughSplitParams,
-            split_distance,
-            vec![0.01, 0.015, 0.02, 0.03]
+            split_significance,
+            vec![10.0, 15.0, 20.0, 30.0, 40.0]
         ),
-        real!(
-            HoughSplitParams,
-            split_distance_per_metre,
-            vec![0.005, 0.01, 0.015, 0.02, 0.03]
-        ),
+        real!(HoughSplitParams, bridge_sigmas, vec![2.0, 3.0, 4.0]),
+        real!(HoughSplitParams, max_rms_sigmas, vec![2.0, 2.5, 3.0, 4.0]),
         count!(
             HoughSplitParams,
             min_segment_points,

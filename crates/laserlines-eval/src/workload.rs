@@ -1,10 +1,10 @@
 //! The scans a benchmark runs on: simulated scene suites with their ground truth, or any scans
 //! without it (real logs).
 
-use laserlines::Scan;
+use laserlines::{RangeNoise, Scan};
 use laserlines_sim::rng::mix_seed;
-use laserlines_sim::scenes::{self, ALL, SUITES, UnknownSuite};
-use laserlines_sim::{LaserModel, Rng};
+use laserlines_sim::scenes::{self, ALL, SUITES, UnknownSuite, add_legs};
+use laserlines_sim::{LaserModel, Noise, Rng};
 
 use crate::truth::{ExpectedPiece, expected_pieces};
 
@@ -15,23 +15,87 @@ pub const TEST_SEED: u64 = 2;
 /// Scans per suite of a benchmark run, unless told otherwise.
 pub const DEFAULT_SCANS_PER_SUITE: usize = 100;
 
-/// The simulated sensors, by name, for [`sensor`].
-pub const SENSORS: &[&str] = &["urg04lx", "urg04lx-artefacts"];
+/// The simulated sensors and conditions, by name, for [`sensor`].
+pub const SENSORS: &[&str] = &[
+    "urg04lx",
+    "urg04lx-artefacts",
+    "urg04lx-half",
+    "urg04lx-full",
+    "urg04lx-1.5x",
+];
+
+/// The noise levels of the field conditions (`urg04lx-half`, `-full`, `-1.5x`), as multiples
+/// of the URG-04LX data sheet's band taken as one standard deviation.
+pub const FIELD_LEVELS: &[(&str, f64)] = &[
+    ("urg04lx-half", 0.5),
+    ("urg04lx-full", 1.0),
+    ("urg04lx-1.5x", 1.5),
+];
+
+/// A simulated sensor and the conditions of the scenes it sees.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sensor {
+    /// The laser model. Its `dropout` is replaced per scan when `dropout` below is set.
+    pub model: LaserModel,
+    /// Per-scan dropout probability drawn uniformly from this range, when set.
+    pub dropout: Option<(f64, f64)>,
+    /// Chair and table legs added to every scene: up to this many (uniform from 0).
+    pub legs: usize,
+    /// Leg diameters, m.
+    pub leg_diameter: (f64, f64),
+}
+
+impl Sensor {
+    /// `model` as it is, in the scenes as they are.
+    #[must_use]
+    pub fn plain(model: LaserModel) -> Self {
+        Self {
+            model,
+            dropout: None,
+            legs: 0,
+            leg_diameter: (0.03, 0.12),
+        }
+    }
+
+    /// The field conditions at `level` times the URG-04LX data sheet's band (+-10 mm to 1 m,
+    /// +-1 % beyond, taken as one standard deviation): mixed pixels at half of the depth edges,
+    /// 0-5 % of the returns dropped (drawn per scan), 0-8 chair and table legs of 3-12 cm
+    /// diameter in every scene.
+    #[must_use]
+    pub fn field(level: f64) -> Self {
+        Self {
+            model: LaserModel {
+                noise: Noise::Range(RangeNoise::new(0.01, 0.01).scaled(level)),
+                mixed_pixels: 0.5,
+                ..LaserModel::urg04lx()
+            },
+            dropout: Some((0.0, 0.05)),
+            legs: 8,
+            leg_diameter: (0.03, 0.12),
+        }
+    }
+}
 
 /// The sensor called `name` (one of [`SENSORS`]):
-/// - `urg04lx`: [`LaserModel::urg04lx`], the paper's sensor with its data-sheet noise,
-///   1 mm rounding, as the round-trip tests use it;
+/// - `urg04lx`: [`LaserModel::urg04lx`], the paper's sensor with its data-sheet band read as
+///   two standard deviations, 1 mm rounding, as the round-trip tests use it;
 /// - `urg04lx-artefacts`: the same with mixed pixels at half of the depth edges and 1 % of
-///   returns dropped.
+///   returns dropped;
+/// - `urg04lx-half`, `urg04lx-full`, `urg04lx-1.5x`: the field conditions of
+///   [`Sensor::field`] at half, once and 1.5 times the data sheet's band as one standard
+///   deviation.
 #[must_use]
-pub fn sensor(name: &str) -> Option<LaserModel> {
+pub fn sensor(name: &str) -> Option<Sensor> {
+    if let Some((_, level)) = FIELD_LEVELS.iter().find(|(n, _)| *n == name) {
+        return Some(Sensor::field(*level));
+    }
     match name {
-        "urg04lx" => Some(LaserModel::urg04lx()),
-        "urg04lx-artefacts" => Some(LaserModel {
+        "urg04lx" => Some(Sensor::plain(LaserModel::urg04lx())),
+        "urg04lx-artefacts" => Some(Sensor::plain(LaserModel {
             mixed_pixels: 0.5,
             dropout: 0.01,
             ..LaserModel::urg04lx()
-        }),
+        })),
         _ => None,
     }
 }
@@ -61,7 +125,7 @@ pub fn suite_scans(
     name: &str,
     seed: u64,
     count: usize,
-    model: &LaserModel,
+    sensor: &Sensor,
 ) -> Result<Vec<BenchScan>, UnknownSuite> {
     let names: Vec<&str> = if name == ALL {
         SUITES.to_vec()
@@ -74,7 +138,24 @@ pub fn suite_scans(
         for (k, scene) in scenes.iter().enumerate() {
             let stream = ((si as u64) << 40) ^ k as u64;
             let mut rng = Rng::new(mix_seed(mix_seed(seed, stream), 0x006E_6F69_7365));
-            let sim = scene.simulate(model, &mut rng);
+            let mut model = sensor.model;
+            let mut scene = scene.clone();
+            if sensor.legs > 0 || sensor.dropout.is_some() {
+                // The conditions draw from their own stream: the plain scans stay as they were.
+                let mut extra = Rng::new(mix_seed(mix_seed(seed, stream), 0x6C65_6773));
+                if let Some((lo, hi)) = sensor.dropout {
+                    model.dropout = extra.range(lo, hi);
+                }
+                let legs = extra.below(sensor.legs + 1);
+                add_legs(
+                    &mut scene,
+                    &mut extra,
+                    legs,
+                    sensor.leg_diameter,
+                    model.range_max - 0.6,
+                );
+            }
+            let sim = scene.simulate(&model, &mut rng);
             out.push(BenchScan {
                 name: scene.name.clone(),
                 group: (*suite).to_string(),

@@ -27,6 +27,9 @@ pub enum Noise {
     /// 1 m, sigma = 0.5 % of the range beyond (continuous at 1 m). About 95 % of returns then
     /// fall within the data sheet's band.
     Urg04lx,
+    /// Gaussian noise of standard deviation `max(sigma_min, fraction * range)`, e.g. a data
+    /// sheet's band ([`laserlines::noise::PRESETS`]).
+    Range(laserlines::RangeNoise),
 }
 
 impl Noise {
@@ -43,6 +46,10 @@ impl Noise {
                 } else {
                     0.005 * range
                 }
+            }
+            Self::Range(noise) => {
+                let s = noise.sigma(range);
+                if s.is_finite() { s.max(0.0) } else { 0.0 }
             }
         }
     }
@@ -228,6 +235,11 @@ impl LaserModel {
             && !(sigma.is_finite() && sigma >= 0.0)
         {
             return Err(ModelError::BadNoise(sigma));
+        }
+        if let Noise::Range(noise) = self.noise
+            && !noise.is_valid()
+        {
+            return Err(ModelError::BadNoise(noise.sigma_min));
         }
         for (field, value) in [
             ("mixed_pixels", self.mixed_pixels),

@@ -440,6 +440,40 @@ pub fn maze(rng: &mut Rng) -> Scene {
     scene("maze", world, pose(x, y, yaw))
 }
 
+/// Chair and table legs: adds `count` discs of `diameter.0..diameter.1` metres to `scene`,
+/// each standing where the laser sees it (nothing between it and the laser, within
+/// `max_range`), at least 0.05 m from every wall and other obstacle and at least 0.4 m from
+/// the laser. Gives up on a leg after 50 tries (a cramped scene gets fewer). Returns how many
+/// were placed.
+pub fn add_legs(
+    scene: &mut Scene,
+    rng: &mut Rng,
+    count: usize,
+    diameter: (f64, f64),
+    max_range: f64,
+) -> usize {
+    let laser = scene.laser_position();
+    let mut placed = 0;
+    for _ in 0..count {
+        for _ in 0..50 {
+            let radius = rng.range(diameter.0, diameter.1) / 2.0;
+            let bearing = rng.range(-PI, PI);
+            let dist = rng.range(0.4 + radius, max_range.max(0.5 + radius));
+            let c = laser + Vector2::new(bearing.cos(), bearing.sin()) * dist;
+            let visible = scene
+                .world
+                .cast(laser, bearing, dist)
+                .is_none_or(|hit| hit.range >= dist - radius);
+            if visible && scene.world.clearance(c) >= radius + 0.05 {
+                scene.world.add_disc(c, radius);
+                placed += 1;
+                break;
+            }
+        }
+    }
+    placed
+}
+
 /// Maximal runs of `true` in `edges` as half-open index ranges `(from, to)`.
 fn runs(edges: &[bool]) -> Vec<(usize, usize)> {
     let mut out = Vec::new();

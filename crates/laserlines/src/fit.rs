@@ -96,6 +96,38 @@ impl FitSums {
         self.n == 0
     }
 
+    /// The sum of squared orthogonal residuals of the best line through the points, m^2
+    /// (0 for fewer than three points or non-finite sums): what [`FitSums::fit`] would give
+    /// as `n * rms^2`, at the cost of one square root and one division. The smaller
+    /// eigenvalue of the scatter matrix is taken as its determinant over the larger one,
+    /// which keeps it accurate for nearly perfect lines far from the origin.
+    #[must_use]
+    pub fn sse(&self) -> f64 {
+        if self.n < 3 {
+            return 0.0;
+        }
+        let n = self.n as f64;
+        let (cx, cy) = (self.sx / n, self.sy / n);
+        let mxx = (self.sxx - self.sx * cx).max(0.0);
+        let myy = (self.syy - self.sy * cy).max(0.0);
+        let mxy = self.sxy - self.sx * cy;
+        let half_tr = 0.5 * (mxx + myy);
+        let disc = (0.25 * (mxx - myy) * (mxx - myy) + mxy * mxy).sqrt();
+        let big = half_tr + disc;
+        let v = if big > 0.0 {
+            ((mxx * myy - mxy * mxy) / big).max(0.0)
+        } else {
+            0.0
+        };
+        if v.is_finite() { v } else { 0.0 }
+    }
+
+    /// The centroid of the points (`None` when empty).
+    #[must_use]
+    pub fn centroid(&self) -> Option<Point2> {
+        (self.n > 0).then(|| Point2::new(self.sx / self.n as f64, self.sy / self.n as f64))
+    }
+
     /// The fit, or `None` for fewer than two points or a degenerate set (all points equal,
     /// or non-finite sums).
     #[must_use]
@@ -151,6 +183,7 @@ impl FitSums {
             n: self.n,
             rms: (sse / n).sqrt(),
             covariance,
+            spread,
         })
     }
 }
@@ -170,6 +203,9 @@ pub struct PolarFit {
     pub rms: f64,
     /// Covariance of `(r, alpha)`: m^2, m rad, rad^2.
     pub covariance: Matrix2,
+    /// Scatter of the points along the line (sum of squared distances of the points from
+    /// their centroid, along the line), m^2.
+    pub spread: f64,
 }
 
 impl PolarFit {
@@ -190,6 +226,21 @@ impl PolarFit {
     pub fn distance_fn(&self) -> impl Fn(Point2) -> f64 + Copy + use<> {
         let (normal, r) = (self.normal(), self.r);
         move |p: Point2| p.coords.dot(&normal) - r
+    }
+
+    /// The covariance of `(r, alpha)` for point noise of variance `s2` (m^2) across the line
+    /// (the formulas of the module docs with `s2` in place of the residual variance).
+    #[must_use]
+    pub fn covariance_for(&self, s2: f64) -> Matrix2 {
+        let var_alpha = s2 / self.spread;
+        let (sin, cos) = self.alpha.sin_cos();
+        let t0 = -self.centroid.x * sin + self.centroid.y * cos;
+        Matrix2::new(
+            s2 / self.n as f64 + t0 * t0 * var_alpha,
+            t0 * var_alpha,
+            t0 * var_alpha,
+            var_alpha,
+        )
     }
 
     /// Orthogonal projection of `p` onto the line.
@@ -270,6 +321,42 @@ mod tests {
         s.remove(Point2::new(5.0, -1.0));
         assert_eq!(s.len(), before.len());
         assert!((s.sxx - before.sxx).abs() < 1e-12);
+    }
+
+    #[test]
+    fn sse_matches_the_fit() {
+        let pts: Vec<Point2> = (0..20)
+            .map(|i| {
+                let t = f64::from(i) * 0.1;
+                Point2::new(30.0 + t, 20.0 - 0.5 * t + 0.003 * f64::from(i % 3))
+            })
+            .collect();
+        let s = FitSums::from_points(pts.iter().copied());
+        let f = s.fit().unwrap();
+        let by_fit = f.rms * f.rms * 20.0;
+        assert!((s.sse() - by_fit).abs() < 1e-9 * (1.0 + by_fit), "{} {by_fit}", s.sse());
+        let direct: f64 = pts.iter().map(|p| f.distance(*p).powi(2)).sum();
+        assert!((s.sse() - direct).abs() < 1e-9);
+        assert_eq!(FitSums::from_points(pts[..2].iter().copied()).sse(), 0.0);
+    }
+
+    #[test]
+    fn covariance_for_a_given_noise() {
+        let pts: Vec<Point2> = (0..10).map(|i| Point2::new(2.0, f64::from(i) * 0.1)).collect();
+        let f = fit_points(&pts).unwrap();
+        assert!(f.covariance[(1, 1)] < 1e-20);
+        let c = f.covariance_for(1e-4);
+        // var(alpha) = s2 / Stt with Stt = 0.825 m^2; t0 = 0.45 m (centroid along the line).
+        assert!((f.spread - 0.825).abs() < 1e-12);
+        assert!((c[(1, 1)] - 1e-4 / 0.825).abs() < 1e-12);
+        assert!((c[(0, 0)] - (1e-5 + 0.45 * 0.45 * 1e-4 / 0.825)).abs() < 1e-12);
+        // With the residual variance, the fit's own covariance.
+        let noisy: Vec<Point2> = (0..10)
+            .map(|i| Point2::new(2.0 + 0.01 * f64::from(i % 2), f64::from(i) * 0.1))
+            .collect();
+        let g = fit_points(&noisy).unwrap();
+        let s2 = g.rms * g.rms * 10.0 / 8.0;
+        assert!((g.covariance_for(s2) - g.covariance).norm() < 1e-15);
     }
 
     #[test]

@@ -24,12 +24,14 @@ pub mod hough;
 pub mod hough_split;
 pub mod line;
 pub mod math;
+pub mod noise;
 pub mod scan;
 
 pub use extractor::LineExtractor;
 pub use fit::{FitSums, PolarFit, fit_points};
 pub use hough_split::{HoughSplit, HoughSplitParams, Weight};
 pub use line::Line;
+pub use noise::{NoiseEstimator, NoiseModel, RangeNoise};
 pub use scan::{RangeWindow, Scan, ScanError, ScanPoint};
 
 /// The README's Rust examples, compiled and run as doc tests.

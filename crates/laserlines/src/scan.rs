@@ -201,6 +201,7 @@ impl Scan {
 /// The one definition of a valid range, used by every algorithm: finite, strictly positive,
 /// and within `[min, max]` (inclusive, as in ROS).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RangeWindow {
     /// Smallest valid range, m.
     pub min: f64,

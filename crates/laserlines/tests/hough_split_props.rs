@@ -172,7 +172,10 @@ proptest! {
 /// bridged to its neighbours and joined their data segment.
 #[test]
 fn a_point_at_a_huge_range_is_never_bridged_into_a_segment() {
-    let mut ranges = vec![2.0; 50];
+    // A wall x = 2 m.
+    let mut ranges: Vec<f64> = (0..50)
+        .map(|i| 2.0 / (-0.5 + 0.02 * f64::from(i)).cos())
+        .collect();
     ranges[10] = 1e300;
     let scan = Scan::new(-0.5, 0.02, 0.0, f64::MAX, ranges).unwrap();
     let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();

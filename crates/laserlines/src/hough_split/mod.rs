@@ -16,6 +16,7 @@
 //! ```
 
 mod accumulator;
+mod lines;
 mod linseg;
 mod params;
 mod segment;
@@ -25,6 +26,7 @@ pub use params::{HoughSplitParams, ParamsError, Weight};
 
 use crate::extractor::LineExtractor;
 use crate::line::Line;
+use crate::noise::{BandEstimate, NOISE_BANDS, NoiseEstimator, NoiseModel, RangeNoise};
 use crate::scan::{Scan, ScanPoint};
 use accumulator::{Accumulator, BeamTable};
 use linseg::SplitScratch;
@@ -36,6 +38,12 @@ use segment::{Components, SegmentRun};
 pub struct HoughSplit {
     params: HoughSplitParams,
     table: BeamTable,
+    estimator: NoiseEstimator,
+    /// The noise of the last scan: the fixed model, or the estimate.
+    noise: RangeNoise,
+    /// True when the last scan's noise was estimated from it.
+    estimated: bool,
+    sizes: Vec<u32>,
     points: Vec<ScanPoint>,
     acc: Accumulator,
     uf: Components,
@@ -58,6 +66,10 @@ impl HoughSplit {
         Ok(Self {
             params,
             table: BeamTable::default(),
+            estimator: NoiseEstimator::default(),
+            noise: FALLBACK_NOISE,
+            estimated: false,
+            sizes: Vec::new(),
             points: Vec::new(),
             acc: Accumulator::default(),
             uf: Components::default(),
@@ -88,7 +100,7 @@ impl HoughSplit {
         let window = scan.range_window(p.range_limits);
         self.points.clear();
         for (i, (&r, beam)) in scan.ranges.iter().zip(&self.table.beams).enumerate() {
-            if !window.contains(r) {
+            if !window.contains(r) || r < p.min_range {
                 continue;
             }
             let point = crate::math::Point2::new(r * beam.cos, r * beam.sin);
@@ -101,6 +113,26 @@ impl HoughSplit {
                 });
             }
         }
+    }
+
+    /// The range noise of `scan`: the fixed model, or the estimate from the scan itself
+    /// ([`FALLBACK_NOISE`] when the scan is too short or sparse to tell), never below
+    /// `noise_floor`.
+    fn noise_of(&mut self, scan: &Scan) {
+        let p = &self.params;
+        let floor = p.noise_floor;
+        let (noise, estimated) = match p.noise {
+            NoiseModel::Fixed(n) => (n, false),
+            NoiseModel::Auto => {
+                let window = scan.range_window(p.range_limits);
+                match self.estimator.estimate(scan, window, floor) {
+                    Some(n) => (n, true),
+                    None => (FALLBACK_NOISE, false),
+                }
+            }
+        };
+        self.noise = RangeNoise::new(noise.sigma_min.max(floor), noise.fraction);
+        self.estimated = estimated;
     }
 
     /// The intermediate stages of the last extraction, for pictures and tests.
@@ -119,8 +151,9 @@ impl LineExtractor for HoughSplit {
         out.clear();
         self.split_points.clear();
         self.split_ranges.clear();
-        // 0. valid beams to points; 1-2. accumulator and criterion.
+        // 0. valid beams to points, and their noise; 1-2. accumulator and criterion.
         self.convert(scan);
+        self.noise_of(scan);
         self.acc.build(&self.points, &self.table, &self.params);
         // 3. radius grouping and merging of touching groups.
         self.acc.kept_cells(&mut self.cell_of);
@@ -130,22 +163,28 @@ impl LineExtractor for HoughSplit {
                 &self.points,
                 &self.cell_of,
                 &self.params,
+                &self.noise,
                 scan.angle_increment,
                 &mut self.uf,
             );
         }
         // 4. data segments; everything else is removed.
         segment::cut_segments(
+            &self.points,
             &self.cell_of,
             &self.params,
+            &self.noise,
+            scan.angle_increment,
             &mut self.uf,
+            &mut self.sizes,
             &mut self.kept,
             &mut self.segments,
         );
         // 5-6. Linseg on each segment, then the least-squares lines.
         for run in &self.segments {
             let seg = &self.kept[run.start as usize..run.end as usize];
-            linseg::linseg(&self.points, seg, &self.params, &mut self.scratch);
+            linseg::prefix_sums(&self.points, seg, &mut self.scratch.prefix);
+            linseg::linseg(&self.points, seg, &self.params, &self.noise, &mut self.scratch);
             let from = self.split_points.len() as u32;
             self.split_points.extend(
                 self.scratch
@@ -155,18 +194,21 @@ impl LineExtractor for HoughSplit {
             );
             self.split_ranges
                 .push((from, self.split_points.len() as u32));
-            linseg::prefix_sums(&self.points, seg, &mut self.scratch.prefix);
-            linseg::emit_lines(
-                &self.points,
+            let pieces = lines::Pieces {
+                points: &self.points,
                 seg,
-                &self.scratch.prefix,
-                &mut self.scratch.breaks,
-                &self.params,
-                out,
-            );
+                pre: &self.scratch.prefix,
+                p: &self.params,
+                noise: &self.noise,
+            };
+            lines::emit_lines(&pieces, &mut self.scratch.breaks, out);
         }
     }
 }
+
+/// The noise assumed when [`NoiseModel::Auto`] finds too few samples in a scan to estimate
+/// it: the URG-04LX data sheet's band, `max(10 mm, 1 % of the range)`.
+pub const FALLBACK_NOISE: RangeNoise = RangeNoise::new(0.01, 0.01);
 
 /// A data segment: the paper's `SA[t]`, start and end beam of a run of surviving points.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -197,6 +239,24 @@ pub struct Stages<'a> {
 }
 
 impl<'a> Stages<'a> {
+    /// The range noise every threshold of the last extraction was a multiple of.
+    #[must_use]
+    pub fn noise(&self) -> RangeNoise {
+        self.hs.noise
+    }
+
+    /// True when [`Stages::noise`] was estimated from the scan itself.
+    #[must_use]
+    pub fn noise_estimated(&self) -> bool {
+        self.hs.estimated
+    }
+
+    /// The per-band figures of the last estimate (all zero with a fixed model).
+    #[must_use]
+    pub fn noise_bands(&self) -> &'a [BandEstimate; NOISE_BANDS] {
+        self.hs.estimator.bands()
+    }
+
     /// The valid points the pipeline started from, in beam order.
     #[must_use]
     pub fn points(&self) -> &'a [ScanPoint] {

@@ -1,9 +1,12 @@
 //! Parameters of [`super::HoughSplit`].
 
+use crate::noise::{NoiseModel, RangeNoise};
 use crate::scan::RangeWindow;
 
 /// The weight function `g` of the paper's eq. (1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Weight {
     /// `g = 1`: a cell's value counts its points.
     One,
@@ -32,22 +35,22 @@ pub enum ParamsError {
         /// offending value
         value: f64,
     },
+    /// A fixed noise model that is negative, not finite, or zero everywhere.
+    #[error("noise must have finite sigma_min >= 0 and fraction >= 0, not both 0, got {0}")]
+    BadNoise(RangeNoise),
 }
 
 /// Parameters of the paper's extractor, with the paper's grid as defaults (in SI units).
 ///
-/// Thresholds that should grow with range do: the split threshold is
-/// `split_distance + split_distance_per_metre * range`, and the beam bridge uses the adaptive
-/// breakpoint distance of Borges and Aldon, which grows linearly with range. The Hough grid is
-/// fixed in metres and radians, as in the paper; with [`Weight::Range`] the cell values
-/// compensate for the density falling with range.
+/// Every decision after the accumulator is taken in units of the range noise `sigma(r)`
+/// ([`crate::noise`]), estimated from each scan by default: the same defaults serve a
+/// URG-04LX at its real 3-5 mm and a cheap scanner at 1.5 % of the range. With
+/// [`Weight::Range`] the cell values compensate for the density falling with range.
 ///
-/// Defaults marked *tuned* were chosen by `laserlines bench --tune hough-split --suite all
-/// --seed 1 --scans 100`: a coordinate search maximising the F1 score of found walls and false
-/// lines on the training suite (seed 1, 100 simulated URG-04LX scans of each of the seven
-/// scene suites; see `laserlines_eval::tune`). Results are reported on the test suite, seed 2.
-/// The search kept the paper's grid and criterion.
+/// [`HoughSplitParams::paper`] turns every extension off: the paper's pipeline alone.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
 pub struct HoughSplitParams {
     /// Ring step `dd` of the accumulator, m. Paper: 0.03 m. Sensible: 0.01..0.10.
     pub ring_step: f64,
@@ -67,42 +70,61 @@ pub struct HoughSplitParams {
     /// Cells bridged in the sector direction when grouping along a ring (the paper's
     /// adjustable radius-grouping threshold). Default 1. Sensible: 0..3.
     pub group_gap: usize,
-    /// Also join consecutive valid beams whose points are closer than the adaptive breakpoint
-    /// distance (Borges & Aldon 2004), so that walls seen at a grazing angle, whose points skip
-    /// rings, stay one data segment. Not in the paper (set `false` for the paper's pure grid
-    /// connectivity). Default `true`.
+    /// The range noise every later threshold is a multiple of: [`NoiseModel::Auto`] (default)
+    /// estimates it from each scan; [`NoiseModel::Fixed`] takes a data sheet's model
+    /// ([`crate::noise::PRESETS`]).
+    pub noise: NoiseModel,
+    /// The least standard deviation used, m: quantisation and the surfaces' own roughness
+    /// stay even when a scan looks perfect. Default 0.002. Sensible: 0.0005..0.01.
+    pub noise_floor: f64,
+    /// Also join consecutive valid points (up to `bridge_max_gap` missing beams apart) closer
+    /// than the breakpoint distance `D` (see [`HoughSplitParams::breakpoint_distance`]), so
+    /// that a wall whose noisy or grazing points skip rings stays one data segment. Not in
+    /// the paper (`false` gives the paper's pure grid connectivity). Default `true`.
     pub bridge_beams: bool,
-    /// Smallest incidence angle between beam and surface that the beam bridge still joins,
-    /// rad (the `lambda` of Borges & Aldon). Default 10 deg. Sensible: 5..20 deg.
+    /// Smallest angle between beam and surface that `D` still joins, rad (the `lambda` of
+    /// Borges & Aldon 2004). Default 10 deg. Sensible: 5..20 deg.
     pub bridge_incidence: f64,
-    /// Range noise allowance of the beam bridge, m, added three times to the breakpoint
-    /// distance. Default 0.01. Sensible: 0..0.05.
-    pub bridge_noise: f64,
-    /// Most missing (invalid or removed) beams the beam bridge may span. Default 2.
-    /// Sensible: 0..5.
+    /// Noise allowance of `D`, in standard deviations of the distance between two points
+    /// (`sqrt(2) sigma(r)`). Default 3. Sensible: 2..5.
+    pub bridge_sigmas: f64,
+    /// Most missing (invalid or removed) beams between consecutive points of a data segment,
+    /// and so of a line. Default 2. Sensible: 0..5.
     pub bridge_max_gap: usize,
-    /// Data segments with fewer surviving points are removed as clutter. Default 8 (tuned).
+    /// Data segments with fewer surviving points are removed as clutter. Default 8.
     /// Sensible: 3..10.
     pub min_segment_points: usize,
-    /// Split threshold at zero range, m: Linseg splits where the farthest point from the chord
-    /// lies farther than `split_distance + split_distance_per_metre * range`. Default 0.01
-    /// (tuned). Sensible: 0.005..0.05.
-    pub split_distance: f64,
-    /// Growth of the split threshold with the range of the farthest point, m per m.
-    /// Default 0.02 (about four standard deviations of the URG-04LX's range noise, whose
-    /// accuracy is 1 % of the range beyond 1 m). Sensible: 0..0.04.
-    pub split_distance_per_metre: f64,
-    /// After splitting, merge neighbouring lines of one segment when all their points lie
-    /// within the split threshold of their joint least-squares line. Not in the paper
-    /// (`false` gives the paper's pure split). Default `true`.
+    /// Linseg's criterion: a piece is split at its farthest point from the chord when that
+    /// point lies farther than `split_sigmas * sigma(r)`. Default 3. Sensible: 2..6.
+    pub split_sigmas: f64,
+    /// ...and when two lines explain the piece significantly better than one: the drop of the
+    /// sum of squared residuals must exceed `split_significance` times the noise variance
+    /// (the larger of `sigma(r)^2` and the residual variance of the two lines). 0 gives the
+    /// paper's pure distance criterion. Default 20 (a chi-square of 2 degrees of freedom
+    /// beyond the 1e-4 level, allowing for the split point being the worst of many).
+    /// Sensible: 10..40.
+    pub split_significance: f64,
+    /// After splitting, merge neighbouring pieces of one segment whose joint line explains
+    /// them as well as two lines do (the same test as the split). Not in the paper.
+    /// Default `true`.
     pub merge_collinear: bool,
-    /// Lines with fewer supporting points are dropped. Default 8 (tuned). At least 2 is
-    /// enforced.
+    /// Refine where pieces end: the shared split point and its neighbours go to the line
+    /// that explains them best, a short corner leg or mixed pixel at a line's end is trimmed
+    /// by a chi-square test, and neighbouring lines that meet at a corner share their end
+    /// point at the intersection. Not in the paper. Default `true`.
+    pub refine_ends: bool,
+    /// Lines with fewer supporting points are dropped. Default 8. At least 2 is enforced.
     pub min_line_points: usize,
-    /// Lines shorter than this are dropped, m. Default 0.05. Not tuned: the search would
-    /// raise it to 0.15, dropping short lines on legs and debris, but sparse real scans then
-    /// keep no line at all. Sensible: 0..0.5.
+    /// Lines shorter than this are dropped, m: the smallest surface that is a wall, not a
+    /// leg or a post. Default 0.15 (legs and posts up to 12 cm across give no line, wall
+    /// pieces of 0.2 m and more are kept). Sensible: 0..0.5.
     pub min_line_length: f64,
+    /// Lines whose RMS residual exceeds this many `sigma(r)` (at their centroid) are dropped:
+    /// a line through scattered clutter is no surface. Default 2.5. `inf` turns it off.
+    pub max_rms_sigmas: f64,
+    /// Points nearer than this never form lines, m: the robot's own body (a footprint radius
+    /// around the laser). Default 0 (the scan's `range_min` only).
+    pub min_range: f64,
     /// Extra limits on valid ranges, on top of the scan's own `range_min..range_max`.
     /// Default none; [`HoughSplitParams::paper`] uses the paper's 0.03..3.00 m.
     pub range_limits: Option<RangeWindow>,
@@ -117,26 +139,46 @@ impl Default for HoughSplitParams {
             weight: Weight::Range,
             criterion: 0.5,
             group_gap: 1,
+            noise: NoiseModel::Auto,
+            noise_floor: 0.002,
             bridge_beams: true,
-            bridge_incidence: 4.0_f64.to_radians(),
-            bridge_noise: 0.01,
+            bridge_incidence: 10.0_f64.to_radians(),
+            bridge_sigmas: 3.0,
             bridge_max_gap: 2,
             min_segment_points: 8,
-            split_distance: 0.01,
-            split_distance_per_metre: 0.02,
+            split_sigmas: 3.0,
+            split_significance: 20.0,
             merge_collinear: true,
+            refine_ends: true,
             min_line_points: 8,
-            min_line_length: 0.05,
+            min_line_length: 0.15,
+            max_rms_sigmas: 2.5,
+            min_range: 0.0,
             range_limits: None,
         }
     }
 }
 
 impl HoughSplitParams {
-    /// The defaults plus the paper's range limits (ranges outside 0.03..3.00 m are noise).
+    /// The paper's pipeline alone: its grid and criterion, its range limits (0.03..3.00 m),
+    /// grid connectivity only, Linseg with a fixed distance criterion (1 cm, growing by 2 %
+    /// of the range beyond 0.5 m: four standard deviations of the URG-04LX read as in its
+    /// data sheet), no merge, no end refinement, no significance test, no minimum length and
+    /// no RMS limit; data segments and lines need three points.
     #[must_use]
     pub fn paper() -> Self {
         Self {
+            noise: NoiseModel::Fixed(RangeNoise::new(0.0025, 0.005)),
+            noise_floor: 0.0,
+            bridge_beams: false,
+            min_segment_points: 3,
+            split_sigmas: 4.0,
+            split_significance: 0.0,
+            merge_collinear: false,
+            refine_ends: false,
+            min_line_points: 3,
+            min_line_length: 0.0,
+            max_rms_sigmas: f64::INFINITY,
             range_limits: Some(RangeWindow::PAPER),
             ..Self::default()
         }
@@ -151,6 +193,7 @@ impl HoughSplitParams {
             ("ring_step", self.ring_step),
             ("sector_step", self.sector_step),
             ("window", self.window),
+            ("split_sigmas", self.split_sigmas),
         ] {
             if !(value.is_finite() && value > 0.0) {
                 return Err(ParamsError::NotPositive { field, value });
@@ -158,22 +201,89 @@ impl HoughSplitParams {
         }
         for (field, value) in [
             ("criterion", self.criterion),
+            ("noise_floor", self.noise_floor),
             ("bridge_incidence", self.bridge_incidence),
-            ("bridge_noise", self.bridge_noise),
-            ("split_distance", self.split_distance),
-            ("split_distance_per_metre", self.split_distance_per_metre),
+            ("bridge_sigmas", self.bridge_sigmas),
+            ("split_significance", self.split_significance),
             ("min_line_length", self.min_line_length),
+            ("min_range", self.min_range),
         ] {
             if !(value.is_finite() && value >= 0.0) {
                 return Err(ParamsError::Negative { field, value });
             }
         }
+        if self.max_rms_sigmas.is_nan() || self.max_rms_sigmas <= 0.0 {
+            return Err(ParamsError::NotPositive {
+                field: "max_rms_sigmas",
+                value: self.max_rms_sigmas,
+            });
+        }
+        if let NoiseModel::Fixed(n) = self.noise
+            && !n.is_valid()
+        {
+            return Err(ParamsError::BadNoise(n));
+        }
         Ok(())
     }
 
-    /// The split threshold for a point at `range` metres.
+    /// The breakpoint distance `D`, m: the farthest apart two consecutive points of one
+    /// surface can lie when the first is at range `r` and the beams are `dphi` rad apart,
+    /// `D = r sin(dphi) / sin(lambda - dphi) + bridge_sigmas * sqrt(2) * sigma` (Borges &
+    /// Aldon's adaptive breakpoint with `lambda = bridge_incidence` and the noise `sigma` at
+    /// `r`). `None` when `dphi` reaches `lambda` (no surface can be told from a gap).
     #[must_use]
-    pub fn split_threshold(&self, range: f64) -> f64 {
-        self.split_distance + self.split_distance_per_metre * range
+    pub fn breakpoint_distance(&self, r: f64, dphi: f64, sigma: f64) -> Option<f64> {
+        let lambda = self.bridge_incidence;
+        let denom = (lambda - dphi).sin();
+        (dphi.is_finite() && dphi >= 0.0 && lambda > dphi && denom > 0.0).then(|| {
+            r * dphi.sin() / denom + self.bridge_sigmas * std::f64::consts::SQRT_2 * sigma
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_and_paper_validate() {
+        assert_eq!(HoughSplitParams::default().validate(), Ok(()));
+        assert_eq!(HoughSplitParams::paper().validate(), Ok(()));
+    }
+
+    #[test]
+    fn bad_fields_are_named() {
+        let p = HoughSplitParams {
+            split_sigmas: 0.0,
+            ..HoughSplitParams::default()
+        };
+        assert!(matches!(
+            p.validate(),
+            Err(ParamsError::NotPositive {
+                field: "split_sigmas",
+                ..
+            })
+        ));
+        let p = HoughSplitParams {
+            noise: NoiseModel::Fixed(RangeNoise::new(-1.0, 0.0)),
+            ..HoughSplitParams::default()
+        };
+        assert!(matches!(p.validate(), Err(ParamsError::BadNoise(_))));
+    }
+
+    #[test]
+    fn breakpoint_distance_grows_with_range_and_gap_and_stops_at_lambda() {
+        let p = HoughSplitParams::default();
+        let inc = 0.36f64.to_radians();
+        let d1 = p.breakpoint_distance(2.0, inc, 0.0).unwrap();
+        // A surface at exactly lambda to the beams: points r sin(dphi) / sin(lambda - dphi)
+        // apart.
+        assert!((d1 - 2.0 * inc.sin() / (10f64.to_radians() - inc).sin()).abs() < 1e-12);
+        assert!(p.breakpoint_distance(4.0, inc, 0.0).unwrap() > d1);
+        assert!(p.breakpoint_distance(2.0, 3.0 * inc, 0.0).unwrap() > d1);
+        let with_noise = p.breakpoint_distance(2.0, inc, 0.01).unwrap();
+        assert!((with_noise - d1 - 3.0 * 2f64.sqrt() * 0.01).abs() < 1e-12);
+        assert!(p.breakpoint_distance(2.0, 10f64.to_radians(), 0.0).is_none());
+        assert!(p.breakpoint_distance(2.0, f64::NAN, 0.0).is_none());
     }
 }

@@ -11,6 +11,7 @@
 
 use super::accumulator::{Accumulator, NONE};
 use super::params::HoughSplitParams;
+use crate::noise::RangeNoise;
 use crate::scan::ScanPoint;
 
 /// A data segment: a run of surviving points `kept[start..end]` in beam order.
@@ -23,7 +24,7 @@ pub(crate) struct SegmentRun {
 /// Union-find over cell indices.
 #[derive(Debug, Default, Clone)]
 pub(crate) struct Components {
-    parent: Vec<u32>,
+    pub(crate) parent: Vec<u32>,
 }
 
 impl Components {
@@ -93,70 +94,85 @@ pub(crate) fn connect_cells(acc: &Accumulator, p: &HoughSplitParams, uf: &mut Co
     }
 }
 
-/// Joins the cells of consecutive surviving points closer than the adaptive breakpoint
-/// distance `r sin(dphi) / sin(lambda - dphi) + 3 sigma` (Borges & Aldon 2004), where `dphi`
-/// is the angle between the two beams (larger across dropped beams). Points more than
-/// `bridge_max_gap` missing beams apart are never bridged.
+/// Joins the cells of nearby surviving points that lie closer than the breakpoint distance
+/// `D` ([`HoughSplitParams::breakpoint_distance`]): each point is compared with the points
+/// up to `bridge_max_gap` beams before it (missing beams, or points of other cells in
+/// between), so that a single outlier does not cut a wall in two.
 pub(crate) fn bridge_beams(
     points: &[ScanPoint],
     cell_of: &[u32],
     p: &HoughSplitParams,
+    noise: &RangeNoise,
     increment: f64,
     uf: &mut Components,
 ) {
     let step = increment.abs();
-    // The factor sin(dphi) / sin(lambda - dphi) for a gap of one beam, computed once.
-    let one_beam = breakpoint_factor(step, p.bridge_incidence);
-    let noise = 3.0 * p.bridge_noise;
-    let mut prev: Option<usize> = None;
-    for (pi, &cell) in cell_of.iter().enumerate() {
+    let reach = p.bridge_max_gap + 1;
+    for pi in 0..points.len() {
+        let cell = cell_of[pi];
         if cell == NONE {
             continue;
         }
-        if let Some(q) = prev
-            && cell_of[q] != cell
-        {
-            let gap = points[pi].index - points[q].index;
-            let factor = match gap {
-                1 => one_beam,
-                g if g <= p.bridge_max_gap + 1 => {
-                    breakpoint_factor(step * g as f64, p.bridge_incidence)
-                }
-                _ => None,
+        let here = &points[pi];
+        for q in (0..pi).rev() {
+            let gap = here.index - points[q].index;
+            if gap > reach {
+                break;
+            }
+            let other = cell_of[q];
+            if other == NONE || other == cell {
+                continue;
+            }
+            let there = &points[q];
+            let Some(limit) =
+                p.breakpoint_distance(there.range, step * gap as f64, noise.sigma(there.range))
+            else {
+                continue;
             };
-            if let Some(f) = factor {
-                let limit = points[q].range * f + noise;
-                // Squares would overflow to inf <= inf for absurd ranges: compare distances.
-                let dist = (points[pi].point - points[q].point).norm();
-                if dist.is_finite() && dist <= limit {
-                    uf.union(cell as usize, cell_of[q] as usize);
-                }
+            // Squares would overflow to inf <= inf for absurd ranges: compare distances.
+            let dist = (here.point - there.point).norm();
+            if dist.is_finite() && dist <= limit {
+                uf.union(cell as usize, other as usize);
             }
         }
-        prev = Some(pi);
     }
 }
 
-/// `sin(dphi) / sin(lambda - dphi)`, or `None` when beams `dphi` apart cannot be bridged.
-fn breakpoint_factor(dphi: f64, lambda: f64) -> Option<f64> {
-    let denom = (lambda - dphi).sin();
-    (dphi.is_finite() && lambda > dphi && denom > 0.0).then(|| dphi.sin() / denom)
-}
-
-/// Cuts the surviving points into data segments (runs of one component) and drops runs
-/// shorter than `min_segment_points`. Fills `kept` with the indices of the points that remain.
+/// Cuts the surviving points into data segments and fills `kept` with the indices of the
+/// points that remain.
+///
+/// Points whose component holds fewer than `min_segment_points` points are removed first
+/// (sparse and cluttered points: the paper's `Pm[i] = 0`); the rest are cut into maximal
+/// runs of one component, and (with `bridge_beams`) a run is also cut where consecutive
+/// points lie more than `bridge_max_gap` missing beams or more than the breakpoint distance
+/// `D` apart, so that no segment, and no line, spans empty space. Runs shorter than `min_segment_points` are
+/// removed too.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn cut_segments(
+    points: &[ScanPoint],
     cell_of: &[u32],
     p: &HoughSplitParams,
+    noise: &RangeNoise,
+    increment: f64,
     uf: &mut Components,
+    sizes: &mut Vec<u32>,
     kept: &mut Vec<u32>,
     segments: &mut Vec<SegmentRun>,
 ) {
     kept.clear();
     segments.clear();
-    let mut run_root = usize::MAX;
-    let mut run_start = 0usize;
     let min = p.min_segment_points.max(1);
+    // Points per component, counted at each component's root.
+    sizes.clear();
+    sizes.resize(uf.parent.len(), 0);
+    for &cell in cell_of {
+        if cell != NONE {
+            let root = uf.find(cell as usize);
+            sizes[root] += 1;
+        }
+    }
+    let step = increment.abs();
+    let reach = p.bridge_max_gap + 1;
     let close = |kept: &mut Vec<u32>, segments: &mut Vec<SegmentRun>, start: usize| {
         if kept.len() - start >= min {
             segments.push(SegmentRun {
@@ -167,12 +183,26 @@ pub(crate) fn cut_segments(
             kept.truncate(start);
         }
     };
+    let mut run_root = usize::MAX;
+    let mut run_start = 0usize;
     for (pi, &cell) in cell_of.iter().enumerate() {
         if cell == NONE {
             continue;
         }
         let root = uf.find(cell as usize);
-        if root != run_root {
+        if (sizes[root] as usize) < min {
+            continue;
+        }
+        let joined = run_root == root
+            && (!p.bridge_beams
+                || kept.last().is_some_and(|&q| {
+                let (a, b) = (&points[q as usize], &points[pi]);
+                let gap = b.index - a.index;
+                gap <= reach
+                    && p.breakpoint_distance(a.range, step * gap as f64, noise.sigma(a.range))
+                        .is_some_and(|d| (b.point - a.point).norm() <= d)
+                }));
+        if !joined {
             if run_root != usize::MAX {
                 close(kept, segments, run_start);
             }

@@ -1,0 +1,309 @@
+//! Step 6: from the split tree's pieces to lines: the merge of neighbours that are one line,
+//! where each line ends, the least-squares fits with their covariance, and the filters that
+//! keep surfaces and drop legs, posts and clutter.
+
+use super::linseg::{split_is_significant, sums};
+use super::params::HoughSplitParams;
+use crate::fit::FitSums;
+use crate::line::Line;
+use crate::math::Point2;
+use crate::noise::RangeNoise;
+use crate::scan::ScanPoint;
+
+/// Points on each side of a shared end point that [`best_cut`] may move to the other line.
+const CUT_WINDOW: usize = 4;
+
+/// A segment's points, their prefix sums, the parameters and the noise: what every step
+/// below reads.
+pub(crate) struct Pieces<'a> {
+    pub(crate) points: &'a [ScanPoint],
+    pub(crate) seg: &'a [u32],
+    pub(crate) pre: &'a [FitSums],
+    pub(crate) p: &'a HoughSplitParams,
+    pub(crate) noise: &'a RangeNoise,
+}
+
+impl Pieces<'_> {
+    fn point(&self, k: usize) -> &ScanPoint {
+        &self.points[self.seg[k] as usize]
+    }
+
+    /// Drops every break whose two pieces are one line (the split test, not significant),
+    /// greedily from left to right.
+    fn merge(&self, breaks: &mut Vec<u32>) {
+        if breaks.len() <= 2 || self.p.split_significance <= 0.0 {
+            return;
+        }
+        let mut w = 1;
+        for r in 1..breaks.len() - 1 {
+            let from = breaks[w - 1] as usize;
+            let (at, to) = (breaks[r] as usize, breaks[r + 1] as usize);
+            if !split_is_significant(self.pre, from, at, to, self.p, self.noise) {
+                continue;
+            }
+            breaks[w] = breaks[r];
+            w += 1;
+        }
+        let last = breaks[breaks.len() - 1];
+        breaks[w] = last;
+        breaks.truncate(w + 1);
+    }
+
+    /// Where to cut between the piece `seg[lo..=b]` and the piece `seg[b..=next]`, which
+    /// share the split point `b`: returns `c` such that the first piece keeps `seg[lo..c]`.
+    ///
+    /// The split point is the farthest point from a chord, which noise can move a few points
+    /// away from the true corner. Both pieces are fitted without the `CUT_WINDOW` points
+    /// around `b`, and the cut is placed where the points of the window are best explained
+    /// (least sum of squared distances) by the line on their side.
+    fn best_cut(&self, lo: usize, b: usize, next: usize) -> usize {
+        let wlo = b.saturating_sub(CUT_WINDOW).max(lo + 1);
+        let whi = (b + CUT_WINDOW).min(next.saturating_sub(1));
+        let left = sums(self.pre, lo, wlo).fit();
+        let right = sums(self.pre, whi + 1, next + 1).fit();
+        let (Some(left), Some(right)) = (left, right) else {
+            // Pieces too short to fit without the window: the split point stays with the first.
+            return b + 1;
+        };
+        if whi < wlo {
+            return b + 1;
+        }
+        // cost(c) = sum over window points before c of dL^2 + from c on of dR^2.
+        let (dl, dr) = (left.distance_fn(), right.distance_fn());
+        let mut cost: f64 = (wlo..=whi)
+            .map(|k| dr(self.point(k).point).powi(2))
+            .sum();
+        let mut best = (cost, wlo);
+        for c in wlo..=whi {
+            let q = self.point(c).point;
+            cost += dl(q).powi(2) - dr(q).powi(2);
+            // Ties keep the cut nearest the split point.
+            let better = cost < best.0
+                || (cost == best.0 && (c + 1).abs_diff(b + 1) < best.1.abs_diff(b + 1));
+            if better {
+                best = (cost, c + 1);
+            }
+        }
+        best.1
+    }
+
+    /// Drops points at the ends of the piece `seg[lo..hi]` that another surface bent away: a
+    /// short leg of a corner too small for the split to see, or a mixed pixel.
+    ///
+    /// For each end, the last `k <= min(CUT_WINDOW, n / 6)` points are tested against the fit
+    /// of the rest: each distance `d` is scaled by its expected spread, the point noise
+    /// `sigma(r)` plus the uncertainty of the fitted line at that point (from the fit's
+    /// covariance). The `k` points are cut when they all lie on one side and
+    /// `sum(d^2 / var) >= 9` (three standard deviations jointly), choosing the `k` with the
+    /// largest excess `sum(d^2 / var - 1)`. Returns the new bounds.
+    fn trim_ends(&self, lo: usize, hi: usize, min_points: usize) -> (usize, usize) {
+        let (mut lo, mut hi) = (lo, hi);
+        for from_end in [true, false] {
+            let n = hi.saturating_sub(lo);
+            let max_k = CUT_WINDOW
+                .min(n / 6)
+                .min(n.saturating_sub(min_points.max(3)));
+            let mut rest = sums(self.pre, lo, hi);
+            let mut best: Option<(f64, usize)> = None;
+            for k in 1..=max_k {
+                let idx = |j: usize| if from_end { hi - 1 - j } else { lo + j };
+                rest.remove(self.point(idx(k - 1)).point);
+                let Some(fit) = rest.fit() else { break };
+                let (chi2, one_side) = self.end_chi2(&fit, (0..k).map(idx));
+                let excess = chi2 - k as f64;
+                if one_side && chi2 >= 9.0 && best.is_none_or(|(e, _)| excess > e) {
+                    best = Some((excess, k));
+                }
+            }
+            if let Some((_, k)) = best {
+                if from_end {
+                    hi -= k;
+                } else {
+                    lo += k;
+                }
+            }
+        }
+        (lo, hi)
+    }
+
+    /// The chi-square of the points at positions `ks` against `fit` (point noise plus the
+    /// fit's uncertainty there), and whether they all lie on one side of it.
+    fn end_chi2(
+        &self,
+        fit: &crate::fit::PolarFit,
+        ks: impl Iterator<Item = usize>,
+    ) -> (f64, bool) {
+        // The normal once, for the distances and the positions along the line.
+        let normal = fit.normal();
+        let (ca, sa) = (normal.x, normal.y);
+        let cov = fit.covariance;
+        let (mut chi2, mut sign, mut one_side) = (0.0, 0.0f64, true);
+        for k in ks {
+            let sp = self.point(k);
+            let d = sp.point.coords.dot(&normal) - fit.r;
+            if sign == 0.0 {
+                sign = d.signum();
+            } else if d.signum() != sign {
+                one_side = false;
+            }
+            let noise = self.noise.sigma(sp.range);
+            let t = -sp.point.x * sa + sp.point.y * ca;
+            let line_var = cov[(0, 0)] - 2.0 * t * cov[(0, 1)] + t * t * cov[(1, 1)];
+            chi2 += d * d / (noise * noise + line_var.max(0.0));
+        }
+        (chi2, one_side)
+    }
+
+    /// The line of `seg[a..z]`, when it passes the filters: enough points, long enough, and
+    /// an RMS residual within `max_rms_sigmas` of the noise. Its covariance takes the point
+    /// noise as the larger of the residual variance and the model's noise across the line.
+    fn line(&self, a: usize, z: usize) -> Option<Line> {
+        if z <= a || z - a < self.p.min_line_points.max(2) {
+            return None;
+        }
+        let fit = sums(self.pre, a, z).fit()?;
+        let range = fit.centroid.coords.norm();
+        let sigma = self.noise.sigma(range);
+        if fit.rms > self.p.max_rms_sigmas * sigma {
+            return None;
+        }
+        let first = self.point(a);
+        let last = self.point(z - 1);
+        let mut line = Line::from_fit(&fit, (first.index, first.point), (last.index, last.point));
+        if line.length() < self.p.min_line_length {
+            return None;
+        }
+        // Range noise seen across the line: sigma cos(incidence), cos = r / |centroid|.
+        let across = if range > 0.0 {
+            sigma * fit.r / range
+        } else {
+            sigma
+        };
+        let n = fit.n as f64;
+        let residual = fit.rms * fit.rms * n / (n - 2.0).max(1.0);
+        if across * across > residual {
+            line.covariance = fit.covariance_for(across * across);
+        }
+        Some(line)
+    }
+}
+
+/// Turns the split tree's end points of one segment into lines appended to `out`.
+///
+/// Neighbouring pieces share their end point after the split; with `refine_ends`,
+/// [`Pieces::best_cut`] decides which line each point near it supports, so that every point
+/// supports at most one line; without, the shared point goes to the first.
+pub(crate) fn emit_lines(pieces: &Pieces<'_>, breaks: &mut Vec<u32>, out: &mut Vec<Line>) {
+    if breaks.len() < 2 {
+        return;
+    }
+    let p = pieces.p;
+    if p.merge_collinear {
+        pieces.merge(breaks);
+    }
+    let min_points = p.min_line_points.max(2);
+    let first_line = out.len();
+    // Piece i covers seg[lo..hi] with disjoint bounds.
+    let mut lo = 0usize;
+    for i in 1..breaks.len() {
+        let b = breaks[i] as usize;
+        let hi = if i + 1 == breaks.len() {
+            pieces.seg.len()
+        } else if p.refine_ends {
+            pieces.best_cut(lo, b, breaks[i + 1] as usize)
+        } else {
+            b + 1
+        };
+        let (a, z) = if p.refine_ends {
+            pieces.trim_ends(lo, hi, min_points)
+        } else {
+            (lo, hi)
+        };
+        if let Some(line) = pieces.line(a, z) {
+            out.push(line);
+        }
+        lo = hi;
+    }
+    if p.refine_ends {
+        join_corners(&mut out[first_line..], p, pieces.noise);
+    }
+}
+
+/// Neighbouring lines of one segment that meet at a corner share their end point, as in the
+/// paper: the intersection of the two fitted lines, when it lies near both ends (within
+/// `split_sigmas * sigma(r)` plus the gap between them, which within one data segment is at
+/// most the breakpoint distance) and the lines are not nearly parallel.
+fn join_corners(lines: &mut [Line], p: &HoughSplitParams, noise: &RangeNoise) {
+    for k in 1..lines.len() {
+        let (a, b) = (lines[k - 1], lines[k]);
+        let (sa, ca) = a.alpha.sin_cos();
+        let (sb, cb) = b.alpha.sin_cos();
+        let det = ca * sb - sa * cb;
+        // Lines closer than 15 deg to parallel: no well-defined corner.
+        if det.abs() < 15f64.to_radians().sin() {
+            continue;
+        }
+        let x = (a.r * sb - b.r * sa) / det;
+        let y = (ca * b.r - cb * a.r) / det;
+        let corner = Point2::new(x, y);
+        let thr = p.split_sigmas * noise.sigma(corner.coords.norm());
+        let reach = (b.start - a.end).norm() + thr;
+        if (corner - a.end).norm() <= reach && (corner - b.start).norm() <= reach {
+            lines[k - 1].end = corner;
+            lines[k].start = corner;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::linseg::{SplitScratch, linseg, prefix_sums};
+    use super::*;
+
+    fn pts(xy: &[(f64, f64)]) -> Vec<ScanPoint> {
+        xy.iter()
+            .enumerate()
+            .map(|(i, &(x, y))| ScanPoint {
+                index: i,
+                range: (x * x + y * y).sqrt(),
+                angle: y.atan2(x),
+                point: Point2::new(x, y),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn an_l_gives_two_lines_sharing_the_corner_point_once() {
+        let mut xy = Vec::new();
+        for i in 0..=20 {
+            xy.push((1.0, -1.0 + 0.05 * f64::from(i)));
+        }
+        for i in 1..=20 {
+            xy.push((1.0 - 0.025 * f64::from(i), 0.0));
+        }
+        let points = pts(&xy);
+        let seg: Vec<u32> = (0..points.len() as u32).collect();
+        let p = HoughSplitParams::default();
+        let noise = RangeNoise::new(0.002, 0.0);
+        let mut scratch = SplitScratch::default();
+        prefix_sums(&points, &seg, &mut scratch.prefix);
+        linseg(&points, &seg, &p, &noise, &mut scratch);
+        let pieces = Pieces {
+            points: &points,
+            seg: &seg,
+            pre: &scratch.prefix,
+            p: &p,
+            noise: &noise,
+        };
+        let mut out = Vec::new();
+        let mut breaks = scratch.breaks.clone();
+        emit_lines(&pieces, &mut breaks, &mut out);
+        assert_eq!(out.len(), 2);
+        assert!((out[0].r - 1.0).abs() < 1e-9 && out[0].alpha.abs() < 1e-9);
+        assert!(out[1].r.abs() < 1e-9);
+        // The corner point went to exactly one line, and both lines end at the corner.
+        assert_eq!(out[0].last + 1, out[1].first);
+        assert!((out[0].end - Point2::new(1.0, 0.0)).norm() < 1e-9);
+        assert!((out[1].start - Point2::new(1.0, 0.0)).norm() < 1e-9);
+    }
+}
