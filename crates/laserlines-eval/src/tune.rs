@@ -129,7 +129,11 @@ fn hough_split_knobs() -> Vec<Knob<HoughSplitParams>> {
             criterion,
             vec![0.0, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0]
         ),
-        real!(HoughSplitParams, split_sigmas, vec![2.5, 3.0, 3.5, 4.0, 5.0]),
+        real!(
+            HoughSplitParams,
+            split_sigmas,
+            vec![2.5, 3.0, 3.5, 4.0, 5.0]
+        ),
         real!(
             HoughSplitParams,
             split_significance,

@@ -334,7 +334,11 @@ mod tests {
         let s = FitSums::from_points(pts.iter().copied());
         let f = s.fit().unwrap();
         let by_fit = f.rms * f.rms * 20.0;
-        assert!((s.sse() - by_fit).abs() < 1e-9 * (1.0 + by_fit), "{} {by_fit}", s.sse());
+        assert!(
+            (s.sse() - by_fit).abs() < 1e-9 * (1.0 + by_fit),
+            "{} {by_fit}",
+            s.sse()
+        );
         let direct: f64 = pts.iter().map(|p| f.distance(*p).powi(2)).sum();
         assert!((s.sse() - direct).abs() < 1e-9);
         assert_eq!(FitSums::from_points(pts[..2].iter().copied()).sse(), 0.0);
@@ -342,7 +346,9 @@ mod tests {
 
     #[test]
     fn covariance_for_a_given_noise() {
-        let pts: Vec<Point2> = (0..10).map(|i| Point2::new(2.0, f64::from(i) * 0.1)).collect();
+        let pts: Vec<Point2> = (0..10)
+            .map(|i| Point2::new(2.0, f64::from(i) * 0.1))
+            .collect();
         let f = fit_points(&pts).unwrap();
         assert!(f.covariance[(1, 1)] < 1e-20);
         let c = f.covariance_for(1e-4);

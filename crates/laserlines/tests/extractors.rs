@@ -444,8 +444,9 @@ fn any_scan() -> impl Strategy<Value = Scan> {
         )
 }
 
-/// Piecewise-smooth scans: runs of walls (the first one long) seen at incidences of at least
-/// 30 deg, with noise and a few dropouts, forwards or reversed.
+/// Piecewise-smooth scans: runs of walls (the first one long: 40+ beams and 0.25+ m, more
+/// than the smallest surface any extractor keeps) seen at incidences of at least 30 deg, with
+/// noise and a few dropouts, forwards or reversed.
 fn wall_scan() -> impl Strategy<Value = Scan> {
     (
         (0.3f64..3.0, -1.0f64..1.0, 40usize..150),
@@ -453,9 +454,10 @@ fn wall_scan() -> impl Strategy<Value = Scan> {
         any::<u64>(),
         prop::bool::ANY,
     )
-        .prop_map(|(long, mut walls, seed, reversed)| {
-            walls.insert(0, long);
+        .prop_map(|(mut long, mut walls, seed, reversed)| {
             let inc = increment();
+            long.2 = long.2.max((0.25 / (long.0 * inc)).ceil() as usize);
+            walls.insert(0, long);
             let mut ranges = Vec::new();
             let mut rng = Rng(seed);
             let mut i = 0usize;

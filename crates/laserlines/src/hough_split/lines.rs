@@ -10,8 +10,13 @@ use crate::math::Point2;
 use crate::noise::RangeNoise;
 use crate::scan::ScanPoint;
 
-/// Points on each side of a shared end point that [`best_cut`] may move to the other line.
+/// Points on each side of a shared end point that [`Pieces::best_cut`] may move to the other
+/// line, and most points [`Pieces::trim_ends`] cuts from an end.
 const CUT_WINDOW: usize = 4;
+
+/// The chi-square quantiles at the 1e-2 level for 1..=4 degrees of freedom: `k` end points
+/// are cut only when their joint deviation is that unlikely as noise (and all on one side).
+const CHI2_1E2: [f64; CUT_WINDOW] = [6.63, 9.21, 11.34, 13.28];
 
 /// A segment's points, their prefix sums, the parameters and the noise: what every step
 /// below reads.
@@ -55,24 +60,42 @@ impl Pieces<'_> {
     /// The split point is the farthest point from a chord, which noise can move a few points
     /// away from the true corner. Both pieces are fitted without the `CUT_WINDOW` points
     /// around `b`, and the cut is placed where the points of the window are best explained
-    /// (least sum of squared distances) by the line on their side.
+    /// (least sum of squared distances) by the line on their side. When one piece is too
+    /// short to fit without the window, the other line takes the window's points for as long
+    /// as they lie within `split_sigmas * sigma(r)` of it.
     fn best_cut(&self, lo: usize, b: usize, next: usize) -> usize {
         let wlo = b.saturating_sub(CUT_WINDOW).max(lo + 1);
         let whi = (b + CUT_WINDOW).min(next.saturating_sub(1));
-        let left = sums(self.pre, lo, wlo).fit();
-        let right = sums(self.pre, whi + 1, next + 1).fit();
-        let (Some(left), Some(right)) = (left, right) else {
-            // Pieces too short to fit without the window: the split point stays with the first.
-            return b + 1;
-        };
         if whi < wlo {
             return b + 1;
         }
+        let left = sums(self.pre, lo, wlo).fit();
+        let right = sums(self.pre, whi + 1, next + 1).fit();
+        let near = |fit: &crate::fit::PolarFit, k: usize| {
+            let q = self.point(k);
+            fit.distance(q.point).abs() <= self.p.split_sigmas * self.noise.sigma(q.range)
+        };
+        let (left, right) = match (left, right) {
+            (Some(l), Some(r)) => (l, r),
+            (Some(l), None) => {
+                let mut c = wlo;
+                while c <= whi && near(&l, c) {
+                    c += 1;
+                }
+                return c.max(b + 1).min(next);
+            }
+            (None, Some(r)) => {
+                let mut c = whi;
+                while c >= wlo && near(&r, c) {
+                    c -= 1;
+                }
+                return (c + 1).min(b + 1).max(lo + 1);
+            }
+            (None, None) => return b + 1,
+        };
         // cost(c) = sum over window points before c of dL^2 + from c on of dR^2.
         let (dl, dr) = (left.distance_fn(), right.distance_fn());
-        let mut cost: f64 = (wlo..=whi)
-            .map(|k| dr(self.point(k).point).powi(2))
-            .sum();
+        let mut cost: f64 = (wlo..=whi).map(|k| dr(self.point(k).point).powi(2)).sum();
         let mut best = (cost, wlo);
         for c in wlo..=whi {
             let q = self.point(c).point;
@@ -91,11 +114,13 @@ impl Pieces<'_> {
     /// short leg of a corner too small for the split to see, or a mixed pixel.
     ///
     /// For each end, the last `k <= min(CUT_WINDOW, n / 6)` points are tested against the fit
-    /// of the rest: each distance `d` is scaled by its expected spread, the point noise
-    /// `sigma(r)` plus the uncertainty of the fitted line at that point (from the fit's
-    /// covariance). The `k` points are cut when they all lie on one side and
-    /// `sum(d^2 / var) >= 9` (three standard deviations jointly), choosing the `k` with the
-    /// largest excess `sum(d^2 / var - 1)`. Returns the new bounds.
+    /// of the rest: each distance `d` is scaled by its expected spread, the point noise (the
+    /// larger of `sigma(r)` and the rest's own residual spread) plus the uncertainty of the
+    /// fitted line at that point (from the fit's covariance). The `k` points are cut when they
+    /// bend away as a surface does (all on one side, the outermost farthest) and
+    /// `sum(d^2 / var)` exceeds the chi-square quantile of `k` degrees of freedom at the 1e-2
+    /// level, choosing the `k` with the largest excess `sum(d^2 / var - k)`. Returns the new
+    /// bounds.
     fn trim_ends(&self, lo: usize, hi: usize, min_points: usize) -> (usize, usize) {
         let (mut lo, mut hi) = (lo, hi);
         for from_end in [true, false] {
@@ -109,9 +134,9 @@ impl Pieces<'_> {
                 let idx = |j: usize| if from_end { hi - 1 - j } else { lo + j };
                 rest.remove(self.point(idx(k - 1)).point);
                 let Some(fit) = rest.fit() else { break };
-                let (chi2, one_side) = self.end_chi2(&fit, (0..k).map(idx));
+                let (chi2, bent) = self.end_chi2(&fit, (0..k).map(idx));
                 let excess = chi2 - k as f64;
-                if one_side && chi2 >= 9.0 && best.is_none_or(|(e, _)| excess > e) {
+                if bent && chi2 >= CHI2_1E2[k - 1] && best.is_none_or(|(e, _)| excess > e) {
                     best = Some((excess, k));
                 }
             }
@@ -126,32 +151,37 @@ impl Pieces<'_> {
         (lo, hi)
     }
 
-    /// The chi-square of the points at positions `ks` against `fit` (point noise plus the
-    /// fit's uncertainty there), and whether they all lie on one side of it.
-    fn end_chi2(
-        &self,
-        fit: &crate::fit::PolarFit,
-        ks: impl Iterator<Item = usize>,
-    ) -> (f64, bool) {
+    /// The chi-square of the points at positions `ks` (the outermost first) against `fit`
+    /// (point noise plus the fit's uncertainty there), and whether they bend away from it: all
+    /// on one side, the outermost farthest.
+    fn end_chi2(&self, fit: &crate::fit::PolarFit, ks: impl Iterator<Item = usize>) -> (f64, bool) {
         // The normal once, for the distances and the positions along the line.
         let normal = fit.normal();
         let (ca, sa) = (normal.x, normal.y);
         let cov = fit.covariance;
-        let (mut chi2, mut sign, mut one_side) = (0.0, 0.0f64, true);
+        let n = fit.n as f64;
+        let residual = if fit.n > 2 {
+            fit.rms * fit.rms * n / (n - 2.0)
+        } else {
+            0.0
+        };
+        let (mut chi2, mut sign, mut bent) = (0.0, 0.0f64, true);
+        let mut outermost = 0.0f64;
         for k in ks {
             let sp = self.point(k);
             let d = sp.point.coords.dot(&normal) - fit.r;
             if sign == 0.0 {
                 sign = d.signum();
-            } else if d.signum() != sign {
-                one_side = false;
+                outermost = d.abs();
+            } else if d.signum() != sign || d.abs() > outermost {
+                bent = false;
             }
             let noise = self.noise.sigma(sp.range);
             let t = -sp.point.x * sa + sp.point.y * ca;
             let line_var = cov[(0, 0)] - 2.0 * t * cov[(0, 1)] + t * t * cov[(1, 1)];
-            chi2 += d * d / (noise * noise + line_var.max(0.0));
+            chi2 += d * d / ((noise * noise).max(residual) + line_var.max(0.0));
         }
-        (chi2, one_side)
+        (chi2, bent)
     }
 
     /// The line of `seg[a..z]`, when it passes the filters: enough points, long enough, and

@@ -69,11 +69,7 @@ pub(crate) fn split_is_significant(
     let two = sums(pre, a, m + 1).sse() + sums(pre, m, b + 1).sse();
     // Both lines hold the shared point: n + 1 residuals, four parameters.
     let n = b - a + 1;
-    let residual = if n > 3 {
-        two / (n - 3) as f64
-    } else {
-        0.0
-    };
+    let residual = if n > 3 { two / (n - 3) as f64 } else { 0.0 };
     let variance = model_variance(pre, a, b, noise).max(residual);
     one - two > p.split_significance * variance
 }
@@ -226,9 +222,7 @@ mod tests {
 
     #[test]
     fn linseg_keeps_a_straight_run_whole() {
-        let xy: Vec<(f64, f64)> = (0..50)
-            .map(|i| (2.0, -1.0 + 0.04 * f64::from(i)))
-            .collect();
+        let xy: Vec<(f64, f64)> = (0..50).map(|i| (2.0, -1.0 + 0.04 * f64::from(i))).collect();
         assert_eq!(run(&xy, &HoughSplitParams::default()), vec![0, 49]);
     }
 
@@ -237,7 +231,12 @@ mod tests {
         // A straight wall with one point 1 cm off (5 sigma of the test's 2 mm): the paper's
         // distance criterion splits there, the significance test does not.
         let xy: Vec<(f64, f64)> = (0..60)
-            .map(|i| (2.0 + if i == 20 { 0.01 } else { 0.0 }, -1.2 + 0.04 * f64::from(i)))
+            .map(|i| {
+                (
+                    2.0 + if i == 20 { 0.01 } else { 0.0 },
+                    -1.2 + 0.04 * f64::from(i),
+                )
+            })
             .collect();
         assert_eq!(run(&xy, &HoughSplitParams::default()), vec![0, 59]);
         let paper = HoughSplitParams {

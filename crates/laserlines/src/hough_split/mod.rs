@@ -184,7 +184,13 @@ impl LineExtractor for HoughSplit {
         for run in &self.segments {
             let seg = &self.kept[run.start as usize..run.end as usize];
             linseg::prefix_sums(&self.points, seg, &mut self.scratch.prefix);
-            linseg::linseg(&self.points, seg, &self.params, &self.noise, &mut self.scratch);
+            linseg::linseg(
+                &self.points,
+                seg,
+                &self.params,
+                &self.noise,
+                &mut self.scratch,
+            );
             let from = self.split_points.len() as u32;
             self.split_points.extend(
                 self.scratch

@@ -83,7 +83,8 @@ pub struct HoughSplitParams {
     /// the paper (`false` gives the paper's pure grid connectivity). Default `true`.
     pub bridge_beams: bool,
     /// Smallest angle between beam and surface that `D` still joins, rad (the `lambda` of
-    /// Borges & Aldon 2004). Default 10 deg. Sensible: 5..20 deg.
+    /// Borges & Aldon 2004): a corridor wall seen lengthwise stays one segment down to this
+    /// angle. Default 4 deg. Sensible: 3..15 deg.
     pub bridge_incidence: f64,
     /// Noise allowance of `D`, in standard deviations of the distance between two points
     /// (`sqrt(2) sigma(r)`). Default 3. Sensible: 2..5.
@@ -142,7 +143,7 @@ impl Default for HoughSplitParams {
             noise: NoiseModel::Auto,
             noise_floor: 0.002,
             bridge_beams: true,
-            bridge_incidence: 10.0_f64.to_radians(),
+            bridge_incidence: 4.0_f64.to_radians(),
             bridge_sigmas: 3.0,
             bridge_max_gap: 2,
             min_segment_points: 8,
@@ -230,14 +231,16 @@ impl HoughSplitParams {
     /// surface can lie when the first is at range `r` and the beams are `dphi` rad apart,
     /// `D = r sin(dphi) / sin(lambda - dphi) + bridge_sigmas * sqrt(2) * sigma` (Borges &
     /// Aldon's adaptive breakpoint with `lambda = bridge_incidence` and the noise `sigma` at
-    /// `r`). `None` when `dphi` reaches `lambda` (no surface can be told from a gap).
+    /// `r`). `None` when `dphi` exceeds `lambda / 3`: points that far apart in angle are never
+    /// joined, so that `D` stays below `r / 2` plus the noise allowance and no gap in a sparse
+    /// scan is taken for a surface.
     #[must_use]
     pub fn breakpoint_distance(&self, r: f64, dphi: f64, sigma: f64) -> Option<f64> {
         let lambda = self.bridge_incidence;
         let denom = (lambda - dphi).sin();
-        (dphi.is_finite() && dphi >= 0.0 && lambda > dphi && denom > 0.0).then(|| {
-            r * dphi.sin() / denom + self.bridge_sigmas * std::f64::consts::SQRT_2 * sigma
-        })
+        let reach = lambda / 3.0 + 1e-12;
+        (dphi.is_finite() && dphi >= 0.0 && dphi <= reach && denom > 0.0)
+            .then(|| r * dphi.sin() / denom + self.bridge_sigmas * std::f64::consts::SQRT_2 * sigma)
     }
 }
 
@@ -278,12 +281,20 @@ mod tests {
         let d1 = p.breakpoint_distance(2.0, inc, 0.0).unwrap();
         // A surface at exactly lambda to the beams: points r sin(dphi) / sin(lambda - dphi)
         // apart.
-        assert!((d1 - 2.0 * inc.sin() / (10f64.to_radians() - inc).sin()).abs() < 1e-12);
+        assert!((d1 - 2.0 * inc.sin() / (4f64.to_radians() - inc).sin()).abs() < 1e-12);
         assert!(p.breakpoint_distance(4.0, inc, 0.0).unwrap() > d1);
         assert!(p.breakpoint_distance(2.0, 3.0 * inc, 0.0).unwrap() > d1);
         let with_noise = p.breakpoint_distance(2.0, inc, 0.01).unwrap();
         assert!((with_noise - d1 - 3.0 * 2f64.sqrt() * 0.01).abs() < 1e-12);
-        assert!(p.breakpoint_distance(2.0, 10f64.to_radians(), 0.0).is_none());
+        // Never beyond lambda / 3, where D would reach r / 2.
+        let at_limit = p
+            .breakpoint_distance(2.0, 4f64.to_radians() / 3.0, 0.0)
+            .unwrap();
+        assert!((at_limit - 1.0).abs() < 0.01, "{at_limit}");
+        assert!(
+            p.breakpoint_distance(2.0, 1.5f64.to_radians(), 0.0)
+                .is_none()
+        );
         assert!(p.breakpoint_distance(2.0, f64::NAN, 0.0).is_none());
     }
 }

@@ -196,11 +196,11 @@ pub(crate) fn cut_segments(
         let joined = run_root == root
             && (!p.bridge_beams
                 || kept.last().is_some_and(|&q| {
-                let (a, b) = (&points[q as usize], &points[pi]);
-                let gap = b.index - a.index;
-                gap <= reach
-                    && p.breakpoint_distance(a.range, step * gap as f64, noise.sigma(a.range))
-                        .is_some_and(|d| (b.point - a.point).norm() <= d)
+                    let (a, b) = (&points[q as usize], &points[pi]);
+                    let gap = b.index - a.index;
+                    gap <= reach
+                        && p.breakpoint_distance(a.range, step * gap as f64, noise.sigma(a.range))
+                            .is_some_and(|d| (b.point - a.point).norm() <= d)
                 }));
         if !joined {
             if run_root != usize::MAX {

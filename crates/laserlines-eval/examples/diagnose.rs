@@ -1,0 +1,86 @@
+//! Lists what `hough-split` got wrong on a simulated suite: every missed significant piece
+//! and every false line, with the scan it came from, so that a failure can be looked at.
+//!
+//! ```sh
+//! cargo run --release -p laserlines-eval --example diagnose -- clutter urg04lx-full 40
+//! ```
+
+use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
+use laserlines_eval::workload::{TEST_SEED, sensor, suite_scans};
+use laserlines_eval::{MatchParams, match_lines};
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let suite = args.get(1).map_or("all", String::as_str);
+    let name = args.get(2).map_or("urg04lx-full", String::as_str);
+    let count: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(20);
+    let Some(sensor) = sensor(name) else {
+        eprintln!("unknown sensor {name}");
+        std::process::exit(2);
+    };
+    let scans = match suite_scans(suite, TEST_SEED, count, &sensor) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("{e}");
+            std::process::exit(2);
+        }
+    };
+    let Ok(mut hs) = HoughSplit::new(HoughSplitParams::default()) else {
+        return;
+    };
+    let params = MatchParams::default();
+    let mut lines = Vec::new();
+    for s in &scans {
+        let Some(truth) = &s.truth else { continue };
+        hs.extract_into(&s.scan, &mut lines);
+        let m = match_lines(&lines, truth, &params);
+        let missed: Vec<usize> = (0..truth.len())
+            .filter(|&i| truth[i].significant && !m.pairs.iter().any(|p| p.piece == i))
+            .collect();
+        if missed.is_empty() && m.false_lines.is_empty() {
+            continue;
+        }
+        println!("{} noise {}", s.name, hs.stages().noise());
+        for i in missed {
+            let p = &truth[i];
+            println!(
+                "  missed piece {i}: wall {} beams {}..{} r {:.3} alpha {:.1} len {:.2} sigma_r {:.4}",
+                p.wall,
+                p.first,
+                p.last,
+                p.r,
+                p.alpha.to_degrees(),
+                p.length(),
+                p.sigma_r
+            );
+        }
+        for &li in &m.false_lines {
+            let l = &lines[li];
+            let best = truth
+                .iter()
+                .enumerate()
+                .max_by_key(|(_, p)| (l.last.min(p.last) + 1).saturating_sub(l.first.max(p.first)))
+                .map(|(i, p)| {
+                    format!(
+                        "piece {i} (wall {} beams {}..{} r {:.3} alpha {:.1})",
+                        p.wall,
+                        p.first,
+                        p.last,
+                        p.r,
+                        p.alpha.to_degrees()
+                    )
+                })
+                .unwrap_or_default();
+            println!(
+                "  false line beams {}..{} r {:.3} alpha {:.1} len {:.2} rms {:.4} n {}; nearest {best}",
+                l.first,
+                l.last,
+                l.r,
+                l.alpha.to_degrees(),
+                l.length(),
+                l.rms,
+                l.points
+            );
+        }
+    }
+}
