@@ -310,6 +310,7 @@ struct HoughSplitToml {
     min_line_points: Option<usize>,
     min_line_length: Option<f64>,
     max_rms_sigmas: Option<f64>,
+    max_alpha_sd: Option<f64>,
     min_range: Option<f64>,
     range_limits: Option<[f64; 2]>,
     paper: Option<bool>,
@@ -453,6 +454,7 @@ impl ParamsFile {
             min_line_points,
             min_line_length,
             max_rms_sigmas,
+            max_alpha_sd,
             min_range
         );
         p.noise = noise_model(t)?;

@@ -28,7 +28,11 @@ fn main() {
     let Ok(mut hs) = HoughSplit::new(HoughSplitParams::default()) else {
         return;
     };
-    let params = MatchParams::default();
+    let params = if std::env::var("FIELD").is_ok() {
+        MatchParams::field()
+    } else {
+        MatchParams::default()
+    };
     let mut lines = Vec::new();
     for s in &scans {
         let Some(truth) = &s.truth else { continue };
@@ -72,14 +76,16 @@ fn main() {
                 })
                 .unwrap_or_default();
             println!(
-                "  false line beams {}..{} r {:.3} alpha {:.1} len {:.2} rms {:.4} n {}; nearest {best}",
+                "  false line beams {}..{} r {:.3} alpha {:.1} len {:.2} rms {:.4} n {} sd_alpha {:.2} deg range {:.2}; nearest {best}",
                 l.first,
                 l.last,
                 l.r,
                 l.alpha.to_degrees(),
                 l.length(),
                 l.rms,
-                l.points
+                l.points,
+                l.covariance[(1, 1)].sqrt().to_degrees(),
+                ((l.start + l.end.coords) * 0.5).coords.norm()
             );
         }
     }

@@ -39,6 +39,24 @@ use serde::Serialize;
 
 use crate::truth::{ExpectedPiece, beam_span};
 
+/// Which lines count as right (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Criteria {
+    /// Lines and visible pieces one to one: a line must cover its piece by an intersection
+    /// over union of the beams of `min_overlap`, within tolerances widened to `sigmas`
+    /// standard errors of an ideal fit; every other line is false.
+    #[default]
+    Strict,
+    /// As a user judges each line on its own: a line is right when at least `min_overlap` of
+    /// its beams fall on pieces of one wall and its `r` and angle are within `r_tolerance`
+    /// and `alpha_tolerance` of that wall's (5 cm and 3 deg by [`MatchParams::field`]); a
+    /// significant piece is found when a right line of its wall covers at least half of its
+    /// beams. A wall behind a cable may so be one line, and a wall cut by a leg two; a
+    /// fragment off the wall, a line on a leg, or one across a corner is false.
+    Field,
+}
+
 /// Tolerances of [`match_lines`] (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct MatchParams {
@@ -49,8 +67,11 @@ pub struct MatchParams {
     /// Standard errors of an ideal fit that the tolerances are widened to. Default 4.
     pub sigmas: f64,
     /// Smallest intersection over union of the beam ranges of a line and its piece, in
-    /// `(0, 1]`. Default 0.5.
+    /// `(0, 1]` (with [`Criteria::Field`]: the fraction of the line's beams on its target).
+    /// Default 0.5.
     pub min_overlap: f64,
+    /// Which lines count as right. Default [`Criteria::Strict`].
+    pub criteria: Criteria,
 }
 
 impl Default for MatchParams {
@@ -60,11 +81,25 @@ impl Default for MatchParams {
             alpha_tolerance: 0.5_f64.to_radians(),
             sigmas: 4.0,
             min_overlap: 0.5,
+            criteria: Criteria::Strict,
         }
     }
 }
 
 impl MatchParams {
+    /// The field criteria: `|dr| <= 5 cm`, angle within 3 deg, half of the line on its
+    /// target ([`Criteria::Field`]).
+    #[must_use]
+    pub fn field() -> Self {
+        Self {
+            r_tolerance: 0.05,
+            alpha_tolerance: 3f64.to_radians(),
+            sigmas: 0.0,
+            min_overlap: 0.5,
+            criteria: Criteria::Field,
+        }
+    }
+
     /// Tolerances `(r in m, alpha in rad)` for `piece`.
     #[must_use]
     pub fn tolerances(&self, piece: &ExpectedPiece) -> (f64, f64) {
@@ -135,10 +170,74 @@ fn compare(l: &Line, p: &ExpectedPiece) -> (f64, f64, f64, f64) {
     (iou, on, l.r - p.r, angle_diff(l.alpha, p.alpha))
 }
 
-/// Matches `lines` to `pieces` one to one (see the module docs). Never panics; a line with
-/// non-finite fields matches nothing.
+/// Matches `lines` to `pieces` by `params.criteria` (see the module docs). Never panics; a
+/// line with non-finite fields matches nothing.
 #[must_use]
 pub fn match_lines(lines: &[Line], pieces: &[ExpectedPiece], params: &MatchParams) -> ScanMatch {
+    match params.criteria {
+        Criteria::Strict => match_one_to_one(lines, pieces, params),
+        Criteria::Field => match_each(lines, pieces, params),
+    }
+}
+
+/// [`Criteria::Field`]: each line on its own.
+fn match_each(lines: &[Line], pieces: &[ExpectedPiece], params: &MatchParams) -> ScanMatch {
+    // The wall each line is right for, if any: the wall holding most of its beams.
+    let right: Vec<Option<usize>> = lines
+        .iter()
+        .map(|l| {
+            let nl = beam_span(l.first, l.last);
+            let on_wall = |w: usize| -> usize {
+                pieces
+                    .iter()
+                    .filter(|p| p.wall == w)
+                    .map(|p| shared(l.first, l.last, p.first, p.last))
+                    .sum()
+            };
+            let p = pieces
+                .iter()
+                .max_by_key(|p| (on_wall(p.wall), std::cmp::Reverse(p.wall)))?;
+            let (_, _, dr, da) = compare(l, p);
+            let (tr, ta) = params.tolerances(p);
+            let enough = nl > 0 && on_wall(p.wall) as f64 >= params.min_overlap * nl as f64;
+            (enough && dr.abs() <= tr && da <= ta).then_some(p.wall)
+        })
+        .collect();
+    let mut pairs = Vec::new();
+    for (pi, p) in pieces.iter().enumerate() {
+        let covering = (0..lines.len())
+            .filter(|&li| right[li] == Some(p.wall))
+            .map(|li| (li, shared(lines[li].first, lines[li].last, p.first, p.last)))
+            .filter(|&(_, s)| 2 * s >= p.beams())
+            .max_by_key(|&(li, s)| (s, std::cmp::Reverse(li)));
+        if let Some((li, s)) = covering {
+            let l = &lines[li];
+            let union = (beam_span(l.first, l.last) + p.beams()).saturating_sub(s);
+            pairs.push(Pair {
+                line: li,
+                piece: pi,
+                significant: p.significant,
+                dr: l.r - p.r,
+                dalpha: angle_diff(l.alpha, p.alpha),
+                start_error: (l.start - p.start).norm(),
+                end_error: (l.end - p.end).norm(),
+                overlap: s as f64 / union.max(1) as f64,
+            });
+        }
+    }
+    let false_lines: Vec<usize> = (0..lines.len()).filter(|&i| right[i].is_none()).collect();
+    ScanMatch {
+        significant_pieces: pieces.iter().filter(|p| p.significant).count(),
+        found: pairs.iter().filter(|p| p.significant).count(),
+        lines: lines.len(),
+        pairs,
+        false_lines,
+        on_wall_lines: Vec::new(),
+    }
+}
+
+/// [`Criteria::Strict`]: one to one.
+fn match_one_to_one(lines: &[Line], pieces: &[ExpectedPiece], params: &MatchParams) -> ScanMatch {
     // (overlap, cost, line, piece)
     let mut candidates: Vec<(f64, f64, usize, usize)> = Vec::new();
     for (li, l) in lines.iter().enumerate() {

@@ -184,9 +184,10 @@ impl Pieces<'_> {
         (chi2, bent)
     }
 
-    /// The line of `seg[a..z]`, when it passes the filters: enough points, long enough, and
-    /// an RMS residual within `max_rms_sigmas` of the noise. Its covariance takes the point
-    /// noise as the larger of the residual variance and the model's noise across the line.
+    /// The line of `seg[a..z]`, when it passes the filters: enough points, long enough, an
+    /// RMS residual within `max_rms_sigmas` of the noise, a direction known to
+    /// `max_alpha_sd`. Its covariance takes the point noise as the larger of the residual
+    /// variance and the model's noise across the line.
     fn line(&self, a: usize, z: usize) -> Option<Line> {
         if z <= a || z - a < self.p.min_line_points.max(2) {
             return None;
@@ -214,7 +215,7 @@ impl Pieces<'_> {
         if across * across > residual {
             line.covariance = fit.covariance_for(across * across);
         }
-        Some(line)
+        (line.covariance[(1, 1)] <= self.p.max_alpha_sd * self.p.max_alpha_sd).then_some(line)
     }
 }
 

@@ -123,6 +123,10 @@ pub struct HoughSplitParams {
     /// Lines whose RMS residual exceeds this many `sigma(r)` (at their centroid) are dropped:
     /// a line through scattered clutter is no surface. Default 2.5. `inf` turns it off.
     pub max_rms_sigmas: f64,
+    /// Lines whose direction is known worse than this (one standard deviation of `alpha`
+    /// from their covariance), rad, are dropped: a short far piece under heavy noise gives a
+    /// line whose direction says little. Default 5 deg. `inf` turns it off.
+    pub max_alpha_sd: f64,
     /// Points nearer than this never form lines, m: the robot's own body (a footprint radius
     /// around the laser). Default 0 (the scan's `range_min` only).
     pub min_range: f64,
@@ -154,6 +158,7 @@ impl Default for HoughSplitParams {
             min_line_points: 8,
             min_line_length: 0.15,
             max_rms_sigmas: 2.5,
+            max_alpha_sd: 5f64.to_radians(),
             min_range: 0.0,
             range_limits: None,
         }
@@ -180,6 +185,7 @@ impl HoughSplitParams {
             min_line_points: 3,
             min_line_length: 0.0,
             max_rms_sigmas: f64::INFINITY,
+            max_alpha_sd: f64::INFINITY,
             range_limits: Some(RangeWindow::PAPER),
             ..Self::default()
         }
@@ -213,11 +219,13 @@ impl HoughSplitParams {
                 return Err(ParamsError::Negative { field, value });
             }
         }
-        if self.max_rms_sigmas.is_nan() || self.max_rms_sigmas <= 0.0 {
-            return Err(ParamsError::NotPositive {
-                field: "max_rms_sigmas",
-                value: self.max_rms_sigmas,
-            });
+        for (field, value) in [
+            ("max_rms_sigmas", self.max_rms_sigmas),
+            ("max_alpha_sd", self.max_alpha_sd),
+        ] {
+            if value.is_nan() || value <= 0.0 {
+                return Err(ParamsError::NotPositive { field, value });
+            }
         }
         if let NoiseModel::Fixed(n) = self.noise
             && !n.is_valid()
