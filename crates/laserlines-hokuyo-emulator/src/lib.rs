@@ -17,13 +17,15 @@ use laserlines_hokuyo::emulator::{Model, ScanFeed};
 use laserlines_sim::index::WorldIndex;
 use laserlines_sim::{LaserModel, Noise, Rng, World};
 
-/// A reading as the sensor sends it: mm, 0 (no echo) for no return.
+/// A reading as the sensor sends it, mm: 0 (no echo) for no return and beyond `DMAX`; a
+/// reading below `DMIN` (an error code a log kept as a range, e.g. 0.007 m) stays as it
+/// is.
 fn to_mm(range: f64, model: &Model) -> u32 {
-    if !range.is_finite() || range <= 0.0 {
+    if !range.is_finite() || range < 0.0 {
         return 0;
     }
     let mm = (range * 1000.0).round();
-    if mm > f64::from(model.dmax_mm) || mm < f64::from(model.dmin_mm) {
+    if mm > f64::from(model.dmax_mm) {
         0
     } else {
         mm as u32
@@ -152,8 +154,9 @@ impl LogFeed {
 }
 
 /// The readings of `scan` at the steps of `model`: each step takes the beam of `scan`
-/// nearest in angle, within half the log's increment; other steps, and beams that are no
-/// return, read 0 (no echo).
+/// nearest in angle; steps outside the log's scan, and beams that are no return (NaN,
+/// beyond the log's `range_max`), read 0 (no echo); error codes kept as ranges below
+/// `range_min` (URG logs keep 1..19 mm) are sent as they are.
 #[must_use]
 pub fn resample(scan: &Scan, model: &Model) -> Vec<u32> {
     let inc = scan.angle_increment;
@@ -167,7 +170,7 @@ pub fn resample(scan: &Scan, model: &Model) -> Vec<u32> {
                 return 0;
             }
             let r = scan.ranges[k as usize];
-            if r < scan.range_min || r > scan.range_max {
+            if r > scan.range_max {
                 return 0;
             }
             to_mm(r, model)
@@ -219,11 +222,13 @@ mod tests {
         // A log scan at the same steps, ranges 1 m + 1 mm per beam, one no return.
         let mut ranges: Vec<f64> = (0..682).map(|i| 1.0 + i as f64 * 0.001).collect();
         ranges[10] = f64::NAN;
+        ranges[11] = 0.007;
         let scan = Scan::new(-340.0 * inc, inc, 0.02, 5.6, ranges).unwrap();
         let v = resample(&scan, &model);
         assert_eq!(v[0], 1000);
         assert_eq!(v[681], 1681);
         assert_eq!(v[10], 0);
+        assert_eq!(v[11], 7);
         let mut feed = LogFeed::new(Box::new(move || {
             Ok(Box::new(vec![scan.clone()].into_iter()) as Box<dyn Iterator<Item = Scan> + Send>)
         }))
