@@ -284,12 +284,10 @@ impl Scanner {
     }
 
     fn lose_link(&mut self, why: String) {
-        if let Some(s) = self.session.take() {
-            if s.pending_bytes() > 0 {
-                // A scan cut off by the disconnect.
-                self.stats.dropped.add(DropReason::Truncated, 1);
-                self.dropped_since_good += 1;
-            }
+        if self.session.take().is_some_and(|s| s.pending_bytes() > 0) {
+            // A scan cut off by the disconnect.
+            self.stats.dropped.add(DropReason::Truncated, 1);
+            self.dropped_since_good += 1;
         }
         tracing::warn!(endpoint = %self.endpoint, %why, "sensor link lost; reconnecting");
         self.stats.last_error = Some(why);

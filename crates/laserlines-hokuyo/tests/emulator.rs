@@ -4,6 +4,8 @@
 //!
 //! Timeouts are generous and nothing asserts a speed: the machine may be busy.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers outside #[test] fns
+
 use std::collections::HashMap;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};

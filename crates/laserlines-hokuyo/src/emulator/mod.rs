@@ -51,7 +51,7 @@ impl ScanFeed for PatternFeed {
         let span = u64::from(model.dmax_mm - model.dmin_mm);
         (0..steps as u64)
             .map(|i| {
-                if (i + k) % 37 == 0 {
+                if (i + k).is_multiple_of(37) {
                     // Every error code in turn.
                     ((i / 37 + k) % 20) as u32
                 } else {
