@@ -47,6 +47,10 @@ enum Command {
     Convert(cmd::convert::ConvertArgs),
     /// Replay a log with its lines on a Foxglove WebSocket on 127.0.0.1.
     View(cmd::view::ViewArgs),
+    /// Read a Hokuyo sensor (USB serial or Ethernet, SCIP 2.0) and extract lines live.
+    Live(cmd::live::LiveArgs),
+    /// Emulate a Hokuyo sensor (SCIP 2.0 over TCP or a pseudo-terminal), with faults.
+    HokuyoEmulator(cmd::hokuyo_emulator::HokuyoEmulatorArgs),
 }
 
 /// Where scans come from: a path (or `-` for stdin) and an optional format override.
@@ -75,6 +79,8 @@ fn main() -> ExitCode {
         Command::Simulate(a) => cmd::simulate::run(&a),
         Command::Convert(a) => cmd::convert::run(&a),
         Command::View(a) => cmd::view::run(&a),
+        Command::Live(a) => cmd::live::run(&a),
+        Command::HokuyoEmulator(a) => cmd::hokuyo_emulator::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -4,6 +4,8 @@ pub mod bench;
 pub mod convert;
 pub mod demo;
 pub mod extract;
+pub mod hokuyo_emulator;
+pub mod live;
 pub mod render;
 pub mod simulate;
 pub mod simulate_mcap;

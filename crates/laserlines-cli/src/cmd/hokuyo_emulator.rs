@@ -1,0 +1,169 @@
+//! `laserlines hokuyo-emulator`: a Hokuyo sensor in software, speaking SCIP 2.0 over TCP
+//! or a pseudo-terminal, from the simulator in an arena or from a recorded log, with
+//! injectable faults.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, anyhow, bail};
+use clap::Args;
+use laserlines_hokuyo::emulator::{Emulator, Faults, Model, ModelName, ScanFeed, ServedLog};
+use laserlines_hokuyo_emulator::{ArenaFeed, LogFeed};
+use laserlines_sim::arena::{ArenaOptions, interior_start, load_raf};
+
+use crate::InputArgs;
+
+/// Arguments of `laserlines hokuyo-emulator`.
+#[derive(Debug, Args)]
+pub struct HokuyoEmulatorArgs {
+    /// The sensor: urg-04lx (682 steps, 10 scans/s) or ust-10lx (1081 steps, 40 scans/s).
+    #[arg(long, default_value = "urg-04lx")]
+    model: String,
+    /// Serve on TCP at ADDR:PORT (port 0 picks a free one; the address is printed).
+    #[arg(long, conflicts_with = "pty")]
+    tcp: Option<String>,
+    /// Serve on a new pseudo-terminal (its device path is printed): the serial path.
+    #[arg(long)]
+    pty: bool,
+    /// A RoboCup Rescue arena (.raf) for the simulated sensor to move in (default: the
+    /// bundled maze_10m_x_14m).
+    #[arg(long, conflicts_with = "log")]
+    arena: Option<PathBuf>,
+    /// Replay a recorded log instead (any format `extract` reads), over and over.
+    #[arg(long)]
+    log: Option<PathBuf>,
+    /// Scans per second (default: the model's, 10 or 40).
+    #[arg(long)]
+    rate: Option<f64>,
+    /// Seed of the simulated noise.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Stop after this many seconds (default: until Ctrl-C).
+    #[arg(long)]
+    duration: Option<f64>,
+    /// Write every scan sent as a JSON line (connection, time stamp, fault, readings in mm).
+    #[arg(long)]
+    served: Option<PathBuf>,
+    /// Fault: every N-th scan with a wrong check character.
+    #[arg(long, default_value_t = 0)]
+    bad_checksum_every: u64,
+    /// Fault: every N-th scan with a data line cut short.
+    #[arg(long, default_value_t = 0)]
+    truncate_every: u64,
+    /// Fault: after N scans on a connection, send half a scan and drop the connection.
+    #[arg(long, default_value_t = 0)]
+    drop_after: u64,
+    /// Fault: stay unreachable this many seconds after dropping a connection.
+    #[arg(long, default_value_t = 0.0)]
+    down_for: f64,
+    /// Fault: start in SCIP 1.1 (the host must switch with SCIP2.0).
+    #[arg(long)]
+    scip11: bool,
+    /// Fault: answer every command this many milliseconds late.
+    #[arg(long, default_value_t = 0)]
+    reply_delay_ms: u64,
+    /// Fault: after N scans on a connection, fall silent ...
+    #[arg(long, default_value_t = 0)]
+    stall_after: u64,
+    /// ... for this many seconds.
+    #[arg(long, default_value_t = 5.0)]
+    stall_for: f64,
+    /// Fault: the sensor clock at start, ms (16777215 wraps at once; 16775216 after 2 s).
+    #[arg(long, default_value_t = 0)]
+    clock_start_ms: u32,
+}
+
+fn seconds(name: &str, s: f64) -> Result<Duration> {
+    Duration::try_from_secs_f64(s).map_err(|_| anyhow!("--{name} must be seconds >= 0, got {s}"))
+}
+
+fn feed(args: &HokuyoEmulatorArgs) -> Result<Box<dyn ScanFeed>> {
+    if let Some(log) = &args.log {
+        let input = InputArgs {
+            input: log.clone(),
+            format: None,
+            topic: None,
+        };
+        let reopen = Box::new(move || {
+            let reader = super::open_input(&input).map_err(|e| format!("{e:#}"))?;
+            Ok(Box::new(reader.filter_map(Result::ok).map(|r| r.scan))
+                as Box<dyn Iterator<Item = laserlines::Scan> + Send>)
+        });
+        return Ok(Box::new(LogFeed::new(reopen).map_err(|e| anyhow!(e))?));
+    }
+    let arena = match &args.arena {
+        Some(p) => load_raf(p, &ArenaOptions::default())?,
+        None => laserlines_nav::arenas::bundled("maze_10m_x_14m", &ArenaOptions::default())
+            .ok_or_else(|| anyhow!("the bundled arena is missing"))??,
+    };
+    let start = interior_start(&arena.world, 0.5)
+        .with_context(|| format!("{}: no free spot to put the sensor", arena.name))?;
+    Ok(Box::new(ArenaFeed::new(&arena.world, start, args.seed)))
+}
+
+/// Runs the command.
+pub fn run(args: &HokuyoEmulatorArgs) -> Result<()> {
+    let name: ModelName = args.model.parse().map_err(|e: String| anyhow!(e))?;
+    let mut model = Model::new(name);
+    if let Some(rate) = args.rate {
+        if !(rate.is_finite() && rate > 0.0 && rate <= 1000.0) {
+            bail!("--rate must be scans per second in (0, 1000], got {rate}");
+        }
+        model.scan_rpm = (rate * 60.0).round().max(1.0) as u32;
+    }
+    let faults = Faults {
+        bad_checksum_every: args.bad_checksum_every,
+        truncate_every: args.truncate_every,
+        drop_after: args.drop_after,
+        down_for: seconds("down-for", args.down_for)?,
+        start_in_scip11: args.scip11,
+        reply_delay: Duration::from_millis(args.reply_delay_ms),
+        stall_after: args.stall_after,
+        stall_for: seconds("stall-for", args.stall_for)?,
+        clock_start_ms: args.clock_start_ms,
+    };
+    let log = match &args.served {
+        Some(p) => ServedLog::to_writer(Box::new(std::io::BufWriter::new(
+            std::fs::File::create(p).with_context(|| format!("cannot create {}", p.display()))?,
+        ))),
+        None => ServedLog::default(),
+    };
+    let emulator = Emulator::new(model, feed(args)?, faults, log);
+    let handle = if args.pty {
+        emulator
+            .serve_pty()
+            .context("cannot open a pseudo-terminal")?
+    } else {
+        let addr = args.tcp.as_deref().unwrap_or("127.0.0.1:10940");
+        emulator
+            .serve_tcp(addr)
+            .with_context(|| format!("cannot serve on {addr}"))?
+    };
+    match (handle.local_addr(), handle.pty_path()) {
+        (Some(a), _) => outln!("laserlines: emulated {name} on {a}"),
+        (_, Some(p)) => outln!("laserlines: emulated {name} on {p}"),
+        _ => {}
+    }
+    std::io::stdout().flush()?;
+    let stop = Arc::new(AtomicBool::new(false));
+    let s = stop.clone();
+    ctrlc::set_handler(move || s.store(true, Ordering::Relaxed)).context("cannot catch Ctrl-C")?;
+    let until = args
+        .duration
+        .map(|d| seconds("duration", d))
+        .transpose()?
+        .map(|d| Instant::now() + d);
+    while !stop.load(Ordering::Relaxed)
+        && until.is_none_or(|u| Instant::now() < u)
+        && !handle.is_finished()
+    {
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let sent = handle.log().count();
+    handle.stop()?;
+    eprintln!("laserlines: emulator sent {sent} scans");
+    Ok(())
+}
