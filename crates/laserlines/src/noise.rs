@@ -23,7 +23,7 @@
 use crate::scan::{RangeWindow, Scan};
 
 /// A range-noise model `sigma(r) = max(sigma_min, fraction * r)`, metres.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct RangeNoise {
     /// Standard deviation at short range, m.

@@ -90,13 +90,6 @@ pub struct Cell {
 /// Marks a point without a kept cell.
 pub(crate) const NONE: u32 = u32::MAX;
 
-/// A vote of one point into one cell.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Vote {
-    pub(crate) ring: u32,
-    pub(crate) point: u32,
-}
-
 /// The sparse accumulator.
 #[derive(Debug, Default, Clone)]
 pub(crate) struct Accumulator {
@@ -106,7 +99,8 @@ pub(crate) struct Accumulator {
     /// For each point, its first and last cell (points on a ring boundary vote twice, and
     /// their two cells are always adjacent in the same sector).
     pub(crate) point_cells: Vec<(u32, u32)>,
-    votes: Vec<Vote>,
+    /// Where each of a sector's cells goes when the sector is put in ring order.
+    order: Vec<u32>,
 }
 
 const MAX_RING: f64 = (u32::MAX / 4) as f64;
@@ -132,84 +126,102 @@ fn ceil_ring(v: f64) -> u32 {
 impl Accumulator {
     /// Builds the accumulator of `points` (valid points in beam order) and applies the
     /// criterion.
+    ///
+    /// A sector's points are consecutive in beam order, so each sector is built in one pass:
+    /// a point adds its weight to the cell of each ring its window meets (a sector holds a
+    /// handful of cells, found by a short linear search), then the sector's cells are put in
+    /// ring order. A cell's value is summed in point order, as the paper's sum over `i`.
     pub(crate) fn build(&mut self, points: &[ScanPoint], table: &BeamTable, p: &HoughSplitParams) {
         self.cells.clear();
         self.sector_start.clear();
         self.point_cells.clear();
-        self.point_cells.resize(points.len(), (u32::MAX, u32::MAX));
-        let dd = p.ring_step;
+        let inv = 1.0 / p.ring_step;
         let a = p.window;
+        let weight_one = p.weight == Weight::One;
         let mut start = 0usize;
         let mut next_sector = 0u32;
         while start < points.len() {
             let sector = table.beams[points[start].index].sector;
-            let mut end = start + 1;
-            while end < points.len() && table.beams[points[end].index].sector == sector {
-                end += 1;
-            }
             // Sectors with no points have no cells.
             while next_sector <= sector {
                 self.sector_start.push(self.cells.len() as u32);
                 next_sector += 1;
             }
-            self.votes.clear();
-            for (pi, sp) in points.iter().enumerate().take(end).skip(start) {
-                let x = sp.range * table.beams[sp.index].cos_to_sector;
-                let (lo, hi) = (ceil_ring((x - a) / dd), floor_ring((x + a) / dd));
+            let first = self.cells.len();
+            let mut end = start;
+            while let Some(sp) = points.get(end) {
+                let beam = &table.beams[sp.index];
+                if beam.sector != sector {
+                    break;
+                }
+                let x = sp.range * beam.cos_to_sector;
+                let (lo, hi) = (ceil_ring((x - a) * inv), floor_ring((x + a) * inv));
+                let g = if weight_one { 1.0 } else { sp.range };
+                let mut pc = (u32::MAX, u32::MAX);
                 let mut j = lo;
                 while j <= hi {
-                    self.votes.push(Vote {
-                        ring: j,
-                        point: pi as u32,
-                    });
+                    let c = match self.cells[first..].iter().position(|c| c.ring == j) {
+                        Some(k) => first + k,
+                        None => {
+                            self.cells.push(Cell {
+                                sector,
+                                ring: j,
+                                value: 0.0,
+                                kept: false,
+                            });
+                            self.cells.len() - 1
+                        }
+                    };
+                    self.cells[c].value += g;
+                    if pc.0 == u32::MAX {
+                        pc.0 = c as u32;
+                    }
+                    pc.1 = c as u32;
                     j += 1;
                 }
+                self.point_cells.push(pc);
+                end += 1;
             }
-            // A sector holds a handful of votes, in beam order: sorted by (ring, point), the
-            // order in which cells are made and summed. A surface that comes nearer along
-            // the sector gives them in falling ring order: reversed first, the insertion
-            // sort then only swaps each point's own pair of rings.
-            let key = |v: &Vote| (u64::from(v.ring) << 32) | u64::from(v.point);
-            if let (Some(first), Some(last)) = (self.votes.first(), self.votes.last())
-                && first.ring > last.ring
-            {
-                self.votes.reverse();
-            }
-            for i in 1..self.votes.len() {
-                let mut k = i;
-                while k > 0 && key(&self.votes[k - 1]) > key(&self.votes[k]) {
-                    self.votes.swap(k - 1, k);
-                    k -= 1;
-                }
-            }
-            let mut vi = 0;
-            while vi < self.votes.len() {
-                let ring = self.votes[vi].ring;
-                let cell = self.cells.len() as u32;
-                let mut value = 0.0;
-                while vi < self.votes.len() && self.votes[vi].ring == ring {
-                    let pi = self.votes[vi].point as usize;
-                    value += match p.weight {
-                        Weight::One => 1.0,
-                        Weight::Range => points[pi].range,
-                    };
-                    let pc = &mut self.point_cells[pi];
-                    if pc.0 == u32::MAX {
-                        pc.0 = cell;
-                    }
-                    pc.1 = cell;
-                    vi += 1;
-                }
-                self.cells.push(Cell {
-                    sector,
-                    ring,
-                    value,
-                    kept: value > p.criterion,
-                });
+            self.order_sector(first, start..end);
+            for c in &mut self.cells[first..] {
+                c.kept = c.value > p.criterion;
             }
             start = end;
         }
         self.sector_start.push(self.cells.len() as u32);
+    }
+
+    /// Puts the cells from `first` on (one sector's) in ring order, and renumbers the cells
+    /// of that sector's points `points`.
+    fn order_sector(&mut self, first: usize, points: std::ops::Range<usize>) {
+        let cells = &mut self.cells[first..];
+        if cells.windows(2).all(|w| w[0].ring < w[1].ring) {
+            return;
+        }
+        // Insertion sort of a handful of cells, remembering where each went.
+        self.order.clear();
+        self.order.extend(0..cells.len() as u32);
+        for i in 1..cells.len() {
+            let mut k = i;
+            while k > 0 && cells[k - 1].ring > cells[k].ring {
+                cells.swap(k - 1, k);
+                self.order.swap(k - 1, k);
+                k -= 1;
+            }
+        }
+        // order[new] = old; invert it into a map old -> new.
+        let n = self.order.len();
+        self.order.resize(2 * n, 0);
+        for new in 0..n {
+            let old = self.order[new] as usize;
+            self.order[n + old] = new as u32;
+        }
+        let map = |c: u32| first as u32 + self.order[n + c as usize - first];
+        for pc in &mut self.point_cells[points] {
+            if pc.0 != u32::MAX {
+                *pc = (map(pc.0), map(pc.1));
+            }
+        }
     }
 
     /// Cells of sector `k` (empty past the last sector).

@@ -30,7 +30,7 @@ use crate::noise::{BandEstimate, NOISE_BANDS, NoiseEstimator, NoiseModel, RangeN
 use crate::scan::{Scan, ScanPoint};
 use accumulator::{Accumulator, BeamTable};
 use linseg::SplitScratch;
-use segment::{Components, SegmentRun};
+use segment::{Breakpoints, Components, SegmentRun};
 
 /// The paper's line extractor (see the module docs). Reuse one value across scans: its
 /// working memory is kept, so that steady-state extraction allocates nothing.
@@ -44,6 +44,7 @@ pub struct HoughSplit {
     /// True when the last scan's noise was estimated from it.
     estimated: bool,
     sizes: Vec<u32>,
+    breakpoints: Breakpoints,
     points: Vec<ScanPoint>,
     acc: Accumulator,
     uf: Components,
@@ -70,6 +71,7 @@ impl HoughSplit {
             noise: FALLBACK_NOISE,
             estimated: false,
             sizes: Vec::new(),
+            breakpoints: Breakpoints::default(),
             points: Vec::new(),
             acc: Accumulator::default(),
             uf: Components::default(),
@@ -154,27 +156,21 @@ impl LineExtractor for HoughSplit {
         // 0. valid beams to points, and their noise; 1-2. accumulator and criterion.
         self.convert(scan);
         self.noise_of(scan);
+        self.breakpoints
+            .prepare(&self.params, scan.angle_increment, self.noise);
         self.acc.build(&self.points, &self.table, &self.params);
         // 3. radius grouping and merging of touching groups.
         self.acc.kept_cells(&mut self.cell_of);
         segment::connect_cells(&self.acc, &self.params, &mut self.uf);
         if self.params.bridge_beams {
-            segment::bridge_beams(
-                &self.points,
-                &self.cell_of,
-                &self.params,
-                &self.noise,
-                scan.angle_increment,
-                &mut self.uf,
-            );
+            segment::bridge_beams(&self.points, &self.cell_of, &self.breakpoints, &mut self.uf);
         }
         // 4. data segments; everything else is removed.
         segment::cut_segments(
             &self.points,
             &self.cell_of,
             &self.params,
-            &self.noise,
-            scan.angle_increment,
+            &self.breakpoints,
             &mut self.uf,
             &mut self.sizes,
             &mut self.kept,

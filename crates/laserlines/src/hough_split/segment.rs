@@ -42,6 +42,10 @@ impl Components {
         x
     }
 
+    fn same(&mut self, a: usize, b: usize) -> bool {
+        self.find(a) == self.find(b)
+    }
+
     fn union(&mut self, a: usize, b: usize) {
         let (ra, rb) = (self.find(a), self.find(b));
         if ra != rb {
@@ -94,20 +98,70 @@ pub(crate) fn connect_cells(acc: &Accumulator, p: &HoughSplitParams, uf: &mut Co
     }
 }
 
+/// The breakpoint distance `D` of one scan ([`HoughSplitParams::breakpoint_distance`]) with
+/// its trigonometry done once: `factor[g - 1] = sin(g dphi) / sin(lambda - g dphi)` for a gap
+/// of `g` beams (NaN where `g dphi` exceeds `lambda / 3`).
+#[derive(Debug, Default, Clone)]
+pub(crate) struct Breakpoints {
+    key: Option<(u64, u64, u64, usize)>,
+    factor: Vec<f64>,
+    /// `bridge_sigmas * sqrt(2)`.
+    spread: f64,
+    noise: RangeNoise,
+}
+
+impl Breakpoints {
+    /// Makes the table right for `p`, beams `increment` apart and `noise`.
+    pub(crate) fn prepare(&mut self, p: &HoughSplitParams, increment: f64, noise: RangeNoise) {
+        let key = (
+            increment.to_bits(),
+            p.bridge_incidence.to_bits(),
+            p.bridge_sigmas.to_bits(),
+            p.bridge_max_gap,
+        );
+        if self.key != Some(key) {
+            self.key = Some(key);
+            let step = increment.abs();
+            self.factor.clear();
+            for g in 1..=p.bridge_max_gap.saturating_add(1).min(64) {
+                let f = p.breakpoint_distance(1.0, step * g as f64, 0.0);
+                self.factor.push(f.unwrap_or(f64::NAN));
+            }
+            self.spread = p.bridge_sigmas * std::f64::consts::SQRT_2;
+        }
+        self.noise = noise;
+    }
+
+    /// Most beams apart two points of one segment may be.
+    pub(crate) fn reach(&self) -> usize {
+        self.factor.len()
+    }
+
+    /// True when `b`, `gap` beams after `a`, lies within `D` of it.
+    #[inline]
+    pub(crate) fn joins(&self, a: &ScanPoint, b: &ScanPoint, gap: usize) -> bool {
+        let Some(&f) = self.factor.get(gap.wrapping_sub(1)) else {
+            return false;
+        };
+        let limit = a.range * f + self.spread * self.noise.sigma(a.range);
+        let d = b.point - a.point;
+        let d2 = d.x * d.x + d.y * d.y;
+        // NaN factors and limits fail; squares that overflow (absurd ranges) never join.
+        d2.is_finite() && d2 <= limit * limit
+    }
+}
+
 /// Joins the cells of nearby surviving points that lie closer than the breakpoint distance
-/// `D` ([`HoughSplitParams::breakpoint_distance`]): each point is compared with the points
-/// up to `bridge_max_gap` beams before it (missing beams, or points of other cells in
-/// between), so that a single outlier does not cut a wall in two.
+/// `D`: each point is compared with the points up to `bridge_max_gap` beams before it
+/// (missing beams, or points of other cells in between) until one joins it, so that a single
+/// outlier does not cut a wall in two.
 pub(crate) fn bridge_beams(
     points: &[ScanPoint],
     cell_of: &[u32],
-    p: &HoughSplitParams,
-    noise: &RangeNoise,
-    increment: f64,
+    bp: &Breakpoints,
     uf: &mut Components,
 ) {
-    let step = increment.abs();
-    let reach = p.bridge_max_gap + 1;
+    let reach = bp.reach();
     for pi in 0..points.len() {
         let cell = cell_of[pi];
         if cell == NONE {
@@ -120,19 +174,15 @@ pub(crate) fn bridge_beams(
                 break;
             }
             let other = cell_of[q];
-            if other == NONE || other == cell {
+            if other == NONE {
                 continue;
             }
-            let there = &points[q];
-            let Some(limit) =
-                p.breakpoint_distance(there.range, step * gap as f64, noise.sigma(there.range))
-            else {
-                continue;
-            };
-            // Squares would overflow to inf <= inf for absurd ranges: compare distances.
-            let dist = (here.point - there.point).norm();
-            if dist.is_finite() && dist <= limit {
+            if other == cell || uf.same(cell as usize, other as usize) {
+                break;
+            }
+            if bp.joins(&points[q], here, gap) {
                 uf.union(cell as usize, other as usize);
+                break;
             }
         }
     }
@@ -152,8 +202,7 @@ pub(crate) fn cut_segments(
     points: &[ScanPoint],
     cell_of: &[u32],
     p: &HoughSplitParams,
-    noise: &RangeNoise,
-    increment: f64,
+    bp: &Breakpoints,
     uf: &mut Components,
     sizes: &mut Vec<u32>,
     kept: &mut Vec<u32>,
@@ -171,8 +220,6 @@ pub(crate) fn cut_segments(
             sizes[root] += 1;
         }
     }
-    let step = increment.abs();
-    let reach = p.bridge_max_gap + 1;
     let close = |kept: &mut Vec<u32>, segments: &mut Vec<SegmentRun>, start: usize| {
         if kept.len() - start >= min {
             segments.push(SegmentRun {
@@ -197,10 +244,7 @@ pub(crate) fn cut_segments(
             && (!p.bridge_beams
                 || kept.last().is_some_and(|&q| {
                     let (a, b) = (&points[q as usize], &points[pi]);
-                    let gap = b.index - a.index;
-                    gap <= reach
-                        && p.breakpoint_distance(a.range, step * gap as f64, noise.sigma(a.range))
-                            .is_some_and(|d| (b.point - a.point).norm() <= d)
+                    bp.joins(a, b, b.index - a.index)
                 }));
         if !joined {
             if run_root != usize::MAX {
