@@ -311,6 +311,7 @@ struct HoughSplitToml {
     min_line_length: Option<f64>,
     max_rms_sigmas: Option<f64>,
     max_alpha_sd: Option<f64>,
+    remove_mixed_pixels: Option<bool>,
     min_range: Option<f64>,
     range_limits: Option<[f64; 2]>,
     paper: Option<bool>,
@@ -455,6 +456,7 @@ impl ParamsFile {
             min_line_length,
             max_rms_sigmas,
             max_alpha_sd,
+            remove_mixed_pixels,
             min_range
         );
         p.noise = noise_model(t)?;

@@ -18,6 +18,7 @@
 mod accumulator;
 mod lines;
 mod linseg;
+mod mixed;
 mod params;
 mod segment;
 
@@ -90,7 +91,8 @@ impl HoughSplit {
         &self.params
     }
 
-    /// Converts the valid beams to points (step 0).
+    /// Converts the valid beams to points (step 0), leaving out those nearer than
+    /// `min_range` and, with `remove_mixed_pixels`, isolated points.
     fn convert(&mut self, scan: &Scan) {
         let p = &self.params;
         self.table.prepare(
@@ -102,7 +104,10 @@ impl HoughSplit {
         let window = scan.range_window(p.range_limits);
         self.points.clear();
         for (i, (&r, beam)) in scan.ranges.iter().zip(&self.table.beams).enumerate() {
-            if !window.contains(r) || r < p.min_range {
+            if !window.contains(r)
+                || r < p.min_range
+                || (p.remove_mixed_pixels && mixed::isolated(&scan.ranges, i, window, &self.noise))
+            {
                 continue;
             }
             let point = crate::math::Point2::new(r * beam.cos, r * beam.sin);
@@ -154,8 +159,8 @@ impl LineExtractor for HoughSplit {
         self.split_points.clear();
         self.split_ranges.clear();
         // 0. valid beams to points, and their noise; 1-2. accumulator and criterion.
-        self.convert(scan);
         self.noise_of(scan);
+        self.convert(scan);
         self.breakpoints
             .prepare(&self.params, scan.angle_increment, self.noise);
         self.acc.build(&self.points, &self.table, &self.params);
