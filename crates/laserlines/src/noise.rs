@@ -10,11 +10,11 @@
 //! ```
 //!
 //! [`NoiseModel::Auto`] (the default) estimates both numbers from the scan being processed,
-//! with no history: for every interior beam `i` whose neighbours `i - 1` and `i + 1` are
-//! valid, the range a straight surface through the two neighbours would give on beam `i` is
-//! `r_hat = 2 cos(dphi) r0 r2 / (r0 + r2)` (exact for any line: `1 / r` of a line is a
-//! sinusoid of the beam angle), and `e = r1 - r_hat` has the variance `1.5 sigma^2` on a
-//! smooth surface. Per range band (octaves from 0.5 m) the median of `|e|` gives a robust
+//! with no history: for every beam `i` whose beams `i - LAG` and `i + LAG` ([`LAG`] = 3) are
+//! valid, the range a straight surface through those two would give on beam `i` is
+//! `r_hat = 2 cos(dphi) r0 r2 / (r0 + r2)` with `dphi = LAG * angle_increment` (exact for
+//! any line: `1 / r` of a line is a sinusoid of the beam angle), and `e = r1 - r_hat` has
+//! the variance `1.5 sigma^2` on a smooth surface. Per range band (octaves from 0.5 m) the median of `|e|` gives a robust
 //! `sigma_b = median|e| / (0.6745 sqrt(1.5))`: corners, depth edges and mixed pixels are a
 //! minority and do not move a median. The model is the largest `max(sigma_min, fraction r)`
 //! below every band's estimate: clutter only ever adds dispersion, so the cleanest band
@@ -154,6 +154,12 @@ pub enum NoiseModel {
     Fixed(RangeNoise),
 }
 
+/// Beams between a point and each of the two it is predicted from. Real scanners' errors are
+/// correlated between neighbouring beams (the URG-04LX's residuals grow two to three times from
+/// one beam to three on real logs), so the noise that splitting and merging see over tens of
+/// beams is read three beams apart; for independent noise any lag reads the same.
+pub const LAG: usize = 3;
+
 /// Range bands of the estimate: band 0 below 0.5 m, then octaves (0.5-1, 1-2, ... m), the
 /// last one open.
 pub const NOISE_BANDS: usize = 8;
@@ -211,16 +217,17 @@ impl NoiseEstimator {
         }
         self.range_sum = [0.0; NOISE_BANDS];
         let r = &scan.ranges;
-        let two_cos = 2.0 * scan.angle_increment.cos();
-        // Neighbours of one smooth surface differ by `2 r dphi tan(incidence)` plus noise:
-        // up to 80 deg of incidence and 2 % noise. Farther apart, the triple spans a depth
-        // edge or a mixed pixel, which says nothing about the noise.
-        let spread = 12.0 * scan.angle_increment.abs() + 0.1;
-        // Every second beam on long scans: neighbouring samples share a reading.
+        let dphi = LAG as f64 * scan.angle_increment;
+        let two_cos = 2.0 * dphi.cos();
+        // Points of one smooth surface `LAG` beams apart differ by `2 r dphi tan(incidence)`
+        // plus noise: up to 80 deg of incidence and 2 % noise. Farther apart, the triple
+        // spans a depth edge or a mixed pixel, which says nothing about the noise.
+        let spread = 12.0 * dphi.abs() + 0.1;
+        // Every second beam on long scans: neighbouring samples share readings.
         let stride = if r.len() > 360 { 2 } else { 1 };
-        let mut i = 1;
-        while i + 1 < r.len() {
-            let (r0, r1, r2) = (r[i - 1], r[i], r[i + 1]);
+        let mut i = LAG;
+        while i + LAG < r.len() {
+            let (r0, r1, r2) = (r[i - LAG], r[i], r[i + LAG]);
             i += stride;
             if !(window.contains(r0) && window.contains(r1) && window.contains(r2))
                 || (r2 - r0).abs() > spread * r1
