@@ -124,14 +124,20 @@ fn ceil_ring(v: f64) -> u32 {
 }
 
 impl Accumulator {
-    /// Builds the accumulator of `points` (valid points in beam order) and applies the
-    /// criterion.
+    /// Builds the accumulator of `points` (valid points in beam order; those marked in
+    /// `isolated` vote nowhere) and applies the criterion.
     ///
     /// A sector's points are consecutive in beam order, so each sector is built in one pass:
     /// a point adds its weight to the cell of each ring its window meets (a sector holds a
     /// handful of cells, found by a short linear search), then the sector's cells are put in
     /// ring order. A cell's value is summed in point order, as the paper's sum over `i`.
-    pub(crate) fn build(&mut self, points: &[ScanPoint], table: &BeamTable, p: &HoughSplitParams) {
+    pub(crate) fn build(
+        &mut self,
+        points: &[ScanPoint],
+        isolated: &[bool],
+        table: &BeamTable,
+        p: &HoughSplitParams,
+    ) {
         self.cells.clear();
         self.sector_start.clear();
         self.point_cells.clear();
@@ -153,6 +159,12 @@ impl Accumulator {
                 let beam = &table.beams[sp.index];
                 if beam.sector != sector {
                     break;
+                }
+                if isolated.get(end).copied().unwrap_or(false) {
+                    // A mixed pixel or spike votes nowhere: it is removed.
+                    self.point_cells.push((u32::MAX, u32::MAX));
+                    end += 1;
+                    continue;
                 }
                 let x = sp.range * beam.cos_to_sector;
                 let (lo, hi) = (ceil_ring((x - a) * inv), floor_ring((x + a) * inv));

@@ -47,6 +47,8 @@ pub struct HoughSplit {
     sizes: Vec<u32>,
     breakpoints: Breakpoints,
     points: Vec<ScanPoint>,
+    /// Per point: a mixed pixel or spike, removed before the accumulator.
+    isolated: Vec<bool>,
     acc: Accumulator,
     uf: Components,
     cell_of: Vec<u32>,
@@ -74,6 +76,7 @@ impl HoughSplit {
             sizes: Vec::new(),
             breakpoints: Breakpoints::default(),
             points: Vec::new(),
+            isolated: Vec::new(),
             acc: Accumulator::default(),
             uf: Components::default(),
             cell_of: Vec::new(),
@@ -92,7 +95,8 @@ impl HoughSplit {
     }
 
     /// Converts the valid beams to points (step 0), leaving out those nearer than
-    /// `min_range` and, with `remove_mixed_pixels`, isolated points.
+    /// `min_range`, and marks isolated points (with `remove_mixed_pixels`): they vote in no
+    /// cell and so are removed.
     fn convert(&mut self, scan: &Scan) {
         let p = &self.params;
         self.table.prepare(
@@ -103,11 +107,9 @@ impl HoughSplit {
         );
         let window = scan.range_window(p.range_limits);
         self.points.clear();
+        self.isolated.clear();
         for (i, (&r, beam)) in scan.ranges.iter().zip(&self.table.beams).enumerate() {
-            if !window.contains(r)
-                || r < p.min_range
-                || (p.remove_mixed_pixels && mixed::isolated(&scan.ranges, i, window, &self.noise))
-            {
+            if !window.contains(r) || r < p.min_range {
                 continue;
             }
             let point = crate::math::Point2::new(r * beam.cos, r * beam.sin);
@@ -118,6 +120,9 @@ impl HoughSplit {
                     angle: scan.angle(i),
                     point,
                 });
+                self.isolated.push(
+                    p.remove_mixed_pixels && mixed::isolated(&scan.ranges, i, window, &self.noise),
+                );
             }
         }
     }
@@ -163,7 +168,8 @@ impl LineExtractor for HoughSplit {
         self.convert(scan);
         self.breakpoints
             .prepare(&self.params, scan.angle_increment, self.noise);
-        self.acc.build(&self.points, &self.table, &self.params);
+        self.acc
+            .build(&self.points, &self.isolated, &self.table, &self.params);
         // 3. radius grouping and merging of touching groups.
         self.acc.kept_cells(&mut self.cell_of);
         segment::connect_cells(&self.acc, &self.params, &mut self.uf);
