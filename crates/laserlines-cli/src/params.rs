@@ -44,7 +44,6 @@ use laserlines::extractors::{
     IterativeHoughParams, LineRegression, LineRegressionParams, Ransac, RansacParams,
     SplitAndMerge, SplitAndMergeParams,
 };
-use laserlines::math::{Isometry2, Vector2};
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, RangeWindow, Weight};
 use laserlines_nav::{ExplorerParams, WallSide};
 use laserlines_sim::robot::RobotParams;
@@ -317,31 +316,29 @@ impl ParamsFile {
             ($($key:ident => $field:expr),* $(,)?) => { $( if let Some(v) = t.$key { $field = v; } )* };
         }
         set!(
-            footprint_length => p.footprint.length,
-            footprint_width => p.footprint.width,
-            max_speed => p.limits.max_speed,
-            max_reverse => p.limits.max_reverse,
-            max_turn_rate => p.limits.max_turn_rate,
-            max_accel => p.limits.max_accel,
-            max_angular_accel => p.limits.max_angular_accel,
-            wheel_base => p.wheel_base,
+            footprint_length => p.robot.footprint.length,
+            footprint_width => p.robot.footprint.width,
+            max_speed => p.robot.limits.max_speed,
+            max_reverse => p.robot.limits.max_reverse,
+            max_turn_rate => p.robot.limits.max_turn_rate,
+            max_accel => p.robot.limits.max_accel,
+            max_angular_accel => p.robot.limits.max_angular_accel,
+            wheel_base => p.robot.wheel_base,
             wheel_sigma => p.odometry.wheel_sigma,
             scan_period_s => p.scan_period_s,
             physics_dt_s => p.physics_dt_s,
+            laser_x => p.robot.laser.x,
+            laser_y => p.robot.laser.y,
+            laser_yaw => p.robot.laser.yaw,
         );
-        if t.laser_x.is_some() || t.laser_y.is_some() || t.laser_yaw.is_some() {
-            let at = p.robot_from_laser.translation.vector;
-            let (x, y, yaw) = (
-                t.laser_x.unwrap_or(at.x),
-                t.laser_y.unwrap_or(at.y),
-                t.laser_yaw.unwrap_or(p.robot_from_laser.rotation.angle()),
-            );
-            for (key, v) in [("laser_x", x), ("laser_y", y), ("laser_yaw", yaw)] {
-                if !v.is_finite() {
-                    bail!("[robot] {key} = {v} is not a finite number");
-                }
+        for (key, v) in [
+            ("laser_x", p.robot.laser.x),
+            ("laser_y", p.robot.laser.y),
+            ("laser_yaw", p.robot.laser.yaw),
+        ] {
+            if !v.is_finite() {
+                bail!("[robot] {key} = {v} is not a finite number");
             }
-            p.robot_from_laser = Isometry2::new(Vector2::new(x, y), yaw);
         }
         p.validate().context("[robot] parameters")?;
         Ok(p)

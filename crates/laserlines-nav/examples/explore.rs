@@ -7,10 +7,10 @@
 //! Arguments: an arena (a `.raf` path, or `maze:SEED` / `maze:SEED:islands`), the first
 //! seed, the number of seeds, and optionally the duration in seconds (default 900).
 
+use laserlines::robot::Footprint;
 use laserlines_nav::{RunConfig, run};
 use laserlines_sim::arena::{ArenaOptions, interior_start, load_raf};
 use laserlines_sim::maze::{MazeParams, generate};
-use laserlines_sim::robot::Footprint;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

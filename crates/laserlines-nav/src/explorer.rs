@@ -73,15 +73,15 @@
 //!
 //! **On a real robot** the loop is the simulator's without the simulator: for each scan of
 //! the laser, the odometry pose at its time, the lines, one decision, one velocity command
-//! to the drive. [`RobotParams`] describes the robot (footprint, limits, the laser's mount).
+//! to the drive. [`RobotDescription`] describes the robot (footprint, limits, the laser's mount).
 //!
 //! ```
 //! use laserlines::math::Isometry2;
 //! use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, Scan};
 //! use laserlines_nav::{Explorer, ExplorerParams};
-//! use laserlines_sim::robot::RobotParams;
+//! use laserlines::robot::RobotDescription;
 //!
-//! let robot = RobotParams::default(); // NAJI V: 0.5 m x 0.4 m, the URG-04LX 0.15 m ahead
+//! let robot = RobotDescription::default(); // NAJI V: 0.5 m x 0.4 m, the laser 0.15 m ahead
 //! let mut extractor = HoughSplit::new(HoughSplitParams::default()).unwrap();
 //! let mut explorer = Explorer::new(ExplorerParams::default(), &robot);
 //! let mut lines = Vec::new();
@@ -110,7 +110,7 @@
 //! // The wall on the left is the left sector's object, about 1 m away.
 //! let objects = laserlines_nav::select_objects(
 //!     &lines,
-//!     &robot.robot_from_laser,
+//!     &robot.laser.robot_from_laser(),
 //!     &Default::default(),
 //! );
 //! let left = objects.get(laserlines_nav::Sector::Left).unwrap();
@@ -119,8 +119,9 @@
 
 use laserlines::Line;
 use laserlines::Scan;
+use laserlines::geometry::clip_segment;
 use laserlines::math::{Isometry2, Point2, Vector2, wrap_angle};
-use laserlines_sim::robot::{Footprint, RobotParams, VelocityCommand, arc};
+use laserlines::robot::{Footprint, RobotDescription, VelocityCommand, arc};
 
 use crate::map::{MatchParams, MatchPoint, RobotMap};
 use crate::planner::{Plan, Planner, PlannerParams};
@@ -433,11 +434,11 @@ struct Travel {
 impl Explorer {
     /// An explorer for a robot with `robot`'s footprint, laser mounting and limits.
     #[must_use]
-    pub fn new(params: ExplorerParams, robot: &RobotParams) -> Self {
+    pub fn new(params: ExplorerParams, robot: &RobotDescription) -> Self {
         Self {
             params,
             footprint: robot.footprint,
-            robot_from_laser: robot.robot_from_laser,
+            robot_from_laser: robot.laser.robot_from_laser(),
             max_accel: robot.limits.max_accel,
             mode: Mode::Seek,
             side: params.side,
@@ -1301,7 +1302,6 @@ fn remaining(path: &[Point2], along: usize, from: Point2) -> f64 {
 /// The part of the segment `a`-`b` with `|y| <= band` and `x >= 0`.
 fn clip_to_band(a: Point2, b: Point2, band: f64) -> Option<(Point2, Point2)> {
     let d = b - a;
-    let (t0, t1) =
-        laserlines_sim::index::clip_segment(&[(-d.x, a.x), (-d.y, a.y + band), (d.y, band - a.y)])?;
+    let (t0, t1) = clip_segment(&[(-d.x, a.x), (-d.y, a.y + band), (d.y, band - a.y)])?;
     Some((a + d * t0, a + d * t1))
 }

@@ -10,9 +10,10 @@
 use std::time::Instant;
 
 use laserlines::math::{Isometry2, Point2};
+use laserlines::robot::VelocityCommand;
 use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, Scan};
 use laserlines_sim::World;
-use laserlines_sim::robot::{RobotError, RobotParams, RobotSim, VelocityCommand};
+use laserlines_sim::robot::{RobotError, RobotParams, RobotSim};
 
 use crate::coverage::CoverageGrid;
 use crate::explorer::{Decision, Explorer, ExplorerParams, Mode, WallSide};
@@ -277,14 +278,15 @@ pub fn run_observed(
     let mut robot = RobotSim::new(world, start, config.robot, config.seed)?;
     let mut extractor = HoughSplit::new(config.extractor.clone())
         .map_err(|e| RunError::Extractor(e.to_string()))?;
-    let mut explorer = Explorer::new(config.explorer, &config.robot);
+    let mut explorer = Explorer::new(config.explorer, &config.robot.robot);
     let start_point = Point2::from(start.translation.vector);
     let mut coverage = CoverageGrid::new(
         robot.index(),
         start_point,
-        config.robot.footprint.circumradius(),
+        config.robot.robot.footprint.circumradius(),
     );
-    let laser = config.robot.laser;
+    let laser = config.robot.laser_model;
+    let robot_from_laser = config.robot.robot.laser.robot_from_laser();
 
     let mut scan = Scan::default();
     let mut true_ranges = Vec::new();
@@ -369,7 +371,7 @@ pub fn run_observed(
                 .estimated_path
                 .push(Point2::from(believed.translation.vector));
             if config.record_lines_every > 0 && m.scans % config.record_lines_every as u64 == 1 {
-                let world_from_laser = believed * config.robot.robot_from_laser;
+                let world_from_laser = believed * robot_from_laser;
                 record.lines_seen.extend(
                     lines
                         .iter()
@@ -377,7 +379,6 @@ pub fn run_observed(
                 );
             }
             if record.snapshot.is_none() && t >= config.snapshot_at_s {
-                let robot_from_laser = config.robot.robot_from_laser;
                 record.snapshot = Some(Snapshot {
                     time_s: t,
                     world_from_robot,
@@ -399,7 +400,7 @@ pub fn run_observed(
                 time_s: t,
                 world_from_robot,
                 estimated_world_from_robot: believed,
-                robot_from_laser: config.robot.robot_from_laser,
+                robot_from_laser,
                 scan: &scan,
                 lines: &lines,
                 decision: &decision,

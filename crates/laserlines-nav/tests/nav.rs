@@ -22,7 +22,7 @@ fn pose(x: f64, y: f64, yaw_deg: f64) -> Isometry2 {
 /// distance within 3 cm, angle within 1 deg, width within 5 cm, on clean walls.
 #[test]
 fn perception_matches_ground_truth_on_clean_walls() {
-    let robot_from_laser = RobotParams::default().robot_from_laser;
+    let robot_from_laser = RobotParams::default().robot.laser.robot_from_laser();
     let model = LaserModel::urg04lx();
     let params = SectorParams::default();
     let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
@@ -290,7 +290,7 @@ fn the_same_seed_gives_the_same_metrics() {
 /// The start of an arena run: the grid cell centre nearest the origin in the largest free
 /// region the walls enclose (where the robot fits in any heading).
 fn arena_start(world: &World) -> Isometry2 {
-    interior_start(world, RobotParams::default().footprint.circumradius())
+    interior_start(world, RobotParams::default().robot.footprint.circumradius())
         .expect("the arena encloses a free region")
 }
 

@@ -14,7 +14,10 @@ use laserlines::Scan;
 use crate::laser::{LaserModel, MAX_BEAMS};
 use crate::rng::Rng;
 use crate::simulation::MIXED_PIXEL_MIN_JUMP;
-use crate::world::{Hit, Target, World, circle_ray_hit, segment_ray_hit};
+use crate::world::{Hit, Target, World};
+use laserlines::geometry::{
+    circle_ray_hit, clip_ray_to_box, segment_ray_hit, segment_ray_hit_prepared, segment_touches_box,
+};
 
 /// Hits closer to each other than this (m) are a tie, won by the earlier obstacle.
 const TIE_TOLERANCE: f64 = 1e-12;
@@ -238,11 +241,15 @@ impl WorldIndex {
         let test = |best: &mut Option<(f64, Target)>, target: Target| match target {
             Target::Wall(i) => {
                 let w = &self.world.walls[i];
-                consider(best, wall_ray_hit(w.a, w.b, origin, dir), target);
+                consider(best, segment_ray_hit(w.a, w.b, origin, dir), target);
             }
             Target::Disc(i) => {
                 let d = &self.world.discs[i];
-                consider(best, disc_ray_hit(d.centre, d.radius, origin, dir), target);
+                consider(
+                    best,
+                    circle_ray_hit(d.centre, d.radius, origin, dir),
+                    target,
+                );
             }
         };
 
@@ -576,11 +583,11 @@ impl WorldIndex {
                 let t = match target {
                     Target::Wall(k) => {
                         let w = &self.world.walls[k];
-                        segment_ray_hit(w.a, w.b, e, len, origin, dir)
+                        segment_ray_hit_prepared(w.a, w.b, e, len, origin, dir)
                     }
                     Target::Disc(k) => {
                         let d = &self.world.discs[k];
-                        disc_ray_hit(d.centre, d.radius, origin, dir)
+                        circle_ray_hit(d.centre, d.radius, origin, dir)
                     }
                 };
                 if let Some(t) = t
@@ -781,84 +788,6 @@ fn target_order(a: Target, b: Target) -> bool {
 
 fn finite(p: Point2) -> bool {
     p.x.is_finite() && p.y.is_finite()
-}
-
-/// The ray parameter at which the ray from `origin` along unit `dir` meets the segment
-/// `a`-`b`, with the conventions of [`World::cast`].
-#[must_use]
-pub fn wall_ray_hit(a: Point2, b: Point2, origin: Point2, dir: Vector2) -> Option<f64> {
-    let e = b - a;
-    let len = e.norm();
-    if !(len > 0.0 && len.is_finite()) {
-        return None;
-    }
-    segment_ray_hit(a, b, e, len, origin, dir)
-}
-
-/// The ray parameter at which the ray from `origin` along unit `dir` meets the circle of
-/// `radius` around `centre` (0 from inside), with the conventions of [`World::cast`].
-#[must_use]
-pub fn disc_ray_hit(centre: Point2, radius: f64, origin: Point2, dir: Vector2) -> Option<f64> {
-    circle_ray_hit(centre, radius, origin, dir)
-}
-
-/// The parameters `(t_in, t_out)` (`t_in >= 0`) over which the ray stays in the box.
-fn clip_ray_to_box(origin: Point2, dir: Vector2, lo: Point2, hi: Point2) -> Option<(f64, f64)> {
-    let mut t0: f64 = 0.0;
-    let mut t1 = f64::INFINITY;
-    for (o, d, l, h) in [(origin.x, dir.x, lo.x, hi.x), (origin.y, dir.y, lo.y, hi.y)] {
-        if d == 0.0 {
-            if o < l || o > h {
-                return None;
-            }
-        } else {
-            let (a, b) = ((l - o) / d, (h - o) / d);
-            let (a, b) = if a <= b { (a, b) } else { (b, a) };
-            t0 = t0.max(a);
-            t1 = t1.min(b);
-        }
-    }
-    (t0 <= t1).then_some((t0, t1))
-}
-
-/// Liang-Barsky clipping: the parameter range `t0..=t1` within `0..=1` over which the
-/// points `a + t d` of a segment keep every constraint `p t <= q`, given as `(p, q)`;
-/// `None` when no part does.
-#[must_use]
-pub fn clip_segment(constraints: &[(f64, f64)]) -> Option<(f64, f64)> {
-    let mut t0: f64 = 0.0;
-    let mut t1: f64 = 1.0;
-    for &(p, q) in constraints {
-        if p == 0.0 {
-            if q < 0.0 {
-                return None;
-            }
-        } else {
-            let r = q / p;
-            if p < 0.0 {
-                t0 = t0.max(r);
-            } else {
-                t1 = t1.min(r);
-            }
-            if t0 > t1 {
-                return None;
-            }
-        }
-    }
-    Some((t0, t1))
-}
-
-/// True when the segment `a`-`b` meets the axis-aligned box `lo..hi` (Liang-Barsky).
-#[must_use]
-pub fn segment_touches_box(a: Point2, b: Point2, lo: Point2, hi: Point2) -> bool {
-    let d = b - a;
-    clip_segment(&[
-        (-d.x, a.x - lo.x),
-        (d.x, hi.x - a.x),
-        (-d.y, a.y - lo.y),
-        (d.y, hi.y - a.y),
-    ])
-    .is_some()
 }
 
 #[cfg(test)]
@@ -1086,35 +1015,5 @@ mod tests {
         let empty = WorldIndex::new(&World::new(), 0.5);
         assert!(empty.cast(Point2::origin(), 0.0, 5.0).is_none());
         assert!((index.cast(Point2::origin(), 0.0, 5.0).unwrap().range - 1.0).abs() < 1e-12);
-    }
-
-    #[test]
-    fn segment_box_overlap() {
-        let lo = Point2::new(0.0, 0.0);
-        let hi = Point2::new(1.0, 1.0);
-        assert!(segment_touches_box(
-            Point2::new(-1.0, 0.5),
-            Point2::new(2.0, 0.5),
-            lo,
-            hi
-        ));
-        assert!(segment_touches_box(
-            Point2::new(0.2, 0.2),
-            Point2::new(0.3, 0.3),
-            lo,
-            hi
-        ));
-        assert!(!segment_touches_box(
-            Point2::new(-1.0, 2.0),
-            Point2::new(2.0, 1.5),
-            lo,
-            hi
-        ));
-        assert!(segment_touches_box(
-            Point2::new(1.0, -1.0),
-            Point2::new(1.0, 2.0),
-            lo,
-            hi
-        ));
     }
 }

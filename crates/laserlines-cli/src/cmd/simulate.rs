@@ -128,7 +128,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         .with_context(|| format!("cannot create {}", args.output.display()))?;
     let mcap = match &args.mcap {
         Some(path) => Some(
-            McapRecorder::create(path, &world, config.robot.footprint, start)
+            McapRecorder::create(path, &world, config.robot.robot.footprint, start)
                 .with_context(|| format!("cannot record the run to {}", path.display()))?,
         ),
         None => None,
@@ -266,7 +266,7 @@ fn world_of(args: &SimulateArgs, robot: &RobotParams) -> Result<(String, World, 
             );
         }
     }
-    let start = interior_start(&arena.world, robot.footprint.circumradius())
+    let start = interior_start(&arena.world, robot.robot.footprint.circumradius())
         .unwrap_or_else(|| Isometry2::new(Vector2::zeros(), 0.0));
     Ok((arena.name.clone(), arena.world, start))
 }

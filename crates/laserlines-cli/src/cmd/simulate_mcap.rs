@@ -18,6 +18,7 @@ use std::io::BufWriter;
 use std::path::Path;
 
 use laserlines::math::{Isometry2, Point2};
+use laserlines::robot::Footprint;
 use laserlines_foxglove::messages::{
     Color, CylinderPrimitive, KeyValuePair, LinePrimitive, Point3, Pose, SceneEntity, SceneUpdate,
     SpherePrimitive, TextPrimitive, Vector3, line_primitive,
@@ -27,7 +28,6 @@ use laserlines_foxglove::{LASER_FRAME, McapSceneWriter, ROBOT_FRAME, WORLD_FRAME
 use laserlines_io::{Pose2, WriteError};
 use laserlines_nav::{RunObserver, ScanFrame, Sector};
 use laserlines_sim::World;
-use laserlines_sim::robot::Footprint;
 
 /// Topic of the arena walls.
 pub const ARENA_TOPIC: &str = "/arena";

@@ -69,64 +69,10 @@ pub use ransac::{Ransac, RansacParams};
 pub use split_and_merge::{SplitAndMerge, SplitAndMergeParams};
 
 use crate::extractor::LineExtractor;
-use crate::hough::HoughError;
 use crate::hough_split::{HoughSplit, HoughSplitParams};
 
-/// Errors in the parameters of the extractors of this module.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ParamsError {
-    /// A field that must be finite and positive is not.
-    #[error("{field} must be finite and > 0, got {value}")]
-    NotPositive {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: f64,
-    },
-    /// A field that must be finite and non-negative is not.
-    #[error("{field} must be finite and >= 0, got {value}")]
-    Negative {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: f64,
-    },
-    /// A field outside its open interval.
-    #[error("{field} must lie in ({lo}, {hi}), got {value}")]
-    OutOfRange {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: f64,
-        /// lower bound (exclusive)
-        lo: f64,
-        /// upper bound (exclusive)
-        hi: f64,
-    },
-    /// A field below its minimum (or not finite).
-    #[error("{field} must be finite and >= {min}, got {value}")]
-    Below {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: f64,
-        /// smallest allowed value
-        min: f64,
-    },
-    /// A count below its minimum.
-    #[error("{field} must be at least {min}, got {value}")]
-    TooFew {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: usize,
-        /// smallest allowed value
-        min: usize,
-    },
-    /// The Hough grid is invalid.
-    #[error("Hough grid: {0}")]
-    Grid(#[from] HoughError),
-}
+/// Errors in the parameters of the extractors (the crate's one [`crate::ParamsError`]).
+pub use crate::params::ParamsError;
 
 /// The names of every extractor, as [`LineExtractor::name`] returns them and [`by_name`]
 /// accepts them; the paper's algorithm first.
