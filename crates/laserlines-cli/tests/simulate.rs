@@ -120,7 +120,7 @@ fn simulate_records_the_run_as_mcap() {
         assert_eq!(by_topic[topic].len() as u64, scans, "{topic}");
     }
     // The arena once, with every wall of the bundled arena.
-    let arena = laserlines_nav::arenas::bundled("inner_explore_test", &Default::default())
+    let arena = laserlines_harness::arenas::bundled("inner_explore_test", &Default::default())
         .unwrap()
         .unwrap();
     let walls = SceneUpdate::decode(by_topic["/arena"][0].as_slice()).unwrap();

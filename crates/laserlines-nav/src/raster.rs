@@ -1,24 +1,25 @@
 //! Scan-line filling of a scan's fan: the cells whose centre lies inside a polygon.
 //!
-//! Shared by the ground-truth coverage grid and the robot's own map: a scan sweeps the fan
-//! from the laser through the end points of consecutive beams; its cells are found row by
-//! row from the polygon's crossings of the rows' centre lines, in time proportional to the
-//! polygon's edges plus the cells filled (where walking every beam through the grid costs
-//! its length in cells, beam after beam over the same cells near the laser).
+//! Shared by the robot's own map and the ground-truth coverage grid of `laserlines-harness`:
+//! a scan sweeps the fan from the laser through the end points of consecutive beams; its
+//! cells are found row by row from the polygon's crossings of the rows' centre lines, in
+//! time proportional to the polygon's edges plus the cells filled (where walking every beam
+//! through the grid costs its length in cells, beam after beam over the same cells near the
+//! laser).
 
 pub(crate) use laserlines::math::{ceil_i64, floor_i64};
 
 /// The unit directions of a scan's beams in the laser frame, kept while the scan's
 /// geometry stays the same: a loop over the beams then needs no chain of rotations.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub(crate) struct BeamTable {
+pub struct BeamTable {
     key: (u64, u64, usize),
     dirs: Vec<laserlines::math::Vector2>,
 }
 
 impl BeamTable {
     /// The directions of `n` beams from `angle_min` by `increment` (rad).
-    pub(crate) fn get(
+    pub fn get(
         &mut self,
         angle_min: f64,
         increment: f64,
@@ -39,7 +40,7 @@ impl BeamTable {
 
 /// Reusable scratch for [`FanRaster::fill`].
 #[derive(Debug, Clone, Default, PartialEq)]
-pub(crate) struct FanRaster {
+pub struct FanRaster {
     /// The polygon's crossings of the rows' centre lines, `(row - first row, x)`.
     crossings: Vec<(u32, f32)>,
     /// Where each row's crossings start in `xs` (a counting sort by row).
@@ -55,7 +56,7 @@ impl FanRaster {
     /// centre `(i + 0.5, j + 0.5)` lies inside the closed polygon `poly` (cell units,
     /// even-odd rule); `first..=last` are column indices of row `row`. Runs of one row come
     /// in increasing column order and never overlap.
-    pub(crate) fn fill(
+    pub fn fill(
         &mut self,
         poly: &[(f64, f64)],
         cols: usize,

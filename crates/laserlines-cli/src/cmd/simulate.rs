@@ -9,9 +9,8 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use laserlines::math::{Isometry2, Point2, Vector2};
-use laserlines_nav::{
-    RunConfig, RunObserver, RunRecord, ScanFrame, Sector, SectorObjects, arenas, run_observed,
-};
+use laserlines_harness::{RunConfig, RunObserver, RunRecord, ScanFrame, arenas, run_observed};
+use laserlines_nav::{Sector, SectorObjects};
 use laserlines_render::{Canvas, Color, Extent, LegendEntry, Marker, Panel, Style, Swatch};
 use laserlines_sim::World;
 use laserlines_sim::arena::{ArenaOptions, WallLength, interior_start, load_raf};

@@ -25,8 +25,9 @@ use laserlines_foxglove::messages::{
 };
 use laserlines_foxglove::proto::{timestamp, transform_from_pose, yaw_quaternion};
 use laserlines_foxglove::{LASER_FRAME, McapSceneWriter, ROBOT_FRAME, WORLD_FRAME};
+use laserlines_harness::{RunObserver, ScanFrame};
 use laserlines_io::{Pose2, WriteError};
-use laserlines_nav::{RunObserver, ScanFrame, Sector};
+use laserlines_nav::Sector;
 use laserlines_sim::World;
 
 /// Topic of the arena walls.

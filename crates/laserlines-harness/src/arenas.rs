@@ -21,7 +21,7 @@ pub const BUNDLED: &[(&str, &str)] = &[
 /// Loads a bundled arena by name (with or without `.raf`); `None` for an unknown name.
 ///
 /// ```
-/// use laserlines_nav::arenas::bundled;
+/// use laserlines_harness::arenas::bundled;
 /// use laserlines_sim::arena::ArenaOptions;
 /// let arena = bundled("maze_10m_x_14m", &ArenaOptions::default()).unwrap().unwrap();
 /// assert_eq!(arena.report.wall_elements, 113);

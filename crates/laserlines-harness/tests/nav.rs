@@ -5,10 +5,9 @@
 
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
+use laserlines_harness::{CoverageGrid, RunConfig, RunError, arenas, run};
 use laserlines_nav::sectors::{describe, select_segments};
-use laserlines_nav::{
-    CoverageGrid, RunConfig, RunError, Sector, SectorParams, arenas, run, select_objects,
-};
+use laserlines_nav::{Sector, SectorParams, select_objects};
 use laserlines_sim::arena::{ArenaError, ArenaOptions, interior_start, load_raf, parse_raf};
 use laserlines_sim::maze::{MazeParams, generate};
 use laserlines_sim::robot::{RobotError, RobotParams, RobotSim};
@@ -248,7 +247,7 @@ fn bad_input_gives_clear_errors() {
         },
     )
     .unwrap_err();
-    assert!(matches!(e, RunError::BadSetting { .. }), "{e}");
+    assert!(matches!(e, RunError::Setting(_)), "{e}");
 }
 
 #[test]
@@ -406,7 +405,7 @@ fn runs(name: &str, world: &World, start: Isometry2, seeds: std::ops::Range<u64>
 
 /// The acceptance runs of the two bundled arenas: 20 seeded runs of (at most) 15 simulated
 /// minutes each, zero collisions and coverage at least 0.90 in every run. Run with
-/// optimisations (`cargo test --release -p laserlines-nav`); CI does.
+/// optimisations (`cargo test --release -p laserlines-harness`); CI does.
 #[test]
 #[cfg_attr(
     debug_assertions,

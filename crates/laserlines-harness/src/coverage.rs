@@ -17,7 +17,7 @@ use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines_sim::index::WorldIndex;
 use laserlines_sim::world::Target;
 
-use crate::raster::{BeamTable, FanRaster};
+use laserlines_nav::raster::{BeamTable, FanRaster};
 
 /// Side of a coverage cell, m.
 pub const COVERAGE_CELL: f64 = 0.1;
@@ -268,7 +268,7 @@ fn clearance_at_least(index: &WorldIndex, p: Point2, radius: f64) -> bool {
         let d = match t {
             Target::Wall(i) => {
                 let w = &world.walls[i];
-                laserlines::line::distance_to_segment(p, w.a, w.b)
+                laserlines::geometry::distance_to_segment(p, w.a, w.b)
             }
             Target::Disc(i) => {
                 let d = &world.discs[i];

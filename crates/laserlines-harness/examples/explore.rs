@@ -1,14 +1,14 @@
 //! Runs the explorer in `.raf` arenas or seeded mazes and prints the metrics of each run.
 //!
 //! ```sh
-//! cargo run --release -p laserlines-nav --example explore -- data/arenas/maze_10m_x_14m.raf 0 5
-//! cargo run --release -p laserlines-nav --example explore -- maze:3:islands 0 5
+//! cargo run --release -p laserlines-harness --example explore -- data/arenas/maze_10m_x_14m.raf 0 5
+//! cargo run --release -p laserlines-harness --example explore -- maze:3:islands 0 5
 //! ```
 //! Arguments: an arena (a `.raf` path, or `maze:SEED` / `maze:SEED:islands`), the first
 //! seed, the number of seeds, and optionally the duration in seconds (default 900).
 
 use laserlines::robot::Footprint;
-use laserlines_nav::{RunConfig, run};
+use laserlines_harness::{RunConfig, run};
 use laserlines_sim::arena::{ArenaOptions, interior_start, load_raf};
 use laserlines_sim::maze::{MazeParams, generate};
 
