@@ -55,6 +55,7 @@ pub mod error;
 pub mod format;
 pub mod json;
 pub mod lines;
+pub mod params;
 pub mod reader;
 pub mod record;
 pub mod skip;

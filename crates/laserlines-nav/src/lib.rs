@@ -41,7 +41,10 @@ pub mod planner;
 pub mod raster;
 pub mod sectors;
 
-pub use explorer::{Decision, Explorer, ExplorerParams, Mode, WallSide};
+pub use explorer::{
+    Decision, Explorer, ExplorerParams, FollowParams, LoopParams, MapParams, Mode, SafetyParams,
+    TravelParams, WallSide,
+};
 pub use map::{CellState, MatchParams, MatchPoint, RobotMap};
 pub use planner::{Plan, Planner, PlannerParams};
 pub use sectors::{Sector, SectorObject, SectorObjects, SectorParams, select_objects};

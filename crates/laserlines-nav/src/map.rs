@@ -281,6 +281,11 @@ pub struct MatchPoint {
 
 /// Settings of the scan matching.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct MatchParams {
     /// Most rounds of pairing and Gauss-Newton step per scan. Default 5.
     pub iterations: usize,

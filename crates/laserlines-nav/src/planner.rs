@@ -35,6 +35,11 @@ use crate::raster::floor_i64;
 
 /// Settings of the planner. Distances in metres.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct PlannerParams {
     /// Least clearance of a passable cell, m. Default 0.3.
     pub clearance_m: f64,

@@ -94,6 +94,11 @@ impl Sector {
 
 /// Parameters of the selection.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct SectorParams {
     /// Clipped pieces shorter than this are not objects, m. Default 0.05 m.
     pub min_width: f64,

@@ -462,6 +462,15 @@ impl RobotParams {
     /// [`RobotError::Params`] naming the first field out of range.
     pub fn validate(&self) -> Result<(), RobotError> {
         self.robot.validate()?;
+        Ok(self.validate_simulation()?)
+    }
+
+    /// The checks of [`RobotParams::validate`] but the robot's description's: the rates and
+    /// the odometry noise (the fields of the `[simulator]` table).
+    ///
+    /// # Errors
+    /// A [`ParamsError`] naming the first field out of range.
+    pub fn validate_simulation(&self) -> Result<(), ParamsError> {
         params::non_negative("odometry.wheel_sigma", self.odometry.wheel_sigma)?;
         params::positive("scan_period_s", self.scan_period_s)?;
         params::positive("physics_dt_s", self.physics_dt_s)?;
@@ -471,8 +480,7 @@ impl RobotParams {
                 value: self.physics_dt_s,
                 limit_field: "scan_period_s",
                 limit: self.scan_period_s,
-            }
-            .into());
+            });
         }
         Ok(())
     }

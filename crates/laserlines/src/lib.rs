@@ -30,6 +30,7 @@ pub mod hough_split;
 pub mod line;
 pub mod math;
 pub mod params;
+pub mod registry;
 pub mod robot;
 pub mod scan;
 

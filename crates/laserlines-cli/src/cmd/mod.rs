@@ -12,14 +12,15 @@ pub mod view;
 use std::path::Path;
 
 use anyhow::{Context, Result, anyhow};
-use laserlines::{HoughSplit, LineExtractor};
+use laserlines::HoughSplit;
+use laserlines::registry::{self, BoxedExtractor};
+use laserlines_io::params::ParamsFile;
 use laserlines_io::{Format, ScanReader};
 
 use crate::InputArgs;
-use crate::params::ParamsFile;
 
 /// The algorithms `--algorithm` accepts.
-pub use laserlines::extractors::ALGORITHMS;
+pub use laserlines::registry::ALGORITHMS;
 
 /// Opens the input of a command.
 pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
@@ -47,22 +48,13 @@ pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
 
 /// The extractor named `algorithm` (one of [`ALGORITHMS`]), with parameters from its table
 /// in `params` when given.
-pub fn make_extractor(
-    algorithm: &str,
-    params: Option<&Path>,
-) -> Result<Box<dyn LineExtractor + Send>> {
-    let file = match params {
-        Some(p) => ParamsFile::load(p)?,
-        None => ParamsFile::default(),
-    };
-    file.extractor(algorithm)
+pub fn make_extractor(algorithm: &str, params: Option<&Path>) -> Result<BoxedExtractor> {
+    Ok(ParamsFile::load_or_default(params)?.extractor(algorithm)?)
 }
 
 /// A HoughSplit extractor with parameters from `params` when given.
 pub fn make_hough_split(params: Option<&Path>) -> Result<HoughSplit> {
-    let file = match params {
-        Some(p) => ParamsFile::load(p)?,
-        None => ParamsFile::default(),
-    };
-    HoughSplit::new(file.hough_split()?).context("hough-split parameters")
+    let file = ParamsFile::load_or_default(params)?;
+    let p = file.algorithm_params(&registry::HOUGH_SPLIT)?;
+    HoughSplit::new(p).context("hough-split parameters")
 }

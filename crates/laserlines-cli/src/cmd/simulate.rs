@@ -9,8 +9,11 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use laserlines::math::{Isometry2, Point2, Vector2};
+use laserlines::registry;
+use laserlines::robot::RobotDescription;
 use laserlines_harness::{RunConfig, RunObserver, RunRecord, ScanFrame, arenas, run_observed};
-use laserlines_nav::{Sector, SectorObjects};
+use laserlines_io::params::ParamsFile;
+use laserlines_nav::{ExplorerParams, Sector, SectorObjects};
 use laserlines_render::{Canvas, Color, Extent, LegendEntry, Marker, Panel, Style, Swatch};
 use laserlines_sim::World;
 use laserlines_sim::arena::{ArenaOptions, WallLength, interior_start, load_raf};
@@ -89,11 +92,8 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             args.duration
         );
     }
-    let file = match &args.params {
-        Some(p) => crate::params::ParamsFile::load(p)?,
-        None => crate::params::ParamsFile::default(),
-    };
-    let robot = file.robot()?;
+    let file = ParamsFile::load_or_default(args.params.as_deref())?;
+    let robot = robot_of(&file)?;
     let (name, world, default_start) = world_of(args, &robot)?;
     let start = match &args.start {
         Some(s) => parse_start(s)?,
@@ -101,8 +101,12 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     };
     let config = RunConfig {
         robot,
-        explorer: file.explorer()?,
-        extractor: file.hough_split()?,
+        explorer: file.read_valid(
+            "explorer",
+            ExplorerParams::default(),
+            ExplorerParams::validate,
+        )?,
+        extractor: file.algorithm_params(&registry::HOUGH_SPLIT)?,
         duration_s: args.duration,
         seed: args.seed,
         snapshot_at_s: args.snapshot,
@@ -200,6 +204,22 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         outln!("  wrote {} ({scans} scans)", path.display());
     }
     Ok(())
+}
+
+/// The simulated robot: its description from `[robot]`, the simulator's settings from
+/// `[simulator]`.
+fn robot_of(file: &ParamsFile) -> Result<RobotParams> {
+    let robot = file.read_valid(
+        "robot",
+        RobotDescription::default(),
+        RobotDescription::validate,
+    )?;
+    let simulated = file.read_valid(
+        "simulator",
+        RobotParams::default(),
+        RobotParams::validate_simulation,
+    )?;
+    Ok(RobotParams { robot, ..simulated })
 }
 
 /// The world to explore, its name and the default start.

@@ -42,6 +42,9 @@ pub enum RunError {
     /// The extractor's parameters are invalid.
     #[error("extractor parameters: {0}")]
     Extractor(ParamsError),
+    /// The explorer's parameters are invalid.
+    #[error("explorer parameters: {0}")]
+    Explorer(ParamsError),
     /// The run's own settings are invalid.
     #[error("run settings: {0}")]
     Setting(ParamsError),
@@ -84,8 +87,8 @@ impl Default for RunConfig {
 ///
 /// # Errors
 /// [`RunError::Robot`] when the robot cannot start at `start` (inside a wall, bad
-/// parameters), [`RunError::Extractor`] for invalid extractor parameters,
-/// [`RunError::Setting`] for a duration that is not positive and finite.
+/// parameters), [`RunError::Extractor`] and [`RunError::Explorer`] for invalid extractor and
+/// explorer parameters, [`RunError::Setting`] for a duration that is not positive and finite.
 pub fn run(world: &World, start: Isometry2, config: &RunConfig) -> Result<RunRecord, RunError> {
     run_observed(world, start, config, &mut ())
 }
@@ -115,6 +118,7 @@ pub fn run_observed(
     observer: &mut dyn RunObserver,
 ) -> Result<RunRecord, RunError> {
     laserlines::params::positive("duration_s", config.duration_s).map_err(RunError::Setting)?;
+    config.explorer.validate().map_err(RunError::Explorer)?;
     let mut robot = RobotSim::new(world, start, config.robot, config.seed)?;
     let mut extractor =
         HoughSplit::new(config.extractor.clone()).map_err(|e| RunError::Extractor(e.into()))?;

@@ -4,6 +4,11 @@ use crate::scan::RangeWindow;
 
 /// The weight function `g` of the paper's eq. (1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "lowercase")
+)]
 pub enum Weight {
     /// `g = 1`: a cell's value counts its points.
     One,
@@ -48,6 +53,11 @@ pub enum ParamsError {
 /// scene suites; see `laserlines_eval::tune`). Results are reported on the test suite, seed 2.
 /// The search kept the paper's grid and criterion.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct HoughSplitParams {
     /// Ring step `dd` of the accumulator, m. Paper: 0.03 m. Sensible: 0.01..0.10.
     pub ring_step: f64,

@@ -6,25 +6,25 @@
 //!
 //! **Following.** The explorer keeps a wall on one side (the *followed side*, left by
 //! default). The followed side's sector object (the left object for the left side) is the
-//! wall to follow when it is nearer than `follow_range` and runs within 60 deg of the
+//! wall to follow when it is nearer than `follow.range` and runs within 60 deg of the
 //! heading. The turn rate steers the robot parallel to it (the object's angle) and to
-//! `follow_distance` from it (its distance): `w = k_heading * angle + side * k_distance *
+//! `follow.distance` from it (its distance): `w = k_heading * angle + side * k_distance *
 //! (distance - follow_distance)`.
 //!
 //! **Corners and wall ends.** The end of the followed wall ahead of the robot is remembered
 //! in the map frame (below). When the followed side's object is lost (the wall ended: a corner
-//! or an opening on that side) the robot arcs around that end at `follow_distance`, so that
+//! or an opening on that side) the robot arcs around that end at `follow.distance`, so that
 //! it turns into the side corridor, or around the end of a free-standing wall.
 //!
 //! **Obstacles in front and dead ends.** The free distance ahead is the distance from the
 //! robot's front to the nearest extracted line inside the band the robot sweeps when driving
-//! straight (its width plus a margin). When it falls below `front_turn`, the robot turns on
+//! straight (its width plus a margin). When it falls below `follow.front_turn`, the robot turns on
 //! the spot away from the followed side until the way ahead is free again: 90 deg at a
 //! corner, 180 deg in a dead end.
 //!
 //! **The robot's own map.** Every scan is fitted onto the map built from the scans before
 //! it ([`RobotMap::match_scan`], point-to-line ICP pulled toward the odometry's prediction)
-//! and every `map_every`-th scan is added to it ([`RobotMap::insert_scan`]): the map frame
+//! and every `map.every`-th scan is added to it ([`RobotMap::insert_scan`]): the map frame
 //! is the odometry frame at the start, corrected by the matching, so that the map stays
 //! true while the wheel odometry drifts (the simulator's default odometry drifts by about
 //! a metre in two minutes; the map pose stays within a few decimetres over a run). From
@@ -32,35 +32,35 @@
 //! lines and odometry.
 //!
 //! **Leaving a wall followed all the way round.** Every 0.5 m of travel the map pose is
-//! dropped as a breadcrumb. Coming back within `loop_match` of a breadcrumb laid at least
-//! `loop_min_path` earlier, heading the same way (within `loop_heading`) on the same
+//! dropped as a breadcrumb. Coming back within `loops.match_radius_m` of a breadcrumb laid at least
+//! `loops.min_path_m` earlier, heading the same way (within `loops.heading_rad`) on the same
 //! followed side, means the wall has been followed all the way round. Then, or when wall
-//! following has shown nothing new for `stale_s` (it is going over ground already seen),
+//! following has shown nothing new for `travel.stale_s` (it is going over ground already seen),
 //! the explorer leaves the wall: it plans on its own map to the nearest *frontier* (a cell
 //! where the robot fits at the edge of what it has seen, see [`crate::planner`]) not given
-//! up before, drives there along the path (pure pursuit, re-planned every `replan_s`, so
+//! up before, drives there along the path (pure pursuit, re-planned every `travel.replan_s`, so
 //! that the plan always starts from where the robot is), and when it gets there, or the
 //! frontier has been seen meanwhile, resumes wall following on the wall it finds there.
-//! Wall following that finds no wall for `seek_s` leaves the same way. This is how it
+//! Wall following that finds no wall for `travel.seek_s` leaves the same way. This is how it
 //! reaches islands, wall groups that a pure wall follower never reaches. A frontier whose
-//! path the robot does not shorten for `give_up_s`, or that it reaches without seeing it, is
-//! given up; when none is left, the given-up ones are tried again, at most `retries` times.
+//! path the robot does not shorten for `travel.give_up_s`, or that it reaches without seeing it, is
+//! given up; when none is left, the given-up ones are tried again, at most `travel.retries` times.
 //! A frontier given up while the robot stood still (within 0.5 m of where it last made
-//! progress) closes the spot its path led to next, `blocked_radius_m` around it for
-//! `blocked_s`: the map showed a way there that the safety layer did not let the robot
+//! progress) closes the spot its path led to next, `travel.blocked_radius_m` around it for
+//! `travel.blocked_s`: the map showed a way there that the safety layer did not let the robot
 //! take, so the planner looks for another. When no frontier can be reached, the planner
-//! tries again with `tight_clearance_m` (gaps the robot passes driving straight but cannot
+//! tries again with `travel.tight_clearance_m` (gaps the robot passes driving straight but cannot
 //! turn in), then with the blocked spots opened again.
 //! When no frontier is left the exploration is complete.
 //!
 //! **Safety.** Before a velocity command is committed, the footprint is swept along the arc
 //! the command drives over the time the robot needs to stop, and its least distance to the
 //! near scan points is checked: this scan's, and those remembered in the map frame (one per
-//! 3 cm square within `memory_range_m`), so that obstacles beside and behind the laser's
+//! 3 cm square within `safety.memory_range_m`), so that obstacles beside and behind the laser's
 //! field of view, and the ends of thin walls seen end-on, are not forgotten. Points not seen
 //! in this scan count 6 cm nearer when the robot turns or backs (an obstacle's far side
 //! may reach nearer than the side that was seen). A command is safe when the footprint
-//! stays `safety_margin` clear; where the robot already stands nearer, when it comes no
+//! stays `safety.margin` clear; where the robot already stands nearer, when it comes no
 //! nearer (and keeps 2 cm), so that it can leave a tight spot. Otherwise slower versions,
 //! turning on the spot, creeping turns and turning the other way are tried, in that order;
 //! a robot whose wanted motion stays blocked for about a second *escapes*: of short straight
@@ -123,182 +123,16 @@ use laserlines::geometry::clip_segment;
 use laserlines::math::{Isometry2, Point2, Vector2, wrap_angle};
 use laserlines::robot::{Footprint, RobotDescription, VelocityCommand, arc};
 
-use crate::map::{MatchParams, MatchPoint, RobotMap};
+mod params;
+
+pub use params::{
+    ExplorerParams, FollowParams, LoopParams, MapParams, SafetyParams, TravelParams, WallSide,
+};
+
+use crate::map::{MatchPoint, RobotMap};
 use crate::planner::{Plan, Planner, PlannerParams};
 use crate::raster::BeamTable;
-use crate::sectors::{Sector, SectorObjects, SectorParams, select_objects};
-
-/// Which side the followed wall is on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum WallSide {
-    /// Left-hand rule: the wall on the left.
-    Left,
-    /// Right-hand rule: the wall on the right.
-    Right,
-}
-
-impl WallSide {
-    /// +1 for left, -1 for right (the sign of a turn toward the wall).
-    #[must_use]
-    pub fn sign(self) -> f64 {
-        match self {
-            Self::Left => 1.0,
-            Self::Right => -1.0,
-        }
-    }
-
-    /// The sector on this side.
-    #[must_use]
-    pub fn sector(self) -> Sector {
-        match self {
-            Self::Left => Sector::Left,
-            Self::Right => Sector::Right,
-        }
-    }
-
-    /// The other side.
-    #[must_use]
-    pub fn other(self) -> Self {
-        match self {
-            Self::Left => Self::Right,
-            Self::Right => Self::Left,
-        }
-    }
-}
-
-/// Parameters of the explorer. Distances in metres, angles in radians, times in seconds.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ExplorerParams {
-    /// The side of the first followed wall. Default left.
-    pub side: WallSide,
-    /// Distance kept from the followed wall, from the robot's origin, m. Default 0.6 (the
-    /// middle of a 1.2 m arena corridor).
-    pub follow_distance: f64,
-    /// A wall on the followed side nearer than this is followed, m. Default 1.0.
-    pub follow_range: f64,
-    /// Speed along straight walls, m/s. Default 0.55.
-    pub cruise_speed: f64,
-    /// Speed around wall ends, m/s. Default 0.35.
-    pub corner_speed: f64,
-    /// Turn rate when turning on the spot, rad/s. Default 1.2.
-    pub turn_rate: f64,
-    /// Gain of the heading term, 1/s. Default 1.8.
-    pub k_heading: f64,
-    /// Gain of the distance term, rad/(s m). Default 2.0.
-    pub k_distance: f64,
-    /// Free distance ahead of the robot's front below which it turns away, m. Default 0.45.
-    pub front_turn: f64,
-    /// The same while arcing around a wall end or curving toward the followed side, m.
-    /// Default 0.15.
-    pub front_turn_corner: f64,
-    /// Extra half-width of the band ahead checked for the free distance, m. Default 0.1.
-    pub front_band_margin: f64,
-    /// Margin the safety layer keeps around the footprint, m. Default 0.08.
-    pub safety_margin: f64,
-    /// Scan points within this of the robot are remembered for the safety layer, m.
-    /// Default 1.5.
-    pub memory_range_m: f64,
-    /// Breadcrumb match radius for loop detection, m. Default 0.5.
-    pub loop_match: f64,
-    /// Breadcrumb heading tolerance, rad. Default 0.6.
-    pub loop_heading: f64,
-    /// Least travel between a breadcrumb and its revisit for a loop, m. Default 8.0.
-    pub loop_min_path: f64,
-    /// Wall following that has made no cell of the map known for this long leaves the
-    /// wall for the nearest frontier, s. Default 8.
-    pub stale_s: f64,
-    /// A scan that makes fewer cells of the map known than this shows nothing new.
-    /// Default 4 (0.04 m^2).
-    pub new_cells: usize,
-    /// Every this many scans one is added to the map (each is matched against it).
-    /// Default 2: at the robot's speed (6 cm a scan), consecutive scans see nearly the
-    /// same. With 3 the map of a post in a narrow corridor can come out thick enough to
-    /// close the corridor to the planner (island maze 6, seed 1: the run ends "explored"
-    /// after 4 m).
-    pub map_every: usize,
-    /// Seeking a wall (none in reach) for longer than this leaves for the nearest frontier,
-    /// s. Default 6.
-    pub seek_s: f64,
-    /// Time between plans on the way to a frontier, s. Default 2.
-    pub replan_s: f64,
-    /// Distance ahead along the path that the path follower steers to, m. Default 0.6.
-    pub lookahead_m: f64,
-    /// Speed on the way to a frontier, m/s. Default 0.5.
-    pub travel_speed: f64,
-    /// A frontier whose path the robot has not shortened by 0.2 m for this long is given up, s.
-    /// Default 12.
-    pub give_up_s: f64,
-    /// A re-plan keeps its frontier while its path is at most this much longer than the
-    /// path to the nearest one, m. Default 1.
-    pub hysteresis_m: f64,
-    /// Frontiers within this of one given up are not chosen again, m. Default 0.6.
-    pub avoid_radius_m: f64,
-    /// When no frontier is left but some were given up, they are all tried again, at most
-    /// this many times in a run. Default 2.
-    pub retries: usize,
-    /// A frontier given up while the robot stood within 0.5 m of where it last made
-    /// progress closes the spot its path led to next (0.4 m ahead) to the planner for
-    /// `blocked_s`, within this radius, m: a gap that the map shows open but that the
-    /// safety layer does not let the robot through. Default 0.3.
-    pub blocked_radius_m: f64,
-    /// How long a blocked spot stays closed, s. Default 90.
-    pub blocked_s: f64,
-    /// When no frontier can be reached with the planner's clearance, the planner tries
-    /// again with this one, m, before the exploration is called complete: a gap that the
-    /// 0.4 m wide robot passes driving straight but where it cannot turn (a post beside a
-    /// corridor wall). Default 0.2 (the robot's half width; on the map, whose occupied
-    /// cells reach up to half a cell into a gap, that is about 0.25 m of true clearance).
-    pub tight_clearance_m: f64,
-    /// Done when the map has gained nothing for this long, s. Default 120.
-    pub idle_timeout_s: f64,
-    /// The sector selection.
-    pub sectors: SectorParams,
-    /// The scan matching.
-    pub matching: MatchParams,
-    /// The planner.
-    pub planner: PlannerParams,
-}
-
-impl Default for ExplorerParams {
-    fn default() -> Self {
-        Self {
-            side: WallSide::Left,
-            follow_distance: 0.6,
-            follow_range: 1.0,
-            cruise_speed: 0.55,
-            corner_speed: 0.35,
-            turn_rate: 1.2,
-            k_heading: 1.8,
-            k_distance: 2.0,
-            front_turn: 0.45,
-            front_turn_corner: 0.15,
-            front_band_margin: 0.1,
-            safety_margin: 0.08,
-            memory_range_m: 1.5,
-            loop_match: 0.5,
-            loop_heading: 0.6,
-            loop_min_path: 8.0,
-            stale_s: 8.0,
-            new_cells: 4,
-            map_every: 2,
-            seek_s: 6.0,
-            replan_s: 2.0,
-            lookahead_m: 0.5,
-            travel_speed: 0.5,
-            give_up_s: 12.0,
-            hysteresis_m: 1.0,
-            avoid_radius_m: 0.6,
-            retries: 2,
-            blocked_radius_m: 0.3,
-            blocked_s: 90.0,
-            tight_clearance_m: 0.2,
-            idle_timeout_s: 120.0,
-            sectors: SectorParams::default(),
-            matching: MatchParams::default(),
-            planner: PlannerParams::default(),
-        }
-    }
-}
+use crate::sectors::{SectorObjects, select_objects};
 
 /// What the explorer is doing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -392,7 +226,7 @@ pub struct Explorer {
     map_from_robot: Isometry2,
     /// Scans the map could not place (the odometry's prediction was kept).
     unmatched: u64,
-    /// Time the map last gained `new_cells` from one scan (wall following goes stale).
+    /// Time the map last gained `map.new_cells` from one scan (wall following goes stale).
     last_new: f64,
     /// Time the map last gained any cell (the idle timeout).
     last_gain: f64,
@@ -580,8 +414,8 @@ impl Explorer {
                 self.last_new = time_s;
             }
         } else {
-            let stale = time_s - self.last_new > p.stale_s;
-            let lost = time_s - self.seek_since > p.seek_s;
+            let stale = time_s - self.last_new > p.travel.stale_s;
+            let lost = time_s - self.seek_since > p.travel.seek_s;
             if (looped || stale || lost) && !self.explored {
                 wanted = self.start_travel(time_s, front_free);
             }
@@ -622,7 +456,7 @@ impl Explorer {
         let s = self.side.sign();
         let wall = objects
             .get(self.side.sector())
-            .filter(|o| o.distance_m < p.follow_range && o.angle_rad.abs() < 60f64.to_radians())
+            .filter(|o| o.distance_m < p.follow.range && o.angle_rad.abs() < 60f64.to_radians())
             .copied();
         if let Some(w) = wall {
             // The end of the followed wall ahead (the full line's end farther forward).
@@ -638,18 +472,19 @@ impl Explorer {
         // straight ahead: only a very near obstacle stops it (the safety layer watches the
         // rest).
         let turning_to_wall = wall.is_some_and(|w| {
-            let e_d = (w.distance_m - p.follow_distance).clamp(-0.4, 0.4);
-            s * (p.k_heading * w.angle_rad + s * p.k_distance * e_d) > 0.3
+            let e_d = (w.distance_m - p.follow.distance).clamp(-0.4, 0.4);
+            s * (p.follow.k_heading * w.angle_rad + s * p.follow.k_distance * e_d) > 0.3
         });
         let turn_at = if self.mode == Mode::Corner || turning_to_wall {
-            p.front_turn_corner
+            p.follow.front_turn_corner
         } else {
-            p.front_turn
+            p.follow.front_turn
         };
         let blocked = front_free < turn_at;
         self.mode = match self.mode {
             Mode::TurnAway
-                if front_free < p.front_turn + 0.4 && self.turned < 2.0 * std::f64::consts::PI =>
+                if front_free < p.follow.front_turn + 0.4
+                    && self.turned < 2.0 * std::f64::consts::PI =>
             {
                 Mode::TurnAway
             }
@@ -658,7 +493,7 @@ impl Explorer {
                 Mode::TurnAway
             }
             _ if wall.is_some() => Mode::Follow,
-            _ if end_in_robot.is_some_and(|e| e.coords.norm() < p.follow_distance + 0.6) => {
+            _ if end_in_robot.is_some_and(|e| e.coords.norm() < p.follow.distance + 0.6) => {
                 Mode::Corner
             }
             _ => Mode::Seek,
@@ -671,12 +506,12 @@ impl Explorer {
                 let Some(w) = wall else {
                     return VelocityCommand::STOP;
                 };
-                let e_d = (w.distance_m - p.follow_distance).clamp(-0.4, 0.4);
-                let omega = p.k_heading * w.angle_rad + s * p.k_distance * e_d;
-                let omega = omega.clamp(-p.turn_rate, p.turn_rate);
-                let v = p.cruise_speed
+                let e_d = (w.distance_m - p.follow.distance).clamp(-0.4, 0.4);
+                let omega = p.follow.k_heading * w.angle_rad + s * p.follow.k_distance * e_d;
+                let omega = omega.clamp(-p.follow.turn_rate, p.follow.turn_rate);
+                let v = p.follow.cruise_speed
                     * ((front_free - 0.2) / 1.0).clamp(0.25, 1.0)
-                    * (1.0 - omega.abs() / (2.0 * p.turn_rate)).max(0.3);
+                    * (1.0 - omega.abs() / (2.0 * p.follow.turn_rate)).max(0.3);
                 VelocityCommand::new(v, omega)
             }
             Mode::Corner => {
@@ -686,20 +521,20 @@ impl Explorer {
                 // Tangent with the end on the followed side.
                 let t = Vector2::new(s * u.y, -s * u.x);
                 let heading = t.y.atan2(t.x);
-                let e_d = (d - p.follow_distance).clamp(-0.4, 0.4);
-                let omega = (p.k_heading * heading + s * p.k_distance * e_d)
-                    .clamp(-p.turn_rate, p.turn_rate);
+                let e_d = (d - p.follow.distance).clamp(-0.4, 0.4);
+                let omega = (p.follow.k_heading * heading + s * p.follow.k_distance * e_d)
+                    .clamp(-p.follow.turn_rate, p.follow.turn_rate);
                 let v = if heading.abs() > 1.2 {
                     0.0
                 } else {
-                    p.corner_speed
+                    p.follow.corner_speed
                 };
                 VelocityCommand::new(v, omega)
             }
-            Mode::TurnAway => VelocityCommand::new(0.0, -s * p.turn_rate),
+            Mode::TurnAway => VelocityCommand::new(0.0, -s * p.follow.turn_rate),
             Mode::Escape => self.escape,
             Mode::Seek | Mode::Travel => VelocityCommand::new(
-                p.cruise_speed * ((front_free - 0.2) / 1.0).clamp(0.3, 1.0),
+                p.follow.cruise_speed * ((front_free - 0.2) / 1.0).clamp(0.3, 1.0),
                 0.0,
             ),
         }
@@ -759,15 +594,15 @@ impl Explorer {
         }
         self.map_from_robot = matched.unwrap_or(predicted);
         self.map_from_odom = self.map_from_robot * odom_from_robot.inverse();
-        // Every `map_every`-th scan goes into the map (all are matched against it).
-        let every = self.params.map_every.max(1) as u64;
+        // Every `map.every`-th scan goes into the map (all are matched against it).
+        let every = self.params.map.every.max(1) as u64;
         if !self.scans.is_multiple_of(every) {
             return;
         }
         let newly = self
             .map
             .insert_scan(&(self.map_from_robot * self.robot_from_laser), scan);
-        if newly >= self.params.new_cells {
+        if newly >= self.params.map.new_cells {
             self.last_new = time_s;
         }
         if newly > 0 {
@@ -784,7 +619,7 @@ impl Explorer {
         let mut plan = self.plan_from(from, false);
         // No frontier left but some given up: try those again (from wherever the robot is
         // now), a limited number of times.
-        if plan.is_none() && !self.avoid.is_empty() && self.retries < self.params.retries {
+        if plan.is_none() && !self.avoid.is_empty() && self.retries < self.params.travel.retries {
             self.retries += 1;
             self.avoid.clear();
             plan = self.plan_from(from, false);
@@ -846,7 +681,7 @@ impl Explorer {
             &self.map,
             from,
             &self.avoid,
-            self.params.avoid_radius_m,
+            self.params.travel.avoid_radius_m,
             None,
             &params,
         )
@@ -856,18 +691,18 @@ impl Explorer {
     fn planner_params(&self, tight: bool) -> PlannerParams {
         let mut p = self.params.planner;
         if tight {
-            p.clearance_m = p.clearance_m.min(self.params.tight_clearance_m);
+            p.clearance_m = p.clearance_m.min(self.params.travel.tight_clearance_m);
         }
         p
     }
 
-    /// Drops the blocked spots older than `blocked_s` and hands the rest to the planner.
+    /// Drops the blocked spots older than `travel.blocked_s` and hands the rest to the planner.
     fn update_blocked(&mut self, time_s: f64) {
-        let keep_for = self.params.blocked_s;
+        let keep_for = self.params.travel.blocked_s;
         self.blocked.retain(|&(_, at)| time_s - at <= keep_for);
         let spots: Vec<Point2> = self.blocked.iter().map(|&(p, _)| p).collect();
         self.planner
-            .set_blocked(&spots, self.params.blocked_radius_m);
+            .set_blocked(&spots, self.params.travel.blocked_radius_m);
     }
 
     /// One step on the way to the frontier: re-plans when due, gives up a frontier without
@@ -904,7 +739,7 @@ impl Explorer {
             travel.best_at = time_s;
             travel.best_from = from;
         }
-        let give_up = time_s - travel.best_at > p.give_up_s;
+        let give_up = time_s - travel.best_at > p.travel.give_up_s;
         if give_up {
             self.avoid.push(goal);
             // Stuck where the map shows a way: close the spot the path led to next.
@@ -922,14 +757,14 @@ impl Explorer {
             travel.best_at = time_s;
             travel.best_from = from;
         }
-        if give_up || time_s - travel.planned_at >= p.replan_s {
+        if give_up || time_s - travel.planned_at >= p.travel.replan_s {
             self.update_blocked(time_s);
-            let keep = (!give_up).then_some((goal, p.hysteresis_m));
+            let keep = (!give_up).then_some((goal, p.travel.hysteresis_m));
             let plan = self.planner.nearest_frontier(
                 &self.map,
                 from,
                 &self.avoid,
-                p.avoid_radius_m,
+                p.travel.avoid_radius_m,
                 keep,
                 &self.planner_params(travel.tight),
             )?;
@@ -957,7 +792,7 @@ impl Explorer {
         let target = path
             .iter()
             .skip(along)
-            .find(|q| (*q - from).norm() >= p.lookahead_m)
+            .find(|q| (*q - from).norm() >= p.travel.lookahead_m)
             .or(path.last())
             .copied()
             .unwrap_or(goal);
@@ -966,10 +801,10 @@ impl Explorer {
         let local = self.map_from_robot.inverse() * target;
         let alpha = local.y.atan2(local.x);
         Some(if alpha.abs() > 0.5 {
-            VelocityCommand::new(0.0, alpha.signum() * p.turn_rate)
+            VelocityCommand::new(0.0, alpha.signum() * p.follow.turn_rate)
         } else {
-            let omega = (2.5 * alpha).clamp(-p.turn_rate, p.turn_rate);
-            let v = p.travel_speed
+            let omega = (2.5 * alpha).clamp(-p.follow.turn_rate, p.follow.turn_rate);
+            let v = p.travel.speed
                 * (1.0 - alpha.abs() / 0.7).max(0.2)
                 * ((front_free - 0.1) / 0.8).clamp(0.25, 1.0);
             VelocityCommand::new(v, omega)
@@ -984,14 +819,14 @@ impl Explorer {
     }
 
     /// Keeps the scan's near points (map frame) for the safety layer: one per
-    /// [`MEMORY_CELL`] square, the latest, while within `memory_range_m` of the robot.
+    /// [`MEMORY_CELL`] square, the latest, while within `safety.memory_range_m` of the robot.
     /// Points stay when the laser no longer sees them, behind the robot or in view (the
     /// end of a thin wall seen end-on is between beams).
     fn remember(&mut self, scan: &Scan, map_from_robot: &Isometry2) {
         self.scans += 1;
         let map_from_laser = map_from_robot * self.robot_from_laser;
         let robot_at = Point2::from(map_from_robot.translation.vector);
-        let keep2 = self.params.memory_range_m * self.params.memory_range_m;
+        let keep2 = self.params.safety.memory_range_m * self.params.safety.memory_range_m;
         self.memory
             .retain(|_, (m, _)| (*m - robot_at).norm_squared() <= keep2);
         let window = scan.range_window(None);
@@ -1028,7 +863,7 @@ impl Explorer {
     /// Free distance ahead of the robot's front within the swept band, from the lines.
     fn front_free(&self, robot_lines: &[(Point2, Point2)]) -> f64 {
         let half = self.footprint.half();
-        let band = half.y + self.params.front_band_margin;
+        let band = half.y + self.params.follow.front_band_margin;
         let mut best = f64::INFINITY;
         for &(a, b) in robot_lines {
             // Clip the segment to |y| <= band, x >= 0.
@@ -1055,9 +890,9 @@ impl Explorer {
         if self.mode == Mode::Follow || self.mode == Mode::Corner {
             looped = self.crumbs.iter().any(|c| {
                 c.side == self.side
-                    && self.path - c.path >= p.loop_min_path
-                    && (c.at - at).norm() < p.loop_match
-                    && (wrap_angle(c.heading - heading)).abs() < p.loop_heading
+                    && self.path - c.path >= p.loops.min_path_m
+                    && (c.at - at).norm() < p.loops.match_radius_m
+                    && (wrap_angle(c.heading - heading)).abs() < p.loops.heading_rad
             });
             if looped {
                 self.loops += 1;
@@ -1110,8 +945,8 @@ impl Explorer {
             VelocityCommand::new(0.0, wanted.angular_rad_s),
             VelocityCommand::new(0.1, wanted.angular_rad_s),
             VelocityCommand::new(-0.1, wanted.angular_rad_s),
-            VelocityCommand::new(0.0, -s * self.params.turn_rate),
-            VelocityCommand::new(0.0, s * self.params.turn_rate),
+            VelocityCommand::new(0.0, -s * self.params.follow.turn_rate),
+            VelocityCommand::new(0.0, s * self.params.follow.turn_rate),
         ];
         // A command is safe when the footprint stays the safety margin clear of everything
         // along its sweep; or, where the robot already stands closer than that, when the
@@ -1121,7 +956,7 @@ impl Explorer {
         // out of view sees it, and as one that does not.
         let now_plain = self.sweep_clearance(&pts, VelocityCommand::STOP, 0.0);
         let now_turning = self.sweep_clearance(&pts, VelocityCommand::new(0.0, 1.0), 0.0);
-        let margin = self.params.safety_margin;
+        let margin = self.params.safety.margin;
         let safe = |c: VelocityCommand, clearance: f64| {
             let now = if toward_blind(c) {
                 now_turning
