@@ -4,7 +4,9 @@
 //! `tu-darmstadt-ros-pkg/hector_nist_arenas_gazebo` (folder `hector_nist_arena_worlds/arenas/`,
 //! commit `f4ce404`, BSD license). See `data/README.md`.
 
-use laserlines_sim::arena::{Arena, ArenaError, ArenaOptions, parse_raf};
+use std::path::Path;
+
+use laserlines_sim::arena::{Arena, ArenaError, ArenaOptions, load_raf, parse_raf};
 
 /// `maze_10m_x_14m.raf`: a pure maze of 113 wall elements.
 pub const MAZE_10M_X_14M: &str = include_str!("../../../data/arenas/maze_10m_x_14m.raf");
@@ -34,4 +36,38 @@ pub fn bundled(name: &str, options: &ArenaOptions) -> Option<Result<Arena, Arena
         .iter()
         .find(|(n, _)| *n == stem)
         .map(|(n, text)| parse_raf(text, &format!("{n}.raf"), options))
+}
+
+/// Errors of [`load`].
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// Neither a file nor a bundled arena.
+    #[error("no arena file {0:?} (bundled arenas: {list})", list = bundled_names())]
+    NotFound(String),
+    /// The file does not read as an arena.
+    #[error(transparent)]
+    Arena(#[from] ArenaError),
+}
+
+fn bundled_names() -> String {
+    BUNDLED
+        .iter()
+        .map(|(n, _)| *n)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The arena `which`: a `.raf` file when one is there, else the bundled arena of that name.
+///
+/// # Errors
+/// [`LoadError::NotFound`] for neither, [`LoadError::Arena`] for a file that does not read.
+pub fn load(which: &str, options: &ArenaOptions) -> Result<Arena, LoadError> {
+    let path = Path::new(which);
+    if path.exists() {
+        return Ok(load_raf(path, options)?);
+    }
+    match bundled(which, options) {
+        Some(arena) => Ok(arena?),
+        None => Err(LoadError::NotFound(which.to_owned())),
+    }
 }

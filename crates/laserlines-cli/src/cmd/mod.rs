@@ -6,7 +6,6 @@ pub mod demo;
 pub mod extract;
 pub mod render;
 pub mod simulate;
-pub mod simulate_mcap;
 pub mod view;
 
 use std::path::Path;
@@ -22,7 +21,8 @@ use crate::InputArgs;
 /// The algorithms `--algorithm` accepts.
 pub use laserlines::registry::ALGORITHMS;
 
-/// Opens the input of a command.
+/// Opens the input of a command (MCAP or any format of `laserlines-io`, chosen by
+/// `laserlines_foxglove::open_scans`).
 pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
     let format = match &input.format {
         Some(name) => Some(Format::from_name(name).ok_or_else(|| {
@@ -33,17 +33,8 @@ pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
         })?),
         None => None,
     };
-    // MCAP files, and directories (ROS 2 bags in MCAP storage), are read by laserlines-foxglove.
-    let mcap = match format {
-        Some(f) => f == Format::Mcap,
-        None => input.input.is_dir() || Format::from_path(&input.input) == Some(Format::Mcap),
-    };
-    if mcap {
-        let options = laserlines_foxglove::McapReadOptions::topic(input.topic.as_deref());
-        return Ok(laserlines_foxglove::read::open(&input.input, &options)?);
-    }
     let options = laserlines_io::ReadOptions::format(format).with_topic(input.topic.as_deref());
-    Ok(laserlines_io::open_with(&input.input, &options)?)
+    Ok(laserlines_foxglove::open_scans(&input.input, &options)?)
 }
 
 /// The extractor named `algorithm` (one of [`ALGORITHMS`]), with parameters from its table

@@ -11,7 +11,8 @@ use super::observe::{RunObserver, ScanFrame};
 use crate::coverage::CoverageGrid;
 
 /// Why a run ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum StopReason {
     /// The time limit.
     TimeLimit,
@@ -33,8 +34,9 @@ impl StopReason {
     }
 }
 
-/// The metrics of a run.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The metrics of a run (serialized with the field names, as `metrics.json` of `laserlines
+/// simulate` has them).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Metrics {
     /// Fraction of the reachable free area seen by the laser, 0..1 (see [`crate::coverage`]).
     pub coverage: f64,

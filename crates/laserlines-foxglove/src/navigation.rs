@@ -1,4 +1,7 @@
-//! `laserlines simulate --mcap FILE`: the run as an MCAP file for Foxglove.
+//! A navigation run as an MCAP file for Foxglove (`laserlines simulate --mcap FILE`): the
+//! arena, the robot's true and estimated poses, each scan with its lines, the sector objects
+//! and the explorer's goal. It takes plain data and the explorer's [`Decision`], so that it
+//! records a real robot's run as well as a simulated one.
 //!
 //! | topic | schema | frame | content |
 //! |---|---|---|---|
@@ -17,18 +20,19 @@ use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
 
-use laserlines::math::{Isometry2, Point2};
-use laserlines::robot::Footprint;
-use laserlines_foxglove::messages::{
+use foxglove::messages::{
     Color, CylinderPrimitive, KeyValuePair, LinePrimitive, Point3, Pose, SceneEntity, SceneUpdate,
     SpherePrimitive, TextPrimitive, Vector3, line_primitive,
 };
-use laserlines_foxglove::proto::{timestamp, transform_from_pose, yaw_quaternion};
-use laserlines_foxglove::{LASER_FRAME, McapSceneWriter, ROBOT_FRAME, WORLD_FRAME};
-use laserlines_harness::{RunObserver, ScanFrame};
+use laserlines::math::{Isometry2, Point2};
+use laserlines::robot::Footprint;
+use laserlines::{Line, Scan};
 use laserlines_io::{Pose2, WriteError};
-use laserlines_nav::Sector;
-use laserlines_sim::World;
+use laserlines_nav::{Decision, Sector};
+
+use crate::proto::{timestamp, transform_from_pose, yaw_quaternion};
+use crate::write::McapSceneWriter;
+use crate::{LASER_FRAME, ROBOT_FRAME, WORLD_FRAME};
 
 /// Topic of the arena walls.
 pub const ARENA_TOPIC: &str = "/arena";
@@ -39,8 +43,29 @@ pub const EXPLORER_TOPIC: &str = "/explorer";
 /// Frame of the robot's own pose estimate.
 pub const ESTIMATE_FRAME: &str = "base_link_estimate";
 
+/// What one scan of a run shows.
+#[derive(Debug, Clone, Copy)]
+pub struct NavFrame<'a> {
+    /// Time of the scan, s.
+    pub time_s: f64,
+    /// The robot's pose (the true one in simulation).
+    pub world_from_robot: Isometry2,
+    /// The robot's own estimate of its pose, placed in the world by the start pose.
+    pub estimated_world_from_robot: Isometry2,
+    /// Where the laser sits on the robot.
+    pub robot_from_laser: Isometry2,
+    /// The scan, laser frame.
+    pub scan: &'a Scan,
+    /// Its lines, laser frame.
+    pub lines: &'a [Line],
+    /// The explorer's decision on this scan.
+    pub decision: &'a Decision,
+    /// Coverage so far, 0..1, when known (ground truth).
+    pub coverage: Option<f64>,
+}
+
 /// Records a run into an MCAP file; the first write error is kept and ends the recording.
-pub struct McapRecorder {
+pub struct NavRecorder {
     writer: McapSceneWriter<BufWriter<File>>,
     footprint: Footprint,
     world_from_map: Isometry2,
@@ -96,21 +121,20 @@ fn sector_color(s: Sector) -> Color {
     }
 }
 
-/// The arena as one scene update in the world frame.
-fn arena_update(world: &World) -> SceneUpdate {
-    let walls = world
-        .walls
+/// The arena (walls by their end points, discs by centre and radius) as one scene update in
+/// the world frame.
+fn arena_update(walls: &[(Point2, Point2)], discs: &[(Point2, f64)]) -> SceneUpdate {
+    let wall_points = walls
         .iter()
-        .flat_map(|w| [point3(w.a), point3(w.b)])
+        .flat_map(|&(a, b)| [point3(a), point3(b)])
         .collect();
-    let cylinders = world
-        .discs
+    let cylinders = discs
         .iter()
-        .map(|d| CylinderPrimitive {
-            pose: Some(pose_at(d.centre.x, d.centre.y, 0.0)),
+        .map(|&(centre, radius)| CylinderPrimitive {
+            pose: Some(pose_at(centre.x, centre.y, 0.0)),
             size: Some(Vector3 {
-                x: 2.0 * d.radius,
-                y: 2.0 * d.radius,
+                x: 2.0 * radius,
+                y: 2.0 * radius,
                 z: 0.3,
             }),
             bottom_scale: 1.0,
@@ -127,33 +151,35 @@ fn arena_update(world: &World) -> SceneUpdate {
             metadata: vec![
                 KeyValuePair {
                     key: "walls".to_owned(),
-                    value: world.walls.len().to_string(),
+                    value: walls.len().to_string(),
                 },
                 KeyValuePair {
                     key: "discs".to_owned(),
-                    value: world.discs.len().to_string(),
+                    value: discs.len().to_string(),
                 },
             ],
-            lines: vec![line_list(walls, color(0.2, 0.2, 0.2, 1.0), 2.0)],
+            lines: vec![line_list(wall_points, color(0.2, 0.2, 0.2, 1.0), 2.0)],
             cylinders,
             ..SceneEntity::default()
         }],
     }
 }
 
-impl McapRecorder {
-    /// Creates `path` and writes the arena.
+impl NavRecorder {
+    /// Creates `path` and writes the arena: walls by their end points, discs by centre and
+    /// radius (world frame). `world_from_map` places the explorer's map frame (its goals).
     ///
     /// # Errors
     /// When the file cannot be created or written.
     pub fn create(
         path: &Path,
-        world: &World,
+        walls: &[(Point2, Point2)],
+        discs: &[(Point2, f64)],
         footprint: Footprint,
         world_from_map: Isometry2,
     ) -> Result<Self, WriteError> {
         let mut writer = McapSceneWriter::create(path)?;
-        writer.write_message(ARENA_TOPIC, &arena_update(world), 0.0)?;
+        writer.write_message(ARENA_TOPIC, &arena_update(walls, discs), 0.0)?;
         Ok(Self {
             writer,
             footprint,
@@ -176,7 +202,7 @@ impl McapRecorder {
         Ok(scans)
     }
 
-    fn sectors_update(&self, frame: &ScanFrame<'_>) -> SceneUpdate {
+    fn sectors_update(&self, frame: &NavFrame<'_>) -> SceneUpdate {
         let t = frame.time_s;
         let (hl, hw) = (self.footprint.length / 2.0, self.footprint.width / 2.0);
         let corners = [(hl, hw), (-hl, hw), (-hl, -hw), (hl, -hw)].map(|(x, y)| Point2::new(x, y));
@@ -263,7 +289,7 @@ impl McapRecorder {
         }
     }
 
-    fn explorer_update(&self, frame: &ScanFrame<'_>) -> SceneUpdate {
+    fn explorer_update(&self, frame: &NavFrame<'_>) -> SceneUpdate {
         let spheres = frame
             .decision
             .goal
@@ -287,17 +313,21 @@ impl McapRecorder {
                 timestamp: Some(timestamp(frame.time_s)),
                 frame_id: WORLD_FRAME.to_owned(),
                 id: "goal".to_owned(),
-                metadata: vec![KeyValuePair {
-                    key: "coverage".to_owned(),
-                    value: format!("{:.3}", frame.coverage),
-                }],
+                metadata: frame
+                    .coverage
+                    .map(|c| KeyValuePair {
+                        key: "coverage".to_owned(),
+                        value: format!("{c:.3}"),
+                    })
+                    .into_iter()
+                    .collect(),
                 spheres,
                 ..SceneEntity::default()
             }],
         }
     }
 
-    fn write_frame(&mut self, frame: &ScanFrame<'_>) -> Result<(), WriteError> {
+    fn write_frame(&mut self, frame: &NavFrame<'_>) -> Result<(), WriteError> {
         let t = frame.time_s;
         for tf in [
             transform_from_pose(WORLD_FRAME, ROBOT_FRAME, pose2(&frame.world_from_robot), t),
@@ -320,8 +350,10 @@ impl McapRecorder {
     }
 }
 
-impl RunObserver for McapRecorder {
-    fn on_scan(&mut self, frame: &ScanFrame<'_>) {
+impl NavRecorder {
+    /// Records one scan; after a write error nothing more is written (see
+    /// [`NavRecorder::finish`]).
+    pub fn record(&mut self, frame: &NavFrame<'_>) {
         if self.error.is_none()
             && let Err(e) = self.write_frame(frame)
         {
