@@ -14,7 +14,8 @@
 //!   explorer's goal) as MCAP scenes.
 //! - [`live`] (feature `live`, on by default): the same messages served on a Foxglove
 //!   WebSocket, paced to replay a log.
-//! - [`scene`]: the messages themselves; [`ros`], [`proto`]: the decoders.
+//! - [`scene`]: the messages themselves; [`ros`] (from `laserlines-io`), [`proto`]: the
+//!   decoders.
 //!
 //! Channels and frames (REP 103 frames, SI units):
 //!
@@ -52,18 +53,17 @@ pub mod live;
 pub mod navigation;
 pub mod proto;
 pub mod read;
-pub mod ros;
 pub mod scene;
-mod wire;
 pub mod write;
 
 pub use files::{LinesOutput, ScanOutput, open_scans};
 /// The Foxglove message types and their encoding, for [`McapSceneWriter::write_message`].
 pub use foxglove::{Encode, messages};
+/// The ROS LaserScan decoders, shared with the ROS bag reader.
+pub use laserlines_io::ros;
+pub use laserlines_io::{DecodeError, LaserScanMsg};
 pub use navigation::{NavFrame, NavRecorder};
 pub use read::{McapReadOptions, McapScanSource, ScanEncoding};
-pub use ros::LaserScanMsg;
-pub use wire::DecodeError;
 pub use write::McapSceneWriter;
 
 /// Topic of the scans (`foxglove.LaserScan`).

@@ -59,6 +59,11 @@ impl<'a> Wire<'a> {
         }
     }
 
+    /// The byte the next read starts at.
+    pub(crate) fn position(&self) -> usize {
+        self.pos
+    }
+
     fn remaining(&self) -> usize {
         self.data.len().saturating_sub(self.pos)
     }

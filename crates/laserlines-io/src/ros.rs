@@ -1,4 +1,6 @@
-//! `sensor_msgs/LaserScan` as ROS 1 serializes it and as ROS 2 serializes it in CDR.
+//! `sensor_msgs/LaserScan` as ROS 1 serializes it and as ROS 2 serializes it in CDR: the one
+//! decoder of the ROS bag reader ([`crate::bag`]) and the MCAP reader of
+//! `laserlines-foxglove`.
 //!
 //! Both carry the same fields:
 //!
@@ -101,11 +103,35 @@ fn body(w: &mut Wire<'_>, msg: &mut LaserScanMsg) -> Result<(), DecodeError> {
     Ok(())
 }
 
-/// Decodes a ROS 1 `sensor_msgs/LaserScan` (little-endian ROS serialization).
+/// Decodes a ROS 1 `sensor_msgs/LaserScan` (little-endian ROS serialization); bytes after
+/// the intensities are left alone (see [`decode_ros1_whole`]).
 ///
 /// # Errors
 /// A [`DecodeError`] naming the field that runs past the end of `data`.
 pub fn decode_ros1(data: &[u8]) -> Result<LaserScanMsg, DecodeError> {
+    decode_ros1_at(data).map(|(msg, _)| msg)
+}
+
+/// [`decode_ros1`] of a message that must end right after its intensities, as a ROS bag's
+/// message data does.
+///
+/// # Errors
+/// As [`decode_ros1`], and a [`DecodeError`] on `intensities` for bytes left after them.
+pub fn decode_ros1_whole(data: &[u8]) -> Result<LaserScanMsg, DecodeError> {
+    let (msg, end) = decode_ros1_at(data)?;
+    if end != data.len() {
+        return Err(DecodeError {
+            offset: end,
+            field: "intensities",
+            expected: "the end of the message".to_owned(),
+            found: format!("{} more bytes", data.len() - end),
+        });
+    }
+    Ok(msg)
+}
+
+/// The message and the byte where it ends.
+fn decode_ros1_at(data: &[u8]) -> Result<(LaserScanMsg, usize), DecodeError> {
     let mut w = Wire::new(data, 0, Endian::Little, false);
     let _seq = w.u32("header.seq")?;
     let mut msg = LaserScanMsg {
@@ -115,7 +141,7 @@ pub fn decode_ros1(data: &[u8]) -> Result<LaserScanMsg, DecodeError> {
         ..LaserScanMsg::default()
     };
     body(&mut w, &mut msg)?;
-    Ok(msg)
+    Ok((msg, w.position()))
 }
 
 /// Decodes a ROS 2 `sensor_msgs/msg/LaserScan` in CDR (XCDR1, either byte order).
@@ -154,12 +180,13 @@ pub fn decode_cdr(data: &[u8]) -> Result<LaserScanMsg, DecodeError> {
     Ok(msg)
 }
 
-/// Test helpers: serialize a message the way ROS does, to check the decoders and build inputs.
-#[cfg(test)]
-pub(crate) mod encode {
+/// Serializes a message the way ROS does: for tests and tools that write LaserScans.
+pub mod encode {
     use super::LaserScanMsg;
 
-    pub(crate) fn ros1(m: &LaserScanMsg) -> Vec<u8> {
+    /// The ROS 1 serialization (header `seq` 7).
+    #[must_use]
+    pub fn ros1(m: &LaserScanMsg) -> Vec<u8> {
         let mut o = Vec::new();
         o.extend_from_slice(&7u32.to_le_bytes());
         o.extend_from_slice(&(m.stamp_sec as u32).to_le_bytes());
@@ -190,7 +217,9 @@ pub(crate) mod encode {
         ]
     }
 
-    pub(crate) fn cdr(m: &LaserScanMsg, big: bool) -> Vec<u8> {
+    /// The CDR serialization of ROS 2, big-endian when `big`.
+    #[must_use]
+    pub fn cdr(m: &LaserScanMsg, big: bool) -> Vec<u8> {
         let mut o = vec![0, u8::from(!big), 0, 0];
         let put = |o: &mut Vec<u8>, b: [u8; 4]| {
             while !(o.len() - 4).is_multiple_of(4) {
@@ -286,6 +315,18 @@ mod tests {
                 assert!(e.offset <= cut, "{e}");
             }
         }
+    }
+
+    #[test]
+    fn a_whole_message_ends_after_its_intensities() {
+        let mut data = encode::ros1(&sample());
+        same(&decode_ros1_whole(&data).unwrap(), &sample());
+        data.extend_from_slice(&[1, 2, 3]);
+        // The lenient decoder reads the message; the whole-message one names the extra bytes.
+        same(&decode_ros1(&data).unwrap(), &sample());
+        let e = decode_ros1_whole(&data).unwrap_err();
+        assert_eq!((e.field, e.offset), ("intensities", data.len() - 3));
+        assert_eq!(e.found, "3 more bytes");
     }
 
     #[test]
