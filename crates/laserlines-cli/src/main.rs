@@ -14,7 +14,6 @@ macro_rules! outln {
 }
 
 mod cmd;
-mod params;
 
 use std::path::PathBuf;
 use std::process::ExitCode;

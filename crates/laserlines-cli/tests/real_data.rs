@@ -44,7 +44,10 @@ fn every_breezyslam_scan_gives_lines() {
         assert_eq!(scans, expected, "{file}");
         let mean = total as f64 / scans as f64;
         println!("{file}: {scans} scans, {mean:.1} lines per scan, {empty} without a line");
-        assert!(empty * 100 <= 3 * scans, "{file}: {empty} scans without a line");
+        assert!(
+            empty * 100 <= 3 * scans,
+            "{file}: {empty} scans without a line"
+        );
         assert!(
             (3.0..=40.0).contains(&mean),
             "{file}: {mean} lines per scan"

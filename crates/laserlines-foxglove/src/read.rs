@@ -43,7 +43,7 @@ use prost::Message as _;
 use crate::ROBOT_FRAME;
 use crate::proto::{self, RangeLimits};
 use crate::ros::{self, LaserScanMsg};
-use crate::wire::DecodeError;
+use laserlines_io::DecodeError;
 
 /// The eight bytes every MCAP file starts (and ends) with.
 pub const MAGIC: [u8; 8] = [0x89, b'M', b'C', b'A', b'P', 0x30, b'\r', b'\n'];

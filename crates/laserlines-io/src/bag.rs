@@ -33,7 +33,8 @@
 //! **LaserScan.** The ROS 1 serialization of `sensor_msgs/LaserScan`: `header` (`seq: u32`,
 //! `stamp: u32 secs, u32 nsecs`, `frame_id: string`), `angle_min`, `angle_max`,
 //! `angle_increment`, `time_increment`, `scan_time`, `range_min`, `range_max` (`f32`),
-//! `ranges: f32[]`, `intensities: f32[]` (arrays and strings are a `u32` length and the items).
+//! `ranges: f32[]`, `intensities: f32[]` (arrays and strings are a `u32` length and the items),
+//! decoded by [`crate::ros::decode_ros1_whole`] (the decoder of the MCAP reader too).
 //! The scan keeps `angle_min`, `angle_increment`, `range_min`, `range_max` and the ranges
 //! (widened to `f64`; NaN and infinities kept, they are no returns); `angle_max` is not
 //! checked (drivers disagree on it by a beam). Intensities are kept when there is one per
@@ -60,6 +61,7 @@ use crate::error::{ReadError, SourcePos};
 use crate::format::Format;
 use crate::reader::{Input, ScanReader, ScanSource, open_input};
 use crate::record::ScanRecord;
+use crate::ros::{LaserScanMsg, decode_ros1_whole};
 use crate::skip::SkipCounts;
 
 /// The first line of every bag of format version 2.0.
@@ -959,27 +961,33 @@ impl State {
             skipped.add(SKIP_OTHER_TOPIC);
             return Ok(None);
         }
-        let message = decode_laser_scan(data).map_err(|bad| ReadError::Field {
+        let message = decode_ros1_whole(data).map_err(|bad| ReadError::Field {
             pos: loc.pos(&self.name),
             field: format!("{} message{}", connection.topic, loc.context()),
-            expected: bad.expected,
+            expected: format!(
+                "{} at message byte {}: {}",
+                bad.field, bad.offset, bad.expected
+            ),
             found: bad.found,
         })?;
-        let LaserScanMessage {
-            stamp_secs,
-            stamp_nsecs,
+        let LaserScanMsg {
+            stamp_sec,
+            stamp_nanosec,
             angle_min,
             angle_increment,
             range_min,
             range_max,
             ranges,
             intensities,
+            ..
         } = message;
-        let (secs, nsecs) = if (stamp_secs, stamp_nsecs) == (0, 0) {
-            time.unwrap_or((0, 0))
+        let (secs, nsecs) = if (stamp_sec, stamp_nanosec) == (0, 0) {
+            time.map_or((0, 0), |(s, n)| (i64::from(s), n))
         } else {
-            (stamp_secs, stamp_nsecs)
+            (stamp_sec, stamp_nanosec)
         };
+        let widen = |v: Vec<f32>| v.into_iter().map(f64::from).collect::<Vec<f64>>();
+        let (ranges, intensities) = (widen(ranges), widen(intensities));
         let intensities = if intensities.len() == ranges.len() && !ranges.is_empty() {
             Some(intensities)
         } else {
@@ -995,7 +1003,7 @@ impl State {
             range_max: f64::from(range_max),
             ranges,
             intensities,
-            stamp: Some(f64::from(secs) + f64::from(nsecs) * 1e-9),
+            stamp: Some(secs as f64 + f64::from(nsecs) * 1e-9),
         };
         scan.validate().map_err(|source| ReadError::InvalidScan {
             pos: loc.pos(&self.name),
@@ -1007,99 +1015,6 @@ impl State {
             line: None,
         }))
     }
-}
-
-/// The fields of a `sensor_msgs/LaserScan` the reader keeps.
-struct LaserScanMessage {
-    stamp_secs: u32,
-    stamp_nsecs: u32,
-    angle_min: f32,
-    angle_increment: f32,
-    range_min: f32,
-    range_max: f32,
-    ranges: Vec<f64>,
-    intensities: Vec<f64>,
-}
-
-/// A little-endian reader over a message, with errors naming the field.
-struct Cursor<'a> {
-    data: &'a [u8],
-    at: usize,
-}
-
-impl<'a> Cursor<'a> {
-    fn take(&mut self, n: usize, field: &str) -> Result<&'a [u8], Bad> {
-        let left = self.data.len() - self.at;
-        let bytes = self
-            .at
-            .checked_add(n)
-            .and_then(|end| self.data.get(self.at..end))
-            .ok_or_else(|| {
-                Bad::new(
-                    format!("{field} ({n} bytes at message byte {})", self.at),
-                    format!("{left} bytes left (a short message)"),
-                )
-            })?;
-        self.at += n;
-        Ok(bytes)
-    }
-
-    fn u32(&mut self, field: &str) -> Result<u32, Bad> {
-        let b = self.take(4, field)?;
-        Ok(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-    }
-
-    fn f32(&mut self, field: &str) -> Result<f32, Bad> {
-        Ok(f32::from_bits(self.u32(field)?))
-    }
-
-    fn f32_array(&mut self, field: &str) -> Result<Vec<f64>, Bad> {
-        let n = self.u32(&format!("the length of {field}"))? as usize;
-        let bytes = n.checked_mul(4).ok_or_else(|| {
-            Bad::new(format!("{field} that fits in memory"), format!("{n} items"))
-        })?;
-        let raw = self.take(bytes, &format!("{field}: {n} float32"))?;
-        Ok(raw
-            .chunks_exact(4)
-            .map(|b| f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])))
-            .collect())
-    }
-}
-
-/// Decodes the ROS 1 serialization of `sensor_msgs/LaserScan`; the message must end right
-/// after its intensities.
-fn decode_laser_scan(data: &[u8]) -> Result<LaserScanMessage, Bad> {
-    let mut c = Cursor { data, at: 0 };
-    c.u32("header.seq")?;
-    let stamp_secs = c.u32("header.stamp.secs")?;
-    let stamp_nsecs = c.u32("header.stamp.nsecs")?;
-    let frame_len = c.u32("the length of header.frame_id")? as usize;
-    c.take(frame_len, "header.frame_id")?;
-    let angle_min = c.f32("angle_min")?;
-    c.f32("angle_max")?;
-    let angle_increment = c.f32("angle_increment")?;
-    c.f32("time_increment")?;
-    c.f32("scan_time")?;
-    let range_min = c.f32("range_min")?;
-    let range_max = c.f32("range_max")?;
-    let ranges = c.f32_array("ranges")?;
-    let intensities = c.f32_array("intensities")?;
-    if c.at != data.len() {
-        return Err(Bad::new(
-            format!("the message to end after intensities, at byte {}", c.at),
-            format!("{} more bytes", data.len() - c.at),
-        ));
-    }
-    Ok(LaserScanMessage {
-        stamp_secs,
-        stamp_nsecs,
-        angle_min,
-        angle_increment,
-        range_min,
-        range_max,
-        ranges,
-        intensities,
-    })
 }
 
 impl ScanSource for BagSource {

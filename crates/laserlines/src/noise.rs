@@ -24,7 +24,11 @@ use crate::scan::{RangeWindow, Scan};
 
 /// A range-noise model `sigma(r) = max(sigma_min, fraction * r)`, metres.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
 pub struct RangeNoise {
     /// Standard deviation at short range, m.
     pub sigma_min: f64,
@@ -143,9 +147,11 @@ impl std::fmt::Display for RangeNoise {
 }
 
 /// Where an extractor's range noise comes from.
+///
+/// In a params file (feature `serde`): `noise = "auto"`, a preset's name
+/// (`noise = "urg-04lx"`, see [`PRESETS`]) or a model (`noise = { sigma_min = 0.01,
+/// fraction = 0.01 }`).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum NoiseModel {
     /// Estimated from each scan by [`NoiseEstimator`] (the default).
     #[default]
@@ -159,6 +165,56 @@ pub enum NoiseModel {
 /// one beam to three on real logs), so the noise that splitting and merging see over tens of
 /// beams is read three beams apart; for independent noise any lag reads the same.
 pub const LAG: usize = 3;
+
+#[cfg(feature = "serde")]
+mod serde_impl {
+    use super::{NoiseModel, PRESETS, RangeNoise};
+    use serde::de::{self, MapAccess, Visitor};
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    impl Serialize for NoiseModel {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            match self {
+                Self::Auto => s.serialize_str("auto"),
+                Self::Fixed(n) => n.serialize(s),
+            }
+        }
+    }
+
+    struct ModelVisitor;
+
+    impl<'de> Visitor<'de> for ModelVisitor {
+        type Value = NoiseModel;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("\"auto\", a preset name or { sigma_min, fraction }")
+        }
+
+        fn visit_str<E: de::Error>(self, v: &str) -> Result<NoiseModel, E> {
+            if v == "auto" {
+                return Ok(NoiseModel::Auto);
+            }
+            RangeNoise::preset(v).map(NoiseModel::Fixed).ok_or_else(|| {
+                let names: Vec<&str> = PRESETS.iter().map(|p| p.name).collect();
+                E::custom(format!(
+                    "unknown noise {v:?}: expected \"auto\", one of {} or {{ sigma_min, fraction }}",
+                    names.join(", ")
+                ))
+            })
+        }
+
+        fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<NoiseModel, A::Error> {
+            RangeNoise::deserialize(de::value::MapAccessDeserializer::new(map))
+                .map(NoiseModel::Fixed)
+        }
+    }
+
+    impl<'de> Deserialize<'de> for NoiseModel {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            d.deserialize_any(ModelVisitor)
+        }
+    }
+}
 
 /// Range bands of the estimate: band 0 below 0.5 m, then octaves (0.5-1, 1-2, ... m), the
 /// last one open.

@@ -343,10 +343,13 @@ fn bad_params_are_rejected_with_the_field_named() {
     })
     .unwrap_err();
     assert!(e.to_string().contains("exceeds"), "{e}");
-    let e = SplitAndMerge::new(SplitAndMergeParams {
-        split_distance: -1.0,
-        ..Default::default()
-    })
+    let e = SplitMerge::new(
+        SplitLine::LeastSquares,
+        SplitMergeParams {
+            split_distance: -1.0,
+            ..Default::default()
+        },
+    )
     .unwrap_err();
     assert_eq!(
         e,
@@ -356,10 +359,16 @@ fn bad_params_are_rejected_with_the_field_named() {
         }
     );
     assert!(
-        Iepf::new(IepfParams {
-            breakpoint_incidence: 2.0,
-            ..Default::default()
-        })
+        SplitMerge::new(
+            SplitLine::Chord,
+            SplitMergeParams {
+                breakpoints: Breakpoints {
+                    incidence: 2.0,
+                    ..Default::default()
+                },
+                ..Default::default()
+            }
+        )
         .is_err()
     );
     assert!(
@@ -619,66 +628,90 @@ fn build(kind: usize, f: &[f64], c: &[usize], seed: u64) -> Option<Box<dyn LineE
                 inlier_distance_per_metre: f[6],
                 refine_iterations: budget(c[0]),
                 max_skipped: c[1],
-                breakpoint_incidence: f[7] * 5.0,
-                breakpoint_noise: f[8],
-                breakpoint_max_gap: c[2],
+                breakpoints: Breakpoints {
+                    incidence: f[7] * 5.0,
+                    noise: f[8],
+                    max_gap: c[2],
+                },
                 max_iterations: budget(c[3]),
-                min_line_points: c[4],
-                min_line_length: f[9],
+                filter: LineFilter {
+                    min_points: c[4],
+                    min_length: f[9],
+                },
                 range_limits: None,
             })
             .ok()?,
         ),
         2 => Box::new(
-            SplitAndMerge::new(SplitAndMergeParams {
-                breakpoint_incidence: f[0] * 5.0,
-                breakpoint_noise: f[1],
-                breakpoint_max_gap: c[0],
-                min_cluster_points: c[1],
-                split_distance: f[2],
-                split_distance_per_metre: f[3],
-                merge_collinear: seed.is_multiple_of(2),
-                min_line_points: c[2],
-                min_line_length: f[4],
-                range_limits: None,
-            })
+            SplitMerge::new(
+                SplitLine::LeastSquares,
+                SplitMergeParams {
+                    breakpoints: Breakpoints {
+                        incidence: f[0] * 5.0,
+                        noise: f[1],
+                        max_gap: c[0],
+                    },
+                    min_cluster_points: c[1],
+                    split_distance: f[2],
+                    split_distance_per_metre: f[3],
+                    merge_collinear: seed.is_multiple_of(2),
+                    filter: LineFilter {
+                        min_points: c[2],
+                        min_length: f[4],
+                    },
+                    range_limits: None,
+                },
+            )
             .ok()?,
         ),
         3 => Box::new(
-            Iepf::new(IepfParams {
-                breakpoint_incidence: f[0] * 5.0,
-                breakpoint_noise: f[1],
-                breakpoint_max_gap: c[0],
-                min_cluster_points: c[1],
-                split_distance: f[2],
-                split_distance_per_metre: f[3],
-                merge_collinear: seed.is_multiple_of(2),
-                min_line_points: c[2],
-                min_line_length: f[4],
-                range_limits: None,
-            })
+            SplitMerge::new(
+                SplitLine::Chord,
+                SplitMergeParams {
+                    breakpoints: Breakpoints {
+                        incidence: f[0] * 5.0,
+                        noise: f[1],
+                        max_gap: c[0],
+                    },
+                    min_cluster_points: c[1],
+                    split_distance: f[2],
+                    split_distance_per_metre: f[3],
+                    merge_collinear: seed.is_multiple_of(2),
+                    filter: LineFilter {
+                        min_points: c[2],
+                        min_length: f[4],
+                    },
+                    range_limits: None,
+                },
+            )
             .ok()?,
         ),
         4 => Box::new(
             Incremental::new(IncrementalParams {
-                breakpoint_incidence: f[0] * 5.0,
-                breakpoint_noise: f[1],
-                breakpoint_max_gap: c[0],
+                breakpoints: Breakpoints {
+                    incidence: f[0] * 5.0,
+                    noise: f[1],
+                    max_gap: c[0],
+                },
                 seed_points: c[1],
                 track_distance: f[2],
                 track_distance_per_metre: f[3],
                 max_outliers: c[2],
-                min_line_points: c[3],
-                min_line_length: f[4],
+                filter: LineFilter {
+                    min_points: c[3],
+                    min_length: f[4],
+                },
                 range_limits: None,
             })
             .ok()?,
         ),
         5 => Box::new(
             LineRegression::new(LineRegressionParams {
-                breakpoint_incidence: f[0] * 5.0,
-                breakpoint_noise: f[1],
-                breakpoint_max_gap: c[0],
+                breakpoints: Breakpoints {
+                    incidence: f[0] * 5.0,
+                    noise: f[1],
+                    max_gap: c[0],
+                },
                 window: c[1],
                 noise_sigma: f[2],
                 noise_sigma_per_metre: f[3],
@@ -687,8 +720,10 @@ fn build(kind: usize, f: &[f64], c: &[usize], seed: u64) -> Option<Box<dyn LineE
                 merge_collinear: seed.is_multiple_of(2),
                 merge_distance: f[5],
                 merge_distance_per_metre: f[6],
-                min_line_points: c[3],
-                min_line_length: f[7],
+                filter: LineFilter {
+                    min_points: c[3],
+                    min_length: f[7],
+                },
                 range_limits: None,
             })
             .ok()?,
@@ -703,12 +738,16 @@ fn build(kind: usize, f: &[f64], c: &[usize], seed: u64) -> Option<Box<dyn LineE
                 min_inliers: c[2],
                 max_skipped: c[3],
                 refine_iterations: budget(c[4]),
-                breakpoint_incidence: f[2] * 5.0,
-                breakpoint_noise: f[3],
-                breakpoint_max_gap: c[5],
+                breakpoints: Breakpoints {
+                    incidence: f[2] * 5.0,
+                    noise: f[3],
+                    max_gap: c[5],
+                },
                 max_lines: budget(c[6]),
-                min_line_points: c[7],
-                min_line_length: f[4],
+                filter: LineFilter {
+                    min_points: c[7],
+                    min_length: f[4],
+                },
                 range_limits: None,
             })
             .ok()?,
@@ -726,11 +765,15 @@ fn build(kind: usize, f: &[f64], c: &[usize], seed: u64) -> Option<Box<dyn LineE
                 outlier_density: f[3],
                 inlier_probability: f[4],
                 max_skipped: c[4],
-                breakpoint_incidence: f[5] * 5.0,
-                breakpoint_noise: f[6],
-                breakpoint_max_gap: c[5],
-                min_line_points: c[6],
-                min_line_length: f[7],
+                breakpoints: Breakpoints {
+                    incidence: f[5] * 5.0,
+                    noise: f[6],
+                    max_gap: c[5],
+                },
+                filter: LineFilter {
+                    min_points: c[6],
+                    min_length: f[7],
+                },
                 range_limits: None,
             })
             .ok()?,

@@ -18,7 +18,7 @@ use laserlines_render::ScatterChart;
 use serde::Serialize;
 
 use super::ALGORITHMS;
-use crate::params::ParamsFile;
+use laserlines_io::params::ParamsFile;
 
 /// The extractor whose speed the paper claims, and the baseline it compares with.
 const FAST: &str = "hough-split";
@@ -86,10 +86,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         return tune(args, algorithm);
     }
     let names = selected(&args.algorithms)?;
-    let file = match &args.params {
-        Some(p) => ParamsFile::load(p)?,
-        None => ParamsFile::default(),
-    };
+    let file = ParamsFile::load_or_default(args.params.as_deref())?;
     if let Some(p) = &args.params {
         for name in names.iter().filter(|n| !file.has(n)) {
             eprintln!("{}: no [{name}] table, defaults used", p.display());
@@ -98,7 +95,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let mut extractors: Vec<Box<dyn LineExtractor + Send>> = names
         .iter()
         .map(|n| file.extractor(n))
-        .collect::<Result<_>>()?;
+        .collect::<Result<_, _>>()?;
     let (source, scans) = load_scans(args, args.seed.unwrap_or(TEST_SEED))?;
     if scans.is_empty() {
         bail!("no scans to run on ({source})");

@@ -1,13 +1,11 @@
 //! `laserlines convert`: scans from one format into another, without extracting lines.
 
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::PathBuf;
 
 use anyhow::{Result, anyhow};
 use clap::Args;
-use laserlines_foxglove::McapSceneWriter;
-use laserlines_io::{Format, Output, ScanRecord, ScanWriter};
+use laserlines_foxglove::ScanOutput;
+use laserlines_io::Format;
 
 use crate::InputArgs;
 
@@ -27,32 +25,6 @@ pub struct ConvertArgs {
     skip_bad: bool,
 }
 
-/// Where converted scans go.
-enum Sink {
-    Mcap(Box<McapSceneWriter<BufWriter<File>>>),
-    Scans(Box<ScanWriter<Output>>),
-}
-
-impl Sink {
-    fn write(&mut self, record: &ScanRecord) -> Result<()> {
-        match self {
-            Self::Mcap(w) => w.write_scan(record)?,
-            Self::Scans(w) => w.write(record)?,
-        }
-        Ok(())
-    }
-
-    fn close(self) -> Result<()> {
-        match self {
-            Self::Mcap(w) => {
-                w.finish()?;
-            }
-            Self::Scans(w) => w.close()?,
-        }
-        Ok(())
-    }
-}
-
 /// Runs the command.
 pub fn run(args: &ConvertArgs) -> Result<()> {
     let to = match &args.to {
@@ -62,11 +34,7 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
         None => None,
     };
     let mut reader = super::open_input(&args.input)?;
-    let mut sink = if to.or_else(|| Format::from_path(&args.output)) == Some(Format::Mcap) {
-        Sink::Mcap(Box::new(McapSceneWriter::create(&args.output)?))
-    } else {
-        Sink::Scans(Box::new(ScanWriter::create(&args.output, to)?))
-    };
+    let mut sink = ScanOutput::create(&args.output, to)?;
     let mut scans = 0u64;
     for item in reader.by_ref() {
         let record = match item {

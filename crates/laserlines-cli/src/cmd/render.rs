@@ -84,7 +84,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             args.input.input.display(),
             args.scan
         );
-        super::simulate::sectors_svg(&title, &points, &segments, &objects)
+        laserlines_render::sectors_svg(&title, &points, &segments, &objects)
     } else if args.algorithm == "hough-split" {
         let mut hs = super::make_hough_split(args.params.as_deref())?;
         let lines = hs.extract(&record.scan);

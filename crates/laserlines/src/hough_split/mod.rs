@@ -22,8 +22,9 @@ mod mixed;
 mod params;
 mod segment;
 
+pub use crate::params::ParamsError;
 pub use accumulator::Cell;
-pub use params::{HoughSplitParams, ParamsError, Weight};
+pub use params::{HoughSplitParams, Weight};
 
 use crate::extractor::LineExtractor;
 use crate::line::Line;

@@ -1,12 +1,16 @@
 //! Parameters of [`super::HoughSplit`].
 
 use crate::noise::{NoiseModel, RangeNoise};
+use crate::params::ParamsError;
 use crate::scan::RangeWindow;
 
 /// The weight function `g` of the paper's eq. (1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "lowercase")
+)]
 pub enum Weight {
     /// `g = 1`: a cell's value counts its points.
     One,
@@ -14,30 +18,6 @@ pub enum Weight {
     /// paper: it compensates the density of points falling with range.
     #[default]
     Range,
-}
-
-/// Errors in [`HoughSplitParams`].
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ParamsError {
-    /// A field that must be finite and positive is not.
-    #[error("{field} must be finite and > 0, got {value}")]
-    NotPositive {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: f64,
-    },
-    /// A field that must be finite and non-negative is not.
-    #[error("{field} must be finite and >= 0, got {value}")]
-    Negative {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: f64,
-    },
-    /// A fixed noise model that is negative, not finite, or zero everywhere.
-    #[error("noise must have finite sigma_min >= 0 and fraction >= 0, not both 0, got {0}")]
-    BadNoise(RangeNoise),
 }
 
 /// Parameters of the paper's extractor, with the paper's grid as defaults (in SI units).
@@ -49,8 +29,11 @@ pub enum ParamsError {
 ///
 /// [`HoughSplitParams::paper`] turns every extension off: the paper's pipeline alone.
 #[derive(Debug, Clone, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct HoughSplitParams {
     /// Ring step `dd` of the accumulator, m. Paper: 0.03 m. Sensible: 0.01..0.10.
     pub ring_step: f64,
@@ -199,6 +182,18 @@ impl HoughSplitParams {
         }
     }
 
+    /// The defaults for a robot driving among obstacles rather than for a map of walls: every
+    /// surface of 5 cm or more gives a line (`min_line_length = 0.05`), so that posts and
+    /// legs near the robot are objects of its sectors. The explorer of `laserlines simulate`
+    /// uses it.
+    #[must_use]
+    pub fn navigation() -> Self {
+        Self {
+            min_line_length: 0.05,
+            ..Self::default()
+        }
+    }
+
     /// Checks every field.
     ///
     /// # Errors
@@ -238,7 +233,24 @@ impl HoughSplitParams {
         if let NoiseModel::Fixed(n) = self.noise
             && !n.is_valid()
         {
-            return Err(ParamsError::BadNoise(n));
+            let ok = |v: f64| v.is_finite() && v >= 0.0;
+            return Err(if !ok(n.sigma_min) {
+                ParamsError::Negative {
+                    field: "noise.sigma_min",
+                    value: n.sigma_min,
+                }
+            } else if !ok(n.fraction) {
+                ParamsError::Negative {
+                    field: "noise.fraction",
+                    value: n.fraction,
+                }
+            } else {
+                // Both zero: no noise at all.
+                ParamsError::NotPositive {
+                    field: "noise.sigma_min",
+                    value: n.sigma_min,
+                }
+            });
         }
         Ok(())
     }
@@ -287,7 +299,13 @@ mod tests {
             noise: NoiseModel::Fixed(RangeNoise::new(-1.0, 0.0)),
             ..HoughSplitParams::default()
         };
-        assert!(matches!(p.validate(), Err(ParamsError::BadNoise(_))));
+        assert!(matches!(
+            p.validate(),
+            Err(ParamsError::Negative {
+                field: "noise.sigma_min",
+                ..
+            })
+        ));
     }
 
     #[test]

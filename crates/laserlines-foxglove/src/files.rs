@@ -1,0 +1,139 @@
+//! Scans in, lines and scans out: the one place that chooses between the formats of
+//! `laserlines-io` and MCAP, for input ([`open_scans`]) and output ([`LinesOutput`],
+//! [`ScanOutput`]) alike. MCAP is chosen by the format given, else by the `.mcap` extension;
+//! a directory is a ROS 2 bag in MCAP storage.
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::Path;
+
+use laserlines::Line;
+use laserlines_io::{
+    Format, LinesWriter, Output, ReadError, ReadOptions, ScanReader, ScanRecord, ScanWriter,
+    WriteError,
+};
+
+use crate::McapReadOptions;
+use crate::write::McapSceneWriter;
+
+/// Opens the scans of `path` (`-` for standard input, with a format): an MCAP file or a ROS 2
+/// bag directory with [`crate::read`], any other format with [`laserlines_io::open_with`].
+/// `options.topic` picks the topic (MCAP, ROS bag) or the laser (CARMEN).
+///
+/// # Errors
+/// As the reader of the format: a [`ReadError`] naming the file.
+pub fn open_scans(path: &Path, options: &ReadOptions) -> Result<ScanReader, ReadError> {
+    let mcap = match options.format {
+        Some(f) => f == Format::Mcap,
+        None => path.is_dir() || Format::from_path(path) == Some(Format::Mcap),
+    };
+    if mcap {
+        let mcap_options = McapReadOptions::topic(options.topic.as_deref());
+        return crate::read::open(path, &mcap_options);
+    }
+    laserlines_io::open_with(path, options)
+}
+
+/// Where `laserlines extract` writes its lines: an MCAP scene ([`McapSceneWriter`]: scan,
+/// lines and pose) when the name ends in `.mcap`, else lines JSONL ([`LinesWriter`]).
+#[derive(Debug)]
+pub enum LinesOutput {
+    /// Lines JSONL (`-` = standard output, `.gz` = gzip).
+    Jsonl(Box<LinesWriter<Output>>),
+    /// An MCAP file that Foxglove plays.
+    Mcap(Box<McapSceneWriter<BufWriter<File>>>),
+}
+
+impl LinesOutput {
+    /// Creates the output named `path`, choosing the kind by its extension.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when the file cannot be created.
+    pub fn create(path: &Path) -> Result<Self, WriteError> {
+        let is_mcap = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
+        Ok(if is_mcap {
+            Self::Mcap(Box::new(McapSceneWriter::create(path)?))
+        } else {
+            Self::Jsonl(Box::new(LinesWriter::create(path)?))
+        })
+    }
+
+    /// Writes the lines of scan number `scan` (0-based, in input order) with its record.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails.
+    pub fn write_record(
+        &mut self,
+        scan: u64,
+        record: &ScanRecord,
+        lines: &[Line],
+    ) -> Result<(), WriteError> {
+        match self {
+            Self::Jsonl(w) => w.write_record(scan, record, lines),
+            Self::Mcap(w) => w.write_lines(record, lines),
+        }
+    }
+
+    /// Completes the output (MCAP summary, end of a gzip stream) and flushes it.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails.
+    pub fn close(self) -> Result<(), WriteError> {
+        match self {
+            Self::Jsonl(w) => w.close(),
+            Self::Mcap(w) => w.finish().map(|_| ()),
+        }
+    }
+}
+
+/// Where `laserlines convert` writes scans: an MCAP scene ([`McapSceneWriter`]: `/scan` and
+/// `/tf`) for the format `mcap` or the `.mcap` extension, else a scan file of
+/// `laserlines-io` ([`ScanWriter`]: JSON, JSONL, CSV).
+#[derive(Debug)]
+pub enum ScanOutput {
+    /// A scan file (`-` = standard output, `.gz` = gzip).
+    Scans(Box<ScanWriter<Output>>),
+    /// An MCAP file that Foxglove plays.
+    Mcap(Box<McapSceneWriter<BufWriter<File>>>),
+}
+
+impl ScanOutput {
+    /// Creates the output named `path` in `format` (by its extension when `None`).
+    ///
+    /// # Errors
+    /// [`WriteError`] when the file cannot be created or the format cannot be written.
+    pub fn create(path: &Path, format: Option<Format>) -> Result<Self, WriteError> {
+        Ok(
+            if format.or_else(|| Format::from_path(path)) == Some(Format::Mcap) {
+                Self::Mcap(Box::new(McapSceneWriter::create(path)?))
+            } else {
+                Self::Scans(Box::new(ScanWriter::create(path, format)?))
+            },
+        )
+    }
+
+    /// Writes one scan.
+    ///
+    /// # Errors
+    /// [`WriteError`] when writing fails.
+    pub fn write(&mut self, record: &ScanRecord) -> Result<(), WriteError> {
+        match self {
+            Self::Mcap(w) => w.write_scan(record),
+            Self::Scans(w) => w.write(record),
+        }
+    }
+
+    /// Completes the output (MCAP summary, end of a gzip stream) and flushes it.
+    ///
+    /// # Errors
+    /// [`WriteError`] when writing fails.
+    pub fn close(self) -> Result<(), WriteError> {
+        match self {
+            Self::Mcap(w) => w.finish().map(|_| ()),
+            Self::Scans(w) => w.close(),
+        }
+    }
+}
