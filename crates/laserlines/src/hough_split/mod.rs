@@ -160,6 +160,10 @@ impl LineExtractor for HoughSplit {
         "hough-split"
     }
 
+    fn range_noise(&self) -> Option<RangeNoise> {
+        Some(self.noise)
+    }
+
     fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
         out.clear();
         self.split_points.clear();
