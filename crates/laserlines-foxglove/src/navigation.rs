@@ -28,7 +28,7 @@ use laserlines::math::{Isometry2, Point2};
 use laserlines::robot::Footprint;
 use laserlines::{Line, Scan};
 use laserlines_io::{Pose2, WriteError};
-use laserlines_nav::{Decision, Sector};
+use laserlines_nav::{Decision, Sector, SectorObject};
 
 use crate::proto::{timestamp, transform_from_pose, yaw_quaternion};
 use crate::write::McapSceneWriter;
@@ -121,6 +121,43 @@ fn sector_color(s: Sector) -> Color {
     }
 }
 
+/// A sector's object in the entity: the piece as a thick line, its nearest point as a sphere,
+/// its distance, width and angle as a label and as metadata.
+fn add_object(entity: &mut SceneEntity, s: Sector, o: &SectorObject) {
+    let c = sector_color(s);
+    entity
+        .lines
+        .push(line_list(vec![point3(o.start), point3(o.end)], c, 6.0));
+    entity.spheres.push(SpherePrimitive {
+        pose: Some(pose_at(o.nearest.x, o.nearest.y, 0.0)),
+        size: Some(Vector3 {
+            x: 0.08,
+            y: 0.08,
+            z: 0.08,
+        }),
+        color: Some(c),
+    });
+    let label = format!(
+        "{}: {:.2} m, width {:.2} m, {:.0} deg",
+        s.name(),
+        o.distance_m,
+        o.width_m,
+        o.angle_rad.to_degrees()
+    );
+    entity.texts.push(TextPrimitive {
+        pose: Some(pose_at(o.nearest.x, o.nearest.y, 0.0)),
+        billboard: true,
+        font_size: 12.0,
+        scale_invariant: true,
+        color: Some(c),
+        text: label.clone(),
+    });
+    entity.metadata.push(KeyValuePair {
+        key: s.name().to_owned(),
+        value: label,
+    });
+}
+
 /// The arena (walls by their end points, discs by centre and radius) as one scene update in
 /// the world frame.
 fn arena_update(walls: &[(Point2, Point2)], discs: &[(Point2, f64)]) -> SceneUpdate {
@@ -203,7 +240,35 @@ impl NavRecorder {
     }
 
     fn sectors_update(&self, frame: &NavFrame<'_>) -> SceneUpdate {
-        let t = frame.time_s;
+        let mut entity = SceneEntity {
+            timestamp: Some(timestamp(frame.time_s)),
+            frame_id: ROBOT_FRAME.to_owned(),
+            id: "sectors".to_owned(),
+            lines: self.outline_and_bounds(),
+            ..SceneEntity::default()
+        };
+        for s in Sector::ALL {
+            if let Some(o) = frame.decision.objects.get(s) {
+                add_object(&mut entity, s, o);
+            }
+        }
+        entity.metadata.push(KeyValuePair {
+            key: "mode".to_owned(),
+            value: format!("{:?}", frame.decision.mode),
+        });
+        entity.metadata.push(KeyValuePair {
+            key: "side".to_owned(),
+            value: format!("{:?}", frame.decision.side),
+        });
+        SceneUpdate {
+            deletions: Vec::new(),
+            entities: vec![entity],
+        }
+    }
+
+    /// The footprint's outline and the sector bounds (1.5 m rays from the robot's origin,
+    /// where the sectors' bearings are measured from).
+    fn outline_and_bounds(&self) -> Vec<LinePrimitive> {
         let (hl, hw) = (self.footprint.length / 2.0, self.footprint.width / 2.0);
         let corners = [(hl, hw), (-hl, hw), (-hl, -hw), (hl, -hw)].map(|(x, y)| Point2::new(x, y));
         let mut outline = Vec::new();
@@ -211,8 +276,6 @@ impl NavRecorder {
             outline.push(point3(corners[k]));
             outline.push(point3(corners[(k + 1) % 4]));
         }
-        // The sector bounds, 1.5 m long rays from the robot's origin (the sectors' bearings
-        // are measured from there).
         let origin = Point2::origin();
         let mut bounds = Vec::new();
         for s in Sector::ALL {
@@ -224,69 +287,10 @@ impl NavRecorder {
                 ));
             }
         }
-        let mut lines = vec![
+        vec![
             line_list(outline, color(0.0, 0.0, 0.0, 1.0), 2.0),
             line_list(bounds, color(0.5, 0.5, 0.5, 0.6), 1.0),
-        ];
-        let mut spheres = Vec::new();
-        let mut texts = Vec::new();
-        let mut metadata = Vec::new();
-        for s in Sector::ALL {
-            let Some(o) = frame.decision.objects.get(s) else {
-                continue;
-            };
-            let c = sector_color(s);
-            lines.push(line_list(vec![point3(o.start), point3(o.end)], c, 6.0));
-            spheres.push(SpherePrimitive {
-                pose: Some(pose_at(o.nearest.x, o.nearest.y, 0.0)),
-                size: Some(Vector3 {
-                    x: 0.08,
-                    y: 0.08,
-                    z: 0.08,
-                }),
-                color: Some(c),
-            });
-            let label = format!(
-                "{}: {:.2} m, width {:.2} m, {:.0} deg",
-                s.name(),
-                o.distance_m,
-                o.width_m,
-                o.angle_rad.to_degrees()
-            );
-            texts.push(TextPrimitive {
-                pose: Some(pose_at(o.nearest.x, o.nearest.y, 0.0)),
-                billboard: true,
-                font_size: 12.0,
-                scale_invariant: true,
-                color: Some(c),
-                text: label.clone(),
-            });
-            metadata.push(KeyValuePair {
-                key: s.name().to_owned(),
-                value: label,
-            });
-        }
-        metadata.push(KeyValuePair {
-            key: "mode".to_owned(),
-            value: format!("{:?}", frame.decision.mode),
-        });
-        metadata.push(KeyValuePair {
-            key: "side".to_owned(),
-            value: format!("{:?}", frame.decision.side),
-        });
-        SceneUpdate {
-            deletions: Vec::new(),
-            entities: vec![SceneEntity {
-                timestamp: Some(timestamp(t)),
-                frame_id: ROBOT_FRAME.to_owned(),
-                id: "sectors".to_owned(),
-                metadata,
-                lines,
-                spheres,
-                texts,
-                ..SceneEntity::default()
-            }],
-        }
+        ]
     }
 
     fn explorer_update(&self, frame: &NavFrame<'_>) -> SceneUpdate {

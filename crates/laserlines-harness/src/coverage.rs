@@ -93,20 +93,31 @@ impl CoverageGrid {
         } else {
             0.0
         };
+        let reachable = grid.flood_fill(index, start, radius);
+        grid.reachable_count = reachable.iter().filter(|r| **r).count();
+        grid.reachable = reachable;
+        grid
+    }
+
+    /// The free cells (centre at least `radius` from every obstacle) connected to the cell
+    /// of `start` by a 4-neighbour flood fill; none when that cell is not free.
+    fn flood_fill(&self, index: &WorldIndex, start: Point2, radius: f64) -> Vec<bool> {
+        let (cols, rows) = (self.cols, self.rows);
+        let grid = self;
         let free = |c: usize| {
             let p = grid.centre(c);
             clearance_at_least(index, p, radius)
         };
+        let mut reachable = vec![false; cols * rows];
         let Some(s) = grid.cell_of(start) else {
-            return grid;
+            return reachable;
         };
         if !free(s) {
-            return grid;
+            return reachable;
         }
         let mut stack = vec![s];
         let mut visited = vec![false; cols * rows];
         visited[s] = true;
-        let mut reachable = vec![false; cols * rows];
         while let Some(c) = stack.pop() {
             reachable[c] = true;
             let (x, y) = (c % cols, c / cols);
@@ -131,9 +142,7 @@ impl CoverageGrid {
                 push(c + cols);
             }
         }
-        grid.reachable_count = reachable.iter().filter(|r| **r).count();
-        grid.reachable = reachable;
-        grid
+        reachable
     }
 
     fn centre(&self, c: usize) -> Point2 {

@@ -64,6 +64,14 @@ fn thin(path: &[Point2]) -> Vec<Point2> {
 /// The paper's Fig. 8: the arena, the robot's path, the lines it saw and its own map.
 #[must_use]
 pub fn exploration_map_svg(map: &ExplorationMap<'_>) -> String {
+    let mut canvas = Canvas::new(1);
+    canvas.add_panel(exploration_panel(map));
+    exploration_legend(&mut canvas, map);
+    canvas.to_svg()
+}
+
+/// The panel of Fig. 8.
+fn exploration_panel(map: &ExplorationMap<'_>) -> Panel {
     let pts = map
         .walls
         .iter()
@@ -129,8 +137,11 @@ pub fn exploration_map_svg(map: &ExplorationMap<'_>) -> String {
     if let Some(end) = map.path.last() {
         panel.marker(*end, Marker::Circle, 8.0, &Style::fill(Color::RED));
     }
-    let mut canvas = Canvas::new(1);
-    canvas.add_panel(panel);
+    panel
+}
+
+/// The legend of Fig. 8.
+fn exploration_legend(canvas: &mut Canvas, map: &ExplorationMap<'_>) {
     canvas.add_legend(LegendEntry::new(
         Swatch::Line(Style::stroke(WALL, 2.2)),
         "wall",
@@ -165,7 +176,6 @@ pub fn exploration_map_svg(map: &ExplorationMap<'_>) -> String {
         Swatch::Marker(Marker::Circle, 10.0, Style::stroke(PATH, 2.0)),
         "start",
     ));
-    canvas.to_svg()
 }
 
 /// The paper's Fig. 7: the three sectors around the robot, the scan points, the extracted
@@ -178,6 +188,20 @@ pub fn sectors_svg(
     lines: &[(Point2, Point2)],
     objects: &SectorObjects,
 ) -> String {
+    let (panel, fills) = sectors_panel(title, points, lines, objects);
+    let mut canvas = Canvas::new(1);
+    canvas.add_panel(panel);
+    sectors_legend(&mut canvas, &fills);
+    canvas.to_svg()
+}
+
+/// The panel of Fig. 7 and the sectors' fill colours.
+fn sectors_panel(
+    title: &str,
+    points: &[Point2],
+    lines: &[(Point2, Point2)],
+    objects: &SectorObjects,
+) -> (Panel, [Color; 3]) {
     let reach = points
         .iter()
         .map(|p| p.coords.norm())
@@ -236,8 +260,11 @@ pub fn sectors_svg(
         );
     }
     panel.robot(Point2::origin(), 0.0, 14.0, &Style::fill(Color::RED));
-    let mut canvas = Canvas::new(1);
-    canvas.add_panel(panel);
+    (panel, fills)
+}
+
+/// The legend of Fig. 7.
+fn sectors_legend(canvas: &mut Canvas, fills: &[Color; 3]) {
     for sector in Sector::ALL {
         let (from, to) = sector.bounds_rad();
         canvas.add_legend(LegendEntry::new(
@@ -258,5 +285,4 @@ pub fn sectors_svg(
         Swatch::Line(Style::stroke(Color::NAVY, 1.6)),
         "extracted line",
     ));
-    canvas.to_svg()
 }

@@ -22,7 +22,7 @@ mod record;
 use laserlines::math::Isometry2;
 use laserlines::robot::VelocityCommand;
 use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, ParamsError, Scan};
-use laserlines_nav::{Explorer, ExplorerParams};
+use laserlines_nav::{Decision, Explorer, ExplorerParams};
 use laserlines_sim::World;
 use laserlines_sim::robot::{RobotError, RobotParams, RobotSim};
 
@@ -118,66 +118,19 @@ pub fn run_observed(
     config: &RunConfig,
     observer: &mut dyn RunObserver,
 ) -> Result<RunRecord, RunError> {
-    laserlines::params::positive("duration_s", config.duration_s).map_err(RunError::Setting)?;
-    config.explorer.validate().map_err(RunError::Explorer)?;
-    let mut robot = RobotSim::new(world, start, config.robot, config.seed)?;
-    let mut extractor = HoughSplit::new(config.extractor.clone()).map_err(RunError::Extractor)?;
-    let mut explorer = Explorer::new(config.explorer, &config.robot.robot);
-    let robot_from_laser = config.robot.robot.laser.robot_from_laser();
-    let laser = config.robot.laser_model;
-    let mut coverage = CoverageGrid::new(
-        robot.index(),
-        laserlines::math::Point2::from(start.translation.vector),
-        config.robot.robot.footprint.circumradius(),
-    );
-    let mut recorder = Recorder::new(
-        start,
-        coverage.reachable_area_m2(),
-        config.record_lines_every,
-        config.snapshot_at_s,
-    );
-
-    let mut scan = Scan::default();
-    let mut true_ranges = Vec::new();
-    let mut lines: Vec<Line> = Vec::new();
-    let mut command = VelocityCommand::STOP;
+    let mut run = Loop::new(world, start, config)?;
     let steps = (config.duration_s / config.robot.physics_dt_s).round() as u64;
+    let mut command = VelocityCommand::STOP;
     let mut next_report = 0.0;
     let mut stop = StopReason::TimeLimit;
     for _ in 0..steps {
-        if robot.scan_due() {
-            let t = robot.time_s();
-            // Sense.
-            robot.scan_into(&mut scan, &mut true_ranges);
-            let odom_from_robot = robot.odom_from_robot();
-            // Extract.
-            extractor.extract_into(&scan, &mut lines);
-            // Decide.
-            let decision = explorer.on_scan(&scan, &lines, &odom_from_robot, t);
+        if run.robot.scan_due() {
+            let t = run.robot.time_s();
+            let decision = run.sense_extract_decide(t);
             command = decision.command;
-            // Record: the ground truth and the observers, never seen by the robot.
-            coverage.mark_scan(
-                &robot.world_from_laser(),
-                laser.angle_min,
-                laser.angle_increment,
-                &true_ranges,
-                laser.range_max,
-            );
-            let frame = ScanFrame {
-                time_s: t,
-                world_from_robot: robot.world_from_robot(),
-                odom_from_robot,
-                estimated_world_from_robot: start * decision.map_from_robot,
-                robot_from_laser,
-                scan: &scan,
-                lines: &lines,
-                decision: &decision,
-                coverage: coverage.coverage(),
-            };
-            recorder.on_scan(&frame);
-            observer.on_scan(&frame);
+            run.record(&decision, t, observer);
             if t >= next_report {
-                recorder.on_progress(t);
+                run.recorder.on_progress(t);
                 observer.on_progress(t);
                 next_report += 1.0;
             }
@@ -191,9 +144,99 @@ pub fn run_observed(
             }
         }
         // Act.
-        robot.step(command);
+        run.robot.step(command);
     }
-    let record = recorder.finish(&robot, &explorer, &coverage, stop);
-    observer.on_progress(robot.time_s());
+    let record = run
+        .recorder
+        .finish(&run.robot, &run.explorer, &run.coverage, stop);
+    observer.on_progress(run.robot.time_s());
     Ok(record)
+}
+
+/// Everything in the loop: the simulated robot, the extractor and the explorer (the robot
+/// side), the ground truth and the recorder, and the scan's buffers.
+struct Loop {
+    start: Isometry2,
+    robot: RobotSim,
+    extractor: HoughSplit,
+    explorer: Explorer,
+    coverage: CoverageGrid,
+    recorder: Recorder,
+    robot_from_laser: Isometry2,
+    scan: Scan,
+    true_ranges: Vec<f64>,
+    lines: Vec<Line>,
+    odom_from_robot: Isometry2,
+}
+
+impl Loop {
+    fn new(world: &World, start: Isometry2, config: &RunConfig) -> Result<Self, RunError> {
+        laserlines::params::positive("duration_s", config.duration_s).map_err(RunError::Setting)?;
+        config.explorer.validate().map_err(RunError::Explorer)?;
+        let robot = RobotSim::new(world, start, config.robot, config.seed)?;
+        let extractor = HoughSplit::new(config.extractor.clone()).map_err(RunError::Extractor)?;
+        let coverage = CoverageGrid::new(
+            robot.index(),
+            laserlines::math::Point2::from(start.translation.vector),
+            config.robot.robot.footprint.circumradius(),
+        );
+        let recorder = Recorder::new(
+            start,
+            coverage.reachable_area_m2(),
+            config.record_lines_every,
+            config.snapshot_at_s,
+        );
+        Ok(Self {
+            start,
+            robot,
+            extractor,
+            explorer: Explorer::new(config.explorer, &config.robot.robot),
+            coverage,
+            recorder,
+            robot_from_laser: config.robot.robot.laser.robot_from_laser(),
+            scan: Scan::default(),
+            true_ranges: Vec::new(),
+            lines: Vec::new(),
+            odom_from_robot: Isometry2::identity(),
+        })
+    }
+
+    /// The robot side's turn at time `t`: the laser scans and the odometry reads, the
+    /// extractor extracts the lines, the explorer decides.
+    fn sense_extract_decide(&mut self, t: f64) -> Decision {
+        // Sense.
+        self.robot.scan_into(&mut self.scan, &mut self.true_ranges);
+        self.odom_from_robot = self.robot.odom_from_robot();
+        // Extract.
+        self.extractor.extract_into(&self.scan, &mut self.lines);
+        // Decide.
+        self.explorer
+            .on_scan(&self.scan, &self.lines, &self.odom_from_robot, t)
+    }
+
+    /// Records the scan: the ground-truth coverage, then the recorder and `observer` see
+    /// its frame. Nothing recorded flows back into the robot.
+    fn record(&mut self, decision: &Decision, t: f64, observer: &mut dyn RunObserver) {
+        let laser = self.robot.params().laser_model;
+        self.coverage.mark_scan(
+            &self.robot.world_from_laser(),
+            laser.angle_min,
+            laser.angle_increment,
+            &self.true_ranges,
+            laser.range_max,
+        );
+        let frame = ScanFrame {
+            time_s: t,
+            world_from_robot: self.robot.world_from_robot(),
+            odom_from_robot: self.odom_from_robot,
+            estimated_world_from_robot: self.start * decision.map_from_robot,
+            robot_from_laser: self.robot_from_laser,
+            scan: &self.scan,
+            lines: &self.lines,
+            decision,
+            coverage: self.coverage.coverage(),
+        };
+        self.recorder.on_scan(&frame);
+        observer.on_scan(&frame);
+    }
 }

@@ -193,6 +193,63 @@ impl IterativeHough {
         &self.acc
     }
 
+    /// The hypothesis `h0` refined by least squares on its largest run of inliers, while
+    /// that run keeps `min_members` points.
+    fn refine(
+        &self,
+        h0: Hypothesis,
+        t: Scaled,
+        rule: &Breakpoints,
+        min_members: usize,
+    ) -> Hypothesis {
+        let mut h = h0;
+        if let Some((mut run, _)) = self.best_run(&h, t, rule) {
+            for _ in 0..self.params.refine_iterations {
+                let pts = &self.points;
+                let fit = fit_where(pts, run, |i| h.distance(pts[i].point) <= t.at(pts[i].range));
+                let Some(fit) = fit else { break };
+                let refined = Hypothesis::from_fit(&fit);
+                match self.best_run(&refined, t, rule) {
+                    Some((r, m)) if m >= min_members => {
+                        h = refined;
+                        run = r;
+                    }
+                    _ => break,
+                }
+            }
+        }
+        h
+    }
+
+    /// Takes every run of at least `min_members` inliers of `h` among the points not taken
+    /// yet: its inliers become members, its points leave the vote.
+    fn take_runs(&mut self, h: &Hypothesis, t: Scaled, rule: &Breakpoints, min_members: usize) {
+        self.found.clear();
+        let pts = &self.points;
+        let taken = &self.taken;
+        let found = &mut self.found;
+        for_each_run(
+            pts,
+            |i| !taken[i],
+            |i| h.distance(pts[i].point) <= t.at(pts[i].range),
+            rule,
+            self.params.max_skipped,
+            |r, m| {
+                if m >= min_members {
+                    found.push(r);
+                }
+            },
+        );
+        for &r in &self.found {
+            for i in r.start..r.end {
+                self.member[i] = h.distance(self.points[i].point) <= t.at(self.points[i].range);
+                self.taken[i] = true;
+                self.voting[i] = false;
+            }
+            self.runs.push(r);
+        }
+    }
+
     fn best_run(&self, h: &Hypothesis, t: Scaled, rule: &Breakpoints) -> Option<(Run, usize)> {
         let pts = &self.points;
         largest_run(
@@ -250,46 +307,8 @@ impl LineExtractor for IterativeHough {
                 d: peak.distance,
             };
             // 6-7. Inliers, refined by least squares on the largest run.
-            let mut h = h0;
-            if let Some((mut run, _)) = self.best_run(&h, t, &rule) {
-                for _ in 0..p.refine_iterations {
-                    let pts = &self.points;
-                    let fit =
-                        fit_where(pts, run, |i| h.distance(pts[i].point) <= t.at(pts[i].range));
-                    let Some(fit) = fit else { break };
-                    let refined = Hypothesis::from_fit(&fit);
-                    match self.best_run(&refined, t, &rule) {
-                        Some((r, m)) if m >= min_members => {
-                            h = refined;
-                            run = r;
-                        }
-                        _ => break,
-                    }
-                }
-            }
-            self.found.clear();
-            let pts = &self.points;
-            let found = &mut self.found;
-            for_each_run(
-                pts,
-                |i| !self.taken[i],
-                |i| h.distance(pts[i].point) <= t.at(pts[i].range),
-                &rule,
-                p.max_skipped,
-                |r, m| {
-                    if m >= min_members {
-                        found.push(r);
-                    }
-                },
-            );
-            for &r in &self.found {
-                for i in r.start..r.end {
-                    self.member[i] = h.distance(self.points[i].point) <= t.at(self.points[i].range);
-                    self.taken[i] = true;
-                    self.voting[i] = false;
-                }
-                self.runs.push(r);
-            }
+            let h = self.refine(h0, t, &rule, min_members);
+            self.take_runs(&h, t, &rule, min_members);
             // 8. Remove the inliers (of the peak line, which include the peak's voters, and of
             // the refined line) from the set.
             let a = p.window * (1.0 + 1e-9) + 1e-12;

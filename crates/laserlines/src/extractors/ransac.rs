@@ -191,6 +191,82 @@ impl Ransac {
     }
 }
 
+impl Ransac {
+    /// Of `iterations` sampled hypotheses, the one with the largest run of inliers, the run
+    /// and its member count.
+    fn best_hypothesis(
+        &self,
+        rng: &mut SplitMix64,
+        t: Scaled,
+        rule: &Breakpoints,
+    ) -> Option<(Hypothesis, Run, usize)> {
+        let mut best: Option<(Hypothesis, Run, usize)> = None;
+        for _ in 0..self.params.iterations {
+            let Some(h) = self.sample(rng) else {
+                continue;
+            };
+            if let Some((run, m)) = self.best_run(&h, t, rule)
+                && best.is_none_or(|(_, _, b)| m > b)
+            {
+                best = Some((h, run, m));
+            }
+        }
+        best
+    }
+
+    /// `h` refined by least squares on its largest run (starting at `run`), while that run
+    /// keeps `min_inliers` points.
+    fn refine(&self, mut h: Hypothesis, mut run: Run, t: Scaled, rule: &Breakpoints) -> Hypothesis {
+        for _ in 0..self.params.refine_iterations {
+            let pts = &self.points;
+            let fit = fit_where(pts, run, |i| h.distance(pts[i].point) <= t.at(pts[i].range));
+            let Some(fit) = fit else { break };
+            let refined = Hypothesis::from_fit(&fit);
+            match self.best_run(&refined, t, rule) {
+                Some((r, m)) if m >= self.params.min_inliers => {
+                    h = refined;
+                    run = r;
+                }
+                _ => break,
+            }
+        }
+        h
+    }
+
+    /// Takes every run of at least `min_inliers` inliers of `h` among the points not taken
+    /// yet; false when there is none.
+    fn take_runs(&mut self, h: &Hypothesis, t: Scaled, rule: &Breakpoints) -> bool {
+        let min = self.params.min_inliers;
+        self.found.clear();
+        let pts = &self.points;
+        let taken = &self.taken;
+        let found = &mut self.found;
+        for_each_run(
+            pts,
+            |i| !taken[i],
+            |i| h.distance(pts[i].point) <= t.at(pts[i].range),
+            rule,
+            self.params.max_skipped,
+            |r, m| {
+                if m >= min {
+                    found.push(r);
+                }
+            },
+        );
+        if self.found.is_empty() {
+            return false;
+        }
+        for &r in &self.found {
+            for i in r.start..r.end {
+                self.member[i] = h.distance(self.points[i].point) <= t.at(self.points[i].range);
+                self.taken[i] = true;
+            }
+            self.runs.push(r);
+        }
+        true
+    }
+}
+
 impl LineExtractor for Ransac {
     fn name(&self) -> &'static str {
         "ransac"
@@ -218,62 +294,15 @@ impl LineExtractor for Ransac {
             if self.free.len() < p.min_inliers {
                 break;
             }
-            let mut best: Option<(Hypothesis, Run, usize)> = None;
-            for _ in 0..p.iterations {
-                let Some(h) = self.sample(&mut rng) else {
-                    continue;
-                };
-                if let Some((run, m)) = self.best_run(&h, t, &rule)
-                    && best.is_none_or(|(_, _, b)| m > b)
-                {
-                    best = Some((h, run, m));
-                }
-            }
-            let Some((mut h, first_run, m)) = best else {
+            let Some((h, first_run, m)) = self.best_hypothesis(&mut rng, t, &rule) else {
                 break;
             };
             if m < p.min_inliers {
                 break;
             }
-            let mut run = first_run;
-            for _ in 0..p.refine_iterations {
-                let pts = &self.points;
-                let fit = fit_where(pts, run, |i| h.distance(pts[i].point) <= t.at(pts[i].range));
-                let Some(fit) = fit else { break };
-                let refined = Hypothesis::from_fit(&fit);
-                match self.best_run(&refined, t, &rule) {
-                    Some((r, m)) if m >= p.min_inliers => {
-                        h = refined;
-                        run = r;
-                    }
-                    _ => break,
-                }
-            }
-            self.found.clear();
-            let pts = &self.points;
-            let found = &mut self.found;
-            for_each_run(
-                pts,
-                |i| !self.taken[i],
-                |i| h.distance(pts[i].point) <= t.at(pts[i].range),
-                &rule,
-                p.max_skipped,
-                |r, m| {
-                    if m >= p.min_inliers {
-                        found.push(r);
-                    }
-                },
-            );
-            if self.found.is_empty() {
+            let h = self.refine(h, first_run, t, &rule);
+            if !self.take_runs(&h, t, &rule) {
                 self.taken[first_run.start..first_run.end].fill(true);
-                continue;
-            }
-            for &r in &self.found {
-                for i in r.start..r.end {
-                    self.member[i] = h.distance(self.points[i].point) <= t.at(self.points[i].range);
-                    self.taken[i] = true;
-                }
-                self.runs.push(r);
             }
         }
         let filter = p.filter;
