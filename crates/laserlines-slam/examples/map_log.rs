@@ -1,0 +1,57 @@
+//! Maps a log and scores it against relations (development aid).
+use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
+use laserlines_slam::{Mapper, MapperParams, Relation, Se2, score_relations};
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let mut reader = laserlines_io::open(std::path::Path::new(&args[1]), None).unwrap();
+    let odom = args.get(3).map(|s| s != "off").unwrap_or(true);
+    let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    let mut params = MapperParams::default();
+    let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<f64>().ok());
+    if let Some(v) = env("LOOPS") { params.loops.every_scans = v as usize; }
+    if let Some(v) = env("MAXR") { params.max_range_m = v; }
+    if let Some(v) = env("SPS") { params.scans_per_submap = v as usize; }
+    if let Some(v) = env("CORR") { params.icp.max_correspondence_m = v; }
+    if let Some(v) = env("FRAC") { params.icp.min_inlier_fraction = v; }
+    if let Some(v) = env("STD") { params.icp.max_std_m = v; params.icp.max_std_rad = v; }
+    if let Some(v) = env("SCORE") { params.loops.min_score = v; }
+    if let Some(v) = env("LFRAC") { params.loops.min_inlier_fraction = v; }
+    if let Some(v) = env("WIN") { params.loops.linear_window_m = v; }
+    if let Some(v) = env("RAD") { params.loops.search_radius_m = v; }
+    if let Some(v) = env("COVS") { params.match_covariance_scale = v; }
+    let mut errs = std::collections::BTreeMap::<String, usize>::new();
+    let mut mapper = Mapper::new(params);
+    let mut lines = Vec::new();
+    let t0 = std::time::Instant::now();
+    let mut stamps = Vec::new();
+    let mut odoms = Vec::new();
+    while let Some(r) = reader.next() {
+        let r = r.unwrap();
+        hs.extract_into(&r.scan, &mut lines);
+        let o = if odom { r.pose.map(|p| Se2::new(p.x, p.y, p.theta)) } else { None };
+        let u = mapper.add_scan(&r.scan, &lines, o).unwrap();
+        if std::env::var("TRACE").is_ok() && (u.node % 25 == 0 && u.node < 700) { let od = r.pose.unwrap(); eprintln!("{} pose {:.3} {:.3} {:.4} odom {:.3} {:.3} {:.4} err {:?}", u.node, u.pose.x, u.pose.y, u.pose.theta, od.x, od.y, od.theta, u.match_error); }
+        if let Some(e) = u.match_error { let k = format!("{e:?}"); *errs.entry(k.split(['{',' ']).next().unwrap().to_string()).or_default() += 1; }
+        stamps.push(r.scan.stamp.unwrap_or(0.0));
+        odoms.push(r.pose.map(|p| Se2::new(p.x, p.y, p.theta)).unwrap_or_default());
+    }
+    let t1 = t0.elapsed().as_secs_f64();
+    mapper.optimize().unwrap();
+    eprintln!("{errs:?}");
+    eprintln!("{:?} in {:.2} s (+{:.2} s final opt)", mapper.stats(), t1, t0.elapsed().as_secs_f64() - t1);
+    if let Some(rel) = args.get(2) {
+        let text = std::fs::read_to_string(rel).unwrap();
+        let rels: Vec<Relation> = text.lines().filter(|l| !l.trim().is_empty()).map(|l| {
+            let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            Relation { t1: v[0], t2: v[1], delta: Se2::new(v[2], v[3], v[7]) }
+        }).collect();
+        let poses: Vec<Se2> = if std::env::var("ODOMSCORE").is_ok() { odoms.clone() } else { mapper.poses().to_vec() };
+        let traj: Vec<(f64, Se2)> = stamps.iter().copied().zip(poses.iter().copied()).collect();
+        let s = score_relations(&traj, &rels).unwrap();
+        let (mut ss, mut sl) = (vec![], vec![]);
+        for (r, e) in rels.iter().zip(&s.errors) { if r.t2 - r.t1 < 5.0 { ss.push(*e) } else { sl.push(*e) } }
+        let m = |v: &Vec<(f64,f64)>| (v.len(), v.iter().map(|e| e.0).sum::<f64>() / v.len() as f64, v.iter().map(|e| e.1).sum::<f64>() / v.len() as f64);
+        eprintln!("short {:?} long {:?}", m(&ss), m(&sl));
+        eprintln!("n {} trans {:.4} ± {:.4} (max {:.3}) rot {:.3} ± {:.3} deg (max {:.2})", s.n, s.translation_m.mean, s.translation_m.std, s.translation_m.max, s.rotation_deg.mean, s.rotation_deg.std, s.rotation_deg.max);
+    }
+}

@@ -1,0 +1,354 @@
+//! The online mapper: scan by scan, with or without odometry, a pose estimate now and a map
+//! at any time.
+//!
+//! For every scan: predict its pose (odometry, else the last motion repeated), match it onto
+//! the older of the two active submaps with point-to-line ICP, add it to the pose graph
+//! with an edge from the previous scan, insert it into the active submaps when the robot
+//! has moved, and every few scans search the finished submaps nearby for a loop closure
+//! (branch-and-bound correlative search, verified by ICP). Accepted closures enter the graph
+//! with a Cauchy kernel, and the graph is optimised.
+
+use laserlines::math::Point2;
+use laserlines::{Line, RangeWindow, Scan};
+use nalgebra::Matrix3;
+
+use crate::cloud::{SurfacePoint, scan_normals};
+use crate::graph::{Edge, GraphError, OptimizeParams, OptimizeReport, PoseGraph, RobustKernel};
+use crate::icp::{IcpError, match_points};
+use crate::loops::{LoopOutcome, try_closure};
+use crate::params::MapperParams;
+use crate::se2::Se2;
+use crate::submap::Submap;
+
+/// What the mapper keeps of each scan.
+#[derive(Debug, Clone)]
+pub struct ScanNode {
+    /// The scan's time stamp, s, when it had one.
+    pub stamp: Option<f64>,
+    /// Its valid points within the matching range, sensor frame, m (for the maps).
+    pub points: Vec<Point2>,
+    /// The lines extracted from it, sensor frame.
+    pub lines: Vec<Line>,
+    /// True when scan matching placed it (false: the prediction was kept).
+    pub matched: bool,
+}
+
+/// What [`Mapper::add_scan`] tells about one scan.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScanUpdate {
+    /// The scan's index (node) in the map.
+    pub node: usize,
+    /// `map_from_scan` now (after any optimisation this scan triggered).
+    pub pose: Se2,
+    /// Why matching failed, when it did (the prediction was used).
+    pub match_error: Option<IcpError>,
+    /// Loop closures accepted at this scan.
+    pub closures_accepted: usize,
+    /// Loop closures found by the search but refused by verification at this scan.
+    pub closures_rejected: usize,
+    /// The graph was optimised.
+    pub optimized: bool,
+}
+
+/// Counts over a run.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct MapperStats {
+    /// Scans added.
+    pub scans: usize,
+    /// Scans that scan matching did not place.
+    pub unmatched: usize,
+    /// Loop closures accepted.
+    pub closures_accepted: usize,
+    /// Loop closures found by the search and refused by ICP verification.
+    pub closures_rejected: usize,
+    /// Submaps started.
+    pub submaps: usize,
+    /// Optimisations of the pose graph.
+    pub optimizations: usize,
+    /// Time spent optimising, s (measured by the caller's clock, see
+    /// [`Mapper::add_optimization_time`]).
+    pub optimization_s: f64,
+}
+
+/// The online mapper. See the module documentation.
+#[derive(Debug)]
+pub struct Mapper {
+    params: MapperParams,
+    graph: PoseGraph,
+    scans: Vec<ScanNode>,
+    odometry: Vec<Option<Se2>>,
+    submaps: Vec<Submap>,
+    /// Indices of the active submaps, oldest first (at most two).
+    active: Vec<usize>,
+    last_insert: Option<Se2>,
+    last_optimized: usize,
+    closures_since_optimized: usize,
+    stats: MapperStats,
+    surface: Vec<SurfacePoint>,
+}
+
+impl Mapper {
+    /// A mapper with the given settings.
+    #[must_use]
+    pub fn new(params: MapperParams) -> Self {
+        Self {
+            params,
+            graph: PoseGraph::new(),
+            scans: Vec::new(),
+            odometry: Vec::new(),
+            submaps: Vec::new(),
+            active: Vec::new(),
+            last_insert: None,
+            last_optimized: 0,
+            closures_since_optimized: 0,
+            stats: MapperStats::default(),
+            surface: Vec::new(),
+        }
+    }
+
+    /// The settings.
+    #[must_use]
+    pub fn params(&self) -> &MapperParams {
+        &self.params
+    }
+
+    /// Adds a scan with its lines (sensor frame) and, when the robot has it, the odometry
+    /// pose at the scan's time (`odom_from_robot`, any fixed odometry frame). The first
+    /// scan defines the map frame.
+    ///
+    /// # Errors
+    /// [`GraphError`] when the pose graph cannot be optimised.
+    pub fn add_scan(&mut self, scan: &Scan, lines: &[Line], odometry: Option<Se2>) -> Result<ScanUpdate, GraphError> {
+        let window = scan.range_window(Some(RangeWindow::new(self.params.min_range_m, self.params.max_range_m)));
+        let pts = scan.points(window);
+        let normals = scan_normals(&pts, scan.angle_increment, self.params.normal_half_window);
+        self.surface.clear();
+        for (sp, n) in pts.iter().zip(&normals) {
+            if let Some(normal) = n {
+                self.surface.push(SurfacePoint {
+                    point: sp.point,
+                    normal: *normal,
+                });
+            }
+        }
+        let node = self.scans.len();
+        let (guess, prior) = self.predict(odometry);
+        let (pose, information, match_error) = match self.match_scan(guess, prior.as_ref()) {
+            Ok((pose, cov)) => (pose, cov.try_inverse().unwrap_or_else(weak_information), None),
+            Err(e) => (guess, prior.unwrap_or_else(weak_information), e),
+        };
+        self.graph.add_node(pose);
+        if node > 0 {
+            self.add_sequential_edge(node, information)?;
+        }
+        self.scans.push(ScanNode {
+            stamp: scan.stamp,
+            points: pts.iter().map(|p| p.point).collect(),
+            lines: lines.to_vec(),
+            matched: match_error.is_none(),
+        });
+        self.odometry.push(odometry);
+        self.stats.scans += 1;
+        if match_error.is_some() && node > 0 {
+            self.stats.unmatched += 1;
+        }
+        self.insert_into_submaps(node, pose);
+        let (accepted, rejected) = self.search_loops(node)?;
+        let optimized = if self.closures_since_optimized > 0
+            && node >= self.last_optimized + self.params.loops.optimize_every_scans
+        {
+            self.optimize()?;
+            true
+        } else {
+            false
+        };
+        Ok(ScanUpdate {
+            node,
+            pose: self.graph.nodes()[node],
+            match_error,
+            closures_accepted: accepted,
+            closures_rejected: rejected,
+            optimized,
+        })
+    }
+
+    /// Optimises the pose graph now (the mapper does so itself after loop closures).
+    ///
+    /// # Errors
+    /// [`GraphError`] when the normal equations cannot be solved.
+    pub fn optimize(&mut self) -> Result<OptimizeReport, GraphError> {
+        let report = self.graph.optimize(&OptimizeParams::default())?;
+        self.last_optimized = self.scans.len().saturating_sub(1);
+        self.closures_since_optimized = 0;
+        self.stats.optimizations += 1;
+        Ok(report)
+    }
+
+    /// Adds to the optimisation time reported in [`MapperStats`], s.
+    pub fn add_optimization_time(&mut self, seconds: f64) {
+        self.stats.optimization_s += seconds;
+    }
+
+    /// `map_from_scan` of every scan so far, in order.
+    #[must_use]
+    pub fn poses(&self) -> &[Se2] {
+        self.graph.nodes()
+    }
+
+    /// What was kept of every scan, in order.
+    #[must_use]
+    pub fn scans(&self) -> &[ScanNode] {
+        &self.scans
+    }
+
+    /// The pose graph (nodes are scans).
+    #[must_use]
+    pub fn graph(&self) -> &PoseGraph {
+        &self.graph
+    }
+
+    /// Counts over the run so far.
+    #[must_use]
+    pub fn stats(&self) -> MapperStats {
+        self.stats
+    }
+
+    /// The predicted pose of the next scan and, with odometry, the information of that
+    /// prediction.
+    fn predict(&self, odometry: Option<Se2>) -> (Se2, Option<Matrix3<f64>>) {
+        let n = self.scans.len();
+        if n == 0 {
+            return (Se2::IDENTITY, None);
+        }
+        let last = self.graph.nodes()[n - 1];
+        match (self.odometry[n - 1], odometry) {
+            (Some(a), Some(b)) => {
+                let delta = a.between(&b);
+                let p = &self.params;
+                let st = (p.odometry_sigma_per_m * delta.translation().norm()).max(p.odometry_sigma_min_m);
+                let sr = (p.odometry_sigma_per_rad * delta.theta.abs()).max(p.odometry_sigma_min_rad);
+                let info = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0 / (st * st), 1.0 / (st * st), 1.0 / (sr * sr)));
+                (last * delta, Some(info))
+            }
+            _ if n >= 2 => {
+                let before = self.graph.nodes()[n - 2];
+                (last * before.between(&last), None)
+            }
+            _ => (last, None),
+        }
+    }
+
+    /// Matches the current surface points onto the reference submap from `guess`: the pose
+    /// and the match's covariance in the map frame, or why it failed.
+    fn match_scan(&self, guess: Se2, prior: Option<&Matrix3<f64>>) -> Result<(Se2, Matrix3<f64>), Option<IcpError>> {
+        let &s = self.active.first().ok_or(None)?;
+        let sub = &self.submaps[s];
+        let anchor = self.graph.nodes()[sub.anchor];
+        let local_guess = anchor.between(&guess);
+        let r = match_points(&sub.cloud, &self.surface, local_guess, prior, &self.params.icp).map_err(Some)?;
+        let cov = rotate_covariance(&r.covariance, anchor.theta) * self.params.match_covariance_scale;
+        Ok((anchor * r.pose, cov))
+    }
+
+    /// The edge from the previous scan to `node`: the relative pose of the two estimates,
+    /// with the matcher's or the odometry's information (`information` in the map frame).
+    fn add_sequential_edge(&mut self, node: usize, information: Matrix3<f64>) -> Result<(), GraphError> {
+        let prev = self.graph.nodes()[node - 1];
+        let cur = self.graph.nodes()[node];
+        self.graph.add_edge(Edge {
+            from: node - 1,
+            to: node,
+            measurement: prev.between(&cur),
+            information: rotate_information(&information, prev.theta),
+            kernel: RobustKernel::None,
+        })?;
+        Ok(())
+    }
+
+    /// Inserts the scan into the active submaps when the robot moved enough, starting and
+    /// finishing submaps as they fill.
+    fn insert_into_submaps(&mut self, node: usize, pose: Se2) {
+        let moved = self.last_insert.is_none_or(|last| {
+            last.distance(&pose) >= self.params.insert_distance_m
+                || laserlines::math::angle_diff(last.theta, pose.theta) >= self.params.insert_rotation_rad
+        });
+        if !moved {
+            return;
+        }
+        self.last_insert = Some(pose);
+        let half = (self.params.scans_per_submap / 2).max(1);
+        if self.active.last().is_none_or(|&s| self.submaps[s].scans >= half) {
+            self.submaps.push(Submap::new(node, self.params.voxel_m, self.params.icp.max_correspondence_m));
+            self.active.push(self.submaps.len() - 1);
+            self.stats.submaps += 1;
+        }
+        for &s in &self.active {
+            let anchor = self.graph.nodes()[self.submaps[s].anchor];
+            self.submaps[s].insert(&anchor.between(&pose), &self.surface);
+        }
+        if self.active.len() > 1 && self.submaps[self.active[0]].scans >= self.params.scans_per_submap {
+            let s = self.active.remove(0);
+            let l = &self.params.loops;
+            self.submaps[s].finish(l.grid_resolution_m, l.grid_sigma_m, l.grid_levels);
+        }
+    }
+
+    /// Searches the finished submaps near scan `node` for loop closures (every
+    /// `loops.every_scans` scans); returns (accepted, rejected).
+    fn search_loops(&mut self, node: usize) -> Result<(usize, usize), GraphError> {
+        let every = self.params.loops.every_scans;
+        if every == 0 || node % every != 0 || self.surface.is_empty() {
+            return Ok((0, 0));
+        }
+        let pose = self.graph.nodes()[node];
+        let step = (self.surface.len() / self.params.loops.search_points.max(1)).max(1);
+        let search: Vec<Point2> = self.surface.iter().step_by(step).map(|p| p.point).collect();
+        let (mut accepted, mut rejected) = (0, 0);
+        for s in 0..self.submaps.len() {
+            let sub = &self.submaps[s];
+            if !sub.finished {
+                continue;
+            }
+            let anchor = self.graph.nodes()[sub.anchor];
+            if (anchor.transform(sub.centre()) - Point2::new(pose.x, pose.y)).norm() > self.params.loops.search_radius_m {
+                continue;
+            }
+            match try_closure(sub, &anchor, &pose, &search, &self.surface, &self.params) {
+                LoopOutcome::Accepted(edge) => {
+                    self.graph.add_edge(Edge {
+                        from: sub.anchor,
+                        to: node,
+                        ..edge
+                    })?;
+                    accepted += 1;
+                }
+                LoopOutcome::Rejected => rejected += 1,
+                LoopOutcome::NotFound => {}
+            }
+        }
+        self.stats.closures_accepted += accepted;
+        self.stats.closures_rejected += rejected;
+        self.closures_since_optimized += accepted;
+        Ok((accepted, rejected))
+    }
+}
+
+/// Information of a relative pose nobody measured well (1 m, 1 rad).
+fn weak_information() -> Matrix3<f64> {
+    Matrix3::identity()
+}
+
+/// `R cov R^T` for a rotation by `theta` of the translation block.
+pub(crate) fn rotate_covariance(cov: &Matrix3<f64>, theta: f64) -> Matrix3<f64> {
+    let (s, c) = theta.sin_cos();
+    let r = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
+    r * cov * r.transpose()
+}
+
+/// Information given in the map frame, expressed in a frame turned by `theta`.
+fn rotate_information(info: &Matrix3<f64>, theta: f64) -> Matrix3<f64> {
+    // info_local = R^T^-T ... : cov_local = R^T cov R, so info_local = R^T info R.
+    let (s, c) = theta.sin_cos();
+    let r = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
+    r.transpose() * info * r
+}
