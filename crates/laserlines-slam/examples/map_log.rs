@@ -18,6 +18,7 @@ fn main() {
     if let Some(v) = env("LFRAC") { params.loops.min_inlier_fraction = v; }
     if let Some(v) = env("WIN") { params.loops.linear_window_m = v; }
     if let Some(v) = env("RAD") { params.loops.search_radius_m = v; }
+    if let Some(v) = env("CONF") { params.confident_fraction = v; }
     if let Some(v) = env("COVS") { params.match_covariance_scale = v; }
     let mut errs = std::collections::BTreeMap::<String, usize>::new();
     let mut mapper = Mapper::new(params);
@@ -25,11 +26,18 @@ fn main() {
     let t0 = std::time::Instant::now();
     let mut stamps = Vec::new();
     let mut odoms = Vec::new();
+    let mut prev_odom = Se2::IDENTITY;
     while let Some(r) = reader.next() {
         let r = r.unwrap();
         hs.extract_into(&r.scan, &mut lines);
         let o = if odom { r.pose.map(|p| Se2::new(p.x, p.y, p.theta)) } else { None };
         let u = mapper.add_scan(&r.scan, &lines, o).unwrap();
+        if std::env::var("BIG").is_ok() && u.node > 0 {
+            let p = mapper.poses(); let od = r.pose.unwrap(); let o = Se2::new(od.x, od.y, od.theta);
+            let d = p[u.node - 1].between(&p[u.node]); let od0 = prev_odom.between(&o);
+            if (d.theta - od0.theta).abs() > 0.03 { eprintln!("{} dtheta match {:.3} odom {:.3} dxy {:.3} {:.3} vs {:.3} {:.3} err {:?}", u.node, d.theta, od0.theta, d.x, d.y, od0.x, od0.y, u.match_error); }
+        }
+        if let Some(od) = r.pose { prev_odom = Se2::new(od.x, od.y, od.theta); }
         if std::env::var("TRACE").is_ok() && (u.node % 25 == 0 && u.node < 700) { let od = r.pose.unwrap(); eprintln!("{} pose {:.3} {:.3} {:.4} odom {:.3} {:.3} {:.4} err {:?}", u.node, u.pose.x, u.pose.y, u.pose.theta, od.x, od.y, od.theta, u.match_error); }
         if let Some(e) = u.match_error { let k = format!("{e:?}"); *errs.entry(k.split(['{',' ']).next().unwrap().to_string()).or_default() += 1; }
         stamps.push(r.scan.stamp.unwrap_or(0.0));
@@ -39,6 +47,15 @@ fn main() {
     mapper.optimize().unwrap();
     eprintln!("{errs:?}");
     eprintln!("{:?} in {:.2} s (+{:.2} s final opt)", mapper.stats(), t1, t0.elapsed().as_secs_f64() - t1);
+    if let Ok(out) = std::env::var("DUMP") {
+        use std::io::Write;
+        let mut f = std::io::BufWriter::new(std::fs::File::create(out).unwrap());
+        for (i, (p, sc)) in mapper.poses().iter().zip(mapper.scans()).enumerate() {
+            writeln!(f, "T {} {} {}", p.x, p.y, p.theta).unwrap();
+            if i % 4 == 0 { for q in sc.points.iter().step_by(2) { let w = p.transform(*q); writeln!(f, "P {} {}", w.x, w.y).unwrap(); } }
+        }
+        for e in mapper.graph().edges() { if e.to != e.from + 1 { let a = mapper.poses()[e.from]; let b = mapper.poses()[e.to]; writeln!(f, "L {} {} {} {}", a.x, a.y, b.x, b.y).unwrap(); } }
+    }
     if let Some(rel) = args.get(2) {
         let text = std::fs::read_to_string(rel).unwrap();
         let rels: Vec<Relation> = text.lines().filter(|l| !l.trim().is_empty()).map(|l| {

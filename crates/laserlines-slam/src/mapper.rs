@@ -230,24 +230,59 @@ impl Mapper {
                 let info = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0 / (st * st), 1.0 / (st * st), 1.0 / (sr * sr)));
                 (last * delta, Some(info))
             }
-            _ if n >= 2 => {
-                let before = self.graph.nodes()[n - 2];
-                (last * before.between(&last), None)
-            }
-            _ => (last, None),
+            _ => (self.constant_velocity().unwrap_or(last), None),
         }
     }
 
     /// Matches the current surface points onto the reference submap from `guess`: the pose
     /// and the match's covariance in the map frame, or why it failed.
+    ///
+    /// A match that fits fewer than [`MapperParams::confident_fraction`] of the points is
+    /// tried again from the constant-velocity prediction and from the guess turned by
+    /// `+-retry_rotation_rad` and twice that; the best fit wins.
     fn match_scan(&self, guess: Se2, prior: Option<&Matrix3<f64>>) -> Result<(Se2, Matrix3<f64>), Option<IcpError>> {
         let &s = self.active.first().ok_or(None)?;
         let sub = &self.submaps[s];
         let anchor = self.graph.nodes()[sub.anchor];
         let local_guess = anchor.between(&guess);
-        let r = match_points(&sub.cloud, &self.surface, local_guess, prior, &self.params.icp).map_err(Some)?;
+        let icp = &self.params.icp;
+        let mut best = match_points(&sub.cloud, &self.surface, local_guess, prior, icp);
+        if best.as_ref().is_ok_and(|r| r.inlier_fraction >= self.params.confident_fraction) {
+            return best.map(|r| self.to_map(&anchor, &r)).map_err(Some);
+        }
+        let step = self.params.retry_rotation_rad;
+        let mut seeds = vec![];
+        if let Some(cv) = self.constant_velocity() {
+            seeds.push(anchor.between(&cv));
+        }
+        for k in [-2.0, -1.0, 1.0, 2.0] {
+            seeds.push(Se2::new(local_guess.x, local_guess.y, local_guess.theta + k * step));
+        }
+        for seed in seeds {
+            let r = match_points(&sub.cloud, &self.surface, seed, None, icp);
+            let better = match (&r, &best) {
+                (Ok(a), Ok(b)) => a.inlier_fraction > b.inlier_fraction + 0.02,
+                (Ok(_), Err(_)) => true,
+                _ => false,
+            };
+            if better {
+                best = r;
+            }
+        }
+        best.map(|r| self.to_map(&anchor, &r)).map_err(Some)
+    }
+
+    /// A match in a submap as a map-frame pose and covariance.
+    fn to_map(&self, anchor: &Se2, r: &crate::icp::IcpResult) -> (Se2, Matrix3<f64>) {
         let cov = rotate_covariance(&r.covariance, anchor.theta) * self.params.match_covariance_scale;
-        Ok((anchor * r.pose, cov))
+        (*anchor * r.pose, cov)
+    }
+
+    /// The last motion repeated from the last pose.
+    fn constant_velocity(&self) -> Option<Se2> {
+        let nodes = self.graph.nodes();
+        let n = nodes.len();
+        (n >= 2).then(|| nodes[n - 1] * nodes[n - 2].between(&nodes[n - 1]))
     }
 
     /// The edge from the previous scan to `node`: the relative pose of the two estimates,

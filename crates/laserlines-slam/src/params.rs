@@ -25,13 +25,18 @@ pub struct MapperParams {
     pub voxel_m: f64,
     /// Scan-to-submap matching.
     pub icp: IcpParams,
+    /// A match fitting at least this share of the scan's points is taken at once; a weaker
+    /// one is tried again from other seeds (default 0.8).
+    pub confident_fraction: f64,
+    /// Rotation between the retried seeds, rad (default 0.15).
+    pub retry_rotation_rad: f64,
     /// Standard deviation of odometry's translation per metre travelled (default 0.1).
     pub odometry_sigma_per_m: f64,
-    /// Standard deviation of odometry's heading per radian turned (default 0.1).
+    /// Standard deviation of odometry's heading per radian turned (default 0.5).
     pub odometry_sigma_per_rad: f64,
     /// Floor of the odometry's translation standard deviation per scan, m (default 0.02).
     pub odometry_sigma_min_m: f64,
-    /// Floor of the odometry's heading standard deviation per scan, rad (default 0.01).
+    /// Floor of the odometry's heading standard deviation per scan, rad (default 0.05).
     pub odometry_sigma_min_rad: f64,
     /// Factor on the scan matcher's covariance in the pose graph (default 4; its
     /// `(J^T J)^-1` ignores that consecutive matches share a submap).
@@ -51,10 +56,12 @@ impl Default for MapperParams {
             insert_rotation_rad: 0.05,
             voxel_m: 0.03,
             icp: IcpParams::default(),
+            confident_fraction: 0.8,
+            retry_rotation_rad: 0.15,
             odometry_sigma_per_m: 0.1,
-            odometry_sigma_per_rad: 0.1,
+            odometry_sigma_per_rad: 0.5,
             odometry_sigma_min_m: 0.02,
-            odometry_sigma_min_rad: 0.01,
+            odometry_sigma_min_rad: 0.05,
             match_covariance_scale: 4.0,
             loops: LoopParams::default(),
         }
