@@ -19,6 +19,13 @@ fn main() {
     if let Some(v) = env("WIN") { params.loops.linear_window_m = v; }
     if let Some(v) = env("RAD") { params.loops.search_radius_m = v; }
     if let Some(v) = env("CONF") { params.confident_fraction = v; }
+    if let Some(v) = env("SKIP") { params.loops.skip_after_closure_scans = v as usize; }
+    if let Some(v) = env("EVERY") { params.loops.every_scans = v as usize; }
+    if let Some(v) = env("GRES") { params.loops.grid_resolution_m = v; }
+    if let Some(v) = env("ANG") { params.loops.angular_window_rad = v; }
+    if let Some(v) = env("CT") { params.icp.converge_translation_m = v; params.icp.converge_rotation_rad = v / 10.0; }
+    if let Some(v) = env("ITER") { params.icp.max_iterations = v as usize; }
+    if let Some(v) = env("VOX") { params.voxel_m = v; }
     if let Some(v) = env("COVS") { params.match_covariance_scale = v; }
     let mut errs = std::collections::BTreeMap::<String, usize>::new();
     let mut mapper = Mapper::new(params);
@@ -69,6 +76,15 @@ fn main() {
         for (r, e) in rels.iter().zip(&s.errors) { if r.t2 - r.t1 < 5.0 { ss.push(*e) } else { sl.push(*e) } }
         let m = |v: &Vec<(f64,f64)>| (v.len(), v.iter().map(|e| e.0).sum::<f64>() / v.len() as f64, v.iter().map(|e| e.1).sum::<f64>() / v.len() as f64);
         eprintln!("short {:?} long {:?}", m(&ss), m(&sl));
+        if let Ok(f) = std::env::var("ERRS") {
+            use std::io::Write;
+            let mut w = std::fs::File::create(f).unwrap();
+            for (r, e) in rels.iter().zip(&s.errors) {
+                let find = |t: f64| traj.iter().min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs())).unwrap().1;
+                let d = find(r.t1).between(&find(r.t2));
+                writeln!(w, "{} {} {} {} {} {} {} {} {}", r.t2 - r.t1, r.delta.x, r.delta.y, r.delta.theta, d.x, d.y, d.theta, e.0, e.1).unwrap();
+            }
+        }
         eprintln!("n {} trans {:.4} ± {:.4} (max {:.3}) rot {:.3} ± {:.3} deg (max {:.2})", s.n, s.translation_m.mean, s.translation_m.std, s.translation_m.max, s.rotation_deg.mean, s.rotation_deg.std, s.rotation_deg.max);
     }
 }

@@ -149,14 +149,24 @@ impl PointCloud {
     }
 
     /// The point nearest to `q` within `max_distance` (m), with its squared distance.
+    ///
+    /// Looks at rings of cells around `q`'s cell, nearest first, and stops once no cell
+    /// farther out can hold a nearer point.
     #[must_use]
     pub fn nearest(&self, q: Point2, max_distance: f64) -> Option<(&SurfacePoint, f64)> {
         let reach = (max_distance / self.cell).ceil().max(1.0) as i32;
         let (ci, cj) = key(q, self.cell);
         let mut best: Option<(u32, f64)> = None;
         let limit = max_distance * max_distance;
-        for di in -reach..=reach {
-            for dj in -reach..=reach {
+        for ring in 0..=reach {
+            // Every point outside rings 0..ring is at least (ring) cells away from q.
+            if let Some((_, b)) = best {
+                let clear = f64::from(ring - 1).max(0.0) * self.cell;
+                if ring > 0 && b <= clear * clear {
+                    break;
+                }
+            }
+            for (di, dj) in ring_cells(ring) {
                 let Some(ids) = self.index.get(&(ci.saturating_add(di), cj.saturating_add(dj))) else {
                     continue;
                 };
@@ -170,6 +180,14 @@ impl PointCloud {
         }
         best.map(|(id, d2)| (&self.points[id as usize], d2))
     }
+}
+
+/// The cell offsets of the square ring at Chebyshev distance `ring` (the centre for 0).
+fn ring_cells(ring: i32) -> impl Iterator<Item = (i32, i32)> {
+    let top_bottom = (-ring..=ring).flat_map(move |d| [(d, -ring), (d, ring)]);
+    let sides = (-ring + 1..ring).flat_map(move |d| [(-ring, d), (ring, d)]);
+    // Ring 0 is the one centre cell (listed twice above).
+    top_bottom.chain(sides).take(if ring == 0 { 1 } else { usize::MAX })
 }
 
 /// The grid cell of `p` for cells of side `size`, saturating far from the origin.

@@ -31,9 +31,9 @@ pub struct IcpParams {
     pub max_normal_angle_rad: f64,
     /// Most Gauss-Newton rounds (default 30).
     pub max_iterations: usize,
-    /// Converged when a step moves less than this, m (default 1e-5; 1e-6..1e-3).
+    /// Converged when a step moves less than this, m (default 1e-3; 1e-5..1e-2).
     pub converge_translation_m: f64,
-    /// Converged when a step turns less than this, rad (default 1e-6).
+    /// Converged when a step turns less than this, rad (default 1e-4).
     pub converge_rotation_rad: f64,
     /// The sensor's range noise, m: the floor of the reported standard deviation (default
     /// 0.01).
@@ -63,8 +63,8 @@ impl Default for IcpParams {
             cauchy_scale_m: 0.05,
             max_normal_angle_rad: 45f64.to_radians(),
             max_iterations: 30,
-            converge_translation_m: 1e-5,
-            converge_rotation_rad: 1e-6,
+            converge_translation_m: 1e-3,
+            converge_rotation_rad: 1e-4,
             noise_m: 0.01,
             inlier_distance_m: 0.05,
             min_inliers: 20,

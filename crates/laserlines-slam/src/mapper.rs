@@ -65,8 +65,7 @@ pub struct MapperStats {
     pub submaps: usize,
     /// Optimisations of the pose graph.
     pub optimizations: usize,
-    /// Time spent optimising, s (measured by the caller's clock, see
-    /// [`Mapper::add_optimization_time`]).
+    /// Time spent optimising the pose graph, s.
     pub optimization_s: f64,
 }
 
@@ -177,16 +176,13 @@ impl Mapper {
     /// # Errors
     /// [`GraphError`] when the normal equations cannot be solved.
     pub fn optimize(&mut self) -> Result<OptimizeReport, GraphError> {
+        let start = std::time::Instant::now();
         let report = self.graph.optimize(&OptimizeParams::default())?;
+        self.stats.optimization_s += start.elapsed().as_secs_f64();
         self.last_optimized = self.scans.len().saturating_sub(1);
         self.closures_since_optimized = 0;
         self.stats.optimizations += 1;
         Ok(report)
-    }
-
-    /// Adds to the optimisation time reported in [`MapperStats`], s.
-    pub fn add_optimization_time(&mut self, seconds: f64) {
-        self.stats.optimization_s += seconds;
     }
 
     /// `map_from_scan` of every scan so far, in order.
@@ -313,7 +309,7 @@ impl Mapper {
         self.last_insert = Some(pose);
         let half = (self.params.scans_per_submap / 2).max(1);
         if self.active.last().is_none_or(|&s| self.submaps[s].scans >= half) {
-            self.submaps.push(Submap::new(node, self.params.voxel_m, self.params.icp.max_correspondence_m));
+            self.submaps.push(Submap::new(node, self.params.voxel_m, crate::submap::INDEX_CELL_M));
             self.active.push(self.submaps.len() - 1);
             self.stats.submaps += 1;
         }
@@ -336,25 +332,34 @@ impl Mapper {
             return Ok((0, 0));
         }
         let pose = self.graph.nodes()[node];
-        let step = (self.surface.len() / self.params.loops.search_points.max(1)).max(1);
-        let search: Vec<Point2> = self.surface.iter().step_by(step).map(|p| p.point).collect();
+        let l = &self.params.loops;
+        let near: Vec<Point2> = self
+            .surface
+            .iter()
+            .map(|p| p.point)
+            .filter(|p| p.coords.norm() <= l.search_range_m)
+            .collect();
+        let step = (near.len() / l.search_points.max(1)).max(1);
+        let search: Vec<Point2> = near.into_iter().step_by(step).collect();
         let (mut accepted, mut rejected) = (0, 0);
         for s in 0..self.submaps.len() {
             let sub = &self.submaps[s];
-            if !sub.finished {
+            if !sub.finished
+                || sub
+                    .last_closure
+                    .is_some_and(|n| node < n + self.params.loops.skip_after_closure_scans)
+            {
                 continue;
             }
             let anchor = self.graph.nodes()[sub.anchor];
             if (anchor.transform(sub.centre()) - Point2::new(pose.x, pose.y)).norm() > self.params.loops.search_radius_m {
                 continue;
             }
+            let from = sub.anchor;
             match try_closure(sub, &anchor, &pose, &search, &self.surface, &self.params) {
                 LoopOutcome::Accepted(edge) => {
-                    self.graph.add_edge(Edge {
-                        from: sub.anchor,
-                        to: node,
-                        ..edge
-                    })?;
+                    self.submaps[s].last_closure = Some(node);
+                    self.graph.add_edge(Edge { from, to: node, ..edge })?;
                     accepted += 1;
                 }
                 LoopOutcome::Rejected => rejected += 1,

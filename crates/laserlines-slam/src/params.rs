@@ -77,17 +77,22 @@ pub struct LoopParams {
     /// A finished submap is searched when its centre is within this distance of the scan's
     /// estimated position, m (default 12).
     pub search_radius_m: f64,
-    /// Half width of the translations searched, m (default 4; must cover the drift since
+    /// Half width of the translations searched, m (default 2; must cover the drift since
     /// the last closure).
     pub linear_window_m: f64,
-    /// Half width of the headings searched, rad (default 0.5).
+    /// Half width of the headings searched, rad (default 0.3).
     pub angular_window_rad: f64,
-    /// Side of a search grid cell, m (default 0.05).
+    /// Side of a search grid cell, m (default 0.1).
     pub grid_resolution_m: f64,
-    /// Spread of a surface in the search grid, m (default 0.05).
+    /// Spread of a surface in the search grid, m (default 0.07).
     pub grid_sigma_m: f64,
-    /// Max-pooled levels of the search grid (default 7: blocks of up to 64 cells).
+    /// Max-pooled levels of the search grid (default 6: blocks of up to 32 cells).
     pub grid_levels: usize,
+    /// A submap is not searched again for this many scans after a closure to it (default
+    /// 30).
+    pub skip_after_closure_scans: usize,
+    /// Scan points farther than this are not used in the search, m (default 20).
+    pub search_range_m: f64,
     /// Scan points used in the search, at most (default 180; spread evenly).
     pub search_points: usize,
     /// Smallest correlative score (mean cell value, 0..1) worth verifying (default 0.6).
@@ -106,11 +111,13 @@ impl Default for LoopParams {
         Self {
             every_scans: 5,
             search_radius_m: 12.0,
-            linear_window_m: 4.0,
-            angular_window_rad: 0.5,
-            grid_resolution_m: 0.05,
-            grid_sigma_m: 0.05,
-            grid_levels: 7,
+            linear_window_m: 2.0,
+            angular_window_rad: 0.3,
+            grid_resolution_m: 0.1,
+            grid_sigma_m: 0.07,
+            grid_levels: 6,
+            skip_after_closure_scans: 30,
+            search_range_m: 20.0,
             search_points: 180,
             min_score: 0.6,
             min_inlier_fraction: 0.7,

@@ -7,6 +7,9 @@ use crate::cloud::{PointCloud, SurfacePoint};
 use crate::correlative::CorrelativeGrid;
 use crate::se2::Se2;
 
+/// Side of the cells of a submap's nearest-neighbour index, m.
+pub const INDEX_CELL_M: f64 = 0.2;
+
 /// A submap: points with normals in the anchor's frame.
 #[derive(Debug, Clone)]
 pub struct Submap {
@@ -20,6 +23,8 @@ pub struct Submap {
     pub finished: bool,
     /// The search grid for loop closure, built when the submap is finished.
     pub grid: Option<CorrelativeGrid>,
+    /// The last scan closed against this submap.
+    pub last_closure: Option<usize>,
     /// Mean of the points, `anchor` frame, m.
     centre_sum: (f64, f64, usize),
 }
@@ -34,6 +39,7 @@ impl Submap {
             scans: 0,
             finished: false,
             grid: None,
+            last_closure: None,
             centre_sum: (0.0, 0.0, 0),
         }
     }
