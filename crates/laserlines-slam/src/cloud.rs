@@ -246,7 +246,12 @@ mod tests {
 
     #[test]
     fn a_corner_point_has_no_normal() {
-        let pts: Vec<ScanPoint> = [(1.0, 0.3), (1.0, 0.2), (1.0, 0.1), (1.0, 0.0), (0.9, 0.0), (0.8, 0.0), (0.7, 0.0)]
+        // An L: down the wall x = 1 to the corner (1, 0), then along y = 0, 5 cm apart.
+        let corner: Vec<(f64, f64)> = (0..7)
+            .map(|k| (1.0, 0.3 - 0.05 * f64::from(k)))
+            .chain((1..7).map(|k| (1.0 - 0.05 * f64::from(k), 0.0)))
+            .collect();
+        let pts: Vec<ScanPoint> = corner
             .iter()
             .enumerate()
             .map(|(i, &(x, y))| ScanPoint {
@@ -257,8 +262,9 @@ mod tests {
             })
             .collect();
         let normals = scan_normals(&pts, 0.01, 3);
-        assert!(normals[3].is_none());
-        assert!(normals[0].is_some());
+        assert!(normals[6].is_none());
+        let n0 = normals[0].unwrap();
+        assert!((n0.x + 1.0).abs() < 1e-9, "{n0:?}");
     }
 
     #[test]

@@ -15,6 +15,9 @@ use nalgebra::Matrix3;
 use crate::cloud::{SurfacePoint, scan_normals};
 use crate::graph::{Edge, GraphError, OptimizeParams, OptimizeReport, PoseGraph, RobustKernel};
 use crate::icp::{IcpError, match_points};
+use crate::lines::{LineMatchParams, match_lines};
+use crate::linemap::{LineMapParams, MapLine, build_line_map};
+use crate::occupancy::{GridTooLarge, OccupancyGrid, OccupancyParams};
 use crate::loops::{LoopOutcome, try_closure};
 use crate::params::MapperParams;
 use crate::se2::Se2;
@@ -131,7 +134,7 @@ impl Mapper {
             }
         }
         let node = self.scans.len();
-        let (guess, prior) = self.predict(odometry);
+        let (guess, prior) = self.predict(odometry, lines);
         let (pose, information, match_error) = match self.match_scan(guess, prior.as_ref()) {
             Ok((pose, cov)) => (pose, cov.try_inverse().unwrap_or_else(weak_information), None),
             Err(e) => (guess, prior.unwrap_or_else(weak_information), e),
@@ -209,9 +212,24 @@ impl Mapper {
         self.stats
     }
 
+    /// The occupancy grid of every scan at its current pose.
+    ///
+    /// # Errors
+    /// [`GridTooLarge`] when the map spans more cells than `params` allow.
+    pub fn occupancy_grid(&self, params: &OccupancyParams) -> Result<OccupancyGrid, GridTooLarge> {
+        OccupancyGrid::build(self.poses().iter().copied().zip(self.scans.iter().map(|s| &s.points[..])), params)
+    }
+
+    /// The line map of every scan's lines at its current pose.
+    #[must_use]
+    pub fn line_map(&self, params: &LineMapParams) -> Vec<MapLine> {
+        build_line_map(self.poses().iter().copied().zip(self.scans.iter().map(|s| &s.lines[..])), params)
+    }
+
     /// The predicted pose of the next scan and, with odometry, the information of that
-    /// prediction.
-    fn predict(&self, odometry: Option<Se2>) -> (Se2, Option<Matrix3<f64>>) {
+    /// prediction. Without odometry: the last motion repeated, refined by matching the
+    /// scan's lines onto the previous scan's when that match is within the ICP's basin.
+    fn predict(&self, odometry: Option<Se2>, lines: &[Line]) -> (Se2, Option<Matrix3<f64>>) {
         let n = self.scans.len();
         if n == 0 {
             return (Se2::IDENTITY, None);
@@ -226,7 +244,20 @@ impl Mapper {
                 let info = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0 / (st * st), 1.0 / (st * st), 1.0 / (sr * sr)));
                 (last * delta, Some(info))
             }
-            _ => (self.constant_velocity().unwrap_or(last), None),
+            _ => {
+                let cv = self.constant_velocity().unwrap_or(last);
+                let seed = last.between(&cv);
+                let basin = &self.params.icp;
+                match match_lines(&self.scans[n - 1].lines, lines, seed, &LineMatchParams::default()) {
+                    Some(m)
+                        if m.pose.distance(&seed) < basin.basin_translation_m
+                            && laserlines::math::angle_diff(m.pose.theta, seed.theta) < basin.basin_rotation_rad =>
+                    {
+                        (last * m.pose, None)
+                    }
+                    _ => (cv, None),
+                }
+            }
         }
     }
 

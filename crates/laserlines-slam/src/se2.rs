@@ -216,7 +216,7 @@ mod tests {
 
         #[test]
         fn composition_is_associative(a in pose(), b in pose(), c in pose()) {
-            prop_assert!(close(&(a * b) * c, &(a * (b * c)), 1e-9));
+            prop_assert!(close(&((a * b) * c), &(a * (b * c)), 1e-9));
         }
 
         #[test]
