@@ -58,6 +58,7 @@ pub mod lines;
 pub mod reader;
 pub mod record;
 pub mod skip;
+pub mod trajectory;
 pub mod writer;
 
 pub use breezy::WheelOdometry;

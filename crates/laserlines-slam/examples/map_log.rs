@@ -26,6 +26,9 @@ fn main() {
     if let Some(v) = env("CT") { params.icp.converge_translation_m = v; params.icp.converge_rotation_rad = v / 10.0; }
     if let Some(v) = env("ITER") { params.icp.max_iterations = v as usize; }
     if let Some(v) = env("VOX") { params.voxel_m = v; }
+    if let Some(v) = env("MW") { params.motion_window_m = v; }
+    if let Some(v) = env("MA") { params.motion_window_rad = v; }
+    if let Some(v) = env("MS") { params.motion_min_score = v; }
     if let Some(v) = env("COVS") { params.match_covariance_scale = v; }
     let mut errs = std::collections::BTreeMap::<String, usize>::new();
     let mut mapper = Mapper::new(params);
@@ -63,7 +66,14 @@ fn main() {
         }
         for e in mapper.graph().edges() { if e.to != e.from + 1 { let a = mapper.poses()[e.from]; let b = mapper.poses()[e.to]; writeln!(f, "L {} {} {} {}", a.x, a.y, b.x, b.y).unwrap(); } }
     }
-    if let Some(rel) = args.get(2) {
+    if std::env::var("SELF").is_ok() {
+        let refs: Vec<(f64, Se2)> = stamps.iter().copied().zip(odoms.iter().copied()).enumerate().map(|(i, (t, p))| (if t == 0.0 { i as f64 } else { t }, p)).collect();
+        let rels = laserlines_slam::eval::relations_from_trajectory(&refs, 5);
+        let traj: Vec<(f64, Se2)> = refs.iter().map(|r| r.0).zip(mapper.poses().iter().copied()).collect();
+        let s = score_relations(&traj, &rels).unwrap();
+        eprintln!("self n {} trans {:.4} ± {:.4} (max {:.3}) rot {:.3} ± {:.3} deg (max {:.2})", s.n, s.translation_m.mean, s.translation_m.std, s.translation_m.max, s.rotation_deg.mean, s.rotation_deg.std, s.rotation_deg.max);
+    }
+    if let Some(rel) = args.get(2).filter(|s| *s != "-") {
         let text = std::fs::read_to_string(rel).unwrap();
         let rels: Vec<Relation> = text.lines().filter(|l| !l.trim().is_empty()).map(|l| {
             let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();

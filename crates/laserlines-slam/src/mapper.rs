@@ -13,6 +13,7 @@ use laserlines::{Line, RangeWindow, Scan};
 use nalgebra::Matrix3;
 
 use crate::cloud::{SurfacePoint, scan_normals};
+use crate::correlative::{CorrelativeGrid, SearchWindow};
 use crate::graph::{Edge, GraphError, OptimizeParams, OptimizeReport, PoseGraph, RobustKernel};
 use crate::icp::{IcpError, match_points};
 use crate::lines::{LineMatchParams, match_lines};
@@ -227,8 +228,7 @@ impl Mapper {
     }
 
     /// The predicted pose of the next scan and, with odometry, the information of that
-    /// prediction. Without odometry: the last motion repeated, refined by matching the
-    /// scan's lines onto the previous scan's when that match is within the ICP's basin.
+    /// prediction; without odometry, [`Mapper::search_motion`] from the last motion repeated.
     fn predict(&self, odometry: Option<Se2>, lines: &[Line]) -> (Se2, Option<Matrix3<f64>>) {
         let n = self.scans.len();
         if n == 0 {
@@ -244,20 +244,46 @@ impl Mapper {
                 let info = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0 / (st * st), 1.0 / (st * st), 1.0 / (sr * sr)));
                 (last * delta, Some(info))
             }
-            _ => {
-                let cv = self.constant_velocity().unwrap_or(last);
-                let seed = last.between(&cv);
-                let basin = &self.params.icp;
-                match match_lines(&self.scans[n - 1].lines, lines, seed, &LineMatchParams::default()) {
-                    Some(m)
-                        if m.pose.distance(&seed) < basin.basin_translation_m
-                            && laserlines::math::angle_diff(m.pose.theta, seed.theta) < basin.basin_rotation_rad =>
-                    {
-                        (last * m.pose, None)
-                    }
-                    _ => (cv, None),
-                }
+            _ => (last * self.search_motion(last.between(&self.constant_velocity().unwrap_or(last)), lines), None),
+        }
+    }
+
+    /// Without odometry: the motion since the previous scan, found by a correlative search of
+    /// this scan's points in a grid of the previous scan's (within
+    /// [`MapperParams::motion_window_m`] and [`MapperParams::motion_window_rad`] of
+    /// `seed`), else by matching this scan's lines onto the previous scan's from `seed`
+    /// (accepted within the ICP's basin), else `seed` itself.
+    fn search_motion(&self, seed: Se2, lines: &[Line]) -> Se2 {
+        let n = self.scans.len();
+        let range = self.params.loops.search_range_m;
+        let prev: Vec<Point2> = self.scans[n - 1].points.iter().copied().filter(|p| p.coords.norm() <= range).collect();
+        let step = (self.surface.len() / self.params.loops.search_points.max(1)).max(1);
+        let now: Vec<Point2> = self
+            .surface
+            .iter()
+            .map(|p| p.point)
+            .filter(|p| p.coords.norm() <= range)
+            .step_by(step)
+            .collect();
+        let l = &self.params.loops;
+        if let Some(grid) = CorrelativeGrid::new(&prev, l.grid_resolution_m, l.grid_sigma_m, l.grid_levels) {
+            let window = SearchWindow {
+                linear_m: self.params.motion_window_m,
+                angular_rad: self.params.motion_window_rad,
+            };
+            if let Some(found) = grid.search(&now, seed, window, self.params.motion_min_score) {
+                return found.pose;
             }
+        }
+        let basin = &self.params.icp;
+        match match_lines(&self.scans[n - 1].lines, lines, seed, &LineMatchParams::default()) {
+            Some(m)
+                if m.pose.distance(&seed) < basin.basin_translation_m
+                    && laserlines::math::angle_diff(m.pose.theta, seed.theta) < basin.basin_rotation_rad =>
+            {
+                m.pose
+            }
+            _ => seed,
         }
     }
 

@@ -30,6 +30,13 @@ pub struct MapperParams {
     pub confident_fraction: f64,
     /// Rotation between the retried seeds, rad (default 0.15).
     pub retry_rotation_rad: f64,
+    /// Without odometry, the motion between two scans is searched within this distance of
+    /// the last motion repeated, m (default 1.5) ...
+    pub motion_window_m: f64,
+    /// ... and this rotation, rad (default 1.0).
+    pub motion_window_rad: f64,
+    /// Smallest correlative score of that search (default 0.3).
+    pub motion_min_score: f64,
     /// Standard deviation of odometry's translation per metre travelled (default 0.1).
     pub odometry_sigma_per_m: f64,
     /// Standard deviation of odometry's heading per radian turned (default 0.5).
@@ -58,6 +65,9 @@ impl Default for MapperParams {
             icp: IcpParams::default(),
             confident_fraction: 0.8,
             retry_rotation_rad: 0.15,
+            motion_window_m: 1.5,
+            motion_window_rad: 1.0,
+            motion_min_score: 0.3,
             odometry_sigma_per_m: 0.1,
             odometry_sigma_per_rad: 0.5,
             odometry_sigma_min_m: 0.02,
