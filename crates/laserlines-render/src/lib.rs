@@ -1,12 +1,14 @@
 //! # laserlines-render
 //!
 //! Pictures of scans, accumulators and lines as SVG, written by a small SVG writer of its
-//! own (no dependency besides the core crate). Output is deterministic: the same input gives
+//! own (no dependency besides the core crate and `png` for occupancy maps). Output is deterministic: the same input gives
 //! the same bytes, so figures can be kept as golden files.
 //!
 //! Figures:
 //! - [`render_hough_split`]: the paper's Fig. 3a, 3b, 4 and 5 for one scan, as four panels;
-//! - [`render_scan_lines`]: a scan and the lines of any extractor.
+//! - [`render_scan_lines`]: a scan and the lines of any extractor;
+//! - [`render_map`]: a map built from a log (occupancy grid, line map, path), as the paper's
+//!   Fig. 8; [`encode_grey_png`] writes the grid alone.
 //!
 //! Building blocks, for more pictures:
 //! - [`Canvas`]: a figure with a title, panels in a grid and a legend;
@@ -23,6 +25,7 @@ mod canvas;
 mod chart;
 mod figures;
 mod geometry;
+mod map;
 mod panel;
 pub mod style;
 pub mod svg;
@@ -30,6 +33,7 @@ pub mod svg;
 pub use canvas::{Canvas, LegendEntry, Swatch};
 pub use chart::{ChartPoint, ScatterChart};
 pub use figures::{RenderOptions, render_hough_split, render_scan_lines};
+pub use map::{GreyMap, MapFigure, base64, encode_grey_png, render_map};
 pub use geometry::{Extent, decimals_for, nice_floor, nice_step, ticks};
 pub use panel::{Axis, Panel};
 pub use style::{Anchor, Color, Marker, Style, TextStyle};
