@@ -47,6 +47,10 @@ enum Command {
     Convert(cmd::convert::ConvertArgs),
     /// Replay a log with its lines on a Foxglove WebSocket on 127.0.0.1.
     View(cmd::view::ViewArgs),
+    /// Build a map and a trajectory from a log (scan matching, loop closure, pose graph).
+    Map(cmd::map::MapArgs),
+    /// Score a trajectory against relations (the Freiburg SLAM benchmark's metric).
+    Relations(cmd::relations::RelationsArgs),
 }
 
 /// Where scans come from: a path (or `-` for stdin) and an optional format override.
@@ -75,6 +79,8 @@ fn main() -> ExitCode {
         Command::Simulate(a) => cmd::simulate::run(&a),
         Command::Convert(a) => cmd::convert::run(&a),
         Command::View(a) => cmd::view::run(&a),
+        Command::Map(a) => cmd::map::run(&a),
+        Command::Relations(a) => cmd::relations::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

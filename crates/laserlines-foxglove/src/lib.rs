@@ -44,6 +44,7 @@
 
 #[cfg(feature = "live")]
 pub mod live;
+pub mod grid;
 pub mod proto;
 pub mod read;
 pub mod ros;

@@ -186,6 +186,22 @@ impl OccupancyGrid {
         (!v.is_nan() && i < self.width).then(|| 1.0 / (1.0 + (-f64::from(v)).exp()))
     }
 
+    /// The grid as ROS `nav_msgs/OccupancyGrid` values, row by row from the bottom (`y =
+    /// origin.y`) up: -1 unknown, else the probability of occupancy in percent.
+    #[must_use]
+    pub fn to_occupancy_percent(&self) -> Vec<i8> {
+        self.log_odds
+            .iter()
+            .map(|&v| {
+                if v.is_nan() {
+                    -1
+                } else {
+                    (100.0 / (1.0 + (-f64::from(v)).exp())).round() as i8
+                }
+            })
+            .collect()
+    }
+
     /// The grid as an 8-bit grey image in ROS `map_server` shades, top row first (the row of
     /// largest y): occupied 0 (black), free 254 (white), unknown 205 (grey).
     #[must_use]
@@ -227,6 +243,9 @@ mod tests {
         let px = g2.to_pixels();
         assert_eq!(px.len(), g2.width * g2.height);
         assert_eq!(px.iter().filter(|&&v| v == 0).count(), 1);
+        let pc = g2.to_occupancy_percent();
+        assert_eq!(pc[(j as usize) * g2.width + i as usize], 70); // 1 / (1 + e^-0.85)
+        assert_eq!(pc.iter().filter(|&&v| v == -1).count(), g2.width * g2.height - 21);
     }
 
     #[test]
