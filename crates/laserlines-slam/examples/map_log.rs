@@ -29,6 +29,7 @@ fn main() {
     if let Some(v) = env("MW") { params.motion_window_m = v; }
     if let Some(v) = env("MA") { params.motion_window_rad = v; }
     if let Some(v) = env("MS") { params.motion_min_score = v; }
+    if let Some(v) = env("OPTE") { params.loops.optimize_every_scans = v as usize; }
     if let Some(v) = env("COVS") { params.match_covariance_scale = v; }
     let mut errs = std::collections::BTreeMap::<String, usize>::new();
     let mut mapper = Mapper::new(params);

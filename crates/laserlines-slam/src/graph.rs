@@ -8,6 +8,7 @@
 //! `rho(e^T Omega e)`; the first node is held in place.
 
 use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
 use laserlines::math::wrap_angle;
@@ -210,12 +211,14 @@ impl PoseGraph {
                 final_cost: cost,
             });
         }
+        // The sparsity pattern is the same in every round: analysed once.
+        let mut symbolic = None;
         while iterations < params.max_iterations {
             iterations += 1;
             let (h, g) = self.normal_equations();
             let mut improved = false;
             for _ in 0..10 {
-                let step = solve(&h, &g, lambda, self.nodes.len())?;
+                let step = solve(&h, &g, lambda, self.nodes.len(), &mut symbolic)?;
                 let moved: Vec<Se2> = self
                     .nodes
                     .iter()
@@ -276,8 +279,14 @@ impl PoseGraph {
     }
 }
 
-/// Solves `(H + lambda diag(H)) dx = -g`.
-fn solve(h: &[Triplet<usize, usize, f64>], g: &[f64], lambda: f64, nodes: usize) -> Result<Vec<f64>, GraphError> {
+/// Solves `(H + lambda diag(H)) dx = -g`, analysing the pattern on the first call.
+fn solve(
+    h: &[Triplet<usize, usize, f64>],
+    g: &[f64],
+    lambda: f64,
+    nodes: usize,
+    symbolic: &mut Option<SymbolicLlt<usize>>,
+) -> Result<Vec<f64>, GraphError> {
     let dim = 3 * nodes;
     let mut diag = vec![0.0; dim];
     for t in h {
@@ -292,9 +301,16 @@ fn solve(h: &[Triplet<usize, usize, f64>], g: &[f64], lambda: f64, nodes: usize)
     }
     let m = SparseColMat::<usize, f64>::try_new_from_triplets(dim, dim, &all)
         .map_err(|e| GraphError::Singular(format!("{e:?}")))?;
-    let llt = m
-        .sp_cholesky(Side::Lower)
-        .map_err(|e| GraphError::Singular(format!("{e:?}")))?;
+    let singular = |e: &dyn std::fmt::Debug| GraphError::Singular(format!("{e:?}"));
+    let sym = match symbolic {
+        Some(s) => s.clone(),
+        None => {
+            let s = SymbolicLlt::try_new(m.symbolic(), Side::Lower).map_err(|e| singular(&e))?;
+            *symbolic = Some(s.clone());
+            s
+        }
+    };
+    let llt = Llt::try_new_with_symbolic(sym, m.as_ref(), Side::Lower).map_err(|e| singular(&e))?;
     let rhs = Mat::from_fn(dim, 1, |i, _| -g[i]);
     let x = llt.solve(&rhs);
     Ok((0..dim).map(|i| x[(i, 0)]).collect())

@@ -116,8 +116,9 @@ impl Mapper {
     }
 
     /// Adds a scan with its lines (sensor frame) and, when the robot has it, the odometry
-    /// pose at the scan's time (`odom_from_robot`, any fixed odometry frame). The first
-    /// scan defines the map frame.
+    /// pose at the scan's time (`odom_from_robot`, any fixed odometry frame; the mount
+    /// [`MapperParams::robot_from_sensor`] turns it into the sensor's). The first scan's
+    /// sensor frame is the map frame. The returned pose is the sensor's, `map_from_sensor`.
     ///
     /// # Errors
     /// [`GraphError`] when the pose graph cannot be optimised.
@@ -135,6 +136,7 @@ impl Mapper {
             }
         }
         let node = self.scans.len();
+        let odometry = odometry.map(|o| o * self.params.robot_from_sensor);
         let (guess, prior) = self.predict(odometry, lines);
         let (pose, information, match_error) = match self.match_scan(guess, prior.as_ref()) {
             Ok((pose, cov)) => (pose, cov.try_inverse().unwrap_or_else(weak_information), None),
@@ -189,7 +191,13 @@ impl Mapper {
         Ok(report)
     }
 
-    /// `map_from_scan` of every scan so far, in order.
+    /// `map_from_robot` of scan `node` now (the sensor's pose moved back by the mount).
+    #[must_use]
+    pub fn robot_pose(&self, node: usize) -> Option<Se2> {
+        self.poses().get(node).map(|p| *p * self.params.robot_from_sensor.inverse())
+    }
+
+    /// `map_from_sensor` of every scan so far, in order.
     #[must_use]
     pub fn poses(&self) -> &[Se2] {
         self.graph.nodes()

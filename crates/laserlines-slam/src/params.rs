@@ -1,10 +1,14 @@
 //! Settings of the [`Mapper`](crate::Mapper), with their units, defaults and sensible ranges.
 
 use crate::icp::IcpParams;
+use crate::se2::Se2;
 
 /// Settings of the whole mapping pipeline.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MapperParams {
+    /// Where the laser sits on the robot (`robot_from_sensor`): odometry poses are the
+    /// robot's, scans and the mapper's poses the sensor's (default: identity).
+    pub robot_from_sensor: Se2,
     /// Points farther than this from the sensor are not used for matching, m (default 30;
     /// 5..80). Long ranges fix headings well but are sparse.
     pub max_range_m: f64,
@@ -55,6 +59,7 @@ pub struct MapperParams {
 impl Default for MapperParams {
     fn default() -> Self {
         Self {
+            robot_from_sensor: Se2::IDENTITY,
             max_range_m: 30.0,
             min_range_m: 0.1,
             normal_half_window: 3,
@@ -112,7 +117,7 @@ pub struct LoopParams {
     /// Scale of the Cauchy kernel on closure edges, in standard deviations (default 3).
     pub cauchy_scale: f64,
     /// The graph is optimised after a closure once this many scans passed since the last
-    /// optimisation (default 20).
+    /// optimisation (default 50).
     pub optimize_every_scans: usize,
 }
 
@@ -132,7 +137,7 @@ impl Default for LoopParams {
             min_score: 0.6,
             min_inlier_fraction: 0.7,
             cauchy_scale: 3.0,
-            optimize_every_scans: 20,
+            optimize_every_scans: 50,
         }
     }
 }
