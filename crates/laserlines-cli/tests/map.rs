@@ -12,7 +12,9 @@ fn bin() -> Command {
 }
 
 fn repo(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(path)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(path)
 }
 
 fn tmp(name: &str) -> PathBuf {
@@ -63,7 +65,15 @@ fn maps_the_bundled_excerpt_with_every_output() {
     let err = text(&o.stderr);
     assert!(err.contains("40 scans"), "summary: {err}");
     assert!(err.contains("loop closures:"), "summary: {err}");
-    for f in ["trajectory.tum", "log-poses.tum", "map.pgm", "map.yaml", "map.png", "lines.json", "map.svg"] {
+    for f in [
+        "trajectory.tum",
+        "log-poses.tum",
+        "map.pgm",
+        "map.yaml",
+        "map.png",
+        "lines.json",
+        "map.svg",
+    ] {
         assert!(dir.join(f).is_file(), "{f} missing");
     }
     // One pose per scan, stamped with the scan's time; the first scan is the map frame.
@@ -71,32 +81,64 @@ fn maps_the_bundled_excerpt_with_every_output() {
     let logged = tum_rows(&dir.join("log-poses.tum"));
     assert_eq!(traj.len(), 40);
     let first = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
-    assert!(traj[0][1..].iter().zip(first).all(|(a, b)| (a - b).abs() < 1e-9), "{:?}", traj[0]);
+    assert!(
+        traj[0][1..]
+            .iter()
+            .zip(first)
+            .all(|(a, b)| (a - b).abs() < 1e-9),
+        "{:?}",
+        traj[0]
+    );
     for (a, b) in traj.iter().zip(&logged) {
         assert_eq!(a[0], b[0]);
     }
     // map_server files agree with each other.
     let yaml = std::fs::read_to_string(dir.join("map.yaml")).unwrap();
-    assert!(yaml.starts_with("image: map.pgm\nresolution: 0.05\norigin: ["), "{yaml}");
+    assert!(
+        yaml.starts_with("image: map.pgm\nresolution: 0.05\norigin: ["),
+        "{yaml}"
+    );
     let pgm = std::fs::read(dir.join("map.pgm")).unwrap();
     let header = text(&pgm[..pgm.len().min(32)]);
     let mut h = header.split_whitespace();
     assert_eq!(h.next(), Some("P5"));
-    let (w, hgt): (usize, usize) = (h.next().unwrap().parse().unwrap(), h.next().unwrap().parse().unwrap());
+    let (w, hgt): (usize, usize) = (
+        h.next().unwrap().parse().unwrap(),
+        h.next().unwrap().parse().unwrap(),
+    );
     assert!(pgm.len() > w * hgt && pgm.ends_with(&pgm[pgm.len() - w * hgt..]));
-    assert!(pgm[pgm.len() - w * hgt..].iter().all(|v| [0, 205, 254].contains(v)));
-    assert!(pgm[pgm.len() - w * hgt..].contains(&0), "some cells are occupied");
-    let lines: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.join("lines.json")).unwrap()).unwrap();
+    assert!(
+        pgm[pgm.len() - w * hgt..]
+            .iter()
+            .all(|v| [0, 205, 254].contains(v))
+    );
+    assert!(
+        pgm[pgm.len() - w * hgt..].contains(&0),
+        "some cells are occupied"
+    );
+    let lines: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("lines.json")).unwrap()).unwrap();
     assert_eq!(lines["frame"], "map");
     assert!(!lines["lines"].as_array().unwrap().is_empty());
-    assert!(std::fs::read_to_string(dir.join("map.svg")).unwrap().contains("data:image/png;base64,"));
+    assert!(
+        std::fs::read_to_string(dir.join("map.svg"))
+            .unwrap()
+            .contains("data:image/png;base64,")
+    );
     assert!(std::fs::metadata(&mcap).unwrap().len() > 1000);
     // A trajectory scored against itself: no error at all.
-    let o = run(bin().arg("relations").arg(dir.join("trajectory.tum")).arg(dir.join("trajectory.tum")).args(["--every", "3"]));
+    let o = run(bin()
+        .arg("relations")
+        .arg(dir.join("trajectory.tum"))
+        .arg(dir.join("trajectory.tum"))
+        .args(["--every", "3"]));
     assert!(o.status.success(), "{}", text(&o.stderr));
     let out = text(&o.stdout);
     assert!(out.starts_with("13 relations of"), "{out}");
-    assert!(out.contains("translational error              0.000000 +-   0.000000 m"), "{out}");
+    assert!(
+        out.contains("translational error              0.000000 +-   0.000000 m"),
+        "{out}"
+    );
 }
 
 #[test]
@@ -104,8 +146,17 @@ fn bad_input_ends_in_a_clear_error() {
     // A scan without a pose, mapped with odometry.
     let csv = repo("crates/laserlines-io/tests/fixtures/scan.csv");
     let o = run(bin().arg("map").arg(&csv).arg("-o").arg(tmp("csv")));
-    assert_clean_error(&o, "scan.csv", "no odometry pose; map it with --odometry off");
-    let o = run(bin().arg("map").arg(&csv).arg("-o").arg(tmp("csv")).args(["--odometry", "off"]));
+    assert_clean_error(
+        &o,
+        "scan.csv",
+        "no odometry pose; map it with --odometry off",
+    );
+    let o = run(bin()
+        .arg("map")
+        .arg(&csv)
+        .arg("-o")
+        .arg(tmp("csv"))
+        .args(["--odometry", "off"]));
     assert!(o.status.success(), "{}", text(&o.stderr));
     // An empty log.
     let empty = tmp("empty.jsonl");
@@ -139,12 +190,18 @@ fn mit_csail() -> Option<(PathBuf, PathBuf)> {
         "LASERLINES_REQUIRE_SHARED=1 but {} is absent",
         real.display()
     );
-    eprintln!("notice: {} is absent; skipping the MIT CSAIL mapping test", real.display());
+    eprintln!(
+        "notice: {} is absent; skipping the MIT CSAIL mapping test",
+        real.display()
+    );
     None
 }
 
 #[test]
-#[cfg_attr(debug_assertions, ignore = "maps 1988 scans: needs optimisations, cargo test --release (.ci/run does)")]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "maps 1988 scans: needs optimisations, cargo test --release (.ci/run does)"
+)]
 fn mit_csail_meets_the_benchmark_bound() {
     let Some((log, rel)) = mit_csail() else {
         return;
@@ -153,14 +210,22 @@ fn mit_csail_meets_the_benchmark_bound() {
     let o = run(bin().arg("map").arg(&log).arg("-o").arg(&dir));
     assert!(o.status.success(), "{}", text(&o.stderr));
     eprintln!("{}", text(&o.stderr));
-    let o = run(bin().arg("relations").arg(dir.join("trajectory.tum")).arg(&rel));
+    let o = run(bin()
+        .arg("relations")
+        .arg(dir.join("trajectory.tum"))
+        .arg(&rel));
     assert!(o.status.success(), "{}", text(&o.stderr));
     let out = text(&o.stdout);
     eprintln!("{out}");
     assert!(out.starts_with("1172 relations of"), "{out}");
     let mean = |name: &str| -> f64 {
         let line = out.lines().find(|l| l.starts_with(name)).unwrap();
-        line[name.len()..].split_whitespace().next().unwrap().parse().unwrap()
+        line[name.len()..]
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
     };
     let t = mean("translational error");
     let r = mean("rotational error");

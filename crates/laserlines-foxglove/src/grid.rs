@@ -82,7 +82,13 @@ mod tests {
         let g = occupancy_grid(&[-1, 0, 100, 50], 2, 2, 0.05, (1.0, -2.0), "world", 3.0).unwrap();
         assert_eq!(g.column_count, 2);
         assert_eq!(g.row_stride, 10);
-        assert_eq!(&g.data[..], &[128, 128, 128, 60, 255, 255, 255, 255, 255, 0, 0, 0, 0, 255, 100, 128, 128, 128, 255, 50]);
+        assert_eq!(
+            &g.data[..],
+            &[
+                128, 128, 128, 60, 255, 255, 255, 255, 255, 0, 0, 0, 0, 255, 100, 128, 128, 128,
+                255, 50
+            ]
+        );
         assert_eq!(g.pose.unwrap().position.unwrap().y, -2.0);
         assert!(occupancy_grid(&[0; 3], 2, 2, 0.05, (0.0, 0.0), "world", 0.0).is_none());
     }

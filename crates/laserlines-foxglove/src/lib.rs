@@ -42,9 +42,9 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod grid;
 #[cfg(feature = "live")]
 pub mod live;
-pub mod grid;
 pub mod proto;
 pub mod read;
 pub mod ros;

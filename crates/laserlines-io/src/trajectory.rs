@@ -91,23 +91,28 @@ pub fn read_tum(name: &str, input: impl BufRead) -> Result<Vec<StampedPose>, Rea
 /// out of the plane (`z`, roll or pitch not 0).
 pub fn read_relations(name: &str, input: impl BufRead) -> Result<Vec<RelationRecord>, ReadError> {
     let mut out = Vec::new();
-    for_each_row(name, input, "8 numbers: t1 t2 x y z roll pitch yaw", |pos, v| {
-        let [t1, t2, x, y, z, roll, pitch, yaw] = v;
-        if z.abs() > 1e-6 || roll.abs() > 1e-6 || pitch.abs() > 1e-6 {
-            return Err(ReadError::Field {
-                pos,
-                field: "z roll pitch".into(),
-                expected: "0 0 0 (a planar relation)".into(),
-                found: format!("{z} {roll} {pitch}"),
+    for_each_row(
+        name,
+        input,
+        "8 numbers: t1 t2 x y z roll pitch yaw",
+        |pos, v| {
+            let [t1, t2, x, y, z, roll, pitch, yaw] = v;
+            if z.abs() > 1e-6 || roll.abs() > 1e-6 || pitch.abs() > 1e-6 {
+                return Err(ReadError::Field {
+                    pos,
+                    field: "z roll pitch".into(),
+                    expected: "0 0 0 (a planar relation)".into(),
+                    found: format!("{z} {roll} {pitch}"),
+                });
+            }
+            out.push(RelationRecord {
+                t1,
+                t2,
+                delta: Pose2::new(x, y, yaw),
             });
-        }
-        out.push(RelationRecord {
-            t1,
-            t2,
-            delta: Pose2::new(x, y, yaw),
-        });
-        Ok(())
-    })?;
+            Ok(())
+        },
+    )?;
     Ok(out)
 }
 
@@ -179,7 +184,12 @@ pub struct MapImage<'a> {
 ///
 /// # Errors
 /// The writers' errors; `InvalidInput` when the image does not have `width * height` values.
-pub fn write_map_server(pgm: &mut impl Write, yaml: &mut impl Write, image_name: &str, map: &MapImage<'_>) -> std::io::Result<()> {
+pub fn write_map_server(
+    pgm: &mut impl Write,
+    yaml: &mut impl Write,
+    image_name: &str,
+    map: &MapImage<'_>,
+) -> std::io::Result<()> {
     let MapImage {
         pixels,
         width,
@@ -190,7 +200,10 @@ pub fn write_map_server(pgm: &mut impl Write, yaml: &mut impl Write, image_name:
     if pixels.len() != width.saturating_mul(height) {
         return Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
-            format!("{} grey values for a {width} x {height} image", pixels.len()),
+            format!(
+                "{} grey values for a {width} x {height} image",
+                pixels.len()
+            ),
         ));
     }
     write!(pgm, "P5\n{width} {height}\n255\n")?;
@@ -238,15 +251,32 @@ mod tests {
     #[test]
     fn bad_lines_are_named() {
         let e = read_tum("t.tum", "# c\n1 2 3 0 0 0 0 1\n1 2 3\n".as_bytes()).unwrap_err();
-        assert_eq!(e.to_string(), "t.tum:3: expected 8 numbers: t x y z qx qy qz qw, found 3 values");
+        assert_eq!(
+            e.to_string(),
+            "t.tum:3: expected 8 numbers: t x y z qx qy qz qw, found 3 values"
+        );
         let e = read_tum("t.tum", "1 2 3 0 0 0 0 2\n".as_bytes()).unwrap_err();
-        assert!(e.to_string().starts_with("t.tum:1: qx qy qz qw: expected a unit quaternion"), "{e}");
+        assert!(
+            e.to_string()
+                .starts_with("t.tum:1: qx qy qz qw: expected a unit quaternion"),
+            "{e}"
+        );
         let e = read_relations("r", "1 2 0.1 0.2 0 0 0 nan\n".as_bytes()).unwrap_err();
-        assert_eq!(e.to_string(), "r:1: value 8: expected a finite number, found \"nan\"");
+        assert_eq!(
+            e.to_string(),
+            "r:1: value 8: expected a finite number, found \"nan\""
+        );
         let e = read_relations("r", "1 2 0.1 0.2 0.5 0 0 0.3\n".as_bytes()).unwrap_err();
         assert!(e.to_string().contains("a planar relation"), "{e}");
         let r = read_relations("r", "1 2 0.1 0.2 0.000000 0 0 0.3\n\n".as_bytes()).unwrap();
-        assert_eq!(r, vec![RelationRecord { t1: 1.0, t2: 2.0, delta: Pose2::new(0.1, 0.2, 0.3) }]);
+        assert_eq!(
+            r,
+            vec![RelationRecord {
+                t1: 1.0,
+                t2: 2.0,
+                delta: Pose2::new(0.1, 0.2, 0.3)
+            }]
+        );
     }
 
     #[test]
@@ -263,8 +293,14 @@ mod tests {
         assert_eq!(&pgm[..11], b"P5\n3 2\n255\n");
         assert_eq!(&pgm[11..], &[0, 254, 205, 0, 0, 0]);
         let y = String::from_utf8(yaml).unwrap();
-        assert!(y.contains("image: map.pgm\nresolution: 0.05\norigin: [-1.5, 2, 0.0]\n"), "{y}");
-        let short = MapImage { pixels: &[0; 5], ..map };
+        assert!(
+            y.contains("image: map.pgm\nresolution: 0.05\norigin: [-1.5, 2, 0.0]\n"),
+            "{y}"
+        );
+        let short = MapImage {
+            pixels: &[0; 5],
+            ..map
+        };
         assert!(write_map_server(&mut Vec::new(), &mut Vec::new(), "m", &short).is_err());
     }
 }

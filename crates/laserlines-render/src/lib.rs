@@ -33,7 +33,7 @@ pub mod svg;
 pub use canvas::{Canvas, LegendEntry, Swatch};
 pub use chart::{ChartPoint, ScatterChart};
 pub use figures::{RenderOptions, render_hough_split, render_scan_lines};
-pub use map::{GreyMap, MapFigure, base64, encode_grey_png, render_map};
 pub use geometry::{Extent, decimals_for, nice_floor, nice_step, ticks};
+pub use map::{GreyMap, MapFigure, base64, encode_grey_png, render_map};
 pub use panel::{Axis, Panel};
 pub use style::{Anchor, Color, Marker, Style, TextStyle};

@@ -74,9 +74,14 @@ pub fn render_map(fig: &MapFigure<'_>) -> Result<String, png::EncodingError> {
     panel.set_labels("x [m]", "y [m]");
     if let Some(g) = &fig.grid {
         let png = encode_grey_png(g.pixels, g.width, g.height)?;
-        panel.image(g.extent(), &format!("data:image/png;base64,{}", base64(&png)));
+        panel.image(
+            g.extent(),
+            &format!("data:image/png;base64,{}", base64(&png)),
+        );
     }
-    let closure = Style::stroke(CLOSURE, 0.6).with_opacity(0.6).with_class("closure");
+    let closure = Style::stroke(CLOSURE, 0.6)
+        .with_opacity(0.6)
+        .with_class("closure");
     for &(a, b) in fig.closures {
         panel.line(a, b, &closure);
     }
@@ -100,7 +105,10 @@ pub fn render_map(fig: &MapFigure<'_>) -> Result<String, png::EncodingError> {
         Swatch::Line(Style::stroke(WALL, 1.2)),
         "line map: the scans' lines merged into walls",
     ));
-    canvas.add_legend(LegendEntry::new(Swatch::Line(Style::stroke(PATH, 1.0)), "path"));
+    canvas.add_legend(LegendEntry::new(
+        Swatch::Line(Style::stroke(PATH, 1.0)),
+        "path",
+    ));
     if !fig.closures.is_empty() {
         canvas.add_legend(LegendEntry::new(
             Swatch::Line(Style::stroke(CLOSURE, 0.6)),
@@ -118,7 +126,11 @@ pub fn render_map(fig: &MapFigure<'_>) -> Result<String, png::EncodingError> {
 ///
 /// # Errors
 /// The encoder's error (e.g. a wrong number of pixels, a zero size).
-pub fn encode_grey_png(pixels: &[u8], width: usize, height: usize) -> Result<Vec<u8>, png::EncodingError> {
+pub fn encode_grey_png(
+    pixels: &[u8],
+    width: usize,
+    height: usize,
+) -> Result<Vec<u8>, png::EncodingError> {
     let too_big = || png::EncodingError::LimitsExceeded;
     let w = u32::try_from(width).map_err(|_| too_big())?;
     let h = u32::try_from(height).map_err(|_| too_big())?;
@@ -139,7 +151,11 @@ pub fn base64(bytes: &[u8]) -> String {
     const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
     for chunk in bytes.chunks(3) {
-        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
         let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
         for k in 0..4 {
             if k <= chunk.len() {
@@ -159,7 +175,15 @@ mod tests {
     #[test]
     fn base64_of_known_strings() {
         // RFC 4648 section 10.
-        for (plain, coded) in [("", ""), ("f", "Zg=="), ("fo", "Zm8="), ("foo", "Zm9v"), ("foob", "Zm9vYg=="), ("fooba", "Zm9vYmE="), ("foobar", "Zm9vYmFy")] {
+        for (plain, coded) in [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ] {
             assert_eq!(base64(plain.as_bytes()), coded);
         }
     }
@@ -184,7 +208,10 @@ mod tests {
             closures: &[],
         })
         .unwrap();
-        assert!(svg.contains("data:image/png;base64,iVBORw0KGgo"), "PNG signature");
+        assert!(
+            svg.contains("data:image/png;base64,iVBORw0KGgo"),
+            "PNG signature"
+        );
         assert!(svg.contains("class=\"wall\""));
         assert!(svg.contains("class=\"path\""));
         let png = encode_grey_png(&pixels, 2, 2).unwrap();

@@ -25,7 +25,11 @@ pub struct SurfacePoint {
 /// more than a tenth of the larger), or that has fewer than three neighbours, gets `None`.
 /// Normals point toward the sensor.
 #[must_use]
-pub fn scan_normals(points: &[ScanPoint], angle_increment: f64, half_window: usize) -> Vec<Option<Vector2>> {
+pub fn scan_normals(
+    points: &[ScanPoint],
+    angle_increment: f64,
+    half_window: usize,
+) -> Vec<Option<Vector2>> {
     let spacing = angle_increment.abs();
     let mut out = Vec::with_capacity(points.len());
     for (i, sp) in points.iter().enumerate() {
@@ -82,7 +86,11 @@ fn flat_normal(n: f64, sx: f64, sy: f64, sxx: f64, sxy: f64, syy: f64) -> Option
 
 /// `normal` flipped, if needed, to point from `point` toward the origin.
 fn orient_toward(normal: Vector2, point: Point2) -> Vector2 {
-    if normal.dot(&point.coords) > 0.0 { -normal } else { normal }
+    if normal.dot(&point.coords) > 0.0 {
+        -normal
+    } else {
+        normal
+    }
 }
 
 /// Points with normals in one frame, thinned to one per voxel, with a grid index for nearest
@@ -125,7 +133,10 @@ impl PointCloud {
             return false;
         }
         self.voxels.insert(v, id);
-        self.index.entry(key(p.point, self.cell)).or_default().push(id);
+        self.index
+            .entry(key(p.point, self.cell))
+            .or_default()
+            .push(id);
         self.points.push(p);
         true
     }
@@ -167,7 +178,10 @@ impl PointCloud {
                 }
             }
             for (di, dj) in ring_cells(ring) {
-                let Some(ids) = self.index.get(&(ci.saturating_add(di), cj.saturating_add(dj))) else {
+                let Some(ids) = self
+                    .index
+                    .get(&(ci.saturating_add(di), cj.saturating_add(dj)))
+                else {
                     continue;
                 };
                 for &id in ids {
@@ -187,7 +201,9 @@ fn ring_cells(ring: i32) -> impl Iterator<Item = (i32, i32)> {
     let top_bottom = (-ring..=ring).flat_map(move |d| [(d, -ring), (d, ring)]);
     let sides = (-ring + 1..ring).flat_map(move |d| [(-ring, d), (ring, d)]);
     // Ring 0 is the one centre cell (listed twice above).
-    top_bottom.chain(sides).take(if ring == 0 { 1 } else { usize::MAX })
+    top_bottom
+        .chain(sides)
+        .take(if ring == 0 { 1 } else { usize::MAX })
 }
 
 /// The grid cell of `p` for cells of side `size`, saturating far from the origin.

@@ -47,7 +47,11 @@ impl CorrelativeGrid {
     /// with `levels` max-pooled levels (`levels` = 1 + the deepest `h`). `None` without points.
     #[must_use]
     pub fn new(points: &[Point2], resolution_m: f64, sigma_m: f64, levels: usize) -> Option<Self> {
-        let finite: Vec<Point2> = points.iter().copied().filter(|p| p.x.is_finite() && p.y.is_finite()).collect();
+        let finite: Vec<Point2> = points
+            .iter()
+            .copied()
+            .filter(|p| p.x.is_finite() && p.y.is_finite())
+            .collect();
         let first = finite.first()?;
         let (mut lo, mut hi) = (*first, *first);
         for p in &finite {
@@ -136,15 +140,23 @@ impl CorrelativeGrid {
             return None;
         }
         let res = self.resolution;
-        let far = points.iter().map(|p| p.coords.norm()).fold(0.0, f64::max).max(res);
-        let angle_step = (1.0 - res * res / (2.0 * far * far)).clamp(-1.0, 1.0).acos().max(1e-4);
+        let far = points
+            .iter()
+            .map(|p| p.coords.norm())
+            .fold(0.0, f64::max)
+            .max(res);
+        let angle_step = (1.0 - res * res / (2.0 * far * far))
+            .clamp(-1.0, 1.0)
+            .acos()
+            .max(1e-4);
         let n_angles = (window.angular_rad / angle_step).ceil() as i64;
         let wx = (window.linear_m / res).ceil() as i64;
         let top = self.levels.len() - 1;
         let block = 1i64 << top;
         let n = points.len() as f64;
         // Rotated point sets, in cells relative to the guess's translation.
-        let mut rotations: Vec<(f64, Vec<(i64, i64)>)> = Vec::with_capacity((2 * n_angles + 1) as usize);
+        let mut rotations: Vec<(f64, Vec<(i64, i64)>)> =
+            Vec::with_capacity((2 * n_angles + 1) as usize);
         for k in -n_angles..=n_angles {
             let theta = guess.theta + k as f64 * angle_step;
             let pose = Se2::new(guess.x, guess.y, theta);
@@ -175,12 +187,21 @@ impl CorrelativeGrid {
                 ox += block;
             }
         }
-        candidates.sort_by(|a, b| b.0.cmp(&a.0));
+        candidates.sort_by_key(|c| std::cmp::Reverse(c.0));
         for (s, r, ox, oy) in candidates {
             if (s as f64) <= best_score {
                 break;
             }
-            self.branch(top, &rotations[r].1, r, ox, oy, wx, &mut best_score, &mut best);
+            self.branch(
+                top,
+                &rotations[r].1,
+                r,
+                ox,
+                oy,
+                wx,
+                &mut best_score,
+                &mut best,
+            );
         }
         let (r, ox, oy) = best?;
         Some(CorrelativeMatch {
@@ -226,7 +247,7 @@ impl CorrelativeGrid {
             count += 1;
         }
         let children = &mut children[..count];
-        children.sort_by(|a, b| b.0.cmp(&a.0));
+        children.sort_by_key(|c| std::cmp::Reverse(c.0));
         for &(s, cx, cy) in children.iter() {
             if (s as f64) <= *best_score {
                 break;
@@ -276,7 +297,11 @@ mod tests {
         let reference = walls();
         let grid = CorrelativeGrid::new(&reference, 0.05, 0.05, 6).unwrap();
         let truth = Se2::new(0.7, -0.45, 0.2);
-        let scan: Vec<Point2> = reference.iter().map(|p| truth.inverse().transform(*p)).step_by(3).collect();
+        let scan: Vec<Point2> = reference
+            .iter()
+            .map(|p| truth.inverse().transform(*p))
+            .step_by(3)
+            .collect();
         let window = SearchWindow {
             linear_m: 1.0,
             angular_rad: 0.35,
@@ -287,7 +312,18 @@ mod tests {
         assert!(m.score > 0.8);
         // Outside the window: the true pose cannot be found and nothing scores high.
         let far = Se2::new(2.5, 0.0, 0.0);
-        assert!(grid.search(&scan, far, SearchWindow { linear_m: 0.3, angular_rad: 0.05 }, 0.8).is_none());
+        assert!(
+            grid.search(
+                &scan,
+                far,
+                SearchWindow {
+                    linear_m: 0.3,
+                    angular_rad: 0.05
+                },
+                0.8
+            )
+            .is_none()
+        );
     }
 
     #[test]
@@ -295,7 +331,11 @@ mod tests {
         let reference = walls();
         let grid = CorrelativeGrid::new(&reference, 0.1, 0.1, 4).unwrap();
         let truth = Se2::new(-0.33, 0.21, -0.1);
-        let scan: Vec<Point2> = reference.iter().map(|p| truth.inverse().transform(*p)).step_by(7).collect();
+        let scan: Vec<Point2> = reference
+            .iter()
+            .map(|p| truth.inverse().transform(*p))
+            .step_by(7)
+            .collect();
         let window = SearchWindow {
             linear_m: 0.6,
             angular_rad: 0.15,
@@ -314,7 +354,10 @@ mod tests {
                 .iter()
                 .map(|p| {
                     let q = pose.transform(*p);
-                    (floor_i64((q.x - grid.origin.x) / res), floor_i64((q.y - grid.origin.y) / res))
+                    (
+                        floor_i64((q.x - grid.origin.x) / res),
+                        floor_i64((q.y - grid.origin.y) / res),
+                    )
                 })
                 .collect();
             for ox in -wx..=wx {
@@ -324,6 +367,10 @@ mod tests {
             }
         }
         let exhaustive = best as f64 / (255.0 * scan.len() as f64);
-        assert!((m.score - exhaustive).abs() < 1e-12, "{} vs {exhaustive}", m.score);
+        assert!(
+            (m.score - exhaustive).abs() < 1e-12,
+            "{} vs {exhaustive}",
+            m.score
+        );
     }
 }

@@ -101,8 +101,15 @@ pub fn relation_error(from: &Se2, to: &Se2, reference: &Se2) -> (f64, f64) {
 ///
 /// # Errors
 /// [`UnmatchedTime`] for the first relation with a time stamp that matches no pose.
-pub fn score_relations(trajectory: &[(f64, Se2)], relations: &[Relation]) -> Result<RelationsScore, UnmatchedTime> {
-    let mut sorted: Vec<(f64, Se2)> = trajectory.iter().copied().filter(|(t, _)| t.is_finite()).collect();
+pub fn score_relations(
+    trajectory: &[(f64, Se2)],
+    relations: &[Relation],
+) -> Result<RelationsScore, UnmatchedTime> {
+    let mut sorted: Vec<(f64, Se2)> = trajectory
+        .iter()
+        .copied()
+        .filter(|(t, _)| t.is_finite())
+        .collect();
     sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
     let find = |t: f64, index: usize| -> Result<Se2, UnmatchedTime> {
         let i = sorted.partition_point(|(s, _)| *s < t);
@@ -170,42 +177,94 @@ mod tests {
     fn hand_computed_errors() {
         let relations = [
             // The reference says 1.1 m ahead: 0.1 m off, no rotation error.
-            Relation { t1: 0.0, t2: 1.0, delta: Se2::new(1.1, 0.0, 0.0) },
+            Relation {
+                t1: 0.0,
+                t2: 1.0,
+                delta: Se2::new(1.1, 0.0, 0.0),
+            },
             // Right translation (1 m left of pose 1), heading 0.1 rad more: 5.7296 deg.
-            Relation { t1: 1.0, t2: 2.0, delta: Se2::new(0.0, 1.0, FRAC_PI_2 + 0.1) },
+            Relation {
+                t1: 1.0,
+                t2: 2.0,
+                delta: Se2::new(0.0, 1.0, FRAC_PI_2 + 0.1),
+            },
             // Time 2.05 takes the pose at 2.0 (within 0.1 s); 0.2 m off along y.
-            Relation { t1: 0.0, t2: 2.05, delta: Se2::new(1.0, 1.2, FRAC_PI_2) },
+            Relation {
+                t1: 0.0,
+                t2: 2.05,
+                delta: Se2::new(1.0, 1.2, FRAC_PI_2),
+            },
         ];
         let s = score_relations(&trajectory(), &relations).unwrap();
         assert_eq!(s.n, 3);
         let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
-        assert!(close(s.errors[0].0, 0.1) && close(s.errors[0].1, 0.0), "{:?}", s.errors);
-        assert!(close(s.errors[1].0, 0.0) && close(s.errors[1].1, 0.1f64.to_degrees()), "{:?}", s.errors);
-        assert!(close(s.errors[2].0, 0.2) && close(s.errors[2].1, 0.0), "{:?}", s.errors);
+        assert!(
+            close(s.errors[0].0, 0.1) && close(s.errors[0].1, 0.0),
+            "{:?}",
+            s.errors
+        );
+        assert!(
+            close(s.errors[1].0, 0.0) && close(s.errors[1].1, 0.1f64.to_degrees()),
+            "{:?}",
+            s.errors
+        );
+        assert!(
+            close(s.errors[2].0, 0.2) && close(s.errors[2].1, 0.0),
+            "{:?}",
+            s.errors
+        );
         assert!(close(s.translation_m.mean, 0.1));
         assert!(close(s.translation_m.std, (0.02f64 / 3.0).sqrt()));
         assert!(close(s.translation_m.max, 0.2));
         assert!(close(s.translation_sq_m2.mean, 0.05 / 3.0));
         assert!(close(s.rotation_deg.mean, 0.1f64.to_degrees() / 3.0));
-        assert!(close(s.rotation_sq_deg2.mean, 0.1f64.to_degrees().powi(2) / 3.0));
+        assert!(close(
+            s.rotation_sq_deg2.mean,
+            0.1f64.to_degrees().powi(2) / 3.0
+        ));
         assert!(close(s.rotation_deg.max, 0.1f64.to_degrees()));
     }
 
     #[test]
     fn headings_wrap_across_pi() {
-        let t = [(0.0, Se2::IDENTITY), (1.0, Se2::new(0.0, 0.0, -std::f64::consts::PI + 0.01))];
-        let r = [Relation { t1: 0.0, t2: 1.0, delta: Se2::new(0.0, 0.0, std::f64::consts::PI - 0.01) }];
+        let t = [
+            (0.0, Se2::IDENTITY),
+            (1.0, Se2::new(0.0, 0.0, -std::f64::consts::PI + 0.01)),
+        ];
+        let r = [Relation {
+            t1: 0.0,
+            t2: 1.0,
+            delta: Se2::new(0.0, 0.0, std::f64::consts::PI - 0.01),
+        }];
         let s = score_relations(&t, &r).unwrap();
-        assert!((s.errors[0].1 - 0.02f64.to_degrees()).abs() < 1e-9, "{:?}", s.errors);
+        assert!(
+            (s.errors[0].1 - 0.02f64.to_degrees()).abs() < 1e-9,
+            "{:?}",
+            s.errors
+        );
     }
 
     #[test]
     fn a_time_without_a_pose_is_an_error() {
         let r = [
-            Relation { t1: 0.0, t2: 1.0, delta: Se2::IDENTITY },
-            Relation { t1: 0.5, t2: 1.0, delta: Se2::IDENTITY },
+            Relation {
+                t1: 0.0,
+                t2: 1.0,
+                delta: Se2::IDENTITY,
+            },
+            Relation {
+                t1: 0.5,
+                t2: 1.0,
+                delta: Se2::IDENTITY,
+            },
         ];
-        assert_eq!(score_relations(&trajectory(), &r), Err(UnmatchedTime { index: 1, time: 0.5 }));
+        assert_eq!(
+            score_relations(&trajectory(), &r),
+            Err(UnmatchedTime {
+                index: 1,
+                time: 0.5
+            })
+        );
     }
 
     #[test]

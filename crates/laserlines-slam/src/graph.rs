@@ -223,7 +223,13 @@ impl PoseGraph {
                     .nodes
                     .iter()
                     .enumerate()
-                    .map(|(i, n)| Se2::new(n.x + step[3 * i], n.y + step[3 * i + 1], n.theta + step[3 * i + 2]))
+                    .map(|(i, n)| {
+                        Se2::new(
+                            n.x + step[3 * i],
+                            n.y + step[3 * i + 1],
+                            n.theta + step[3 * i + 2],
+                        )
+                    })
                     .collect();
                 let new_cost = cost_of(&self.edges, &moved);
                 if new_cost.is_finite() && new_cost <= cost {
@@ -350,14 +356,26 @@ fn linearise(edge: &Edge, xi: &Se2, xj: &Se2) -> (Vector3<f64>, Matrix3<f64>, Ma
     let m = rz_t * ri_t;
     let dtheta = rz_t * nalgebra::Vector2::new(ly, -lx);
     let a = Matrix3::new(
-        -m[(0, 0)], -m[(0, 1)], dtheta.x,
-        -m[(1, 0)], -m[(1, 1)], dtheta.y,
-        0.0, 0.0, -1.0,
+        -m[(0, 0)],
+        -m[(0, 1)],
+        dtheta.x,
+        -m[(1, 0)],
+        -m[(1, 1)],
+        dtheta.y,
+        0.0,
+        0.0,
+        -1.0,
     );
     let b = Matrix3::new(
-        m[(0, 0)], m[(0, 1)], 0.0,
-        m[(1, 0)], m[(1, 1)], 0.0,
-        0.0, 0.0, 1.0,
+        m[(0, 0)],
+        m[(0, 1)],
+        0.0,
+        m[(1, 0)],
+        m[(1, 1)],
+        0.0,
+        0.0,
+        0.0,
+        1.0,
     );
     (r, a, b)
 }

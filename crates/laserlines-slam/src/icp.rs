@@ -113,7 +113,9 @@ pub enum IcpError {
     #[error("the matched surfaces leave the pose unconstrained")]
     Degenerate,
     /// The pose ended farther from the guess than the basin the matcher vouches for.
-    #[error("the match moved {translation_m:.2} m and {rotation_rad:.2} rad from the guess, outside the convergence basin")]
+    #[error(
+        "the match moved {translation_m:.2} m and {rotation_rad:.2} rad from the guess, outside the convergence basin"
+    )]
     OutsideBasin {
         /// distance from the guess, m
         translation_m: f64,
@@ -148,12 +150,19 @@ pub fn match_points(
         let mut h = Matrix3::zeros();
         let mut g = Vector3::zeros();
         let mut pairs = 0usize;
-        for_each_pair(reference, scan, &pose, params.max_correspondence_m, cos_normal, |j, e| {
-            let w = inv_noise2 / (1.0 + e * e / c2);
-            h += w * j * j.transpose();
-            g += w * j * e;
-            pairs += 1;
-        });
+        for_each_pair(
+            reference,
+            scan,
+            &pose,
+            params.max_correspondence_m,
+            cos_normal,
+            |j, e| {
+                let w = inv_noise2 / (1.0 + e * e / c2);
+                h += w * j * j.transpose();
+                g += w * j * e;
+                pairs += 1;
+            },
+        );
         if pairs < 3 {
             return Err(IcpError::TooFewInliers {
                 inliers: pairs,
@@ -199,11 +208,18 @@ fn assess(
     let mut sum2 = 0.0;
     let mut inliers = 0usize;
     let cos_normal = params.max_normal_angle_rad.cos();
-    for_each_pair(reference, scan, &pose, params.inlier_distance_m, cos_normal, |j, e| {
-        h += j * j.transpose();
-        sum2 += e * e;
-        inliers += 1;
-    });
+    for_each_pair(
+        reference,
+        scan,
+        &pose,
+        params.inlier_distance_m,
+        cos_normal,
+        |j, e| {
+            h += j * j.transpose();
+            sum2 += e * e;
+            inliers += 1;
+        },
+    );
     if inliers < params.min_inliers.max(3) {
         return Err(IcpError::TooFewInliers {
             inliers,
@@ -223,7 +239,10 @@ fn assess(
     let covariance = information.try_inverse().ok_or(IcpError::Degenerate)?;
     // Degenerate when some direction is left loose: a translation along one wall is fixed
     // by nothing but the prior.
-    let t = covariance.fixed_view::<2, 2>(0, 0).symmetric_eigenvalues().max();
+    let t = covariance
+        .fixed_view::<2, 2>(0, 0)
+        .symmetric_eigenvalues()
+        .max();
     if !(t.sqrt() <= params.max_std_m && covariance[(2, 2)].sqrt() <= params.max_std_rad) {
         return Err(IcpError::Degenerate);
     }
@@ -254,7 +273,10 @@ fn for_each_pair(
         let Some((r, _)) = reference.nearest(q, reach) else {
             continue;
         };
-        let nq = (c * sp.normal.x - s * sp.normal.y, s * sp.normal.x + c * sp.normal.y);
+        let nq = (
+            c * sp.normal.x - s * sp.normal.y,
+            s * sp.normal.x + c * sp.normal.y,
+        );
         if nq.0 * r.normal.x + nq.1 * r.normal.y < cos_normal {
             continue;
         }

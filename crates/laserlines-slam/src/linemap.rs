@@ -71,7 +71,11 @@ struct Wall {
 impl Wall {
     fn normal(&self) -> Vector2 {
         let n = self.normal_sum.norm();
-        if n > 0.0 { self.normal_sum / n } else { Vector2::new(1.0, 0.0) }
+        if n > 0.0 {
+            self.normal_sum / n
+        } else {
+            Vector2::new(1.0, 0.0)
+        }
     }
     fn offset(&self) -> f64 {
         self.offset_sum / self.weight.max(1e-12)
@@ -88,12 +92,20 @@ impl Wall {
 /// Merges the lines of every scan (`lines` in the sensor frame, seen from `map_from_sensor`)
 /// into walls.
 #[must_use]
-pub fn build_line_map<'a>(scans: impl Iterator<Item = (Se2, &'a [Line])>, params: &LineMapParams) -> Vec<MapLine> {
+pub fn build_line_map<'a>(
+    scans: impl Iterator<Item = (Se2, &'a [Line])>,
+    params: &LineMapParams,
+) -> Vec<MapLine> {
     let mut placed: Vec<(Point2, Point2, usize)> = Vec::new();
     for (pose, lines) in scans {
         for l in lines {
             let (a, b) = (pose.transform(l.start), pose.transform(l.end));
-            if (b - a).norm() >= params.min_length_m && a.coords.iter().chain(b.coords.iter()).all(|v| v.is_finite()) {
+            if (b - a).norm() >= params.min_length_m
+                && a.coords
+                    .iter()
+                    .chain(b.coords.iter())
+                    .all(|v| v.is_finite())
+            {
                 placed.push((a, b, l.points));
             }
         }
@@ -108,7 +120,10 @@ pub fn build_line_map<'a>(scans: impl Iterator<Item = (Se2, &'a [Line])>, params
         let mut joined = None;
         'search: for di in -1..=1 {
             for dj in -1..=1 {
-                for &w in index.get(&(cell.0 + di, cell.1 + dj)).map_or(&[][..], |v| v) {
+                for &w in index
+                    .get(&(cell.0 + di, cell.1 + dj))
+                    .map_or(&[][..], |v| v)
+                {
                     if fits(&walls[w], a, b, params) {
                         joined = Some(w);
                         break 'search;
@@ -141,7 +156,10 @@ pub fn build_line_map<'a>(scans: impl Iterator<Item = (Se2, &'a [Line])>, params
 }
 
 fn cell_of(p: Point2) -> (i64, i64) {
-    (laserlines::math::floor_i64(p.x), laserlines::math::floor_i64(p.y))
+    (
+        laserlines::math::floor_i64(p.x),
+        laserlines::math::floor_i64(p.y),
+    )
 }
 
 /// The wall of one segment.
@@ -178,7 +196,9 @@ fn fits(wall: &Wall, a: Point2, b: Point2, params: &LineMapParams) -> bool {
         return false;
     }
     let off = wall.offset();
-    if (n.dot(&a.coords) - off).abs() > params.max_offset_m || (n.dot(&b.coords) - off).abs() > params.max_offset_m {
+    if (n.dot(&a.coords) - off).abs() > params.max_offset_m
+        || (n.dot(&b.coords) - off).abs() > params.max_offset_m
+    {
         return false;
     }
     let dir = wall.direction();
@@ -247,17 +267,27 @@ mod tests {
     fn pieces_of_one_wall_merge_and_a_parallel_wall_stays_apart() {
         // A wall along y = 2 seen in three overlapping pieces from two poses, and a parallel
         // wall 0.5 m behind it.
-        let from_origin = [line((0.0, 2.0), (1.5, 2.0)), line((1.4, 2.01), (3.0, 2.01)), line((0.0, 2.5), (2.0, 2.5))];
+        let from_origin = [
+            line((0.0, 2.0), (1.5, 2.0)),
+            line((1.4, 2.01), (3.0, 2.01)),
+            line((0.0, 2.5), (2.0, 2.5)),
+        ];
         // From (2, 0) facing +y, the wall y = 2 is 2 m ahead; the piece spans map x 2.9..4.0.
         let pose = Se2::new(2.0, 0.0, std::f64::consts::FRAC_PI_2);
         let seen = [line((2.0, -0.9), (2.0, -2.0))];
-        let map = build_line_map([(Se2::IDENTITY, &from_origin[..]), (pose, &seen[..])].into_iter(), &LineMapParams::default());
+        let map = build_line_map(
+            [(Se2::IDENTITY, &from_origin[..]), (pose, &seen[..])].into_iter(),
+            &LineMapParams::default(),
+        );
         assert_eq!(map.len(), 2, "{map:?}");
         let wall = map.iter().find(|m| m.lines == 3).unwrap();
         assert!((wall.r - 2.0).abs() < 0.01, "{wall:?}");
         assert!((wall.alpha - std::f64::consts::FRAC_PI_2).abs() < 0.01);
         let xs = [wall.start.x, wall.end.x];
-        assert!((xs[0].min(xs[1]) - 0.0).abs() < 0.01 && (xs[0].max(xs[1]) - 4.0).abs() < 0.01, "{wall:?}");
+        assert!(
+            (xs[0].min(xs[1]) - 0.0).abs() < 0.01 && (xs[0].max(xs[1]) - 4.0).abs() < 0.01,
+            "{wall:?}"
+        );
         let other = map.iter().find(|m| m.lines == 1).unwrap();
         assert!((other.r - 2.5).abs() < 1e-9);
     }

@@ -52,9 +52,19 @@ pub struct LineMatch {
 /// Matches the lines of a scan onto those of a reference, starting from `guess`
 /// (`reference_from_scan`). `None` when the pairs do not fix every direction of the pose.
 #[must_use]
-pub fn match_lines(reference: &[Line], scan: &[Line], guess: Se2, params: &LineMatchParams) -> Option<LineMatch> {
+pub fn match_lines(
+    reference: &[Line],
+    scan: &[Line],
+    guess: Se2,
+    params: &LineMatchParams,
+) -> Option<LineMatch> {
     let mut pose = guess;
-    let floor = Matrix2::new(params.sigma_floor.0.powi(2), 0.0, 0.0, params.sigma_floor.1.powi(2));
+    let floor = Matrix2::new(
+        params.sigma_floor.0.powi(2),
+        0.0,
+        0.0,
+        params.sigma_floor.1.powi(2),
+    );
     let mut last = None;
     for _ in 0..params.iterations.max(1) {
         let mut h = Matrix3::zeros();
@@ -67,7 +77,10 @@ pub fn match_lines(reference: &[Line], scan: &[Line], guess: Se2, params: &LineM
             for m in reference {
                 let da = wrap_angle(alpha - m.alpha);
                 let dr = r - m.r;
-                if da.abs() > params.max_angle_rad || dr.abs() > params.max_distance_m || !overlaps(m, a, b) {
+                if da.abs() > params.max_angle_rad
+                    || dr.abs() > params.max_distance_m
+                    || !overlaps(m, a, b)
+                {
                     continue;
                 }
                 let cov = m.covariance + l.covariance + floor;
@@ -97,7 +110,7 @@ pub fn match_lines(reference: &[Line], scan: &[Line], guess: Se2, params: &LineM
             return None;
         }
         let eig = h.symmetric_eigenvalues();
-        if !(eig.min() > 1e-9 * eig.max()) {
+        if eig.min().partial_cmp(&(1e-9 * eig.max())) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
         let chol = h.cholesky()?;

@@ -16,10 +16,10 @@ use crate::cloud::{SurfacePoint, scan_normals};
 use crate::correlative::{CorrelativeGrid, SearchWindow};
 use crate::graph::{Edge, GraphError, OptimizeParams, OptimizeReport, PoseGraph, RobustKernel};
 use crate::icp::{IcpError, match_points};
-use crate::lines::{LineMatchParams, match_lines};
 use crate::linemap::{LineMapParams, MapLine, build_line_map};
-use crate::occupancy::{GridTooLarge, OccupancyGrid, OccupancyParams};
+use crate::lines::{LineMatchParams, match_lines};
 use crate::loops::{LoopOutcome, try_closure};
+use crate::occupancy::{GridTooLarge, OccupancyGrid, OccupancyParams};
 use crate::params::MapperParams;
 use crate::se2::Se2;
 use crate::submap::Submap;
@@ -122,8 +122,16 @@ impl Mapper {
     ///
     /// # Errors
     /// [`GraphError`] when the pose graph cannot be optimised.
-    pub fn add_scan(&mut self, scan: &Scan, lines: &[Line], odometry: Option<Se2>) -> Result<ScanUpdate, GraphError> {
-        let window = scan.range_window(Some(RangeWindow::new(self.params.min_range_m, self.params.max_range_m)));
+    pub fn add_scan(
+        &mut self,
+        scan: &Scan,
+        lines: &[Line],
+        odometry: Option<Se2>,
+    ) -> Result<ScanUpdate, GraphError> {
+        let window = scan.range_window(Some(RangeWindow::new(
+            self.params.min_range_m,
+            self.params.max_range_m,
+        )));
         let pts = scan.points(window);
         let normals = scan_normals(&pts, scan.angle_increment, self.params.normal_half_window);
         self.surface.clear();
@@ -139,7 +147,11 @@ impl Mapper {
         let odometry = odometry.map(|o| o * self.params.robot_from_sensor);
         let (guess, prior) = self.predict(odometry, lines);
         let (pose, information, match_error) = match self.match_scan(guess, prior.as_ref()) {
-            Ok((pose, cov)) => (pose, cov.try_inverse().unwrap_or_else(weak_information), None),
+            Ok((pose, cov)) => (
+                pose,
+                cov.try_inverse().unwrap_or_else(weak_information),
+                None,
+            ),
             Err(e) => (guess, prior.unwrap_or_else(weak_information), e),
         };
         self.graph.add_node(pose);
@@ -194,7 +206,9 @@ impl Mapper {
     /// `map_from_robot` of scan `node` now (the sensor's pose moved back by the mount).
     #[must_use]
     pub fn robot_pose(&self, node: usize) -> Option<Se2> {
-        self.poses().get(node).map(|p| *p * self.params.robot_from_sensor.inverse())
+        self.poses()
+            .get(node)
+            .map(|p| *p * self.params.robot_from_sensor.inverse())
     }
 
     /// `map_from_sensor` of every scan so far, in order.
@@ -226,13 +240,25 @@ impl Mapper {
     /// # Errors
     /// [`GridTooLarge`] when the map spans more cells than `params` allow.
     pub fn occupancy_grid(&self, params: &OccupancyParams) -> Result<OccupancyGrid, GridTooLarge> {
-        OccupancyGrid::build(self.poses().iter().copied().zip(self.scans.iter().map(|s| &s.points[..])), params)
+        OccupancyGrid::build(
+            self.poses()
+                .iter()
+                .copied()
+                .zip(self.scans.iter().map(|s| &s.points[..])),
+            params,
+        )
     }
 
     /// The line map of every scan's lines at its current pose.
     #[must_use]
     pub fn line_map(&self, params: &LineMapParams) -> Vec<MapLine> {
-        build_line_map(self.poses().iter().copied().zip(self.scans.iter().map(|s| &s.lines[..])), params)
+        build_line_map(
+            self.poses()
+                .iter()
+                .copied()
+                .zip(self.scans.iter().map(|s| &s.lines[..])),
+            params,
+        )
     }
 
     /// The predicted pose of the next scan and, with odometry, the information of that
@@ -247,12 +273,24 @@ impl Mapper {
             (Some(a), Some(b)) => {
                 let delta = a.between(&b);
                 let p = &self.params;
-                let st = (p.odometry_sigma_per_m * delta.translation().norm()).max(p.odometry_sigma_min_m);
-                let sr = (p.odometry_sigma_per_rad * delta.theta.abs()).max(p.odometry_sigma_min_rad);
-                let info = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0 / (st * st), 1.0 / (st * st), 1.0 / (sr * sr)));
+                let st = (p.odometry_sigma_per_m * delta.translation().norm())
+                    .max(p.odometry_sigma_min_m);
+                let sr =
+                    (p.odometry_sigma_per_rad * delta.theta.abs()).max(p.odometry_sigma_min_rad);
+                let info = Matrix3::from_diagonal(&nalgebra::Vector3::new(
+                    1.0 / (st * st),
+                    1.0 / (st * st),
+                    1.0 / (sr * sr),
+                ));
                 (last * delta, Some(info))
             }
-            _ => (last * self.search_motion(last.between(&self.constant_velocity().unwrap_or(last)), lines), None),
+            _ => (
+                last * self.search_motion(
+                    last.between(&self.constant_velocity().unwrap_or(last)),
+                    lines,
+                ),
+                None,
+            ),
         }
     }
 
@@ -264,7 +302,12 @@ impl Mapper {
     fn search_motion(&self, seed: Se2, lines: &[Line]) -> Se2 {
         let n = self.scans.len();
         let range = self.params.loops.search_range_m;
-        let prev: Vec<Point2> = self.scans[n - 1].points.iter().copied().filter(|p| p.coords.norm() <= range).collect();
+        let prev: Vec<Point2> = self.scans[n - 1]
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.coords.norm() <= range)
+            .collect();
         let step = (self.surface.len() / self.params.loops.search_points.max(1)).max(1);
         let now: Vec<Point2> = self
             .surface
@@ -274,7 +317,9 @@ impl Mapper {
             .step_by(step)
             .collect();
         let l = &self.params.loops;
-        if let Some(grid) = CorrelativeGrid::new(&prev, l.grid_resolution_m, l.grid_sigma_m, l.grid_levels) {
+        if let Some(grid) =
+            CorrelativeGrid::new(&prev, l.grid_resolution_m, l.grid_sigma_m, l.grid_levels)
+        {
             let window = SearchWindow {
                 linear_m: self.params.motion_window_m,
                 angular_rad: self.params.motion_window_rad,
@@ -284,10 +329,16 @@ impl Mapper {
             }
         }
         let basin = &self.params.icp;
-        match match_lines(&self.scans[n - 1].lines, lines, seed, &LineMatchParams::default()) {
+        match match_lines(
+            &self.scans[n - 1].lines,
+            lines,
+            seed,
+            &LineMatchParams::default(),
+        ) {
             Some(m)
                 if m.pose.distance(&seed) < basin.basin_translation_m
-                    && laserlines::math::angle_diff(m.pose.theta, seed.theta) < basin.basin_rotation_rad =>
+                    && laserlines::math::angle_diff(m.pose.theta, seed.theta)
+                        < basin.basin_rotation_rad =>
             {
                 m.pose
             }
@@ -301,14 +352,21 @@ impl Mapper {
     /// A match that fits fewer than [`MapperParams::confident_fraction`] of the points is
     /// tried again from the constant-velocity prediction and from the guess turned by
     /// `+-retry_rotation_rad` and twice that; the best fit wins.
-    fn match_scan(&self, guess: Se2, prior: Option<&Matrix3<f64>>) -> Result<(Se2, Matrix3<f64>), Option<IcpError>> {
+    fn match_scan(
+        &self,
+        guess: Se2,
+        prior: Option<&Matrix3<f64>>,
+    ) -> Result<(Se2, Matrix3<f64>), Option<IcpError>> {
         let &s = self.active.first().ok_or(None)?;
         let sub = &self.submaps[s];
         let anchor = self.graph.nodes()[sub.anchor];
         let local_guess = anchor.between(&guess);
         let icp = &self.params.icp;
         let mut best = match_points(&sub.cloud, &self.surface, local_guess, prior, icp);
-        if best.as_ref().is_ok_and(|r| r.inlier_fraction >= self.params.confident_fraction) {
+        if best
+            .as_ref()
+            .is_ok_and(|r| r.inlier_fraction >= self.params.confident_fraction)
+        {
             return best.map(|r| self.to_map(&anchor, &r)).map_err(Some);
         }
         let step = self.params.retry_rotation_rad;
@@ -317,7 +375,11 @@ impl Mapper {
             seeds.push(anchor.between(&cv));
         }
         for k in [-2.0, -1.0, 1.0, 2.0] {
-            seeds.push(Se2::new(local_guess.x, local_guess.y, local_guess.theta + k * step));
+            seeds.push(Se2::new(
+                local_guess.x,
+                local_guess.y,
+                local_guess.theta + k * step,
+            ));
         }
         for seed in seeds {
             let r = match_points(&sub.cloud, &self.surface, seed, None, icp);
@@ -335,7 +397,8 @@ impl Mapper {
 
     /// A match in a submap as a map-frame pose and covariance.
     fn to_map(&self, anchor: &Se2, r: &crate::icp::IcpResult) -> (Se2, Matrix3<f64>) {
-        let cov = rotate_covariance(&r.covariance, anchor.theta) * self.params.match_covariance_scale;
+        let cov =
+            rotate_covariance(&r.covariance, anchor.theta) * self.params.match_covariance_scale;
         (*anchor * r.pose, cov)
     }
 
@@ -348,7 +411,11 @@ impl Mapper {
 
     /// The edge from the previous scan to `node`: the relative pose of the two estimates,
     /// with the matcher's or the odometry's information (`information` in the map frame).
-    fn add_sequential_edge(&mut self, node: usize, information: Matrix3<f64>) -> Result<(), GraphError> {
+    fn add_sequential_edge(
+        &mut self,
+        node: usize,
+        information: Matrix3<f64>,
+    ) -> Result<(), GraphError> {
         let prev = self.graph.nodes()[node - 1];
         let cur = self.graph.nodes()[node];
         self.graph.add_edge(Edge {
@@ -366,15 +433,24 @@ impl Mapper {
     fn insert_into_submaps(&mut self, node: usize, pose: Se2) {
         let moved = self.last_insert.is_none_or(|last| {
             last.distance(&pose) >= self.params.insert_distance_m
-                || laserlines::math::angle_diff(last.theta, pose.theta) >= self.params.insert_rotation_rad
+                || laserlines::math::angle_diff(last.theta, pose.theta)
+                    >= self.params.insert_rotation_rad
         });
         if !moved {
             return;
         }
         self.last_insert = Some(pose);
         let half = (self.params.scans_per_submap / 2).max(1);
-        if self.active.last().is_none_or(|&s| self.submaps[s].scans >= half) {
-            self.submaps.push(Submap::new(node, self.params.voxel_m, crate::submap::INDEX_CELL_M));
+        if self
+            .active
+            .last()
+            .is_none_or(|&s| self.submaps[s].scans >= half)
+        {
+            self.submaps.push(Submap::new(
+                node,
+                self.params.voxel_m,
+                crate::submap::INDEX_CELL_M,
+            ));
             self.active.push(self.submaps.len() - 1);
             self.stats.submaps += 1;
         }
@@ -382,7 +458,9 @@ impl Mapper {
             let anchor = self.graph.nodes()[self.submaps[s].anchor];
             self.submaps[s].insert(&anchor.between(&pose), &self.surface);
         }
-        if self.active.len() > 1 && self.submaps[self.active[0]].scans >= self.params.scans_per_submap {
+        if self.active.len() > 1
+            && self.submaps[self.active[0]].scans >= self.params.scans_per_submap
+        {
             let s = self.active.remove(0);
             let l = &self.params.loops;
             self.submaps[s].finish(l.grid_resolution_m, l.grid_sigma_m, l.grid_levels);
@@ -393,7 +471,7 @@ impl Mapper {
     /// `loops.every_scans` scans); returns (accepted, rejected).
     fn search_loops(&mut self, node: usize) -> Result<(usize, usize), GraphError> {
         let every = self.params.loops.every_scans;
-        if every == 0 || node % every != 0 || self.surface.is_empty() {
+        if every == 0 || !node.is_multiple_of(every) || self.surface.is_empty() {
             return Ok((0, 0));
         }
         let pose = self.graph.nodes()[node];
@@ -417,14 +495,20 @@ impl Mapper {
                 continue;
             }
             let anchor = self.graph.nodes()[sub.anchor];
-            if (anchor.transform(sub.centre()) - Point2::new(pose.x, pose.y)).norm() > self.params.loops.search_radius_m {
+            if (anchor.transform(sub.centre()) - Point2::new(pose.x, pose.y)).norm()
+                > self.params.loops.search_radius_m
+            {
                 continue;
             }
             let from = sub.anchor;
             match try_closure(sub, &anchor, &pose, &search, &self.surface, &self.params) {
                 LoopOutcome::Accepted(edge) => {
                     self.submaps[s].last_closure = Some(node);
-                    self.graph.add_edge(Edge { from, to: node, ..edge })?;
+                    self.graph.add_edge(Edge {
+                        from,
+                        to: node,
+                        ..edge
+                    })?;
                     accepted += 1;
                 }
                 LoopOutcome::Rejected => rejected += 1,

@@ -84,7 +84,10 @@ impl OccupancyGrid {
         params: &OccupancyParams,
     ) -> Result<Self, GridTooLarge> {
         let res = params.resolution_m.max(1e-3);
-        let (mut lo, mut hi) = (Point2::new(f64::MAX, f64::MAX), Point2::new(f64::MIN, f64::MIN));
+        let (mut lo, mut hi) = (
+            Point2::new(f64::MAX, f64::MAX),
+            Point2::new(f64::MIN, f64::MIN),
+        );
         for (pose, pts) in scans.clone() {
             for p in std::iter::once(&Point2::origin()).chain(pts) {
                 let q = pose.transform(*p);
@@ -98,7 +101,10 @@ impl OccupancyGrid {
             lo = Point2::origin();
             hi = Point2::origin();
         }
-        let origin = Point2::new((lo.x / res).floor() * res - res, (lo.y / res).floor() * res - res);
+        let origin = Point2::new(
+            (lo.x / res).floor() * res - res,
+            (lo.y / res).floor() * res - res,
+        );
         let width = ((hi.x - origin.x) / res).ceil() as usize + 2;
         let height = ((hi.y - origin.y) / res).ceil() as usize + 2;
         if width > params.max_side_cells || height > params.max_side_cells {
@@ -137,7 +143,10 @@ impl OccupancyGrid {
     /// Marks the cells from `a` to `b` (Bresenham) free, and `b` occupied.
     fn trace(&mut self, a: (i64, i64), b: (i64, i64), params: &OccupancyParams) {
         let (dx, dy) = ((b.0 - a.0).abs(), -(b.1 - a.1).abs());
-        let (sx, sy) = (if a.0 < b.0 { 1 } else { -1 }, if a.1 < b.1 { 1 } else { -1 });
+        let (sx, sy) = (
+            if a.0 < b.0 { 1 } else { -1 },
+            if a.1 < b.1 { 1 } else { -1 },
+        );
         let (mut x, mut y, mut err) = (a.0, a.1, dx + dy);
         while (x, y) != b {
             self.add(x, y, params.miss, params.clamp);
@@ -182,7 +191,9 @@ impl OccupancyGrid {
     /// Probability of occupancy of cell `(i, j)`, `None` when unknown.
     #[must_use]
     pub fn probability(&self, i: usize, j: usize) -> Option<f64> {
-        let v = *self.log_odds.get(j.checked_mul(self.width)?.checked_add(i)?)?;
+        let v = *self
+            .log_odds
+            .get(j.checked_mul(self.width)?.checked_add(i)?)?;
         (!v.is_nan() && i < self.width).then(|| 1.0 / (1.0 + (-f64::from(v)).exp()))
     }
 
@@ -227,7 +238,11 @@ mod tests {
     #[test]
     fn a_beam_frees_its_path_and_occupies_its_end() {
         let pts = [Point2::new(1.0, 0.0)];
-        let g = OccupancyGrid::build([(Se2::new(0.0, 0.0, 0.0), &pts[..])].into_iter(), &OccupancyParams::default()).unwrap();
+        let g = OccupancyGrid::build(
+            [(Se2::new(0.0, 0.0, 0.0), &pts[..])].into_iter(),
+            &OccupancyParams::default(),
+        )
+        .unwrap();
         let cell = |x: f64, y: f64| {
             let (i, j) = g.cell_of(Point2::new(x, y));
             g.cell(i as usize, j as usize)
@@ -237,7 +252,11 @@ mod tests {
         assert_eq!(cell(0.02, 0.0), Cell::Free);
         assert_eq!(cell(0.5, 0.3), Cell::Unknown);
         // Seen from a pose turned a quarter: the point lands at (0, 1).
-        let g2 = OccupancyGrid::build([(Se2::new(0.0, 0.0, std::f64::consts::FRAC_PI_2), &pts[..])].into_iter(), &OccupancyParams::default()).unwrap();
+        let g2 = OccupancyGrid::build(
+            [(Se2::new(0.0, 0.0, std::f64::consts::FRAC_PI_2), &pts[..])].into_iter(),
+            &OccupancyParams::default(),
+        )
+        .unwrap();
         let (i, j) = g2.cell_of(Point2::new(0.0, 1.0));
         assert_eq!(g2.cell(i as usize, j as usize), Cell::Occupied);
         let px = g2.to_pixels();
@@ -245,13 +264,19 @@ mod tests {
         assert_eq!(px.iter().filter(|&&v| v == 0).count(), 1);
         let pc = g2.to_occupancy_percent();
         assert_eq!(pc[(j as usize) * g2.width + i as usize], 70); // 1 / (1 + e^-0.85)
-        assert_eq!(pc.iter().filter(|&&v| v == -1).count(), g2.width * g2.height - 21);
+        assert_eq!(
+            pc.iter().filter(|&&v| v == -1).count(),
+            g2.width * g2.height - 21
+        );
     }
 
     #[test]
     fn a_huge_map_is_refused() {
         let pts = [Point2::new(1e6, 0.0)];
-        let r = OccupancyGrid::build([(Se2::IDENTITY, &pts[..])].into_iter(), &OccupancyParams::default());
+        let r = OccupancyGrid::build(
+            [(Se2::IDENTITY, &pts[..])].into_iter(),
+            &OccupancyParams::default(),
+        );
         assert!(r.is_err());
     }
 }

@@ -1,7 +1,9 @@
 //! The pose graph: a loop closure corrects drift, a false closure does not bend the map.
 
-use laserlines_slam::graph::{Edge, OptimizeParams, PoseGraph, RobustKernel};
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use laserlines_slam::Se2;
+use laserlines_slam::graph::{Edge, OptimizeParams, PoseGraph, RobustKernel};
 use nalgebra::Matrix3;
 
 /// The true poses of a square loop of 4 m sides, one pose every 0.5 m, turning 90 deg at
@@ -11,7 +13,11 @@ fn square() -> Vec<Se2> {
     for side in 0..4 {
         for k in 0..8 {
             let last = *poses.last().unwrap();
-            let turn = if k == 7 && side < 3 { std::f64::consts::FRAC_PI_2 } else { 0.0 };
+            let turn = if k == 7 && side < 3 {
+                std::f64::consts::FRAC_PI_2
+            } else {
+                0.0
+            };
             poses.push(last * Se2::new(0.5, 0.0, turn));
         }
     }
@@ -50,7 +56,11 @@ fn drifting_graph(truth: &[Se2]) -> PoseGraph {
 }
 
 fn max_error(g: &PoseGraph, truth: &[Se2]) -> f64 {
-    g.nodes().iter().zip(truth).map(|(a, b)| a.distance(b)).fold(0.0, f64::max)
+    g.nodes()
+        .iter()
+        .zip(truth)
+        .map(|(a, b)| a.distance(b))
+        .fold(0.0, f64::max)
 }
 
 #[test]
@@ -110,7 +120,10 @@ fn one_false_closure_does_not_bend_the_map() {
         .map(|(a, b)| a.distance(b))
         .fold(0.0, f64::max);
     // The Cauchy kernel leaves it a pull of about its scale, not its 2 m: a few centimetres.
-    assert!(shift < 0.15, "the false closure moved a pose by {shift:.3} m");
+    assert!(
+        shift < 0.15,
+        "the false closure moved a pose by {shift:.3} m"
+    );
     // Without the kernel the same closure bends the map by metres.
     let mut plain = reference.clone();
     plain
@@ -146,6 +159,16 @@ fn bad_edges_are_refused() {
     assert!(g.add_edge(e).is_err());
     g.add_node(Se2::IDENTITY);
     assert!(g.add_edge(Edge { to: 0, ..e }).is_err());
-    assert!(g.add_edge(Edge { measurement: Se2 { x: f64::NAN, y: 0.0, theta: 0.0 }, ..e }).is_err());
+    assert!(
+        g.add_edge(Edge {
+            measurement: Se2 {
+                x: f64::NAN,
+                y: 0.0,
+                theta: 0.0
+            },
+            ..e
+        })
+        .is_err()
+    );
     assert!(g.add_edge(e).is_ok());
 }

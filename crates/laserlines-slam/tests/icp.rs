@@ -1,6 +1,8 @@
 //! Point-to-line ICP on simulated scans: known offsets recovered across the stated basin,
 //! failure reported outside it.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 mod common;
 
 use laserlines_sim::Rng;
@@ -20,7 +22,14 @@ fn recovers_a_known_offset() {
     let ref_scan = common::scan_at(&world, a, &model, &mut rng);
     let scan = common::scan_at(&world, b, &model, &mut rng);
     let cloud = common::cloud(&ref_scan, Se2::IDENTITY);
-    let r = match_points(&cloud, &common::surface(&scan), Se2::IDENTITY, None, &IcpParams::default()).unwrap();
+    let r = match_points(
+        &cloud,
+        &common::surface(&scan),
+        Se2::IDENTITY,
+        None,
+        &IcpParams::default(),
+    )
+    .unwrap();
     assert!(r.pose.distance(&truth) < 0.01, "{r:?}");
     assert!((r.pose.theta - truth.theta).abs() < 0.002, "{r:?}");
 }
@@ -33,10 +42,22 @@ const BASIN_RAD: f64 = 0.2;
 fn free(x: f64, y: f64, dx: f64, dy: f64, yaw: f64) -> bool {
     let world = common::room();
     let b = Se2::new(x, y, yaw) * Se2::new(dx, dy, 0.0);
-    world.clearance(laserlines::math::Point2::new(x, y)) > 0.4 && world.clearance(laserlines::math::Point2::new(b.x, b.y)) > 0.4
+    world.clearance(laserlines::math::Point2::new(x, y)) > 0.4
+        && world.clearance(laserlines::math::Point2::new(b.x, b.y)) > 0.4
 }
 
-fn offset_case(x: f64, y: f64, yaw: f64, dx: f64, dy: f64, dyaw: f64, seed: u64) -> (Se2, Result<laserlines_slam::IcpResult, laserlines_slam::IcpError>) {
+fn offset_case(
+    x: f64,
+    y: f64,
+    yaw: f64,
+    dx: f64,
+    dy: f64,
+    dyaw: f64,
+    seed: u64,
+) -> (
+    Se2,
+    Result<laserlines_slam::IcpResult, laserlines_slam::IcpError>,
+) {
     let world = common::room();
     let model = common::sick();
     let mut rng = Rng::new(seed);
@@ -46,7 +67,16 @@ fn offset_case(x: f64, y: f64, yaw: f64, dx: f64, dy: f64, dyaw: f64, seed: u64)
     let scan = common::scan_at(&world, a * truth, &model, &mut rng);
     let cloud = common::cloud(&ref_scan, Se2::IDENTITY);
     // The guess is the reference pose itself: the whole offset is the error to recover.
-    (truth, match_points(&cloud, &common::surface(&scan), Se2::IDENTITY, None, &IcpParams::default()))
+    (
+        truth,
+        match_points(
+            &cloud,
+            &common::surface(&scan),
+            Se2::IDENTITY,
+            None,
+            &IcpParams::default(),
+        ),
+    )
 }
 
 proptest! {

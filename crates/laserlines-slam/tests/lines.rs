@@ -1,5 +1,7 @@
 //! Line-to-line matching on the extractor's lines of simulated URG-04LX scans.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 mod common;
 
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
@@ -23,11 +25,17 @@ fn lines_of_two_scans_give_their_relative_pose() {
         let mut rng = Rng::new(seed as u64);
         let (mut la, mut lb) = (Vec::new(), Vec::new());
         hs.extract_into(&common::scan_at(&world, a, &model, &mut rng), &mut la);
-        hs.extract_into(&common::scan_at(&world, a * truth, &model, &mut rng), &mut lb);
+        hs.extract_into(
+            &common::scan_at(&world, a * truth, &model, &mut rng),
+            &mut lb,
+        );
         let m = match_lines(&la, &lb, Se2::IDENTITY, &LineMatchParams::default()).unwrap();
         assert!(m.pairs >= 3, "{m:?}");
         assert!(m.pose.distance(&truth) < 0.02, "{m:?} vs {truth:?}");
-        assert!((m.pose.theta - truth.theta).abs() < 0.005, "{m:?} vs {truth:?}");
+        assert!(
+            (m.pose.theta - truth.theta).abs() < 0.005,
+            "{m:?} vs {truth:?}"
+        );
     }
 }
 
@@ -36,8 +44,10 @@ fn one_wall_does_not_fix_a_pose() {
     // A single line leaves the translation along it free: no answer rather than a guess.
     let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
     let inc = 0.5_f64.to_radians();
-    let ranges: Vec<f64> = (0..121).map(|i| 2.0 / (-0.5236 + f64::from(i) * inc).cos()).collect();
-    let scan = laserlines::Scan::new(-0.5236, inc, 0.02, 5.6, ranges).unwrap();
+    let ranges: Vec<f64> = (0..121)
+        .map(|i| 2.0 / (-std::f64::consts::FRAC_PI_6 + f64::from(i) * inc).cos())
+        .collect();
+    let scan = laserlines::Scan::new(-std::f64::consts::FRAC_PI_6, inc, 0.02, 5.6, ranges).unwrap();
     let mut l = Vec::new();
     hs.extract_into(&scan, &mut l);
     assert_eq!(l.len(), 1);

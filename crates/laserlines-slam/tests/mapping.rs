@@ -2,6 +2,8 @@
 //! a loop closed by the mapper corrects the odometry's drift, and a run in a bundled rescue
 //! arena stays within a stated bound of the simulator's truth.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, Scan};
 use laserlines_sim::World;
@@ -23,11 +25,18 @@ struct Run {
 
 impl Run {
     fn max_error(&self, of: &[Se2]) -> f64 {
-        of.iter().zip(&self.truth).map(|(a, b)| a.distance(b)).fold(0.0, f64::max)
+        of.iter()
+            .zip(&self.truth)
+            .map(|(a, b)| a.distance(b))
+            .fold(0.0, f64::max)
     }
 
     fn mean_error(&self, of: &[Se2]) -> f64 {
-        of.iter().zip(&self.truth).map(|(a, b)| a.distance(b)).sum::<f64>() / self.truth.len().max(1) as f64
+        of.iter()
+            .zip(&self.truth)
+            .map(|(a, b)| a.distance(b))
+            .sum::<f64>()
+            / self.truth.len().max(1) as f64
     }
 }
 
@@ -99,7 +108,14 @@ fn ring() -> World {
         Point2::new(4.0, 2.5),
         Point2::new(-4.0, 2.5),
     ]);
-    for (x, y) in [(-2.0, -4.3), (1.5, 4.3), (5.8, 0.5), (-5.8, -1.0), (3.0, -4.3), (-3.0, 4.3)] {
+    for (x, y) in [
+        (-2.0, -4.3),
+        (1.5, 4.3),
+        (5.8, 0.5),
+        (-5.8, -1.0),
+        (3.0, -4.3),
+        (-3.0, 4.3),
+    ] {
         w.add_box(Point2::new(x, y), 0.4, 0.4, 0.3);
     }
     for (x, y) in [(0.0, -2.7), (-1.0, 2.7), (4.2, 1.0), (-4.2, 0.0)] {
@@ -131,7 +147,10 @@ fn around_the_ring(_: &Scan, pose: &Se2) -> VelocityCommand {
 }
 
 #[test]
-#[cfg_attr(debug_assertions, ignore = "whole simulated runs need optimisations: cargo test --release (.ci/run does)")]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "whole simulated runs need optimisations: cargo test --release (.ci/run does)"
+)]
 fn closing_the_loop_corrects_the_odometry_drift() {
     let world = ring();
     let start = Isometry2::new(Vector2::new(-3.0, -3.5), 0.0);
@@ -141,19 +160,32 @@ fn closing_the_loop_corrects_the_odometry_drift() {
     let odo = with.max_error(&with.odometry);
     let open = without.max_error(&without.estimate);
     let closed = with.max_error(&with.estimate);
-    eprintln!("odometry {odo:.3} m, scan matching alone {open:.3} m, with loop closure {closed:.3} m, {} closures", with.closures);
+    eprintln!(
+        "odometry {odo:.3} m, scan matching alone {open:.3} m, with loop closure {closed:.3} m, {} closures",
+        with.closures
+    );
     assert!(odo > 0.3, "the odometry should drift: {odo:.3} m");
     assert!(with.closures > 0);
     assert!(closed < 0.1, "with loop closure {closed:.3} m");
     assert!(closed < odo / 3.0);
-    assert!(closed < open, "loop closure should improve on scan matching alone");
+    assert!(
+        closed < open,
+        "loop closure should improve on scan matching alone"
+    );
 }
 
 #[test]
-#[cfg_attr(debug_assertions, ignore = "whole simulated runs need optimisations: cargo test --release (.ci/run does)")]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "whole simulated runs need optimisations: cargo test --release (.ci/run does)"
+)]
 fn a_run_in_a_bundled_arena_stays_near_the_truth() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/arenas/inner_explore_test.raf");
-    let arena = laserlines_sim::arena::load_raf(std::path::Path::new(path), &Default::default()).unwrap();
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/arenas/inner_explore_test.raf"
+    );
+    let arena =
+        laserlines_sim::arena::load_raf(std::path::Path::new(path), &Default::default()).unwrap();
     let start = laserlines_sim::arena::interior_start(&arena.world, 0.4).unwrap();
     // Bounce: straight on until something is within 0.7 m ahead, then turn on the spot
     // (alternating sides) until the way is clear for 1.2 m.
@@ -166,29 +198,51 @@ fn a_run_in_a_bundled_arena_stays_near_the_truth() {
             .filter(|r| r.is_finite() && *r > scan.range_min)
             .fold(f64::INFINITY, f64::min);
         match turning {
-            Some(dir) if ahead < 1.2 => VelocityCommand { linear_m_s: 0.0, angular_rad_s: dir },
+            Some(dir) if ahead < 1.2 => VelocityCommand {
+                linear_m_s: 0.0,
+                angular_rad_s: dir,
+            },
             _ if ahead < 0.7 => {
                 turns += 1;
                 let dir = if turns % 2 == 0 { 0.8 } else { -0.8 };
                 turning = Some(dir);
-                VelocityCommand { linear_m_s: 0.0, angular_rad_s: dir }
+                VelocityCommand {
+                    linear_m_s: 0.0,
+                    angular_rad_s: dir,
+                }
             }
             _ => {
                 turning = None;
-                VelocityCommand { linear_m_s: 0.4, angular_rad_s: 0.0 }
+                VelocityCommand {
+                    linear_m_s: 0.4,
+                    angular_rad_s: 0.0,
+                }
             }
         }
     };
     let r = run(&arena.world, start, 120.0, true, bounce);
     if std::env::var("TRACE").is_ok() {
-        for k in (0..r.truth.len()).filter(|&k| k % 50 == 0 || r.estimate[k].distance(&r.truth[k]) > 0.08) {
-            eprintln!("{k} err {:.3} odo {:.3} truth {:.2} {:.2} {:.2}", r.estimate[k].distance(&r.truth[k]), r.odometry[k].distance(&r.truth[k]), r.truth[k].x, r.truth[k].y, r.truth[k].theta);
+        for k in (0..r.truth.len())
+            .filter(|&k| k % 50 == 0 || r.estimate[k].distance(&r.truth[k]) > 0.08)
+        {
+            eprintln!(
+                "{k} err {:.3} odo {:.3} truth {:.2} {:.2} {:.2}",
+                r.estimate[k].distance(&r.truth[k]),
+                r.odometry[k].distance(&r.truth[k]),
+                r.truth[k].x,
+                r.truth[k].y,
+                r.truth[k].theta
+            );
         }
     }
     let odo = r.max_error(&r.odometry);
     let est = r.max_error(&r.estimate);
     let mean = r.mean_error(&r.estimate);
-    eprintln!("arena: odometry {odo:.3} m, mapper {est:.3} m (mean {mean:.3} m) over {} scans, {} closures", r.truth.len(), r.closures);
+    eprintln!(
+        "arena: odometry {odo:.3} m, mapper {est:.3} m (mean {mean:.3} m) over {} scans, {} closures",
+        r.truth.len(),
+        r.closures
+    );
     // The largest error is on one straight stretch where the laser sees little across the
     // direction of travel (0.33 m at its worst, measured); everywhere else a few cm.
     assert!(mean < 0.05, "mapper {mean:.3} m from the truth on average");

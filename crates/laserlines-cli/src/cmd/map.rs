@@ -51,7 +51,10 @@ pub fn run(args: &MapArgs) -> Result<()> {
     let start = Instant::now();
     let name = args.input.input.display().to_string();
     if !(args.resolution.is_finite() && args.resolution >= 0.005) {
-        bail!("--resolution must be at least 0.005 m, got {}", args.resolution);
+        bail!(
+            "--resolution must be at least 0.005 m, got {}",
+            args.resolution
+        );
     }
     let mut reader = super::open_input(&args.input)?;
     let mut extractor = super::make_hough_split(args.params.as_deref())?;
@@ -68,7 +71,10 @@ pub fn run(args: &MapArgs) -> Result<()> {
             (OnOff::On, Some(p)) => Some(Se2::new(p.x, p.y, p.theta)),
             (OnOff::On, None) => bail!(
                 "{name}: scan {k}{}: no odometry pose; map it with --odometry off",
-                record.line.map(|l| format!(" (line {l})")).unwrap_or_default()
+                record
+                    .line
+                    .map(|l| format!(" (line {l})"))
+                    .unwrap_or_default()
             ),
             (OnOff::Off, _) => None,
         };
@@ -87,7 +93,9 @@ pub fn run(args: &MapArgs) -> Result<()> {
         bail!("{name}: no scans");
     }
     progress.set_message("optimising");
-    mapper.optimize().with_context(|| format!("{name}: final optimisation"))?;
+    mapper
+        .optimize()
+        .with_context(|| format!("{name}: final optimisation"))?;
     progress.finish_and_clear();
     let mapped_s = start.elapsed().as_secs_f64();
     let outputs = Outputs {
@@ -102,7 +110,13 @@ pub fn run(args: &MapArgs) -> Result<()> {
     if let Some(path) = &args.mcap {
         map_outputs::write_mcap(path, &outputs, &kept)?;
     }
-    summary(&name, &mapper, mapped_s, start.elapsed().as_secs_f64(), &files);
+    summary(
+        &name,
+        &mapper,
+        mapped_s,
+        start.elapsed().as_secs_f64(),
+        &files,
+    );
     Ok(())
 }
 
@@ -122,7 +136,11 @@ fn progress_bar() -> ProgressBar {
 /// The summary on stderr.
 fn summary(name: &str, mapper: &Mapper, mapped_s: f64, total_s: f64, files: &[PathBuf]) {
     let s = mapper.stats();
-    let rate = if mapped_s > 0.0 { s.scans as f64 / mapped_s } else { 0.0 };
+    let rate = if mapped_s > 0.0 {
+        s.scans as f64 / mapped_s
+    } else {
+        0.0
+    };
     eprintln!(
         "{name}: {} scans ({} not matched, kept at their prediction), {} submaps, loop closures: {} accepted, {} rejected; {} optimisations in {:.2} s; mapped in {:.2} s ({:.0} scans/s), {:.2} s with the outputs",
         s.scans,

@@ -43,8 +43,15 @@ pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
     fs::create_dir_all(o.dir).with_context(|| format!("cannot create {}", o.dir.display()))?;
     let mut files = Vec::new();
     let poses = o.mapper.poses();
-    let traj: Vec<StampedPose> = o.stamps.iter().zip(poses).map(|(&t, p)| stamped(t, p)).collect();
-    files.push(write_file(o.dir, "trajectory.tum", |w| write_tum(w, &traj))?);
+    let traj: Vec<StampedPose> = o
+        .stamps
+        .iter()
+        .zip(poses)
+        .map(|(&t, p)| stamped(t, p))
+        .collect();
+    files.push(write_file(o.dir, "trajectory.tum", |w| {
+        write_tum(w, &traj)
+    })?);
     if o.log_poses.iter().all(Option::is_some) {
         let logged: Vec<StampedPose> = o
             .stamps
@@ -52,7 +59,9 @@ pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
             .zip(o.log_poses.iter().flatten())
             .map(|(&t, &pose)| StampedPose { t, pose })
             .collect();
-        files.push(write_file(o.dir, "log-poses.tum", |w| write_tum(w, &logged))?);
+        files.push(write_file(o.dir, "log-poses.tum", |w| {
+            write_tum(w, &logged)
+        })?);
     }
     let grid = o
         .mapper
@@ -71,15 +80,23 @@ pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
     };
     let pgm = o.dir.join("map.pgm");
     let mut pgm_out = create(&pgm)?;
-    files.push(write_file(o.dir, "map.yaml", |w| write_map_server(&mut pgm_out, w, "map.pgm", &image))?);
-    pgm_out.flush().with_context(|| format!("cannot write {}", pgm.display()))?;
+    files.push(write_file(o.dir, "map.yaml", |w| {
+        write_map_server(&mut pgm_out, w, "map.pgm", &image)
+    })?);
+    pgm_out
+        .flush()
+        .with_context(|| format!("cannot write {}", pgm.display()))?;
     files.push(pgm);
     let png = encode_grey_png(&pixels, grid.width, grid.height).context("map.png")?;
     files.push(write_file(o.dir, "map.png", |w| w.write_all(&png))?);
     let walls = o.mapper.line_map(&LineMapParams::default());
-    files.push(write_file(o.dir, "lines.json", |w| write_line_map(w, &walls))?);
+    files.push(write_file(o.dir, "lines.json", |w| {
+        write_line_map(w, &walls)
+    })?);
     let svg = map_svg(o, &grid, &pixels, &walls)?;
-    files.push(write_file(o.dir, "map.svg", |w| w.write_all(svg.as_bytes()))?);
+    files.push(write_file(o.dir, "map.svg", |w| {
+        w.write_all(svg.as_bytes())
+    })?);
     Ok(files)
 }
 
@@ -91,13 +108,17 @@ fn stamped(t: f64, p: &Se2) -> StampedPose {
 }
 
 fn create(path: &Path) -> Result<BufWriter<File>> {
-    Ok(BufWriter::new(
-        File::create(path).with_context(|| format!("cannot create {}", path.display()))?,
-    ))
+    Ok(BufWriter::new(File::create(path).with_context(|| {
+        format!("cannot create {}", path.display())
+    })?))
 }
 
 /// Creates `dir/name`, fills it with `fill`, flushes it; returns its path.
-fn write_file(dir: &Path, name: &str, fill: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>) -> Result<PathBuf> {
+fn write_file(
+    dir: &Path,
+    name: &str,
+    fill: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
+) -> Result<PathBuf> {
     let path = dir.join(name);
     let mut out = create(&path)?;
     fill(&mut out)
@@ -142,10 +163,19 @@ fn write_line_map(w: &mut impl Write, walls: &[MapLine]) -> std::io::Result<()> 
 }
 
 /// The paper's Fig. 8 for a log: grid, walls, path, closures.
-fn map_svg(o: &Outputs<'_>, grid: &OccupancyGrid, pixels: &[u8], walls: &[MapLine]) -> Result<String> {
+fn map_svg(
+    o: &Outputs<'_>,
+    grid: &OccupancyGrid,
+    pixels: &[u8],
+    walls: &[MapLine],
+) -> Result<String> {
     let poses = o.mapper.poses();
     let path: Vec<Point2> = poses.iter().map(|p| Point2::new(p.x, p.y)).collect();
-    let wall_segments: Vec<(Point2, Point2)> = walls.iter().filter(|w| w.lines >= 2).map(|w| (w.start, w.end)).collect();
+    let wall_segments: Vec<(Point2, Point2)> = walls
+        .iter()
+        .filter(|w| w.lines >= 2)
+        .map(|w| (w.start, w.end))
+        .collect();
     let closures: Vec<(Point2, Point2)> = o
         .mapper
         .graph()
@@ -179,7 +209,11 @@ fn map_svg(o: &Outputs<'_>, grid: &OccupancyGrid, pixels: &[u8], walls: &[MapLin
 
 /// The run for Foxglove: per scan the estimated pose, the scan and its lines; the map as
 /// `foxglove.Grid` on `/map` (frame `world`) at the first scan's time.
-pub fn write_mcap(path: &Path, o: &Outputs<'_>, kept: &[(laserlines_io::ScanRecord, Vec<laserlines::Line>)]) -> Result<()> {
+pub fn write_mcap(
+    path: &Path,
+    o: &Outputs<'_>,
+    kept: &[(laserlines_io::ScanRecord, Vec<laserlines::Line>)],
+) -> Result<()> {
     let mut w = McapSceneWriter::create(path)?;
     let grid = o.mapper.occupancy_grid(&OccupancyParams {
         resolution_m: o.resolution_m,
@@ -198,7 +232,9 @@ pub fn write_mcap(path: &Path, o: &Outputs<'_>, kept: &[(laserlines_io::ScanReco
     .context("map grid")?;
     w.write_message("/map", &msg, first)?;
     for ((record, lines), (&t, pose)) in kept.iter().zip(o.stamps.iter().zip(o.mapper.poses())) {
-        for tf in laserlines_foxglove::scene::pose_transforms(Pose2::new(pose.x, pose.y, pose.theta), t) {
+        for tf in
+            laserlines_foxglove::scene::pose_transforms(Pose2::new(pose.x, pose.y, pose.theta), t)
+        {
             w.write_transform(&tf)?;
         }
         w.write_scan_lines_at(&record.scan, lines, t)?;

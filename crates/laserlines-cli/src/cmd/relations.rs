@@ -10,8 +10,10 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use laserlines_io::trajectory::{StampedPose, read_relations, read_tum};
-use laserlines_slam::eval::{MAX_TIME_GAP_S, Relation, Summary, relations_from_trajectory, score_relations};
 use laserlines_slam::Se2;
+use laserlines_slam::eval::{
+    MAX_TIME_GAP_S, Relation, Summary, relations_from_trajectory, score_relations,
+};
 
 /// Arguments of `laserlines relations`.
 #[derive(Debug, Args)]
@@ -60,19 +62,28 @@ pub fn run(args: &RelationsArgs) -> Result<()> {
         args.trajectory.display()
     );
     let row = |name: &str, unit: &str, s: &Summary| {
-        outln!("{name:<30} {:>10.6} +- {:>10.6} {unit:<6} (max {:.6})", s.mean, s.std, s.max);
+        outln!(
+            "{name:<30} {:>10.6} +- {:>10.6} {unit:<6} (max {:.6})",
+            s.mean,
+            s.std,
+            s.max
+        );
     };
     row("translational error", "m", &score.translation_m);
-    row("squared translational error", "m^2", &score.translation_sq_m2);
+    row(
+        "squared translational error",
+        "m^2",
+        &score.translation_sq_m2,
+    );
     row("rotational error", "deg", &score.rotation_deg);
     row("squared rotational error", "deg^2", &score.rotation_sq_deg2);
     Ok(())
 }
 
 fn open(path: &Path) -> Result<BufReader<File>> {
-    Ok(BufReader::new(
-        File::open(path).with_context(|| format!("{}: cannot open", path.display()))?,
-    ))
+    Ok(BufReader::new(File::open(path).with_context(|| {
+        format!("{}: cannot open", path.display())
+    })?))
 }
 
 fn read_trajectory(path: &Path) -> Result<Vec<(f64, Se2)>> {

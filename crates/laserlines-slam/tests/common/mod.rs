@@ -1,4 +1,5 @@
 //! Simulated scenes shared by the tests.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(dead_code)]
 
 use laserlines::math::{Isometry2, Point2, Vector2};
@@ -50,7 +51,12 @@ pub fn surface(scan: &Scan) -> Vec<SurfacePoint> {
     let normals = scan_normals(&pts, scan.angle_increment, 3);
     pts.iter()
         .zip(normals)
-        .filter_map(|(p, n)| n.map(|normal| SurfacePoint { point: p.point, normal }))
+        .filter_map(|(p, n)| {
+            n.map(|normal| SurfacePoint {
+                point: p.point,
+                normal,
+            })
+        })
         .collect()
 }
 
