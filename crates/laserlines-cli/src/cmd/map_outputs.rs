@@ -185,10 +185,12 @@ fn map_svg(
         .map(|e| (path[e.from], path[e.to]))
         .collect();
     let s = o.mapper.stats();
+    let file = Path::new(o.name)
+        .file_name()
+        .map_or_else(|| o.name.into(), |f| f.to_string_lossy());
     let fig = MapFigure {
         title: format!(
-            "{}: {} scans, {} loop closures, {} walls",
-            o.name,
+            "{file}: {} scans, {} loop closures, {} walls",
             s.scans,
             s.closures_accepted,
             wall_segments.len()
