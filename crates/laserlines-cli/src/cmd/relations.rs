@@ -1,7 +1,8 @@
 //! `laserlines relations TRAJECTORY RELATIONS`: the relations metric of Kuemmerle et al.
 //! 2009 (`laserlines_slam::eval`) for a TUM trajectory against a relations file, or, with
 //! `--every N`, against relations taken between the poses of a reference TUM trajectory
-//! `N` poses apart (a consistency check against a trajectory that is not ground truth).
+//! `N` poses apart (a consistency check against a trajectory that is not ground truth);
+//! two trajectories with the same time stamps pose for pose are then paired by order.
 
 use std::fs::File;
 use std::io::BufReader;
@@ -23,18 +24,31 @@ pub struct RelationsArgs {
     /// The relations (`t1 t2 x y z roll pitch yaw`), or with --every a reference trajectory
     /// (TUM).
     pub relations: PathBuf,
-    /// Take relations between the poses of the reference trajectory this many poses apart.
+    /// Take relations between the poses of the reference trajectory this many poses apart
+    /// (trajectories with the same stamps pose for pose are paired by order).
     #[arg(long)]
     pub every: Option<usize>,
 }
 
 /// Runs `laserlines relations`.
 pub fn run(args: &RelationsArgs) -> Result<()> {
-    let traj = read_trajectory(&args.trajectory)?;
+    let mut traj = read_trajectory(&args.trajectory)?;
     let rel_name = args.relations.display().to_string();
     let relations: Vec<Relation> = match args.every {
         Some(0) => bail!("--every must be at least 1"),
-        Some(n) => relations_from_trajectory(&read_trajectory(&args.relations)?, n),
+        Some(n) => {
+            let mut reference = read_trajectory(&args.relations)?;
+            // Two trajectories of one log (as `laserlines map` writes them) pair pose by pose,
+            // so that logs whose time stamps repeat or are all zero can be checked too.
+            let same_stamps = reference.len() == traj.len()
+                && reference.iter().zip(&traj).all(|(a, b)| a.0 == b.0);
+            if same_stamps {
+                for (k, (r, t)) in reference.iter_mut().zip(traj.iter_mut()).enumerate() {
+                    (r.0, t.0) = (k as f64, k as f64);
+                }
+            }
+            relations_from_trajectory(&reference, n)
+        }
         None => read_relations(&rel_name, open(&args.relations)?)?
             .into_iter()
             .map(|r| Relation {
