@@ -15,12 +15,12 @@ use laserlines_slam::{Mapper, MapperParams, Se2};
 use super::map_outputs::{self, Outputs};
 use crate::InputArgs;
 
-/// Whether the log's poses are used as odometry.
+/// A switch: the log's poses as odometry, loop closure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum OnOff {
-    /// Use them (every scan must have one).
+    /// On (odometry: every scan must have a pose).
     On,
-    /// Ignore them (logs whose poses are already corrected, logs without odometry).
+    /// Off.
     Off,
 }
 
@@ -35,6 +35,9 @@ pub struct MapArgs {
     /// Use the log's poses as odometry (`on`), or map from the scans alone (`off`).
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub odometry: OnOff,
+    /// Search for loop closures (`off`: scan-to-submap matching alone).
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub loop_closure: OnOff,
     /// Also write the run for Foxglove: the map as foxglove.Grid, poses, scans and lines.
     #[arg(long)]
     pub mcap: Option<PathBuf>,
@@ -58,7 +61,11 @@ pub fn run(args: &MapArgs) -> Result<()> {
     }
     let mut reader = super::open_input(&args.input)?;
     let mut extractor = super::make_hough_split(args.params.as_deref())?;
-    let mut mapper = Mapper::new(MapperParams::default());
+    let mut params = MapperParams::default();
+    if args.loop_closure == OnOff::Off {
+        params.loops.every_scans = 0;
+    }
+    let mut mapper = Mapper::new(params);
     let mut lines = Vec::new();
     let mut stamps = Vec::new();
     let mut log_poses = Vec::new();
