@@ -206,6 +206,24 @@ fn mit_csail_meets_the_benchmark_bound() {
     let Some((log, rel)) = mit_csail() else {
         return;
     };
+    // `--odometry on` takes a FLASER line's first pose triple (x y theta); in this log it
+    // equals the odometry triple (odom_x odom_y odom_theta) token for token, so the map uses
+    // the log's odometry and nothing else.
+    let file = std::fs::File::open(&log).unwrap();
+    let plain =
+        laserlines_io::open_input("mit-csail", Box::new(std::io::BufReader::new(file)), true)
+            .unwrap();
+    let mut flaser = 0;
+    for line in std::io::BufRead::lines(plain) {
+        let line = line.unwrap();
+        let t: Vec<&str> = line.split_whitespace().collect();
+        if t.first() == Some(&"FLASER") {
+            let n: usize = t[1].parse().unwrap();
+            assert_eq!(t[2 + n..5 + n], t[5 + n..8 + n], "FLASER line {flaser}");
+            flaser += 1;
+        }
+    }
+    assert_eq!(flaser, 1988);
     let dir = tmp("mit-csail");
     let o = run(bin().arg("map").arg(&log).arg("-o").arg(&dir));
     assert!(o.status.success(), "{}", text(&o.stderr));
