@@ -125,7 +125,24 @@ fn maps_the_bundled_excerpt_with_every_output() {
             .unwrap()
             .contains("data:image/png;base64,")
     );
-    assert!(std::fs::metadata(&mcap).unwrap().len() > 1000);
+    // The MCAP, read back with the `mcap` crate's own reader: the map once as foxglove.Grid
+    // (as many cells as map.pgm), every scan, two transforms per scan.
+    let bytes = std::fs::read(&mcap).unwrap();
+    let mut count: std::collections::HashMap<String, usize> = Default::default();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        let m = m.unwrap();
+        if m.channel.topic == "/map" {
+            assert_eq!(m.channel.schema.as_ref().unwrap().name, "foxglove.Grid");
+            let grid = <foxglove::messages::Grid as prost::Message>::decode(&m.data[..]).unwrap();
+            assert_eq!(grid.column_count as usize, w);
+            assert_eq!(grid.data.len(), 5 * w * hgt);
+        }
+        *count.entry(m.channel.topic.clone()).or_default() += 1;
+    }
+    assert_eq!(count["/map"], 1);
+    assert_eq!(count["/scan"], 40);
+    assert_eq!(count["/lines"], 40);
+    assert_eq!(count["/tf"], 80);
     // A trajectory scored against itself: no error at all.
     let o = run(bin()
         .arg("relations")
