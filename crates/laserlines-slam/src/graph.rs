@@ -285,6 +285,29 @@ impl PoseGraph {
     }
 }
 
+/// The rotation by `theta` of the translation part of `(x, y, theta)`.
+fn rotation(theta: f64) -> Matrix3<f64> {
+    let (s, c) = theta.sin_cos();
+    Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
+}
+
+/// A covariance of `(x, y, theta)` given in a frame turned by `theta` from its parent,
+/// expressed in the parent: `R cov R^T`.
+#[must_use]
+pub fn covariance_in_parent(cov: &Matrix3<f64>, theta: f64) -> Matrix3<f64> {
+    let r = rotation(theta);
+    r * cov * r.transpose()
+}
+
+/// An information matrix of `(x, y, theta)` given in a parent frame, expressed in a frame
+/// turned by `theta` from it (as an edge's error is, in its measurement's frame):
+/// `R^T info R`.
+#[must_use]
+pub fn information_in_frame(info: &Matrix3<f64>, theta: f64) -> Matrix3<f64> {
+    let r = rotation(theta);
+    r.transpose() * info * r
+}
+
 /// Solves `(H + lambda diag(H)) dx = -g`, analysing the pattern on the first call.
 fn solve(
     h: &[Triplet<usize, usize, f64>],

@@ -97,7 +97,7 @@ pub use eval::{Relation, RelationsScore, score_relations};
 pub use graph::{Edge, PoseGraph, RobustKernel};
 pub use icp::{IcpError, IcpParams, IcpResult};
 pub use linemap::{LineMapParams, MapLine};
-pub use mapper::{Mapper, MapperStats, ScanNode, ScanUpdate};
+pub use mapper::{Mapper, MapperError, MapperStats, ScanNode, ScanUpdate};
 pub use occupancy::{OccupancyGrid, OccupancyParams};
 pub use params::{LoopParams, MapperParams};
 pub use se2::Se2;

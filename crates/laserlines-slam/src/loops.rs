@@ -7,7 +7,7 @@ use nalgebra::Matrix3;
 
 use crate::cloud::SurfacePoint;
 use crate::correlative::SearchWindow;
-use crate::graph::{Edge, RobustKernel};
+use crate::graph::{Edge, RobustKernel, information_in_frame};
 use crate::icp::match_points;
 use crate::params::MapperParams;
 use crate::se2::Se2;
@@ -63,15 +63,7 @@ pub fn try_closure(
         from: submap.anchor,
         to: submap.anchor,
         measurement: refined.pose,
-        information: rotate_to_measurement(&information, refined.pose.theta),
+        information: information_in_frame(&information, refined.pose.theta),
         kernel: RobustKernel::Cauchy(l.cauchy_scale),
     })
-}
-
-/// Information of a pose's `(x, y, theta)` in the anchor frame, expressed in the measured
-/// pose's own frame (where the edge's error lives).
-fn rotate_to_measurement(info: &Matrix3<f64>, theta: f64) -> Matrix3<f64> {
-    let (s, c) = theta.sin_cos();
-    let r = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
-    r.transpose() * info * r
 }

@@ -14,7 +14,10 @@ use nalgebra::Matrix3;
 
 use crate::cloud::{SurfacePoint, scan_normals};
 use crate::correlative::{CorrelativeGrid, SearchWindow};
-use crate::graph::{Edge, GraphError, OptimizeParams, OptimizeReport, PoseGraph, RobustKernel};
+use crate::graph::{
+    Edge, GraphError, OptimizeParams, OptimizeReport, PoseGraph, RobustKernel,
+    covariance_in_parent, information_in_frame,
+};
 use crate::icp::{IcpError, match_points};
 use crate::linemap::{LineMapParams, MapLine, build_line_map};
 use crate::lines::{LineMatchParams, match_lines};
@@ -23,6 +26,27 @@ use crate::occupancy::{GridTooLarge, OccupancyGrid, OccupancyParams};
 use crate::params::MapperParams;
 use crate::se2::Se2;
 use crate::submap::Submap;
+
+/// Why [`Mapper::add_scan`] failed: a refused scan leaves the mapper as it was.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MapperError {
+    /// The odometry pose given with the scan is not finite.
+    #[error("scan {node}: the odometry pose is not finite")]
+    OdometryNotFinite {
+        /// The index the scan would have had.
+        node: usize,
+    },
+    /// The scan's pose could not be computed as finite numbers (e.g. odometry far beyond
+    /// any map).
+    #[error("scan {node}: no finite pose")]
+    PoseNotFinite {
+        /// The index the scan would have had.
+        node: usize,
+    },
+    /// The pose graph could not be optimised after the scan was added (the scan is kept).
+    #[error(transparent)]
+    Graph(#[from] GraphError),
+}
 
 /// What the mapper keeps of each scan.
 #[derive(Debug, Clone)]
@@ -121,13 +145,17 @@ impl Mapper {
     /// sensor frame is the map frame. The returned pose is the sensor's, `map_from_sensor`.
     ///
     /// # Errors
-    /// [`GraphError`] when the pose graph cannot be optimised.
+    /// [`MapperError`] for non-finite odometry, or when the pose graph cannot be optimised.
     pub fn add_scan(
         &mut self,
         scan: &Scan,
         lines: &[Line],
         odometry: Option<Se2>,
-    ) -> Result<ScanUpdate, GraphError> {
+    ) -> Result<ScanUpdate, MapperError> {
+        let node = self.scans.len();
+        if odometry.is_some_and(|o| !o.is_finite()) {
+            return Err(MapperError::OdometryNotFinite { node });
+        }
         let window = scan.range_window(Some(RangeWindow::new(
             self.params.min_range_m,
             self.params.max_range_m,
@@ -143,7 +171,6 @@ impl Mapper {
                 });
             }
         }
-        let node = self.scans.len();
         let odometry = odometry.map(|o| o * self.params.robot_from_sensor);
         let (guess, prior) = self.predict(odometry, lines);
         let (pose, information, match_error) = match self.match_scan(guess, prior.as_ref()) {
@@ -154,6 +181,10 @@ impl Mapper {
             ),
             Err(e) => (guess, prior.unwrap_or_else(weak_information), e),
         };
+        if !pose.is_finite() || !information.iter().all(|v| v.is_finite()) {
+            // Nothing was changed yet: the mapper stays as it was.
+            return Err(MapperError::PoseNotFinite { node });
+        }
         self.graph.add_node(pose);
         if node > 0 {
             self.add_sequential_edge(node, information)?;
@@ -398,7 +429,7 @@ impl Mapper {
     /// A match in a submap as a map-frame pose and covariance.
     fn to_map(&self, anchor: &Se2, r: &crate::icp::IcpResult) -> (Se2, Matrix3<f64>) {
         let cov =
-            rotate_covariance(&r.covariance, anchor.theta) * self.params.match_covariance_scale;
+            covariance_in_parent(&r.covariance, anchor.theta) * self.params.match_covariance_scale;
         (*anchor * r.pose, cov)
     }
 
@@ -422,7 +453,7 @@ impl Mapper {
             from: node - 1,
             to: node,
             measurement: prev.between(&cur),
-            information: rotate_information(&information, prev.theta),
+            information: information_in_frame(&information, prev.theta),
             kernel: RobustKernel::None,
         })?;
         Ok(())
@@ -525,19 +556,4 @@ impl Mapper {
 /// Information of a relative pose nobody measured well (1 m, 1 rad).
 fn weak_information() -> Matrix3<f64> {
     Matrix3::identity()
-}
-
-/// `R cov R^T` for a rotation by `theta` of the translation block.
-pub(crate) fn rotate_covariance(cov: &Matrix3<f64>, theta: f64) -> Matrix3<f64> {
-    let (s, c) = theta.sin_cos();
-    let r = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
-    r * cov * r.transpose()
-}
-
-/// Information given in the map frame, expressed in a frame turned by `theta`.
-fn rotate_information(info: &Matrix3<f64>, theta: f64) -> Matrix3<f64> {
-    // info_local = R^T^-T ... : cov_local = R^T cov R, so info_local = R^T info R.
-    let (s, c) = theta.sin_cos();
-    let r = Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
-    r.transpose() * info * r
 }
