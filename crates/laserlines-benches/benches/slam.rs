@@ -7,22 +7,12 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, RangeWindow};
-use laserlines_slam::cloud::{PointCloud, SurfacePoint, scan_normals};
+use laserlines_slam::cloud::{PointCloud, SurfacePoint, scan_surface};
 use laserlines_slam::icp::{IcpParams, match_points};
 use laserlines_slam::{Mapper, MapperParams, Se2};
 
 fn surface(scan: &laserlines::Scan) -> Vec<SurfacePoint> {
-    let pts = scan.points(RangeWindow::new(scan.range_min, scan.range_max));
-    let normals = scan_normals(&pts, scan.angle_increment, 3);
-    pts.iter()
-        .zip(normals)
-        .filter_map(|(p, n)| {
-            n.map(|normal| SurfacePoint {
-                point: p.point,
-                normal,
-            })
-        })
-        .collect()
+    scan_surface(scan, RangeWindow::new(scan.range_min, scan.range_max), 3)
 }
 
 fn slam(c: &mut Criterion) {

@@ -4,8 +4,8 @@
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
-use laserlines::ScanPoint;
 use laserlines::math::{Point2, Vector2};
+use laserlines::{RangeWindow, Scan, ScanPoint};
 
 /// A point on a surface with the surface's unit normal there (pointing toward the sensor
 /// that saw it), in some frame.
@@ -57,6 +57,24 @@ pub fn scan_normals(
         });
     }
     out
+}
+
+/// The valid points of `scan` within `window` that have a normal ([`scan_normals`] with
+/// `half_window`), sensor frame.
+#[must_use]
+pub fn scan_surface(scan: &Scan, window: RangeWindow, half_window: usize) -> Vec<SurfacePoint> {
+    let points = scan.points(window);
+    let normals = scan_normals(&points, scan.angle_increment, half_window);
+    points
+        .iter()
+        .zip(normals)
+        .filter_map(|(p, n)| {
+            n.map(|normal| SurfacePoint {
+                point: p.point,
+                normal,
+            })
+        })
+        .collect()
 }
 
 /// The normal of a flat spread of points given by their sums, `None` when not flat.
@@ -242,7 +260,6 @@ pub type FastHash = BuildHasherDefault<CellHasher>;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use laserlines::{RangeWindow, Scan};
 
     #[test]
     fn normals_of_a_wall_point_at_the_sensor() {

@@ -6,7 +6,7 @@ use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines::{RangeWindow, Scan};
 use laserlines_sim::{LaserModel, Rng, World, simulate};
 use laserlines_slam::Se2;
-use laserlines_slam::cloud::{PointCloud, SurfacePoint, scan_normals};
+use laserlines_slam::cloud::{PointCloud, SurfacePoint, scan_surface};
 
 /// A 10 m x 7 m room with an inner wall, two boxes and a pillar: enough structure to fix
 /// every direction of a pose from anywhere inside.
@@ -47,17 +47,7 @@ pub fn scan_at(world: &World, pose: Se2, model: &LaserModel, rng: &mut Rng) -> S
 
 /// The scan's points that have normals (sensor frame).
 pub fn surface(scan: &Scan) -> Vec<SurfacePoint> {
-    let pts = scan.points(RangeWindow::new(scan.range_min, scan.range_max));
-    let normals = scan_normals(&pts, scan.angle_increment, 3);
-    pts.iter()
-        .zip(normals)
-        .filter_map(|(p, n)| {
-            n.map(|normal| SurfacePoint {
-                point: p.point,
-                normal,
-            })
-        })
-        .collect()
+    scan_surface(scan, RangeWindow::new(scan.range_min, scan.range_max), 3)
 }
 
 /// A cloud of the scan's surface points seen from `pose`.
