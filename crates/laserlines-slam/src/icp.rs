@@ -10,8 +10,14 @@
 //! stated noise)
 //! and is checked: it fails ([`IcpError`]) rather than return a pose it cannot vouch for
 //! when too few points pair up, the fit is poor, the geometry leaves a direction
-//! unconstrained, or the pose moved farther from the guess than the stated convergence
-//! basin ([`IcpParams::basin_translation_m`], [`IcpParams::basin_rotation_rad`]).
+//! unconstrained, or the pose moved farther from the guess than it vouches for
+//! ([`IcpParams::basin_translation_m`], [`IcpParams::basin_rotation_rad`]).
+//!
+//! **Convergence basin.** With the defaults, guesses up to 0.3 m and 0.2 rad (11 deg) off
+//! converge to the true pose (within 2 cm and 0.3 deg on simulated SICK-like scans of a
+//! furnished room, `tests/icp.rs`); from farther off the matcher returns either the true
+//! pose or an error, never a wrong pose, in the same tests (offsets up to 1.5 m and
+//! 1.2 rad).
 
 use laserlines::math::{Point2, wrap_angle};
 use nalgebra::{Matrix3, Vector3};
