@@ -253,7 +253,10 @@ impl LineNode {
             }
             // Edge-triggered: drain what has arrived; the timeout bounds how late a stop
             // is seen.
-            poll.poll(&mut events, Some(Duration::from_millis(100)))?;
+            match poll.poll(&mut events, Some(Duration::from_millis(100))) {
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                r => r?,
+            }
             self.drain(&mut out, limits.scans);
         }
         poll.registry().deregister(&mut self.scans)?;
