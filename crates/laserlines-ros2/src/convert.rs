@@ -191,7 +191,15 @@ mod tests {
     fn bad_ranges_are_counted_and_kept_as_no_return() {
         let m = msg(
             0.01,
-            vec![1.0, f32::NAN, f32::INFINITY, 0.0, -0.5, f32::NEG_INFINITY, 2.0],
+            vec![
+                1.0,
+                f32::NAN,
+                f32::INFINITY,
+                0.0,
+                -0.5,
+                f32::NEG_INFINITY,
+                2.0,
+            ],
         );
         let mut scan = Scan::default();
         let c = scan_from_msg(&m, &mut scan).unwrap();

@@ -11,6 +11,7 @@
 //! | [`sectors`] | the sector objects as markers |
 //! | [`process`] | one scan through the extractor into the outputs, and the counts |
 //! | [`node`] | the DDS participant, subscription, publishers and the loop |
+//! | [`wire`] | messages as DDS carries them (encapsulation header and CDR) |
 //! | [`args`] | the command line of `laserlines-ros2` |
 
 pub mod args;
@@ -19,3 +20,4 @@ pub mod msg;
 pub mod node;
 pub mod process;
 pub mod sectors;
+pub mod wire;

@@ -6,9 +6,9 @@ use std::net::IpAddr;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use ros2_client::qos::{Durability, History, Reliability, WhenFull};
 use ros2_client::dds::rustdds::DomainParticipantBuilder;
 use ros2_client::dds::rustdds::mio1::{Events, Interest, Poll, Token};
+use ros2_client::qos::{Durability, History, Reliability, WhenFull};
 use ros2_client::{
     Context, MessageTypeName, Name, Node, NodeName, NodeOptions, Publisher, QosProfile,
     Subscription,
@@ -187,7 +187,11 @@ impl LineNode {
             .map_err(|e| create_err("node", e))?;
         let qos = scan_qos(config.scan_depth);
         let topic = node
-            .create_topic(&parse_name(&config.scan_topic)?, msg::laser_scan_type(), &qos)
+            .create_topic(
+                &parse_name(&config.scan_topic)?,
+                msg::laser_scan_type(),
+                &qos,
+            )
             .map_err(|e| create_err(&format!("topic {}", config.scan_topic), e))?;
         let scans = node
             .create_subscription(&topic, Some(qos))
@@ -241,7 +245,10 @@ impl LineNode {
                 info!("stopping (duration reached)");
                 break;
             }
-            if limits.scans.is_some_and(|n| self.processor.counts().seen >= n) {
+            if limits
+                .scans
+                .is_some_and(|n| self.processor.counts().seen >= n)
+            {
                 info!("stopping (scan count reached)");
                 break;
             }

@@ -6,7 +6,9 @@ use std::time::Instant;
 use laserlines::registry::BoxedExtractor;
 use laserlines::{Line, Scan, ScanError};
 
-use crate::convert::{RangeCounts, fill_line_list, fill_lines_marker, output_header, scan_from_msg};
+use crate::convert::{
+    RangeCounts, fill_line_list, fill_lines_marker, output_header, scan_from_msg,
+};
 use crate::msg::{LaserScan, LineSegmentList, Marker, MarkerArray};
 use crate::sectors::sector_markers;
 
@@ -162,9 +164,7 @@ impl Processor {
         }
         let header = output_header(&msg.header, self.frame_id.as_deref());
         fill_lines_marker(header.clone(), &self.lines, &mut out.marker);
-        out.sectors = self
-            .sectors
-            .then(|| sector_markers(&header, &self.lines));
+        out.sectors = self.sectors.then(|| sector_markers(&header, &self.lines));
         fill_line_list(header, &self.lines, &mut out.lines);
         Processed::Extracted {
             lines: self.lines.len(),

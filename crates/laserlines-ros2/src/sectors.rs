@@ -107,9 +107,7 @@ pub fn sector_markers(header: &Header, lines: &[Line]) -> MarkerArray {
     for deg in [-120.0_f64, -50.0, 50.0, 120.0] {
         let (s, c) = deg.to_radians().sin_cos();
         bounds.points.push(point(0.0, 0.0));
-        bounds
-            .points
-            .push(point(BOUND_RAY_M * c, BOUND_RAY_M * s));
+        bounds.points.push(point(BOUND_RAY_M * c, BOUND_RAY_M * s));
     }
     markers.push(bounds);
     MarkerArray { markers }
