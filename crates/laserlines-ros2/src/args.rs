@@ -83,6 +83,9 @@ pub struct Ros2Args {
     pub status_every: f64,
 }
 
+/// The largest DDS domain whose ports fit in UDP's (7400 + 250 * domain + ...).
+pub const MAX_DOMAIN_ID: u16 = 232;
+
 /// True when an environment variable asks ROS 2 nodes to stay on this host.
 fn env_localhost_only() -> bool {
     let var = |k: &str| std::env::var(k).unwrap_or_default();
@@ -109,6 +112,9 @@ impl Ros2Args {
                 _ => 0,
             },
         };
+        if domain_id > MAX_DOMAIN_ID {
+            bail!("the DDS domain must be 0..={MAX_DOMAIN_ID} (its UDP ports), got {domain_id}");
+        }
         let localhost = self.localhost_only || env_localhost_only();
         if localhost && !self.interfaces.is_empty() {
             bail!("--interface and localhost-only (flag or environment) exclude each other");
