@@ -539,7 +539,8 @@ def throughput(args):
     scans = load_scans(args.laserlines, args.log, work)
     msgs = [to_msg(s) for s in scans]
     beams = len(scans[0]["ranges"])
-    node, log = start_node(args.node, args.domain, ["--algorithm", args.algorithm, "--scan-depth", str(args.scan_depth)], os.path.join(work, "node.log"))
+    log_path = os.path.join(work, "node.log")
+    node, log = start_node(args.node, args.domain, ["--algorithm", args.algorithm, "--scan-depth", str(args.scan_depth)], log_path)
     peer = Peer(args.domain, True, False)
     try:
         if not peer.wait_matched(args.discovery_timeout):
@@ -565,7 +566,6 @@ def throughput(args):
             t_sent = time.monotonic() - t0
             wait_for(lambda: (take_all(peer.lines, lists), len(lists) >= n)[1], 2.0)
             take_all(peer.lines, lists)
-            last = max((t for t in [time.monotonic()]), default=0)
             received = len({m.header.stamp.sec for m in lists})
             print(
                 f"| {rate:.0f} | {n} | {n / t_sent:.0f} | {received} | {n - received} | "
@@ -576,6 +576,10 @@ def throughput(args):
         code = stop_node(node, log)
     if code != 0:
         fail(f"the node exited with {code}")
+    with open(log_path) as f:
+        status = [l for l in f if "scans seen" in l]
+    if status:
+        print("node: " + status[-1].split("laserlines_ros2: ")[-1].strip())
     print(f"({beams} beams per scan, {args.algorithm}, reliable Cyclone DDS writer, best-effort node subscription of depth {args.scan_depth}, loopback)")
 
 
