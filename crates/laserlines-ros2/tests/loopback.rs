@@ -4,6 +4,8 @@
 //! header; a scan with `angle_increment` 0 gives nothing and the node goes on; the node
 //! stops when told. (The independent check with Cyclone DDS is `scripts/ros2_peer_check.py`.)
 
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::net::{IpAddr, Ipv4Addr};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
