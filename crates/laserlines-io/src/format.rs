@@ -22,7 +22,8 @@ pub enum Format {
     /// CARMEN log (`.clf`, `.log`): FLASER, RLASER, ROBOTLASER, RAWLASER lines; see
     /// [`crate::carmen`].
     Carmen,
-    /// ROS 1 bag, version 2.0 (`.bag`): `sensor_msgs/LaserScan` messages; see [`crate::bag`].
+    /// ROS 1 bag, version 2.0 or 1.2 (`.bag`): `sensor_msgs/LaserScan` messages; see
+    /// [`crate::bag`].
     Bag,
 }
 

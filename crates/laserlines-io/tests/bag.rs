@@ -219,7 +219,8 @@ fn a_truncated_chunk_ends_with_an_error_naming_its_offset_after_the_scans_before
         let (items, _) = read_bytes(&bytes[..7], None);
         assert_eq!(
             items[0].as_ref().unwrap_err().to_string(),
-            "t.bag: byte 0: expected `#ROSBAG V2.0` (a ROS 1 bag), found `#ROSBAG`"
+            "t.bag: byte 0: expected `#ROSBAG V2.0` or `#ROSRECORD V1.2` (a ROS 1 bag), found \
+             `#ROSBAG`"
         );
     }
 }
@@ -231,14 +232,17 @@ fn not_a_bag_is_an_error_at_byte_zero() {
         (b"hello, world\n", "`hello, world\\n`"),
         (
             b"#ROSBAG V1.2\nxx",
-            "`#ROSBAG V1.2` (only version 2.0 is read)",
+            "`#ROSBAG V1.2` (versions 2.0 and 1.2 are read)",
         ),
     ] {
         let (items, skipped) = read_bytes(bytes, None);
         assert_eq!(items.len(), 1);
         assert_eq!(
             items[0].as_ref().unwrap_err().to_string(),
-            format!("t.bag: byte 0: expected `#ROSBAG V2.0` (a ROS 1 bag), found {found}")
+            format!(
+                "t.bag: byte 0: expected `#ROSBAG V2.0` or `#ROSRECORD V1.2` (a ROS 1 bag), \
+                 found {found}"
+            )
         );
         assert_eq!(skipped, "1 malformed record");
     }
