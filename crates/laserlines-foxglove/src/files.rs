@@ -1,7 +1,7 @@
 //! Scans in, lines and scans out: the one place that chooses between the formats of
 //! `laserlines-io` and MCAP, for input ([`open_scans`]) and output ([`LinesOutput`],
 //! [`ScanOutput`]) alike. MCAP is chosen by the format given, else by the `.mcap` extension;
-//! a directory is a ROS 2 bag in MCAP storage.
+//! a directory is a ROS 2 bag (MCAP or sqlite3 storage), as is a `.db3` file.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -16,16 +16,18 @@ use laserlines_io::{
 use crate::McapReadOptions;
 use crate::write::McapSceneWriter;
 
-/// Opens the scans of `path` (`-` for standard input, with a format): an MCAP file or a ROS 2
-/// bag directory with [`crate::read`], any other format with [`laserlines_io::open_with`].
+/// Opens the scans of `path` (`-` for standard input, with a format): an MCAP file, a ROS 2
+/// bag directory or a `.db3` file with [`crate::read`], any other format with
+/// [`laserlines_io::open_with`].
 /// `options.topic` picks the topic (MCAP, ROS bag) or the laser (CARMEN).
 ///
 /// # Errors
 /// As the reader of the format: a [`ReadError`] naming the file.
 pub fn open_scans(path: &Path, options: &ReadOptions) -> Result<ScanReader, ReadError> {
+    let ours = |f: Format| matches!(f, Format::Mcap | Format::Db3);
     let mcap = match options.format {
-        Some(f) => f == Format::Mcap,
-        None => path.is_dir() || Format::from_path(path) == Some(Format::Mcap),
+        Some(f) => ours(f),
+        None => path.is_dir() || Format::from_path(path).is_some_and(ours),
     };
     if mcap {
         let mcap_options = McapReadOptions::topic(options.topic.as_deref());

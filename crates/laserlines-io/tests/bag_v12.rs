@@ -124,9 +124,17 @@ fn the_fixture_has_every_record_kind_of_the_format() {
     let ops: Vec<u8> = records(&bytes()).iter().map(|r| r.1).collect();
     assert!(bytes().starts_with(b"#ROSRECORD V1.2\n"));
     assert_eq!(ops[0], 0x03, "file header first");
-    assert_eq!(ops.iter().filter(|o| **o == 0x01).count(), 3, "a definition per topic");
+    assert_eq!(
+        ops.iter().filter(|o| **o == 0x01).count(),
+        3,
+        "a definition per topic"
+    );
     assert_eq!(ops.iter().filter(|o| **o == 0x02).count(), 13);
-    assert_eq!(ops.iter().filter(|o| **o == 0x04).count(), 3, "an index per topic");
+    assert_eq!(
+        ops.iter().filter(|o| **o == 0x04).count(),
+        3,
+        "an index per topic"
+    );
 }
 
 #[test]
