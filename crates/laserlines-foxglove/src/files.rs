@@ -47,20 +47,26 @@ pub enum LinesOutput {
 }
 
 impl LinesOutput {
-    /// Creates the output named `path`, choosing the kind by its extension.
+    /// Creates the output named `path`, choosing the kind by its extension: `.mcap` for
+    /// MCAP, `.jsonl` or `.ndjson` (optionally `.gz`) or `-` (standard output) for lines JSONL.
     ///
     /// # Errors
-    /// [`WriteError::Io`] when the file cannot be created.
+    /// [`WriteError::Io`] when the file cannot be created, [`WriteError::Name`] for
+    /// any other extension (a lines file named `.txt` or `.json` would be mistaken for
+    /// something else) and for `.mcap.gz` (see [`McapSceneWriter::create`]).
     pub fn create(path: &Path) -> Result<Self, WriteError> {
-        let is_mcap = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
-        Ok(if is_mcap {
-            Self::Mcap(Box::new(McapSceneWriter::create(path)?))
-        } else {
-            Self::Jsonl(Box::new(LinesWriter::create(path)?))
-        })
+        if path == Path::new("-") {
+            return Ok(Self::Jsonl(Box::new(LinesWriter::create(path)?)));
+        }
+        match Format::from_path(path) {
+            Some(Format::Mcap) => Ok(Self::Mcap(Box::new(McapSceneWriter::create(path)?))),
+            Some(Format::Jsonl) => Ok(Self::Jsonl(Box::new(LinesWriter::create(path)?))),
+            _ => Err(WriteError::Name {
+                file: path.display().to_string(),
+                expected: "lines JSONL (.jsonl, .jsonl.gz, or - for standard output) or MCAP \
+                           (.mcap)",
+            }),
+        }
     }
 
     /// Writes the lines of scan number `scan` (0-based, in input order) with its record.

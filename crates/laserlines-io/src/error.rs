@@ -272,6 +272,14 @@ pub enum WriteError {
         /// The output's name.
         file: String,
     },
+    /// The name does not say what to write in a way the writer accepts.
+    #[error("{file}: cannot write this name; expected {expected}")]
+    Name {
+        /// The output's name.
+        file: String,
+        /// The names accepted.
+        expected: &'static str,
+    },
 }
 
 /// Human description of a JSON value's kind, for "found ..." messages.
