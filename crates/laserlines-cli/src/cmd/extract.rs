@@ -410,3 +410,23 @@ fn summary(name: &str, skipped: &SkipCounts, totals: &Totals, bytes: Option<u64>
         eprintln!("{name}: range noise assumed, mean over the scans: {mean}");
     }
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::input_size;
+
+    #[test]
+    fn the_size_of_a_directory_input_is_that_of_its_files() {
+        let dir = std::env::temp_dir().join(format!("laserlines-size-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        std::fs::write(dir.join("bag_0.db3"), vec![0u8; 3000]).unwrap();
+        std::fs::write(dir.join("metadata.yaml"), vec![0u8; 500]).unwrap();
+        std::fs::write(dir.join("sub/other"), vec![0u8; 7000]).unwrap();
+        assert_eq!(input_size(&dir), Some(3500));
+        assert_eq!(input_size(&dir.join("bag_0.db3")), Some(3000));
+        assert_eq!(input_size(std::path::Path::new("-")), None);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
