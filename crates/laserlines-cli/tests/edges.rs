@@ -270,3 +270,57 @@ fn old_ros_bags_and_ros2_sqlite_bags_extract() {
         assert_eq!(String::from_utf8_lossy(&o.stdout).lines().count(), 3);
     }
 }
+
+/// The options a subcommand's `--help` lists (but `--help`): each as its names (`-o`,
+/// `--output`).
+fn options_of(command: &str) -> Vec<Vec<String>> {
+    let o = run(bin().args([command, "--help"]));
+    let help = String::from_utf8_lossy(&o.stdout).into_owned();
+    help.lines()
+        .filter_map(|l| {
+            let l = l.trim_start();
+            if !l.starts_with('-') {
+                return None;
+            }
+            let names: Vec<String> = l
+                .split_whitespace()
+                .take_while(|w| w.starts_with('-'))
+                .map(|w| w.trim_end_matches(',').to_owned())
+                .collect();
+            (!names.iter().any(|n| n == "--help")).then_some(names)
+        })
+        .collect()
+}
+
+#[test]
+fn the_readme_synopses_name_every_option_of_the_help() {
+    let readme = std::fs::read_to_string(repo("README.md")).unwrap();
+    let section = readme
+        .split("## Command line")
+        .nth(1)
+        .and_then(|s| s.split("```sh").nth(1))
+        .and_then(|s| s.split("```").next())
+        .unwrap();
+    for command in [
+        "extract", "render", "demo", "bench", "convert", "view", "simulate",
+    ] {
+        let synopsis: String = section
+            .lines()
+            .filter(|l| l.starts_with(&format!("laserlines {command} ")))
+            .collect();
+        assert!(!synopsis.is_empty(), "no synopsis of {command}");
+        let options = options_of(command);
+        assert!(options.len() >= 3, "{command}: {options:?}");
+        for names in options {
+            let named = names.iter().any(|option| {
+                [" ", "]", "|"]
+                    .iter()
+                    .any(|end| synopsis.contains(&format!("{option}{end}")))
+            });
+            assert!(
+                named,
+                "README's synopsis of {command} lacks {names:?}: {synopsis}"
+            );
+        }
+    }
+}
