@@ -214,7 +214,10 @@ fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
             || path.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
         );
-        parts.push(format!("{group} ({} scans)", scans.len()));
+        parts.push(format!(
+            "{group} ({})",
+            super::count(scans.len() as u64, "scan")
+        ));
         all.extend(plain_scans(&group, scans));
     }
     Ok((format!("data: {}", parts.join(", ")), all))

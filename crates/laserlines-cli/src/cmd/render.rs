@@ -53,10 +53,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut reader = super::open_input(&args.input)?;
     let record = reader.by_ref().nth(args.scan).ok_or_else(|| {
         anyhow!(
-            "{}: has no scan {} (it holds {} scans)",
+            "{}: has no scan {} (it holds {})",
             args.input.input.display(),
             args.scan,
-            reader.records()
+            super::count(reader.records(), "scan")
         )
     })??;
     let opts = RenderOptions {

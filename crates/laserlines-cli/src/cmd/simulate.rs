@@ -124,7 +124,11 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     let written = write_outputs(args, &setup, &record)?;
     print_summary(args, &setup, &record, &written);
     if let (Some(path), Some(scans)) = (&args.mcap, mcap_scans) {
-        outln!("  wrote {} ({scans} scans)", path.display());
+        outln!(
+            "  wrote {} ({})",
+            path.display(),
+            super::count(scans, "scan")
+        );
     }
     Ok(())
 }
