@@ -146,16 +146,17 @@ impl Db3File {
     }
 
     fn next(&mut self) -> Option<Result<ScanRecord, ReadError>> {
-        if self.page.is_empty() && !self.done {
-            if let Err(e) = self.fetch() {
-                self.done = true;
-                self.page.clear();
-                return Some(Err(ReadError::Syntax {
-                    pos: SourcePos::message(&self.name, self.after),
-                    expected: "the next messages of the bag".to_owned(),
-                    found: format!("a database error ({e})"),
-                }));
-            }
+        if self.page.is_empty()
+            && !self.done
+            && let Err(e) = self.fetch()
+        {
+            self.done = true;
+            self.page.clear();
+            return Some(Err(ReadError::Syntax {
+                pos: SourcePos::message(&self.name, self.after),
+                expected: "the next messages of the bag".to_owned(),
+                found: format!("a database error ({e})"),
+            }));
         }
         let (id, timestamp, data) = self.page.pop_front()?;
         Some(self.decode(id, timestamp, &data))
