@@ -29,6 +29,16 @@ pub fn open_scans(path: &Path, options: &ReadOptions) -> Result<ScanReader, Read
         Some(f) => ours(f),
         None => path.is_dir() || Format::from_path(path).is_some_and(ours),
     };
+    if options.format == Some(Format::Db3) && path == Path::new("-") {
+        return Err(ReadError::Open {
+            file: "-".to_owned(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "a ROS 2 bag in sqlite3 storage is read from its file or directory (SQLite \
+                 cannot read a database from standard input)",
+            ),
+        });
+    }
     if mcap {
         let mcap_options = McapReadOptions::topic(options.topic.as_deref());
         return crate::read::open(path, &mcap_options);

@@ -173,3 +173,14 @@ fn a_file_that_is_no_database_is_an_error_at_byte_zero() {
     assert!(e.to_string().contains("compressed (.zstd)"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn standard_input_is_refused_for_sqlite3_storage() {
+    let options = ReadOptions::format(Some(Format::Db3));
+    let e = laserlines_foxglove::open_scans(Path::new("-"), &options).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("SQLite cannot read a database from standard input"),
+        "{e}"
+    );
+}
