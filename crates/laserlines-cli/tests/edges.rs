@@ -324,3 +324,32 @@ fn the_readme_synopses_name_every_option_of_the_help() {
         }
     }
 }
+
+#[test]
+fn a_long_input_name_wraps_in_the_sectors_title() {
+    let long = tmp(&format!(
+        "{}_scans.dat.gz",
+        "a_very_long_log_name".repeat(8)
+    ));
+    std::fs::copy(excerpt(), &long).unwrap();
+    let o = run(bin()
+        .arg("render")
+        .arg(&long)
+        .args(["--sectors", "-o", "-"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = String::from_utf8_lossy(&o.stdout);
+    let title: Vec<&str> = svg
+        .split("class=\"panel-title\"")
+        .skip(1)
+        .filter_map(|t| t.split_once('>').and_then(|(_, r)| r.split('<').next()))
+        .collect();
+    assert!(title.len() >= 3, "{title:?}");
+    // The plot is 560 px wide; 13.5 px bold letters are about 8 px wide.
+    for line in &title {
+        assert!(line.chars().count() <= 75, "{line:?} in {title:?}");
+    }
+    assert!(
+        !svg.contains(&std::env::temp_dir().display().to_string()),
+        "the whole path"
+    );
+}
