@@ -35,7 +35,7 @@ pub struct SimulateArgs {
     #[arg(long, requires = "maze")]
     islands: bool,
     /// Simulated time limit, s.
-    #[arg(long, default_value_t = 900.0)]
+    #[arg(long, default_value_t = 900.0, allow_negative_numbers = true)]
     duration: f64,
     /// Seed of the laser and odometry noise.
     #[arg(long, default_value_t = 0)]
@@ -49,9 +49,10 @@ pub struct SimulateArgs {
     /// Arena walls 1.0 m long (the plate's mesh) instead of the whole 1.2 m cell edge.
     #[arg(long)]
     mesh_walls: bool,
-    /// Simulated time of the sector picture, s.
-    #[arg(long, default_value_t = 20.0)]
-    snapshot: f64,
+    /// Simulated time of the sector picture, s, within the run (default: 20 s, or half the
+    /// duration when that is shorter).
+    #[arg(long, allow_negative_numbers = true)]
+    snapshot: Option<f64>,
     /// Output folder.
     #[arg(short, long, default_value = "laserlines-simulate")]
     output: PathBuf,
@@ -108,6 +109,14 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             args.duration
         );
     }
+    if let Some(t) = args.snapshot
+        && !(t.is_finite() && (0.0..=args.duration).contains(&t))
+    {
+        bail!(
+            "--snapshot must lie within the run, from 0 to --duration ({} s), got {t}",
+            args.duration
+        );
+    }
     let setup = setup(args)?;
     fs::create_dir_all(&args.output)
         .with_context(|| format!("cannot create {}", args.output.display()))?;
@@ -115,7 +124,11 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     let written = write_outputs(args, &setup, &record)?;
     print_summary(args, &setup, &record, &written);
     if let (Some(path), Some(scans)) = (&args.mcap, mcap_scans) {
-        outln!("  wrote {} ({scans} scans)", path.display());
+        outln!(
+            "  wrote {} ({})",
+            path.display(),
+            super::count(scans, "scan")
+        );
     }
     Ok(())
 }
@@ -126,7 +139,11 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
     let robot = robot_of(&file)?;
     let (name, world, default_start) = world_of(args, &robot)?;
     let start = match &args.start {
-        Some(s) => parse_start(s)?,
+        Some(s) => {
+            let start = parse_start(s)?;
+            check_start_inside(&name, &world, start)?;
+            start
+        }
         None => default_start,
     };
     let config = RunConfig {
@@ -140,7 +157,7 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
             .algorithm_params_over(&registry::HOUGH_SPLIT, HoughSplitParams::navigation())?,
         duration_s: args.duration,
         seed: args.seed,
-        snapshot_at_s: args.snapshot,
+        snapshot_at_s: snapshot_time(args),
         // The lines of one scan in 30 for the map picture (every 3 s).
         record_lines_every: 30,
     };
@@ -233,7 +250,15 @@ fn write_outputs(args: &SimulateArgs, setup: &Setup, record: &RunRecord) -> Resu
             write(&path, svg)?;
             Some(path)
         }
-        None => None,
+        None => {
+            eprintln!(
+                "laserlines: sectors.svg not written: the run ended at {:.1} s, before the \
+                 snapshot at {:.1} s (--snapshot)",
+                record.metrics.sim_time_s,
+                snapshot_time(args)
+            );
+            None
+        }
     };
     Ok(Written {
         metrics,
@@ -247,7 +272,7 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
     let m = &record.metrics;
     let start = setup.start.translation.vector;
     outln!(
-        "laserlines simulate: {}, seed {}, start ({:.2}, {:.2}): coverage {:.3}, collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage at {}, pose error at most {:.2} m, stop {}",
+        "laserlines simulate: {}, seed {}, start ({:.2}, {:.2}): coverage {:.3}, collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage {}, pose error at most {:.2} m, stop {}",
         setup.name,
         args.seed,
         start.x,
@@ -260,7 +285,7 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
         m.wall_time_s,
         m.sim_time_s / m.wall_time_s.max(1e-9),
         m.time_to_90_percent_s
-            .map_or_else(|| "never".to_owned(), |t| format!("{t:.0} s")),
+            .map_or_else(|| "not reached".to_owned(), |t| format!("at {t:.0} s")),
         m.max_pose_error_m,
         m.stop.name(),
     );
@@ -343,6 +368,38 @@ fn world_of(args: &SimulateArgs, robot: &RobotParams) -> Result<(String, World, 
     let start = interior_start(&arena.world, robot.robot.footprint.circumradius())
         .unwrap_or_else(|| Isometry2::new(Vector2::zeros(), 0.0));
     Ok((arena.name.clone(), arena.world, start))
+}
+
+/// The simulated time of the sector picture: `--snapshot`, or 20 s, or half the run when
+/// that is shorter.
+fn snapshot_time(args: &SimulateArgs) -> f64 {
+    args.snapshot.unwrap_or(20.0_f64.min(0.5 * args.duration))
+}
+
+/// A start given by hand must lie among the walls: within their bounding box.
+fn check_start_inside(name: &str, world: &World, start: Isometry2) -> Result<()> {
+    let ends = world.walls.iter().flat_map(|w| [w.a, w.b]);
+    let (lo, hi) = ends.fold(
+        (
+            Point2::new(f64::INFINITY, f64::INFINITY),
+            Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+        ),
+        |(lo, hi), p| (lo.inf(&p), hi.sup(&p)),
+    );
+    let p = start.translation.vector;
+    let inside = lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y;
+    if !inside {
+        bail!(
+            "--start ({}, {}): outside {name}, whose walls span x {:.2}..{:.2} m, y {:.2}..{:.2} m",
+            p.x,
+            p.y,
+            lo.x,
+            hi.x,
+            lo.y,
+            hi.y
+        );
+    }
+    Ok(())
 }
 
 fn parse_start(s: &str) -> Result<Isometry2> {
