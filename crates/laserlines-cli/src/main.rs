@@ -50,6 +50,10 @@ enum Command {
     Live(cmd::live::LiveArgs),
     /// Emulate a Hokuyo sensor (SCIP 2.0 over TCP or a pseudo-terminal), with faults.
     HokuyoEmulator(cmd::hokuyo_emulator::HokuyoEmulatorArgs),
+    /// Build a map and a trajectory from a log (scan matching, loop closure, pose graph).
+    Map(cmd::map::MapArgs),
+    /// Score a trajectory against relations (the Freiburg SLAM benchmark's metric).
+    Relations(cmd::relations::RelationsArgs),
 }
 
 /// Where scans come from: a path (or `-` for stdin) and an optional format override.
@@ -80,6 +84,8 @@ fn main() -> ExitCode {
         Command::View(a) => cmd::view::run(&a),
         Command::Live(a) => cmd::live::run(&a),
         Command::HokuyoEmulator(a) => cmd::hokuyo_emulator::run(&a),
+        Command::Map(a) => cmd::map::run(&a),
+        Command::Relations(a) => cmd::relations::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

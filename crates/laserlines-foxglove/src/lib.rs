@@ -50,6 +50,7 @@
 //! ```
 
 pub mod files;
+pub mod grid;
 #[cfg(feature = "live")]
 pub mod live;
 pub mod navigation;

@@ -60,6 +60,7 @@ pub mod reader;
 pub mod record;
 pub mod ros;
 pub mod skip;
+pub mod trajectory;
 mod wire;
 pub mod writer;
 

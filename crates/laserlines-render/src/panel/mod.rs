@@ -281,6 +281,28 @@ impl Panel {
         }
     }
 
+    /// An image (`href`, e.g. a `data:` URI) stretched over the world rectangle `area`,
+    /// drawn without smoothing so that map cells stay sharp.
+    pub fn image(&mut self, area: Extent, href: &str) {
+        let (Some(a), Some(b)) = (
+            self.to_px(Point2::new(area.min_x, area.max_y)),
+            self.to_px(Point2::new(area.max_x, area.min_y)),
+        ) else {
+            return;
+        };
+        self.body.leaf(
+            "image",
+            Attrs::new()
+                .px("x", a[0])
+                .px("y", a[1])
+                .px("width", b[0] - a[0])
+                .px("height", b[1] - a[1])
+                .str("preserveAspectRatio", "none")
+                .str("style", "image-rendering:pixelated")
+                .str("href", href),
+        );
+    }
+
     /// A straight segment from `a` to `b`.
     pub fn line(&mut self, a: Point2, b: Point2, style: &Style) {
         let (Some(pa), Some(pb)) = (self.to_px(a), self.to_px(b)) else {
