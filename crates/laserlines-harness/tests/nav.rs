@@ -147,7 +147,7 @@ fn bundled_arenas_load_with_the_documented_geometry() {
     let maze = arenas::bundled("maze_10m_x_14m", &opts).unwrap().unwrap();
     assert_eq!(maze.report.elements, 113);
     assert_eq!(maze.report.wall_elements, 113);
-    assert!(maze.report.ignored.is_empty());
+    assert!(maze.report.skipped.is_empty() && maze.report.out_of_plane.is_empty());
     assert_eq!(
         maze.world.walls.len() + maze.report.duplicate_walls,
         113,
@@ -181,28 +181,107 @@ fn shared_arena(name: &str) -> Option<std::path::PathBuf> {
     }
 }
 
+/// Every element of an arena is counted once: in the laser's plane, out of it, or
+/// skipped.
+fn accounted(report: &laserlines_sim::arena::ArenaReport) -> usize {
+    [&report.in_plane, &report.out_of_plane, &report.skipped]
+        .iter()
+        .flat_map(|m| m.values())
+        .sum()
+}
+
 #[test]
-fn real_arenas_report_what_they_ignore() {
+fn the_bundled_competition_arenas_model_every_element() {
+    let opts = ArenaOptions::default();
+    let go = arenas::bundled("go2011_arena", &opts).unwrap().unwrap();
+    let r = &go.report;
+    assert_eq!(r.elements, 178);
+    assert_eq!(accounted(r), 178);
+    assert!(r.skipped.is_empty(), "{:?}", r.skipped);
+    // Six diagonal walls and six diagonal corners (two plates each).
+    assert_eq!(r.in_plane.get("wall_diag_120"), Some(&6));
+    assert_eq!(r.in_plane.get("corner_diag_120"), Some(&6));
+    let diagonal = go
+        .world
+        .walls
+        .iter()
+        .filter(|w| {
+            let d = w.b - w.a;
+            (d.x.abs() - d.y.abs()).abs() < 1e-9 && d.x.abs() > 0.1
+        })
+        .count();
+    assert_eq!(diagonal, 6 + 2 * 6);
+    // Barrels: eight halves back to back make four discs, one half stands alone.
+    assert_eq!(r.barrels, 4);
+    assert_eq!(go.world.discs.len(), 4);
+    // Below the laser at 0.45 m: ramps (0.17 m, 0.34 m), step fields (0.40 m), the stairs'
+    // open treads around it; above it: the shelves, spectators, barrels on elevated
+    // floors.
+    for (kind, n) in [
+        ("half_ramp", 40),
+        ("full_ramp", 19),
+        ("stepfield_red_diagonal", 5),
+        ("stairs_120", 1),
+        ("manip_storage", 1),
+        ("spectator_120", 3),
+        ("fiducial_barrel_high", 3),
+    ] {
+        assert_eq!(r.out_of_plane.get(kind), Some(&n), "{kind}");
+    }
+    let big = arenas::bundled("rc_2015_arena_big.raf", &opts)
+        .unwrap()
+        .unwrap();
+    let r = &big.report;
+    assert_eq!((r.elements, accounted(r)), (233, 233));
+    assert!(r.skipped.is_empty(), "{:?}", r.skipped);
+    assert_eq!(r.in_plane.get("wall_diag_120"), Some(&3));
+    assert_eq!(r.in_plane.get("corner_diag_120"), Some(&4));
+    // Its stray wall 19 m east of the rest stays out of the arena's bounds.
+    let outline = laserlines_sim::arena::ArenaOutline::new(&big.world);
+    let (_, hi) = outline.bounds().unwrap();
+    assert!((hi.x - 9.0).abs() < 1e-9, "{hi:?}");
+    // Both start at their origin, in the arena their walls enclose.
+    for arena in [&go, &big] {
+        let start = arena_start(&arena.world);
+        assert!(start.translation.vector.norm() < 1e-9, "{}", arena.name);
+        assert!(outline_of(&arena.world).encloses(Point2::origin()));
+    }
+}
+
+fn outline_of(world: &World) -> laserlines_sim::arena::ArenaOutline {
+    laserlines_sim::arena::ArenaOutline::new(world)
+}
+
+#[test]
+fn real_arenas_report_every_element() {
     let Some(path) = shared_arena("exploration_eval_arena.raf") else {
         return;
     };
     let a = load_raf(&path, &ArenaOptions::default()).unwrap();
     let r = &a.report;
     assert_eq!(r.elements, 220);
+    assert_eq!(accounted(r), 220);
     // small_wall 65, tall_wall 14, wall_holes1 16.
     assert_eq!(r.wall_elements, 95);
-    assert_eq!(r.barrels, 30);
-    assert_eq!(a.world.discs.len(), 30);
-    assert_eq!(r.ignored.get("half_ramp"), Some(&46));
-    assert_eq!(r.ignored.get("full_ramp"), Some(&19));
-    assert_eq!(r.ignored.get("victim_with_box1"), Some(&15));
-    assert_eq!(r.ignored.get("stepfield_red_diagonal"), Some(&10));
-    assert_eq!(r.ignored_count(), 220 - 95 - 30);
-    assert!(r.unknown_types().is_empty());
+    // 14 half barrels: six pairs back to back, and one half placed twice at (-3, -4).
+    assert_eq!(r.in_plane.get("fiducial_barrel"), Some(&14));
+    assert_eq!(r.barrels, 6);
+    assert_eq!(a.world.discs.len(), 6);
+    assert_eq!(r.out_of_plane.get("half_ramp"), Some(&46));
+    assert_eq!(r.out_of_plane.get("full_ramp"), Some(&19));
+    assert_eq!(r.out_of_plane.get("stepfield_red_diagonal"), Some(&10));
+    assert_eq!(r.out_of_plane.get("fiducial_barrel_high"), Some(&16));
+    // Victims in boxes: on the wall at 0.3 m or 0.6 m (in the plane) or at 0.9 m or on
+    // the floor (not).
+    let victims = r.in_plane.get("victim_with_box1").unwrap_or(&0)
+        + r.out_of_plane.get("victim_with_box1").unwrap_or(&0);
+    assert_eq!(victims, 15);
+    assert!(r.skipped.is_empty() && r.unknown_types().is_empty());
     if let Some(path) = shared_arena("go2013_arena.raf") {
         let a = load_raf(&path, &ArenaOptions::default()).unwrap();
-        assert_eq!(a.report.ignored.get("wall_diag_120"), Some(&19));
-        assert_eq!(a.report.ignored.get("stairs_120"), Some(&1));
+        assert_eq!(a.report.in_plane.get("wall_diag_120"), Some(&19));
+        assert_eq!(a.report.out_of_plane.get("stairs_120"), Some(&1));
+        assert_eq!(accounted(&a.report), a.report.elements);
     }
 }
 
@@ -217,7 +296,7 @@ fn bad_input_gives_clear_errors() {
         &opts,
     )
     .unwrap();
-    assert_eq!(a.report.ignored.get("laser_trap"), Some(&1));
+    assert_eq!(a.report.skipped.get("laser_trap"), Some(&1));
     assert_eq!(a.report.unknown_types(), vec!["laser_trap"]);
     // An empty arena.
     let e = parse_raf("<elements/>", "empty.raf", &opts).unwrap_err();
@@ -272,6 +351,8 @@ fn the_same_seed_gives_the_same_metrics() {
     let mut mb = b.metrics;
     ma.wall_time_s = 0.0;
     mb.wall_time_s = 0.0;
+    ma.setup_time_s = 0.0;
+    mb.setup_time_s = 0.0;
     assert_eq!(ma, mb);
     assert_eq!(a.path, b.path);
     let c = run(
@@ -294,7 +375,7 @@ fn arena_start(world: &World) -> Isometry2 {
 }
 
 #[test]
-fn arena_starts_lie_in_the_largest_enclosed_region() {
+fn arena_starts_lie_in_the_arena() {
     let opts = ArenaOptions::default();
     // The bundled arenas start at the centre of cell (0, 0), as their files intend.
     for name in ["maze_10m_x_14m", "inner_explore_test"] {
@@ -308,27 +389,36 @@ fn arena_starts_lie_in_the_largest_enclosed_region() {
         let area = grid.reachable_area_m2();
         assert!(area > 15.0 && area < 80.0, "{name}: {area} m^2");
     }
-    // exploration_eval_arena's origin lies in a 1.4 m^2 pocket closed by barrels; its
-    // start is in the 34 m^2 main hall instead.
-    if let Some(path) = shared_arena("exploration_eval_arena.raf") {
+    // The other arenas start in the arena their walls enclose, and from there the robot
+    // reaches nearly all of its floor (in exploration_eval_arena its half barrels, two
+    // back to back on a cell edge, no longer close off the origin as whole barrels at the
+    // cell centres did).
+    for name in [
+        "exploration_eval_arena.raf",
+        "go2013_arena.raf",
+        "slam_lc_02.raf",
+    ] {
+        let Some(path) = shared_arena(name) else {
+            continue;
+        };
         let arena = load_raf(&path, &opts).unwrap();
-        let origin_pocket = CoverageGrid::new(
-            &laserlines_sim::index::WorldIndex::new(&arena.world, 0.6),
-            Point2::origin(),
-            0.32,
-        );
-        assert!(origin_pocket.reachable_area_m2() < 2.0);
         let start = arena_start(&arena.world);
         let p = Point2::from(start.translation.vector);
+        assert!(outline_of(&arena.world).encloses(p), "{name}");
         let grid = CoverageGrid::new(
             &laserlines_sim::index::WorldIndex::new(&arena.world, 0.6),
             p,
             0.32,
         );
+        assert_eq!(
+            grid.region_kind(),
+            laserlines_harness::CoverageRegion::Enclosed
+        );
         assert!(
-            grid.reachable_area_m2() > 30.0,
-            "{}",
-            grid.reachable_area_m2()
+            grid.reachable_area_m2() > 0.95 * grid.region_area_m2(),
+            "{name}: {} of {}",
+            grid.reachable_area_m2(),
+            grid.region_area_m2()
         );
     }
     // No enclosed region: no start.

@@ -118,7 +118,9 @@ pub fn run_observed(
     config: &RunConfig,
     observer: &mut dyn RunObserver,
 ) -> Result<RunRecord, RunError> {
+    let setup = std::time::Instant::now();
     let mut run = Loop::new(world, start, config)?;
+    run.recorder.start_clock(setup.elapsed().as_secs_f64());
     let steps = (config.duration_s / config.robot.physics_dt_s).round() as u64;
     let mut command = VelocityCommand::STOP;
     let mut next_report = 0.0;
@@ -182,7 +184,7 @@ impl Loop {
         );
         let recorder = Recorder::new(
             start,
-            coverage.reachable_area_m2(),
+            &coverage,
             config.record_lines_every,
             config.snapshot_at_s,
         );
@@ -235,6 +237,9 @@ impl Loop {
             lines: &self.lines,
             decision,
             coverage: self.coverage.coverage(),
+            in_arena: self.coverage.in_arena(laserlines::math::Point2::from(
+                self.robot.world_from_robot().translation.vector,
+            )),
         };
         self.recorder.on_scan(&frame);
         observer.on_scan(&frame);
