@@ -1,7 +1,12 @@
 //! Navigation end to end: perception figures against the simulator's ground truth, the
-//! arena loader on real files, bad input, determinism, and the acceptance runs.
+//! arena loader on real files, bad input, determinism (the acceptance runs are in
+//! `acceptance.rs`).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod common;
+
+use common::{accounted, arena_start, outline_of, shared_arena};
 
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
@@ -169,27 +174,6 @@ fn bundled_arenas_load_with_the_documented_geometry() {
     assert!((w.b - Point2::new(-0.6, 1.8)).norm() < 1e-12, "{w:?}");
 }
 
-fn shared_arena(name: &str) -> Option<std::path::PathBuf> {
-    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/arenas")
-        .join(name);
-    if p.exists() {
-        Some(p)
-    } else {
-        println!("skipping {name}: ../shared/data/arenas is not there");
-        None
-    }
-}
-
-/// Every element of an arena is counted once: in the laser's plane, out of it, or
-/// skipped.
-fn accounted(report: &laserlines_sim::arena::ArenaReport) -> usize {
-    [&report.in_plane, &report.out_of_plane, &report.skipped]
-        .iter()
-        .flat_map(|m| m.values())
-        .sum()
-}
-
 #[test]
 fn the_bundled_competition_arenas_model_every_element() {
     let opts = ArenaOptions::default();
@@ -246,10 +230,6 @@ fn the_bundled_competition_arenas_model_every_element() {
         assert!(start.translation.vector.norm() < 1e-9, "{}", arena.name);
         assert!(outline_of(&arena.world).encloses(Point2::origin()));
     }
-}
-
-fn outline_of(world: &World) -> laserlines_sim::arena::ArenaOutline {
-    laserlines_sim::arena::ArenaOutline::new(world)
 }
 
 #[test]
@@ -367,13 +347,6 @@ fn the_same_seed_gives_the_same_metrics() {
     assert_ne!(a.odometry_path, c.odometry_path);
 }
 
-/// The start of an arena run: the grid cell centre nearest the origin in the largest free
-/// region the walls enclose (where the robot fits in any heading).
-fn arena_start(world: &World) -> Isometry2 {
-    interior_start(world, RobotParams::default().robot.footprint.circumradius())
-        .expect("the arena encloses a free region")
-}
-
 #[test]
 fn arena_starts_lie_in_the_arena() {
     let opts = ArenaOptions::default();
@@ -425,174 +398,4 @@ fn arena_starts_lie_in_the_arena() {
     let mut open = World::new();
     open.add_segment(Point2::new(0.0, 0.0), Point2::new(5.0, 0.0));
     assert!(interior_start(&open, 0.32).is_none());
-}
-
-/// What the runs of one world gave.
-struct Tally {
-    name: String,
-    runs: usize,
-    collisions: u64,
-    min_coverage: f64,
-    mean_coverage: f64,
-    max_pose_error: f64,
-    t90: Vec<f64>,
-}
-
-impl Tally {
-    fn new(name: String) -> Self {
-        Self {
-            name,
-            runs: 0,
-            collisions: 0,
-            min_coverage: 1.0,
-            mean_coverage: 0.0,
-            max_pose_error: 0.0,
-            t90: Vec::new(),
-        }
-    }
-}
-
-fn runs(name: &str, world: &World, start: Isometry2, seeds: std::ops::Range<u64>) -> Tally {
-    let mut t = Tally::new(name.to_owned());
-    for seed in seeds {
-        let config = RunConfig {
-            seed,
-            ..RunConfig::default()
-        };
-        let m = run(world, start, &config).unwrap().metrics;
-        assert!(m.sim_time_s <= 900.0 + 1e-9);
-        t.runs += 1;
-        t.collisions += m.collisions;
-        t.min_coverage = t.min_coverage.min(m.coverage);
-        t.mean_coverage += m.coverage;
-        t.max_pose_error = t.max_pose_error.max(m.max_pose_error_m);
-        t.t90.extend(m.time_to_90_percent_s);
-    }
-    t.mean_coverage /= t.runs.max(1) as f64;
-    let (lo, hi) = t
-        .t90
-        .iter()
-        .fold((f64::INFINITY, 0.0_f64), |(a, b), &x| (a.min(x), b.max(x)));
-    // A row of the README's table.
-    println!(
-        "| {} | {} | {} | {:.3} | {:.3} | {} | {:.2} |",
-        t.name,
-        t.runs,
-        t.collisions,
-        t.min_coverage,
-        t.mean_coverage,
-        if t.t90.is_empty() {
-            "never".to_owned()
-        } else if t.t90.len() == t.runs {
-            format!("{lo:.0}-{hi:.0} s")
-        } else {
-            format!("{lo:.0}-{hi:.0} s ({} of {} runs)", t.t90.len(), t.runs)
-        },
-        t.max_pose_error,
-    );
-    t
-}
-
-/// The acceptance runs of the two bundled arenas: 20 seeded runs of (at most) 15 simulated
-/// minutes each, zero collisions and coverage at least 0.90 in every run. Run with
-/// optimisations (`cargo test --release -p laserlines-harness`); CI does.
-#[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "slow without optimisations: run with --release"
-)]
-fn acceptance_bundled_arenas() {
-    let opts = ArenaOptions::default();
-    for name in ["inner_explore_test", "maze_10m_x_14m"] {
-        let arena = arenas::bundled(name, &opts).unwrap().unwrap();
-        let start = arena_start(&arena.world);
-        let t = runs(
-            &format!("`{name}.raf` (bundled)"),
-            &arena.world,
-            start,
-            0..20,
-        );
-        assert_eq!(t.collisions, 0, "{name}");
-        assert!(
-            t.min_coverage >= 0.90,
-            "{name}: coverage {}",
-            t.min_coverage
-        );
-    }
-}
-
-/// Zero collisions in the other arenas (when `../shared` is there) and in seeded mazes with
-/// islands; their coverage is printed for the README's table.
-#[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "slow without optimisations: run with --release"
-)]
-fn acceptance_no_collisions_elsewhere() {
-    for name in [
-        "exploration_eval_arena.raf",
-        "exploration_eval_arena_2.raf",
-        "go2013_arena.raf",
-        "rc_2015_arena_small.raf",
-        "slam_lc_02.raf",
-    ] {
-        let Some(path) = shared_arena(name) else {
-            continue;
-        };
-        let arena = load_raf(&path, &ArenaOptions::default()).unwrap();
-        let start = arena_start(&arena.world);
-        let t = runs(&format!("`{name}`"), &arena.world, start, 0..3);
-        assert_eq!(t.collisions, 0, "{name}");
-    }
-    // The mazes the explorer's settings were chosen on, and twenty it has not seen.
-    island_mazes("mazes 0-9", 0..10, 0..2);
-    island_mazes("mazes 10-29 (held out)", 10..30, 0..1);
-}
-
-/// Runs seeded island mazes `mazes`, each with noise seeds `seeds`, asserting zero
-/// collisions; prints one row per maze and one for all.
-fn island_mazes(name: &str, mazes: std::ops::Range<u64>, seeds: std::ops::Range<u64>) {
-    let mut all = Tally::new(format!(
-        "{name} with 3+ islands (`--maze N --islands`), {}",
-        if seeds.end - seeds.start == 1 {
-            format!("seed {}", seeds.start)
-        } else {
-            format!("seeds {}-{}", seeds.start, seeds.end - 1)
-        }
-    ));
-    for seed in mazes {
-        let maze = generate(
-            &MazeParams {
-                islands: 3,
-                ..MazeParams::default()
-            },
-            seed,
-        );
-        assert!(maze.islands >= 3);
-        let t = runs(
-            &format!("maze {seed} with islands"),
-            &maze.world,
-            maze.start,
-            seeds.clone(),
-        );
-        assert_eq!(t.collisions, 0, "maze {seed}");
-        all.runs += t.runs;
-        all.collisions += t.collisions;
-        all.min_coverage = all.min_coverage.min(t.min_coverage);
-        all.mean_coverage += t.mean_coverage * t.runs as f64;
-        all.max_pose_error = all.max_pose_error.max(t.max_pose_error);
-        all.t90.extend(t.t90);
-    }
-    all.mean_coverage /= all.runs as f64;
-    println!(
-        "| {} | {} | {} | {:.3} | {:.3} | {} of {} runs reach 0.90 | {:.2} |",
-        all.name,
-        all.runs,
-        all.collisions,
-        all.min_coverage,
-        all.mean_coverage,
-        all.t90.len(),
-        all.runs,
-        all.max_pose_error,
-    );
 }

@@ -6,12 +6,12 @@
 //! randomised depth-first search, then, when islands are asked for, removes interior walls
 //! one by one, in random order, until at least that many *islands* exist: groups of walls
 //! connected to each other but not to the outer wall, which a robot that only follows walls
-//! would circle forever. When asked for, it then lays 45-degree walls across turning cells:
-//! a cell whose two closed walls meet in a corner gets a wall along its other diagonal (as
-//! the arenas' `wall_diag_120`), so that the way through it turns by two 45-degree bends,
-//! and the corner behind it is closed off. Finally it drops small round obstacles (posts of
-//! 5-10 cm radius) off-centre in random cells other than the start cell and the diagonal
-//! ones, always leaving a gap of at least 0.7 m in the cell beside them.
+//! would circle forever. When asked for, it then cuts the corners of turning cells at 45
+//! degrees: a cell whose two closed walls meet in a corner gets a wall from the middle of
+//! one to the middle of the other (0.85 m long), so that the way through it turns by two
+//! 45-degree bends. Finally it drops small round obstacles (posts of 5-10 cm radius)
+//! off-centre in random cells other than the start cell and the cut ones, always leaving a
+//! gap of at least 0.7 m in the cell beside them.
 //!
 //! ```
 //! use laserlines_sim::maze::{MazeParams, generate};
@@ -37,9 +37,9 @@ pub struct MazeParams {
     /// perfect maze without islands. Default 0. A maze too small for the number asked
     /// gets as many as removing interior walls gives.
     pub islands: usize,
-    /// Number of turning cells (two closed walls meeting in a corner) that get a 45-degree
-    /// wall across them, never the start cell; fewer when the maze has fewer such cells.
-    /// Default 0.
+    /// Number of turning cells (two closed walls meeting in a corner) whose corner is cut
+    /// by a 45-degree wall between the middles of the two walls, never the start cell;
+    /// fewer when the maze has fewer such cells. Default 0.
     pub diagonals: usize,
     /// Number of small round obstacles. Default 4.
     pub obstacles: usize,
@@ -73,7 +73,7 @@ pub struct Maze {
     pub rows: usize,
     /// Number of islands in the maze.
     pub islands: usize,
-    /// Number of 45-degree walls laid across turning cells.
+    /// Number of turning cells whose corner is cut by a 45-degree wall.
     pub diagonals: usize,
 }
 
@@ -206,9 +206,9 @@ pub fn generate(params: &MazeParams, seed: u64) -> Maze {
     }
 }
 
-/// Lays a wall along the other diagonal of up to `wanted` turning cells, chosen at random
-/// (never a `used` one, which they then are); the number laid. Draws nothing when none is
-/// wanted.
+/// Cuts the corner of up to `wanted` turning cells, chosen at random (never a `used` one,
+/// which they then are), by a wall between the middles of its two closed walls; the number
+/// cut. Draws nothing when none is wanted.
 fn add_diagonals(
     e: &Edges,
     world: &mut World,
@@ -245,16 +245,20 @@ fn add_diagonals(
         turns.swap(k, rng.below(k + 1));
     }
     let g = ARENA_GRID;
-    let at = |i: usize, j: usize| Point2::new(g * i as f64, g * j as f64);
     let laid = wanted.min(turns.len());
     for &(i, j, corner) in &turns[..laid] {
-        // The diagonal that does not touch the corner.
-        let (a, b) = if corner % 2 == 0 {
-            (at(i + 1, j), at(i, j + 1))
-        } else {
-            (at(i, j), at(i + 1, j + 1))
+        // The corner, and the directions of its two walls into the cell's edges.
+        let (ci, cj, dx, dy) = match corner {
+            0 => (i, j, 1.0, 1.0),
+            1 => (i + 1, j, -1.0, 1.0),
+            2 => (i + 1, j + 1, -1.0, -1.0),
+            _ => (i, j + 1, 1.0, -1.0),
         };
-        world.add_segment(a, b);
+        let c = Point2::new(g * ci as f64, g * cj as f64);
+        world.add_segment(
+            c + Vector2::new(0.5 * g * dx, 0.0),
+            c + Vector2::new(0.0, 0.5 * g * dy),
+        );
         used[j * e.cols + i] = true;
     }
     laid
@@ -449,21 +453,20 @@ mod tests {
         );
         assert_eq!(diag.diagonals, 6);
         assert_eq!(plain.diagonals, 0);
-        // The same grid walls, then six diagonals of 1.2 sqrt(2) m at 45 degrees.
+        // The same grid walls, then six cuts of 0.6 sqrt(2) m at 45 degrees.
         let n = plain.world.walls.len();
         assert_eq!(plain.world.walls[..], diag.world.walls[..n]);
         assert_eq!(diag.world.walls.len(), n + 6);
         for w in &diag.world.walls[n..] {
             let d = w.b - w.a;
-            assert!((d.norm() - 1.2 * std::f64::consts::SQRT_2).abs() < 1e-9);
+            assert!((d.norm() - 0.6 * std::f64::consts::SQRT_2).abs() < 1e-9);
             assert!((d.x.abs() - d.y.abs()).abs() < 1e-9);
-            // Both ends are grid corners where walls end: each touches two grid walls.
+            // Both ends are the middles of grid walls.
             for end in [w.a, w.b] {
-                let touching = plain.world.walls[..n]
+                let on_middle = plain.world.walls[..n]
                     .iter()
-                    .filter(|g| (g.a - end).norm() < 1e-9 || (g.b - end).norm() < 1e-9)
-                    .count();
-                assert!(touching >= 1, "{w:?}");
+                    .any(|g| (Point2::from(0.5 * (g.a.coords + g.b.coords)) - end).norm() < 1e-9);
+                assert!(on_middle, "{w:?}");
             }
         }
         // No post touches a diagonal.

@@ -34,7 +34,7 @@ pub struct SimulateArgs {
     /// Give the maze islands (wall groups not connected to the outer wall).
     #[arg(long, requires = "maze")]
     islands: bool,
-    /// Lay 45-degree walls across this many of the maze's turning cells.
+    /// Cut the corners of this many of the maze's turning cells by 45-degree walls.
     #[arg(long, value_name = "N", requires = "maze")]
     diagonals: Option<usize>,
     /// Simulated time limit, s.
@@ -324,7 +324,7 @@ fn world_of(
             name.push_str(&format!(" with {} islands", maze.islands));
         }
         if maze.diagonals > 0 {
-            name.push_str(&format!(", {} diagonal walls", maze.diagonals));
+            name.push_str(&format!(", {} corners cut at 45 degrees", maze.diagonals));
         }
         return Ok((name, maze.world, maze.start, None));
     }

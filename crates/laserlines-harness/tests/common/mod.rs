@@ -1,0 +1,44 @@
+//! What the navigation tests share: the arenas of `../shared`, the start of an arena run,
+//! an arena's outline.
+
+#![allow(dead_code, clippy::expect_used)]
+
+use laserlines::math::Isometry2;
+use laserlines_sim::World;
+use laserlines_sim::arena::{ArenaOutline, interior_start};
+use laserlines_sim::robot::RobotParams;
+
+/// The arena file `name` of `../shared/data/arenas`, or `None` (with a notice) when
+/// `../shared` is not there.
+pub fn shared_arena(name: &str) -> Option<std::path::PathBuf> {
+    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/data/arenas")
+        .join(name);
+    if p.exists() {
+        Some(p)
+    } else {
+        println!("skipping {name}: ../shared/data/arenas is not there");
+        None
+    }
+}
+
+/// Every element of an arena is counted once: in the laser's plane, out of it, or
+/// skipped.
+pub fn accounted(report: &laserlines_sim::arena::ArenaReport) -> usize {
+    [&report.in_plane, &report.out_of_plane, &report.skipped]
+        .iter()
+        .flat_map(|m| m.values())
+        .sum()
+}
+
+/// The start of an arena run: the grid cell centre nearest the origin in the largest free
+/// region inside the arena's outline (where the robot fits in any heading).
+pub fn arena_start(world: &World) -> Isometry2 {
+    interior_start(world, RobotParams::default().robot.footprint.circumradius())
+        .expect("the arena encloses a free region")
+}
+
+/// The outline of `world` (see [`ArenaOutline`]).
+pub fn outline_of(world: &World) -> ArenaOutline {
+    ArenaOutline::new(world)
+}
