@@ -25,7 +25,8 @@ use laserlines_sim::robot::RobotParams;
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
     /// A RoboCup Rescue arena: a `.raf` file, or the name of a bundled one
-    /// (maze_10m_x_14m, inner_explore_test). Default: maze_10m_x_14m.
+    /// (maze_10m_x_14m, inner_explore_test, go2011_arena, rc_2015_arena_big). Default:
+    /// maze_10m_x_14m.
     #[arg(long, conflicts_with = "maze")]
     arena: Option<String>,
     /// A seeded procedural maze on the 1.2 m grid instead of an arena.
@@ -44,9 +45,9 @@ pub struct SimulateArgs {
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Start pose `x,y,yaw_deg` (m, m, deg) in the arena frame; default for arenas: the
-    /// grid cell centre nearest the origin in the largest free region the walls enclose
-    /// (cell (0, 0) in the bundled arenas; an arena file's origin may lie in a pocket
-    /// closed by barrels or outside the arena), facing +x; for mazes: the maze's start.
+    /// grid cell centre nearest the origin in the largest free region inside the arena's
+    /// outline (cell (0, 0) in the bundled arenas; an arena file's origin may lie in a
+    /// pocket or outside the arena), facing +x; for mazes: the maze's start.
     #[arg(long, value_name = "X,Y,YAW_DEG", allow_hyphen_values = true)]
     start: Option<String>,
     /// Arena walls 1.0 m long (the plate's mesh) instead of the whole 1.2 m cell edge.
