@@ -17,7 +17,7 @@ use laserlines_io::params::ParamsFile;
 use laserlines_nav::ExplorerParams;
 use laserlines_render::{ExplorationMap, exploration_map_svg, sectors_svg};
 use laserlines_sim::World;
-use laserlines_sim::arena::{ArenaOptions, WallLength, interior_start};
+use laserlines_sim::arena::{ArenaOptions, ArenaReport, WallLength, interior_start};
 use laserlines_sim::maze::{MazeParams, generate};
 use laserlines_sim::robot::RobotParams;
 
@@ -25,7 +25,8 @@ use laserlines_sim::robot::RobotParams;
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
     /// A RoboCup Rescue arena: a `.raf` file, or the name of a bundled one
-    /// (maze_10m_x_14m, inner_explore_test). Default: maze_10m_x_14m.
+    /// (maze_10m_x_14m, inner_explore_test, go2011_arena, rc_2015_arena_big). Default:
+    /// maze_10m_x_14m.
     #[arg(long, conflicts_with = "maze")]
     arena: Option<String>,
     /// A seeded procedural maze on the 1.2 m grid instead of an arena.
@@ -34,6 +35,9 @@ pub struct SimulateArgs {
     /// Give the maze islands (wall groups not connected to the outer wall).
     #[arg(long, requires = "maze")]
     islands: bool,
+    /// Cut the corners of this many of the maze's turning cells by 45-degree walls.
+    #[arg(long, value_name = "N", requires = "maze")]
+    diagonals: Option<usize>,
     /// Simulated time limit, s.
     #[arg(long, default_value_t = 900.0, allow_negative_numbers = true)]
     duration: f64,
@@ -41,9 +45,9 @@ pub struct SimulateArgs {
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Start pose `x,y,yaw_deg` (m, m, deg) in the arena frame; default for arenas: the
-    /// grid cell centre nearest the origin in the largest free region the walls enclose
-    /// (cell (0, 0) in the bundled arenas; an arena file's origin may lie in a pocket
-    /// closed by barrels or outside the arena), facing +x; for mazes: the maze's start.
+    /// grid cell centre nearest the origin in the largest free region inside the arena's
+    /// outline (cell (0, 0) in the bundled arenas; an arena file's origin may lie in a
+    /// pocket or outside the arena), facing +x; for mazes: the maze's start.
     #[arg(long, value_name = "X,Y,YAW_DEG", allow_hyphen_values = true)]
     start: Option<String>,
     /// Arena walls 1.0 m long (the plate's mesh) instead of the whole 1.2 m cell edge.
@@ -99,6 +103,10 @@ struct Setup {
     world: World,
     start: Isometry2,
     config: RunConfig,
+    /// What the arena loader made of the elements (arenas only).
+    arena: Option<ArenaReport>,
+    /// Wall-clock time of reading the arena or generating the maze and finding the start.
+    load_time_s: f64,
 }
 
 /// Runs the command.
@@ -137,7 +145,9 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
 fn setup(args: &SimulateArgs) -> Result<Setup> {
     let file = ParamsFile::load_or_default(args.params.as_deref())?;
     let robot = robot_of(&file)?;
-    let (name, world, default_start) = world_of(args, &robot)?;
+    let loading = std::time::Instant::now();
+    let (name, world, default_start, arena) = world_of(args, &robot)?;
+    let load_time_s = loading.elapsed().as_secs_f64();
     let start = match &args.start {
         Some(s) => {
             let start = parse_start(s)?;
@@ -166,6 +176,8 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
         world,
         start,
         config,
+        arena,
+        load_time_s,
     })
 }
 
@@ -235,7 +247,7 @@ fn write_outputs(args: &SimulateArgs, setup: &Setup, record: &RunRecord) -> Resu
     let metrics = args.output.join("metrics.json");
     write(
         &metrics,
-        format!("{:#}\n", metrics_json(name, args, setup.start, record)?),
+        format!("{:#}\n", metrics_json(name, args, setup, record)?),
     )?;
     let map = args.output.join("map.svg");
     write(&map, map_figure(name, &setup.world, setup.start, record))?;
@@ -272,12 +284,14 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
     let m = &record.metrics;
     let start = setup.start.translation.vector;
     outln!(
-        "laserlines simulate: {}, seed {}, start ({:.2}, {:.2}): coverage {:.3}, collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage {}, pose error at most {:.2} m, stop {}",
+        "laserlines simulate: {}, seed {}, start ({:.2}, {:.2}): coverage {:.3} of {:.1} m^2 ({}), collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage {}, pose error at most {:.2} m, stop {}{}",
         setup.name,
         args.seed,
         start.x,
         start.y,
         m.coverage,
+        m.arena_area_m2,
+        m.coverage_region.name(),
         m.collisions,
         m.min_clearance_m,
         m.path_length_m,
@@ -288,6 +302,8 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
             .map_or_else(|| "not reached".to_owned(), |t| format!("at {t:.0} s")),
         m.max_pose_error_m,
         m.stop.name(),
+        m.left_arena_at_s
+            .map_or_else(String::new, |t| format!(", LEFT THE ARENA at {t:.1} s")),
     );
     outln!(
         "  wrote {}, {}{}",
@@ -316,23 +332,27 @@ fn robot_of(file: &ParamsFile) -> Result<RobotParams> {
     Ok(RobotParams { robot, ..simulated })
 }
 
-/// The world to explore, its name and the default start.
-fn world_of(args: &SimulateArgs, robot: &RobotParams) -> Result<(String, World, Isometry2)> {
+/// The world to explore, its name, the default start and, for an arena, the loader's
+/// report.
+fn world_of(
+    args: &SimulateArgs,
+    robot: &RobotParams,
+) -> Result<(String, World, Isometry2, Option<ArenaReport>)> {
     if let Some(seed) = args.maze {
         let params = MazeParams {
             islands: if args.islands { 3 } else { 0 },
+            diagonals: args.diagonals.unwrap_or(0),
             ..MazeParams::default()
         };
         let maze = generate(&params, seed);
-        let name = format!(
-            "maze {seed}{}",
-            if args.islands {
-                format!(" with {} islands", maze.islands)
-            } else {
-                String::new()
-            }
-        );
-        return Ok((name, maze.world, maze.start));
+        let mut name = format!("maze {seed}");
+        if args.islands {
+            name.push_str(&format!(" with {} islands", maze.islands));
+        }
+        if maze.diagonals > 0 {
+            name.push_str(&format!(", {} corners cut at 45 degrees", maze.diagonals));
+        }
+        return Ok((name, maze.world, maze.start, None));
     }
     let options = ArenaOptions {
         wall_length: if args.mesh_walls {
@@ -340,34 +360,39 @@ fn world_of(args: &SimulateArgs, robot: &RobotParams) -> Result<(String, World, 
         } else {
             WallLength::Full
         },
+        laser_height: robot.laser_height_m,
     };
     let which = args.arena.as_deref().unwrap_or("maze_10m_x_14m");
     let arena = arenas::load(which, &options)?;
-    let report = &arena.report;
-    if report.ignored_count() > 0 {
-        let list = report
-            .ignored
-            .iter()
-            .map(|(t, n)| format!("{t} x {n}"))
-            .collect::<Vec<_>>()
-            .join(", ");
-        eprintln!(
-            "laserlines: {}: ignored {} elements that are not walls or barrels: {list}",
-            arena.name,
-            report.ignored_count()
-        );
-        let unknown = report.unknown_types();
-        if !unknown.is_empty() {
-            eprintln!(
-                "laserlines: {}: unknown element types (treated as not walls): {}",
-                arena.name,
-                unknown.join(", ")
-            );
-        }
-    }
+    report_skipped(&arena.name, &arena.report);
     let start = interior_start(&arena.world, robot.robot.footprint.circumradius())
         .unwrap_or_else(|| Isometry2::new(Vector2::zeros(), 0.0));
-    Ok((arena.name.clone(), arena.world, start))
+    Ok((arena.name.clone(), arena.world, start, Some(arena.report)))
+}
+
+/// Says on standard error which elements the arena loader skipped, by type and count.
+fn report_skipped(name: &str, report: &ArenaReport) {
+    if report.skipped_count() == 0 {
+        return;
+    }
+    let list = report
+        .skipped
+        .iter()
+        .map(|(t, n)| format!("{t} x {n}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    eprintln!(
+        "laserlines: {name}: skipped {} elements whose shape at the laser's height of {} m is not modelled: {list}",
+        report.skipped_count(),
+        report.laser_height_m
+    );
+    let unknown = report.unknown_types();
+    if !unknown.is_empty() {
+        eprintln!(
+            "laserlines: {name}: unknown element types: {}",
+            unknown.join(", ")
+        );
+    }
 }
 
 /// The simulated time of the sector picture: `--snapshot`, or 20 s, or half the run when
@@ -416,13 +441,21 @@ fn parse_start(s: &str) -> Result<Isometry2> {
     }
 }
 
-/// `metrics.json`: the run's settings and its [`laserlines_harness::Metrics`].
+/// What `wall_time_s` of `metrics.json` includes, in words.
+const WALL_TIME_INCLUDES: &str = "the closed loop from the first scan to the last step: \
+    laser simulation, line extraction, explorer, physics, ground-truth coverage, progress \
+    bar and MCAP recording; not load_time_s (reading the arena, finding the start), \
+    setup_time_s (obstacle index, coverage grid), starting the process or writing the outputs";
+
+/// `metrics.json`: the run's settings, its [`laserlines_harness::Metrics`] and, for an
+/// arena, what the loader made of its elements.
 fn metrics_json(
     name: &str,
     args: &SimulateArgs,
-    start: Isometry2,
+    setup: &Setup,
     record: &RunRecord,
 ) -> Result<serde_json::Value> {
+    let start = setup.start;
     let s = start.translation.vector;
     let mut json = serde_json::to_value(record.metrics)?;
     if let Some(map) = json.as_object_mut() {
@@ -435,6 +468,21 @@ fn metrics_json(
             serde_json::json!([s.x, s.y, start.rotation.angle().to_degrees()]),
         );
         map.insert("duration_s".to_owned(), args.duration.into());
+        map.insert("wall_time_includes".to_owned(), WALL_TIME_INCLUDES.into());
+        map.insert("load_time_s".to_owned(), setup.load_time_s.into());
+        if let Some(report) = &setup.arena {
+            map.insert(
+                "arena".to_owned(),
+                serde_json::json!({
+                    "elements": report.elements,
+                    "laser_height_m": report.laser_height_m,
+                    "in_plane": report.in_plane,
+                    "out_of_plane": report.out_of_plane,
+                    "skipped": report.skipped,
+                    "skipped_count": report.skipped_count(),
+                }),
+            );
+        }
     }
     Ok(json)
 }

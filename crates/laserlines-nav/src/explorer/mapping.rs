@@ -81,6 +81,7 @@ impl Explorer {
         if newly > 0 {
             self.last_gain = time_s;
         }
+        self.known += newly as u64;
     }
 }
 
