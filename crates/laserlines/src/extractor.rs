@@ -1,7 +1,7 @@
 //! The verb trait every line extractor implements.
 
 use crate::line::Line;
-use crate::scan::Scan;
+use crate::scan::{Scan, ScanView};
 
 /// A line extraction algorithm.
 ///
@@ -14,8 +14,15 @@ pub trait LineExtractor {
     /// The algorithm's name as the command line knows it (e.g. `hough-split`).
     fn name(&self) -> &'static str;
 
-    /// Extracts the lines of `scan` into `out` (cleared first), ordered by first beam.
-    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>);
+    /// Extracts the lines of `scan` into `out` (cleared first), ordered by first beam. The
+    /// ranges are read where they are (a [`Scan`]'s, or any other buffer's), never copied.
+    fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>);
+
+    /// Extracts the lines of `scan` into `out` (cleared first), ordered by first beam:
+    /// [`LineExtractor::extract_view_into`] on [`Scan::view`].
+    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+        self.extract_view_into(scan.view(), out);
+    }
 
     /// Allocating convenience wrapper around [`LineExtractor::extract_into`].
     fn extract(&mut self, scan: &Scan) -> Vec<Line> {
