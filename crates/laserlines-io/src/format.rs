@@ -24,11 +24,15 @@ pub enum Format {
     Carmen,
     /// ROS 1 bag, version 2.0 (`.bag`): `sensor_msgs/LaserScan` messages; see [`crate::bag`].
     Bag,
+    /// Apache Parquet (`.parquet`), one scan per row. Named here so that paths and
+    /// `--format` can choose it; the `laserlines-parquet` crate reads and writes it, this
+    /// crate does not.
+    Parquet,
 }
 
 impl Format {
     /// Every format, in the order of [`Format::NAMES`].
-    pub const ALL: [Self; 7] = [
+    pub const ALL: [Self; 8] = [
         Self::Json,
         Self::Jsonl,
         Self::Csv,
@@ -36,14 +40,17 @@ impl Format {
         Self::Mcap,
         Self::Carmen,
         Self::Bag,
+        Self::Parquet,
     ];
 
     /// The canonical names accepted by [`Format::from_name`] (e.g. for `--format`).
-    pub const NAMES: &'static [&'static str] =
-        &["json", "jsonl", "csv", "dat", "mcap", "carmen", "bag"];
+    pub const NAMES: &'static [&'static str] = &[
+        "json", "jsonl", "csv", "dat", "mcap", "carmen", "bag", "parquet",
+    ];
 
     /// Tells the format from a path's extension, ignoring a trailing `.gz` (case-insensitive):
-    /// `.json`, `.jsonl` / `.ndjson`, `.csv`, `.dat`, `.mcap`, `.clf` / `.log` (CARMEN), `.bag`.
+    /// `.json`, `.jsonl` / `.ndjson`, `.csv`, `.dat`, `.mcap`, `.clf` / `.log` (CARMEN), `.bag`,
+    /// `.parquet`.
     /// `None` for anything else.
     #[must_use]
     pub fn from_path(path: &Path) -> Option<Self> {
@@ -63,6 +70,7 @@ impl Format {
             "mcap" => Some(Self::Mcap),
             "carmen" | "clf" | "log" => Some(Self::Carmen),
             "bag" | "rosbag" => Some(Self::Bag),
+            "parquet" | "pq" => Some(Self::Parquet),
             _ => None,
         }
     }
@@ -76,6 +84,7 @@ impl Format {
             "mcap" => Some(Self::Mcap),
             "clf" | "log" => Some(Self::Carmen),
             "bag" => Some(Self::Bag),
+            "parquet" | "pq" => Some(Self::Parquet),
             _ => None,
         }
     }
@@ -91,6 +100,7 @@ impl Format {
             Self::Mcap => "mcap",
             Self::Carmen => "carmen",
             Self::Bag => "bag",
+            Self::Parquet => "parquet",
         }
     }
 
@@ -115,7 +125,7 @@ impl Format {
     pub fn is_writable(self) -> bool {
         !matches!(
             self,
-            Self::BreezyDat | Self::Mcap | Self::Carmen | Self::Bag
+            Self::BreezyDat | Self::Mcap | Self::Carmen | Self::Bag | Self::Parquet
         )
     }
 }
@@ -128,7 +138,9 @@ impl fmt::Display for Format {
 
 /// The error of parsing a [`Format`] from an unknown name.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown scan format `{0}`; expected one of: json, jsonl, csv, dat, mcap, carmen, bag")]
+#[error(
+    "unknown scan format `{0}`; expected one of: json, jsonl, csv, dat, mcap, carmen, bag, parquet"
+)]
 pub struct UnknownFormatName(pub String);
 
 impl FromStr for Format {
@@ -185,6 +197,7 @@ mod tests {
             ("a.CLF", Some(Format::Carmen)),
             ("demo.bag", Some(Format::Bag)),
             ("demo.bag.gz", Some(Format::Bag)),
+            ("scans.parquet", Some(Format::Parquet)),
             ("a.gz", None),
             ("a.txt", None),
             ("noext", None),

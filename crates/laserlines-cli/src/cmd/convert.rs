@@ -14,10 +14,10 @@ use crate::InputArgs;
 pub struct ConvertArgs {
     #[command(flatten)]
     input: InputArgs,
-    /// Output file: .mcap (Foxglove: /scan, and /tf when the input has poses), .json, .jsonl
-    /// or .csv (optionally .gz); `-` for stdout with --to.
+    /// Output file: .mcap (Foxglove: /scan, and /tf when the input has poses), .parquet (one
+    /// row per scan), .json, .jsonl or .csv (optionally .gz); `-` for stdout with --to.
     output: PathBuf,
-    /// Output format, overriding the extension (json, jsonl, csv, mcap).
+    /// Output format, overriding the extension (json, jsonl, csv, mcap, parquet).
     #[arg(long)]
     to: Option<String>,
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.
@@ -29,7 +29,9 @@ pub struct ConvertArgs {
 pub fn run(args: &ConvertArgs) -> Result<()> {
     let to = match &args.to {
         Some(name) => Some(Format::from_name(name).ok_or_else(|| {
-            anyhow!("unknown output format {name:?}: expected one of json, jsonl, csv, mcap")
+            anyhow!(
+                "unknown output format {name:?}: expected one of json, jsonl, csv, mcap, parquet"
+            )
         })?),
         None => None,
     };
