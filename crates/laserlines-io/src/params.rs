@@ -270,15 +270,32 @@ impl ParamsFile {
     /// # Errors
     /// As [`ParamsFile::algorithm_params`], and [`ParamsFileError::UnknownAlgorithm`].
     pub fn extractor(&self, algorithm: &str) -> Result<BoxedExtractor, ParamsFileError> {
-        struct Build<'a>(&'a ParamsFile);
+        self.extractor_for_noise(algorithm, 1.0)
+    }
+
+    /// [`ParamsFile::extractor`] with the thresholds that stand for the sensor's noise
+    /// multiplied by `noise_scale` ([`Algorithm::scale_noise`]; `laserlines bench` gives
+    /// every extractor the noise of the simulated sensor this way).
+    ///
+    /// # Errors
+    /// As [`ParamsFile::extractor`].
+    pub fn extractor_for_noise(
+        &self,
+        algorithm: &str,
+        noise_scale: f64,
+    ) -> Result<BoxedExtractor, ParamsFileError> {
+        struct Build<'a>(&'a ParamsFile, f64);
         impl Visitor for Build<'_> {
             type Output = Result<BoxedExtractor, ParamsFileError>;
             fn visit<P: Params>(self, entry: &'static Algorithm<P>) -> Self::Output {
-                let p = self.0.algorithm_params(entry)?;
+                let mut p = self.0.algorithm_params(entry)?;
+                if self.1 != 1.0 {
+                    (entry.scale_noise)(&mut p, self.1);
+                }
                 (entry.build)(p).map_err(|e| self.0.invalid(entry.name, e))
             }
         }
-        registry::visit(algorithm, Build(self))
+        registry::visit(algorithm, Build(self, noise_scale))
             .unwrap_or_else(|| Err(ParamsFileError::UnknownAlgorithm(algorithm.to_owned())))
     }
 

@@ -179,9 +179,15 @@ pub fn render_hough_split(
     let mut canvas = Canvas::new(2);
     canvas.set_title(opts.title.clone().unwrap_or_else(|| {
         format!(
-            "Hough-split line extraction of one scan ({} beams, {} valid)",
+            "Hough-split line extraction of one scan ({} beams, {} valid; noise {}{})",
             scan.len(),
-            raw.len()
+            raw.len(),
+            stages.noise(),
+            if stages.noise_estimated() {
+                ", estimated"
+            } else {
+                ""
+            }
         )
     }));
 

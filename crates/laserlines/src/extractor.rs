@@ -1,6 +1,7 @@
 //! The verb trait every line extractor implements.
 
 use crate::line::Line;
+use crate::noise::RangeNoise;
 use crate::scan::{Scan, ScanView};
 
 /// A line extraction algorithm.
@@ -22,6 +23,12 @@ pub trait LineExtractor {
     /// [`LineExtractor::extract_view_into`] on [`Scan::view`].
     fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
         self.extract_view_into(scan.view(), out);
+    }
+
+    /// The range noise the last extraction assumed, for extractors that model it
+    /// (`hough-split`: estimated from the scan, or its fixed model); `None` otherwise.
+    fn range_noise(&self) -> Option<RangeNoise> {
+        None
     }
 
     /// Allocating convenience wrapper around [`LineExtractor::extract_into`].

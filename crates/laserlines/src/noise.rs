@@ -297,7 +297,8 @@ impl NoiseEstimator {
                 continue;
             }
             let e = (r1 - two_cos * r0 * r2 / (r0 + r2)).abs();
-            if !(e <= 0.25 * r1) {
+            // A NaN (absurd ranges) or a gross residual says nothing about the noise.
+            if e.is_nan() || e > 0.25 * r1 {
                 continue;
             }
             let b = band_of(r1);

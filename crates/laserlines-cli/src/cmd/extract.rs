@@ -25,7 +25,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use laserlines::{Line, LineExtractor};
+use laserlines::{Line, LineExtractor, RangeNoise};
 use laserlines_foxglove::LinesOutput;
 use laserlines_io::{Pending, ReadError, ScanReader, ScanRecord, SkipCounts, encode_unnumbered};
 use rayon::Yield;
@@ -75,6 +75,8 @@ struct Slot {
     item: Option<Item>,
     lines: Vec<Line>,
     encoded: Vec<u8>,
+    /// The noise the extractor assumed for this scan, if it models one.
+    noise: Option<RangeNoise>,
 }
 
 /// A batch on its way through the pipeline: its place in the input and its records.
@@ -90,6 +92,8 @@ struct Totals {
     lines: u64,
     /// Errors of records parsed by the pool, by reason.
     skipped: SkipCounts,
+    /// Sums of the assumed noise's `sigma_min` and `fraction`, and the scans they cover.
+    noise: (f64, f64, u64),
 }
 
 /// Runs the command.
@@ -197,6 +201,7 @@ impl ReadLoop {
                     pending: Some(pending),
                     item: None,
                     lines: Vec::new(),
+                    noise: None,
                     encoded: Vec::new(),
                 })
                 .collect();
@@ -277,6 +282,7 @@ fn extract_batch(extractors: &Extractors, batch: &mut Batch, encode: bool) {
         let item = pending.parse();
         if let Ok(record) = &item {
             extractor.extract_into(&record.scan, &mut slot.lines);
+            slot.noise = extractor.range_noise();
             slot.encoded.clear();
             // Encoding into memory cannot fail; should it, the writer encodes again.
             if encode && encode_unnumbered(record, &slot.lines, &mut slot.encoded).is_err() {
@@ -321,6 +327,11 @@ fn write_batch(
         }
         totals.scans += 1;
         totals.lines += slot.lines.len() as u64;
+        if let Some(n) = slot.noise {
+            totals.noise.0 += n.sigma_min;
+            totals.noise.1 += n.fraction;
+            totals.noise.2 += 1;
+        }
     }
     progress.inc(count);
     Ok(())
@@ -367,4 +378,9 @@ fn summary(name: &str, skipped: &SkipCounts, totals: &Totals, bytes: Option<u64>
         "{name}: {} scans, {} lines ({per_scan:.1} per scan), skipped: {}, {secs:.2} s, {speed}",
         totals.scans, totals.lines, skipped,
     );
+    let (s, f, n) = totals.noise;
+    if n > 0 {
+        let mean = RangeNoise::new(s / n as f64, f / n as f64);
+        eprintln!("{name}: range noise assumed, mean over the scans: {mean}");
+    }
 }

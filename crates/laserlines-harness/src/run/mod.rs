@@ -121,8 +121,7 @@ pub fn run_observed(
     laserlines::params::positive("duration_s", config.duration_s).map_err(RunError::Setting)?;
     config.explorer.validate().map_err(RunError::Explorer)?;
     let mut robot = RobotSim::new(world, start, config.robot, config.seed)?;
-    let mut extractor =
-        HoughSplit::new(config.extractor.clone()).map_err(|e| RunError::Extractor(e.into()))?;
+    let mut extractor = HoughSplit::new(config.extractor.clone()).map_err(RunError::Extractor)?;
     let mut explorer = Explorer::new(config.explorer, &config.robot.robot);
     let robot_from_laser = config.robot.robot.laser.robot_from_laser();
     let laser = config.robot.laser_model;

@@ -160,6 +160,10 @@ impl LineExtractor for HoughSplit {
         "hough-split"
     }
 
+    fn range_noise(&self) -> Option<RangeNoise> {
+        Some(self.noise)
+    }
+
     fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
         out.clear();
         self.split_points.clear();

@@ -104,6 +104,23 @@ pub struct Algorithm<P: 'static> {
     /// The knobs `laserlines bench --tune` searches: parameters that shape the result, never
     /// work budgets, spanning each parameter's sensible range.
     pub knobs: &'static [Knob<P>],
+    /// Multiplies every distance threshold that stands for the sensor's range noise by `k`,
+    /// so that an extractor whose defaults were chosen for the URG-04LX ([`TUNED_NOISE`]) can
+    /// be given another sensor's noise, `k = sigma / sigma_tuned` ([`noise_scale`]). A no-op
+    /// for `hough-split`, which takes its noise model itself.
+    pub scale_noise: fn(&mut P, f64),
+}
+
+/// The range noise the classic extractors' defaults were chosen for: the simulated URG-04LX
+/// (its data sheet's band read as two standard deviations, `max(5 mm, 0.5 % of the range)`).
+pub const TUNED_NOISE: crate::RangeNoise = crate::RangeNoise::new(0.005, 0.005);
+
+/// The factor by which [`Algorithm::scale_noise`] turns thresholds chosen for
+/// [`TUNED_NOISE`] into thresholds for `noise`: the ratio of their standard deviations at
+/// 2 m, a typical range of the walls the thresholds apply to.
+#[must_use]
+pub fn noise_scale(noise: &crate::RangeNoise) -> f64 {
+    noise.sigma(2.0) / TUNED_NOISE.sigma(2.0)
 }
 
 impl<P> Debug for Algorithm<P> {
@@ -151,6 +168,7 @@ pub static HOUGH_SPLIT: Algorithm<HoughSplitParams> = Algorithm {
     ],
     build: |p| boxed(HoughSplit::new(p)),
     knobs: knobs::HOUGH_SPLIT,
+    scale_noise: |_, _| {},
 };
 
 /// Iterative Hough on the full accumulator.
@@ -161,6 +179,11 @@ pub static ITERATIVE_HOUGH: Algorithm<IterativeHoughParams> = Algorithm {
     presets: &[],
     build: |p| boxed(IterativeHough::new(p)),
     knobs: knobs::ITERATIVE_HOUGH,
+    scale_noise: |p, k| {
+        p.inlier_distance *= k;
+        p.inlier_distance_per_metre *= k;
+        p.breakpoints.noise *= k;
+    },
 };
 
 /// Split-and-merge on breakpoint clusters.
@@ -171,6 +194,11 @@ pub static SPLIT_AND_MERGE: Algorithm<SplitMergeParams> = Algorithm {
     presets: &[],
     build: |p| boxed(SplitMerge::new(SplitLine::LeastSquares, p)),
     knobs: knobs::SPLIT_MERGE,
+    scale_noise: |p, k| {
+        p.split_distance *= k;
+        p.split_distance_per_metre *= k;
+        p.breakpoints.noise *= k;
+    },
 };
 
 /// Iterative end-point fit on breakpoint clusters.
@@ -181,6 +209,11 @@ pub static IEPF: Algorithm<SplitMergeParams> = Algorithm {
     presets: &[],
     build: |p| boxed(SplitMerge::new(SplitLine::Chord, p)),
     knobs: knobs::SPLIT_MERGE,
+    scale_noise: |p, k| {
+        p.split_distance *= k;
+        p.split_distance_per_metre *= k;
+        p.breakpoints.noise *= k;
+    },
 };
 
 /// Incremental line tracking.
@@ -191,6 +224,11 @@ pub static INCREMENTAL: Algorithm<IncrementalParams> = Algorithm {
     presets: &[],
     build: |p| boxed(Incremental::new(p)),
     knobs: knobs::INCREMENTAL,
+    scale_noise: |p, k| {
+        p.track_distance *= k;
+        p.track_distance_per_metre *= k;
+        p.breakpoints.noise *= k;
+    },
 };
 
 /// Line regression.
@@ -201,6 +239,13 @@ pub static LINE_REGRESSION: Algorithm<LineRegressionParams> = Algorithm {
     presets: &[],
     build: |p| boxed(LineRegression::new(p)),
     knobs: knobs::LINE_REGRESSION,
+    scale_noise: |p, k| {
+        p.noise_sigma *= k;
+        p.noise_sigma_per_metre *= k;
+        p.merge_distance *= k;
+        p.merge_distance_per_metre *= k;
+        p.breakpoints.noise *= k;
+    },
 };
 
 /// Seeded RANSAC.
@@ -211,6 +256,11 @@ pub static RANSAC: Algorithm<RansacParams> = Algorithm {
     presets: &[],
     build: |p| boxed(Ransac::new(p)),
     knobs: knobs::RANSAC,
+    scale_noise: |p, k| {
+        p.inlier_distance *= k;
+        p.inlier_distance_per_metre *= k;
+        p.breakpoints.noise *= k;
+    },
 };
 
 /// Seeded expectation-maximisation.
@@ -221,6 +271,11 @@ pub static EM: Algorithm<EmParams> = Algorithm {
     presets: &[],
     build: |p| boxed(Em::new(p)),
     knobs: knobs::EM,
+    scale_noise: |p, k| {
+        p.noise_sigma *= k;
+        p.noise_sigma_per_metre *= k;
+        p.breakpoints.noise *= k;
+    },
 };
 
 /// Code that needs an algorithm's params type: called by [`visit`] with the entry.
