@@ -15,7 +15,7 @@
 //! - [`live`] (feature `live`, on by default): the same messages served on a Foxglove
 //!   WebSocket, paced to replay a log.
 //! - [`scene`]: the messages themselves; [`ros`] (from `laserlines-io`), [`proto`]: the
-//!   decoders.
+//!   decoders; [`message`]: one LaserScan message decoded on its own.
 //!
 //! Channels and frames (REP 103 frames, SI units):
 //!
@@ -50,6 +50,7 @@
 pub mod files;
 #[cfg(feature = "live")]
 pub mod live;
+pub mod message;
 pub mod navigation;
 pub mod proto;
 pub mod read;

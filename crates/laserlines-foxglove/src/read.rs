@@ -32,8 +32,7 @@ use std::fs::File;
 use std::io::{self, BufRead, BufReader, Read};
 use std::path::Path;
 
-use foxglove::messages::{FrameTransform, LaserScan};
-use laserlines::Scan;
+use foxglove::messages::FrameTransform;
 use laserlines_io::{
     Format, Input, Pose2, ReadError, ScanReader, ScanRecord, ScanSource, SkipCounts, SourcePos,
 };
@@ -41,8 +40,8 @@ use mcap::records::op;
 use prost::Message as _;
 
 use crate::ROBOT_FRAME;
+use crate::message::{self, MessageError};
 use crate::proto::{self, RangeLimits};
-use crate::ros::{self, LaserScanMsg};
 use laserlines_io::DecodeError;
 
 /// The eight bytes every MCAP file starts (and ends) with.
@@ -117,10 +116,10 @@ fn is_scan_schema(name: &str) -> bool {
 }
 
 fn role_of(schema: &str, encoding: &str, limits: RangeLimits) -> Role {
+    if let Some(e) = ScanEncoding::of_channel(schema, encoding) {
+        return Role::Scan(e, limits);
+    }
     match (schema, encoding) {
-        ("sensor_msgs/msg/LaserScan", "cdr") => Role::Scan(ScanEncoding::Ros2Cdr, limits),
-        ("sensor_msgs/LaserScan", "ros1") => Role::Scan(ScanEncoding::Ros1, limits),
-        ("foxglove.LaserScan", "protobuf") => Role::Scan(ScanEncoding::FoxgloveProtobuf, limits),
         ("foxglove.FrameTransform", "protobuf") => Role::Transform,
         (s, _) if is_scan_schema(s) => Role::UnsupportedScan,
         _ => Role::Other,
@@ -612,23 +611,16 @@ impl McapScanSource {
             expected: e.expected,
             found: e.found,
         };
-        let fallback = (log_seconds > 0.0).then_some(log_seconds);
-        let mut scan: Scan = match encoding {
-            ScanEncoding::Ros2Cdr => ros_scan(ros::decode_cdr(data).map_err(field_error)?),
-            ScanEncoding::Ros1 => ros_scan(ros::decode_ros1(data).map_err(field_error)?),
-            ScanEncoding::FoxgloveProtobuf => {
-                let msg = LaserScan::decode(data).map_err(|e| ReadError::Field {
+        let scan =
+            message::decode_scan(encoding, limits, data, log_seconds).map_err(|e| match e {
+                MessageError::Ros(e) => field_error(e),
+                MessageError::Protobuf(e) => ReadError::Field {
                     pos: self.at(loc.byte()),
                     field: format!("{} message{}", channel.topic, loc.context()),
                     expected: "a protobuf foxglove.LaserScan".to_owned(),
                     found: format!("bytes that do not decode ({e})"),
-                })?;
-                proto::scan_from_foxglove(&msg, limits, log_seconds)
-            }
-        };
-        if scan.stamp.is_none() {
-            scan.stamp = fallback;
-        }
+                },
+            })?;
         scan.validate().map_err(|source| ReadError::InvalidScan {
             pos: self.at(loc.byte()),
             source,
@@ -800,10 +792,6 @@ impl McapScanSource {
         }
         self.done = true;
     }
-}
-
-fn ros_scan(msg: LaserScanMsg) -> Scan {
-    msg.to_scan()
 }
 
 /// Decompresses into `out`, reading at most one byte more than `size` so that a chunk that

@@ -3,13 +3,15 @@
 //! the reader needs, each giving its value at a row.
 
 use arrow_array::cast::AsArray;
-use arrow_array::types::{Float32Type, Float64Type};
-use arrow_array::{Array, ArrayRef, RecordBatch};
+use arrow_array::types::{Float32Type, Float64Type, Int64Type};
+use arrow_array::{Array, ArrayRef, Int64Array, RecordBatch};
 use arrow_schema::{DataType, Schema};
+use laserlines::Scan;
+use laserlines_io::{Pose2, ReadError, ScanRecord, SourcePos};
 
 use crate::schema::{
     ANGLE_INCREMENT, ANGLE_MIN, INTENSITIES, POSE_THETA, POSE_X, POSE_Y, RANGE_MAX, RANGE_MIN,
-    RANGES, STAMP,
+    RANGES, SCAN, STAMP,
 };
 
 /// A column that does not hold what the reader needs.
@@ -24,6 +26,7 @@ pub struct ColumnError {
 }
 
 const NUMBER: &str = "a column of float64 (or float32)";
+const INDEX: &str = "a column of int64";
 const LIST: &str =
     "a column of list<float32> (or list, large_list or fixed_size_list of float32 or float64)";
 
@@ -47,11 +50,15 @@ fn is_float_list(t: &DataType) -> bool {
 /// The first column missing or of another type.
 pub fn check_schema(schema: &Schema) -> Result<(), ColumnError> {
     let required = [ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, RANGES];
-    let optional = [STAMP, POSE_X, POSE_Y, POSE_THETA, INTENSITIES];
-    for (names, needed) in [(&required, true), (&optional, false)] {
+    let optional = [SCAN, STAMP, POSE_X, POSE_Y, POSE_THETA, INTENSITIES];
+    for (names, needed) in [(&required[..], true), (&optional[..], false)] {
         for &name in names {
             let list = name == RANGES || name == INTENSITIES;
-            let expected = if list { LIST } else { NUMBER };
+            let expected = match name {
+                SCAN => INDEX,
+                _ if list => LIST,
+                _ => NUMBER,
+            };
             let Ok(field) = schema.field_with_name(name) else {
                 if needed {
                     let columns: Vec<&str> =
@@ -65,7 +72,11 @@ pub fn check_schema(schema: &Schema) -> Result<(), ColumnError> {
                 continue;
             };
             let t = field.data_type();
-            let ok = if list { is_float_list(t) } else { is_float(t) };
+            let ok = match name {
+                SCAN => *t == DataType::Int64,
+                _ if list => is_float_list(t),
+                _ => is_float(t),
+            };
             if !ok {
                 return Err(ColumnError {
                     column: name,
@@ -177,6 +188,8 @@ impl Lists {
 /// The columns of one batch the reader uses.
 #[derive(Debug, Clone)]
 pub struct ScanColumns {
+    /// The scan indices, when the table has them.
+    pub index: Option<Int64Array>,
     /// angle_min, angle_increment, range_min, range_max.
     pub geometry: [Numbers; 4],
     /// The ranges.
@@ -205,7 +218,12 @@ impl ScanColumns {
             (Some(x), Some(y), Some(theta)) => Some([x, y, theta]),
             _ => None,
         };
+        let index = batch
+            .column_by_name(SCAN)
+            .filter(|c| *c.data_type() == DataType::Int64)
+            .map(|c| c.as_primitive::<Int64Type>().clone());
         Some(Self {
+            index,
             geometry,
             ranges: lists(RANGES)?,
             stamp: numbers(STAMP),
@@ -217,3 +235,63 @@ impl ScanColumns {
 
 /// The names of the geometry columns, in the order of [`ScanColumns::geometry`].
 pub const GEOMETRY: [&str; 4] = [ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX];
+
+impl ScanColumns {
+    /// The scan index of `row` (the `scan` column), when the table has one and it is not null.
+    #[must_use]
+    pub fn scan_index(&self, row: usize) -> Option<i64> {
+        self.index
+            .as_ref()
+            .and_then(|c| c.is_valid(row).then(|| c.value(row)))
+    }
+
+    /// The record at `row` of the batch, validated; errors name `pos` (the file and the
+    /// row of the table).
+    ///
+    /// # Errors
+    /// [`ReadError::Field`] for a null where a number or the ranges are required,
+    /// [`ReadError::InvalidScan`] for a scan [`Scan::validate`] rejects.
+    pub fn record(&self, row: usize, pos: &SourcePos) -> Result<ScanRecord, ReadError> {
+        let null = |column: &str, expected: &str| ReadError::Field {
+            pos: pos.clone(),
+            field: column.to_owned(),
+            expected: expected.to_owned(),
+            found: "null".to_owned(),
+        };
+        let mut geometry = [0.0; 4];
+        for ((value, column), name) in geometry.iter_mut().zip(&self.geometry).zip(GEOMETRY) {
+            *value = column.get(row).ok_or_else(|| null(name, "a number"))?;
+        }
+        let [angle_min, angle_increment, range_min, range_max] = geometry;
+        let mut ranges = Vec::new();
+        if !self.ranges.extend_row(row, &mut ranges) {
+            return Err(null(RANGES, "a list of ranges"));
+        }
+        let intensities = self.intensities.as_ref().and_then(|lists| {
+            let mut values = Vec::new();
+            lists.extend_row(row, &mut values).then_some(values)
+        });
+        let scan = Scan {
+            angle_min,
+            angle_increment,
+            range_min,
+            range_max,
+            ranges,
+            intensities,
+            stamp: self.stamp.as_ref().and_then(|s| s.get(row)),
+        };
+        scan.validate().map_err(|source| ReadError::InvalidScan {
+            pos: pos.clone(),
+            source,
+        })?;
+        let pose = self
+            .pose
+            .as_ref()
+            .and_then(|[x, y, theta]| Some(Pose2::new(x.get(row)?, y.get(row)?, theta.get(row)?)));
+        Ok(ScanRecord {
+            scan,
+            pose,
+            line: None,
+        })
+    }
+}

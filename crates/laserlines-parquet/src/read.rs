@@ -13,15 +13,11 @@ use std::fs::File;
 use std::path::Path;
 
 use bytes::Bytes;
-use laserlines::Scan;
-use laserlines_io::{
-    Format, Pose2, ReadError, ScanReader, ScanRecord, ScanSource, SkipCounts, SourcePos,
-};
+use laserlines_io::{Format, ReadError, ScanReader, ScanRecord, ScanSource, SkipCounts, SourcePos};
 use parquet::arrow::arrow_reader::{ParquetRecordBatchReader, ParquetRecordBatchReaderBuilder};
 use parquet::file::reader::ChunkReader;
 
-use crate::columns::{GEOMETRY, ScanColumns, check_schema};
-use crate::schema::RANGES;
+use crate::columns::{ScanColumns, check_schema};
 
 /// Rows decoded at a time.
 const BATCH_ROWS: usize = 1024;
@@ -122,50 +118,6 @@ impl ParquetScanSource {
         }
         Some(Ok(()))
     }
-
-    /// The record at `row` of the current batch.
-    fn record(&self, columns: &ScanColumns, row: usize) -> Result<ScanRecord, ReadError> {
-        let pos = || SourcePos::row(&self.name, self.row);
-        let field = |column: &str, expected: &str| ReadError::Field {
-            pos: pos(),
-            field: column.to_owned(),
-            expected: expected.to_owned(),
-            found: "null".to_owned(),
-        };
-        let mut geometry = [0.0; 4];
-        for ((value, column), name) in geometry.iter_mut().zip(&columns.geometry).zip(GEOMETRY) {
-            *value = column.get(row).ok_or_else(|| field(name, "a number"))?;
-        }
-        let [angle_min, angle_increment, range_min, range_max] = geometry;
-        let mut ranges = Vec::new();
-        if !columns.ranges.extend_row(row, &mut ranges) {
-            return Err(field(RANGES, "a list of ranges"));
-        }
-        let intensities = columns.intensities.as_ref().and_then(|lists| {
-            let mut values = Vec::new();
-            lists.extend_row(row, &mut values).then_some(values)
-        });
-        let scan = Scan {
-            angle_min,
-            angle_increment,
-            range_min,
-            range_max,
-            ranges,
-            intensities,
-            stamp: columns.stamp.as_ref().and_then(|s| s.get(row)),
-        };
-        scan.validate()
-            .map_err(|source| ReadError::InvalidScan { pos: pos(), source })?;
-        let pose = columns
-            .pose
-            .as_ref()
-            .and_then(|[x, y, theta]| Some(Pose2::new(x.get(row)?, y.get(row)?, theta.get(row)?)));
-        Ok(ScanRecord {
-            scan,
-            pose,
-            line: None,
-        })
-    }
 }
 
 impl ScanSource for ParquetScanSource {
@@ -176,7 +128,7 @@ impl ScanSource for ParquetScanSource {
             }
         }
         let columns = self.current.as_ref()?;
-        let item = self.record(columns, self.row_in_batch);
+        let item = columns.record(self.row_in_batch, &SourcePos::row(&self.name, self.row));
         self.row_in_batch += 1;
         self.row += 1;
         Some(item)
