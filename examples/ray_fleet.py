@@ -51,14 +51,19 @@ def log_files(inputs):
     return mcap, parquet
 
 
-def scans_datasets(mcap, parquet):
-    """One Ray dataset per kind of input: MCAP messages (rows of LaserScan messages) and
-    Parquet scans (rows of the scans table), each with the path of its log."""
+def scans_datasets(mcap, parquet, topic=None):
+    """One Ray dataset per kind of input: MCAP messages (rows of LaserScan messages, of
+    `topic` or of every topic) and Parquet scans (rows of the scans table), each with the path
+    of its log."""
     datasets = []
     if mcap:
         datasets.append(
             ray.data.read_mcap(
-                mcap, message_types=LASERSCAN_TYPES, include_metadata=True, include_paths=True
+                mcap,
+                topics={topic} if topic else None,
+                message_types=LASERSCAN_TYPES,
+                include_metadata=True,
+                include_paths=True,
             )
         )
     if parquet:
@@ -74,41 +79,44 @@ class ExtractLines:
         self.extractor = laserlines.Extractor(algorithm, **(params or {}))
 
     def __call__(self, batch: pa.Table) -> pa.Table:
-        if "data" in batch.column_names:  # MCAP messages: decode them first
-            lines = self.extractor.extract_table(laserlines.scans_from_messages(batch))
-            # Messages are numbered by their row in the batch.
-            path = pc.take(batch["path"], lines["scan"])
-        else:
-            lines = self.extractor.extract_table(batch)
-            # The row of each line's scan: the table's scan index, looked up in the batch.
-            rows = pc.index_in(lines["scan"], value_set=batch["scan"])
-            path = pc.take(batch["path"], rows)
-        return lines.append_column("path", path)
+        if "data" in batch.column_names:  # MCAP messages, decoded in Rust
+            lines = self.extractor.extract_messages(batch)
+        else:  # a batch may hold the rows of several files: number the scans by row
+            scans = batch.drop_columns([c for c in ["scan"] if c in batch.column_names])
+            lines = self.extractor.extract_table(scans)
+        rows = lines["scan"]  # the row of each line's scan in the batch
+        if "scan" in batch.column_names:  # the scan's index in its log, as the CLI has it
+            lines = lines.set_column(0, lines.schema.field("scan"), pc.take(batch["scan"], rows))
+        return lines.append_column("path", pc.take(batch["path"], rows))
 
 
 def extract_lines(datasets, algorithm="hough-split", params=None, workers=None):
-    """The lines of every scan of the datasets, as one dataset."""
-    pool = ray.data.ActorPoolStrategy(min_size=1, max_size=workers) if workers else None
-    out = [
-        ds.map_batches(
-            ExtractLines,
-            fn_constructor_kwargs={"algorithm": algorithm, "params": params},
-            batch_format="pyarrow",
-            batch_size=1024,
-            compute=pool or ray.data.ActorPoolStrategy(min_size=1),
-        )
-        for ds in datasets
-    ]
-    return out[0] if len(out) == 1 else out[0].union(*out[1:])
+    """The lines of every scan of the datasets, as one dataset: the datasets joined, each
+    block a batch (a block holds rows of one kind of log), an actor pool of extractors."""
+    ds = datasets[0].union(*datasets[1:]) if len(datasets) > 1 else datasets[0]
+    return ds.map_batches(
+        ExtractLines,
+        fn_constructor_kwargs={"algorithm": algorithm, "params": params},
+        batch_format="pyarrow",
+        batch_size=None,
+        compute=ray.data.ActorPoolStrategy(min_size=1, max_size=workers),
+    )
+
+
+def count_paths(batch: pa.Table) -> pa.Table:
+    """Rows of each path in a batch."""
+    counts = pc.value_counts(batch["path"])
+    return pa.table({"path": counts.field("values"), "scans": counts.field("counts")})
 
 
 def scans_per_log(datasets):
-    """The number of scans of each log, {path: count}: a pass over the MCAP logs (Parquet
-    row counts come from the files' footers)."""
+    """The number of scans of each log, {path: count}: one more pass over the logs, counted
+    batch by batch (no shuffle)."""
     counts = {}
     for ds in datasets:
-        for row in ds.select_columns(["path"]).groupby("path").count().iter_rows():
-            counts[row["path"]] = row["count()"]
+        per_batch = ds.select_columns(["path"]).map_batches(count_paths, batch_format="pyarrow")
+        for row in per_batch.iter_rows():
+            counts[row["path"]] = counts.get(row["path"], 0) + row["scans"]
     return counts
 
 
@@ -126,6 +134,7 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("inputs", nargs="+", help="folders or files: .mcap, .parquet (scans)")
     p.add_argument("-o", "--output", required=True, help="folder for the lines table")
+    p.add_argument("--topic", help="the MCAP topic of the scans (default: every LaserScan topic)")
     p.add_argument("--algorithm", default="hough-split", choices=laserlines.ALGORITHMS)
     p.add_argument("--param", action="append", default=[], help="KEY=VALUE, as Extractor(**params)")
     p.add_argument("--workers", type=int, help="extractors at most (default: as Ray sees fit)")
@@ -140,7 +149,7 @@ def main(argv=None):
         raise SystemExit("no .mcap or .parquet file in the inputs")
     params = dict(parse_param(t) for t in args.param)
     laserlines.Extractor(args.algorithm, **params)  # bad parameters fail here, not on a worker
-    datasets = scans_datasets(mcap, parquet)
+    datasets = scans_datasets(mcap, parquet, args.topic)
     if args.count_scans:
         for path, n in sorted(scans_per_log(datasets).items()):
             print(f"{path}: {n} scans", file=sys.stderr)

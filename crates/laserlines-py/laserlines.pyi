@@ -135,6 +135,12 @@ class Extractor:
         of scans in :func:`scans_schema` (a ``pyarrow.Table``, a ``RecordBatchReader`` or
         anything with ``__arrow_c_stream__``; ``convert LOG scans.parquet`` writes one, and a
         Ray Data batch of it is one). Scans keep the table's ``scan`` index (else their row)."""
+    def extract_messages(self, table: Any) -> Any:
+        """The lines (a ``pyarrow.Table`` of :func:`lines_schema`) of a table of LaserScan
+        messages, one per row, as Ray Data's ``read_mcap(..., include_metadata=True)`` gives
+        them (``data``, ``schema_name``, ``message_encoding``, ``log_time`` in ns); scans
+        are numbered by row. Decoded and extracted at full precision (unlike a detour
+        through :func:`scans_from_messages`, whose table holds float32 ranges)."""
     def extract_file(self, path: Path, topic: Optional[str] = None, skip_bad: bool = False) -> Any:
         """The lines of every scan of a file (any format ``laserlines extract`` reads) as a
         ``pyarrow.Table`` of :func:`lines_schema`."""

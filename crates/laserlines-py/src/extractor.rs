@@ -192,6 +192,18 @@ impl Extractor {
         tables::extract_table(self, py, table)
     }
 
+    /// The lines of every LaserScan message of a table of messages (Ray Data's
+    /// `read_mcap(..., include_metadata=True)` rows: `data`, `schema_name`,
+    /// `message_encoding`, `log_time`) as a `pyarrow.Table` of the lines schema, scans
+    /// numbered by row; decoded and extracted at full precision.
+    fn extract_messages<'py>(
+        &self,
+        py: Python<'py>,
+        table: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        tables::extract_messages(self, py, table)
+    }
+
     /// The lines of every scan of the file `path` (any format the command line reads) as a
     /// `pyarrow.Table` of the lines schema.
     #[pyo3(signature = (path, topic = None, skip_bad = false))]

@@ -46,7 +46,7 @@ fn seconds_at(column: Option<&ArrayRef>, row: usize) -> f64 {
 }
 
 /// The scan of row `row` of a batch of messages.
-fn scan_of_row(batch: &RecordBatch, row: usize) -> Result<ScanRecord, String> {
+pub fn scan_of_row(batch: &RecordBatch, row: usize) -> Result<ScanRecord, String> {
     let column = |name: &str| {
         batch.column_by_name(name).ok_or_else(|| {
             format!("messages: no column {name} (read_mcap(..., include_metadata=True) gives it)")
@@ -77,6 +77,12 @@ fn scan_of_row(batch: &RecordBatch, row: usize) -> Result<ScanRecord, String> {
     Ok(ScanRecord::new(scan))
 }
 
+/// The batches of a table of messages (anything with `__arrow_c_stream__`).
+pub fn message_batches(table: &Bound<'_, PyAny>) -> PyResult<Vec<RecordBatch>> {
+    let reader = RecordBatchStreamReader::from_pyarrow_bound(table)?;
+    reader.collect::<Result<_, _>>().map_err(value_error)
+}
+
 /// A table of LaserScan messages (Ray Data's `read_mcap` with `include_metadata=True`:
 /// `data`, `schema_name`, `message_encoding`, `log_time`) as a `pyarrow.Table` of the scans
 /// schema, scans numbered by row. `foxglove.LaserScan` has no range limits of its own: they
@@ -87,8 +93,7 @@ pub fn scans_from_messages<'py>(
     py: Python<'py>,
     table: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let reader = RecordBatchStreamReader::from_pyarrow_bound(table)?;
-    let batches: Vec<RecordBatch> = reader.collect::<Result<_, _>>().map_err(value_error)?;
+    let batches = message_batches(table)?;
     let columns = py.detach(|| -> Result<ScansColumns, String> {
         let mut out = ScansColumns::new();
         let mut k = 0u64;

@@ -100,6 +100,30 @@ pub fn extract_table<'py>(
     built.map_err(value_error)?.into_pyarrow(py)
 }
 
+/// The lines of every LaserScan message of `table` (rows as `scans_from_messages` takes
+/// them), decoded and extracted in Rust at full precision; scans numbered by row.
+pub fn extract_messages<'py>(
+    extractor: &Extractor,
+    py: Python<'py>,
+    table: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let batches = crate::messages::message_batches(table)?;
+    let built = py.detach(|| -> Result<LinesTable, String> {
+        let mut w = extractor.working();
+        let mut out = LinesTable::new();
+        let mut row = 0u64;
+        for batch in &batches {
+            for i in 0..batch.num_rows() {
+                let record = crate::messages::scan_of_row(batch, i)?;
+                out.push(&mut w, row, &record)?;
+                row += 1;
+            }
+        }
+        Ok(out)
+    });
+    built.map_err(value_error)?.into_pyarrow(py)
+}
+
 /// The lines of every scan of the file `path`, scans numbered from 0 in file order.
 pub fn extract_path<'py>(
     extractor: &Extractor,

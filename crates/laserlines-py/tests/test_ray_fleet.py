@@ -40,7 +40,7 @@ def fleet(cli, tmp_path_factory):
     out = logs.parent / "lines"
     run = subprocess.run(
         [sys.executable, str(REPO / "examples" / "ray_fleet.py"), str(logs), "-o", str(out),
-         "--num-cpus", "2", "--workers", "2", "--count-scans"],
+         "--num-cpus", "2", "--workers", "1", "--topic", "/scan", "--count-scans"],
         capture_output=True, text=True, timeout=600,
     )
     assert run.returncode == 0, run.stderr[-3000:]
