@@ -4,7 +4,8 @@ Units are SI (metres, radians); frames follow REP 103 (x forward, y left, angles
 counter-clockwise). Beam ``i`` points at ``angle_min + i * angle_increment``; a range that is
 NaN, inf, not positive or outside ``range_min..range_max`` is "no return".
 
-Lines come as a dict of numpy arrays, one entry per line:
+Lines come as a numpy structured array, one record per line (``lines["r"]`` is the column of
+``r``, ``lines["start"]`` an (n, 2) array, ``lines[i]`` the i-th line); its fields:
 
 - ``start``, ``end``: (n, 2) float64, end points in the laser frame, m (``start`` at beam
   ``first``);
@@ -27,9 +28,10 @@ __version__: str
 ALGORITHMS: Tuple[str, ...]
 """The extractors by name, the paper's ``hough-split`` first."""
 
-Lines = Dict[str, npt.NDArray[Any]]
-"""The lines of one scan: ``start``, ``end``, ``r``, ``alpha``, ``first``, ``last``,
-``points``, ``rms``, ``covariance`` (see the module docstring)."""
+Lines = npt.NDArray[np.void]
+"""The lines of one scan, a structured array with the fields ``start``, ``end``, ``r``,
+``alpha``, ``first``, ``last``, ``points``, ``rms``, ``covariance`` (see the module
+docstring)."""
 
 Ranges = Union[npt.NDArray[np.float64], npt.NDArray[np.float32]]
 """Ranges of one scan, m: a 1-D float64 array (read in place when contiguous) or float32."""

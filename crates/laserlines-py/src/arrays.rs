@@ -1,12 +1,11 @@
 //! numpy in and out: the ranges of a scan read in place when they are a contiguous `float64`
-//! array ([`Ranges`]), and the lines of a scan as a dict of arrays ([`LineColumns`]).
+//! array ([`Ranges`]), and the lines of a scan as a structured array ([`LineRecords`]).
 
 use laserlines::Line;
-use numpy::ndarray::{Array2, Array3};
 use numpy::{PyArray1, PyArrayMethods, PyReadonlyArray1, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::sync::PyOnceLock;
 
 /// The ranges of a scan: borrowed from a contiguous `float64` array (no copy), or converted
 /// (`float32`, or a strided view).
@@ -77,75 +76,51 @@ pub fn ranges<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Ranges<'py>> {
     )))
 }
 
-/// The lines of one scan as columns: what the dict of arrays holds.
-#[derive(Debug, Default)]
-pub struct LineColumns {
-    start: Vec<f64>,
-    end: Vec<f64>,
-    r: Vec<f64>,
-    alpha: Vec<f64>,
-    first: Vec<i64>,
-    last: Vec<i64>,
-    points: Vec<i64>,
-    rms: Vec<f64>,
-    covariance: Vec<f64>,
+/// The record of one line in the structured array: `start` and `end` (2 float64 each),
+/// `r`, `alpha`, `first`, `last`, `points`, `rms`, `covariance` (4 float64), little-endian.
+const LINE_DTYPE: &std::ffi::CStr = c"__import__('numpy').dtype([('start', '<f8', (2,)), ('end', '<f8', (2,)), ('r', '<f8'), ('alpha', '<f8'), ('first', '<i8'), ('last', '<i8'), ('points', '<i8'), ('rms', '<f8'), ('covariance', '<f8', (2, 2))])";
+
+/// Bytes of one record.
+const RECORD_BYTES: usize = 14 * 8;
+
+/// The structured dtype of a line, made once.
+fn line_dtype(py: Python<'_>) -> PyResult<&Bound<'_, PyAny>> {
+    static DTYPE: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+    DTYPE
+        .get_or_try_init(py, || py.eval(LINE_DTYPE, None, None).map(Bound::unbind))
+        .map(|d| d.bind(py))
 }
 
-impl LineColumns {
-    /// The columns of `lines`.
+/// The lines of one scan as the records of a numpy structured array, built without the GIL.
+#[derive(Debug, Default)]
+pub struct LineRecords {
+    bytes: Vec<u8>,
+}
+
+impl LineRecords {
+    /// The records of `lines`.
     pub fn of(lines: &[Line]) -> Self {
-        let n = lines.len();
-        let mut c = Self {
-            start: Vec::with_capacity(2 * n),
-            end: Vec::with_capacity(2 * n),
-            r: Vec::with_capacity(n),
-            alpha: Vec::with_capacity(n),
-            first: Vec::with_capacity(n),
-            last: Vec::with_capacity(n),
-            points: Vec::with_capacity(n),
-            rms: Vec::with_capacity(n),
-            covariance: Vec::with_capacity(4 * n),
-        };
+        let mut bytes = Vec::with_capacity(lines.len() * RECORD_BYTES);
         for l in lines {
-            c.start.extend([l.start.x, l.start.y]);
-            c.end.extend([l.end.x, l.end.y]);
-            c.r.push(l.r);
-            c.alpha.push(l.alpha);
-            c.first.push(l.first as i64);
-            c.last.push(l.last as i64);
-            c.points.push(l.points as i64);
-            c.rms.push(l.rms);
             let m = &l.covariance;
-            c.covariance
-                .extend([m[(0, 0)], m[(0, 1)], m[(1, 0)], m[(1, 1)]]);
+            let floats = [l.start.x, l.start.y, l.end.x, l.end.y, l.r, l.alpha];
+            for v in floats {
+                bytes.extend_from_slice(&v.to_le_bytes());
+            }
+            for v in [l.first, l.last, l.points] {
+                bytes.extend_from_slice(&(v as i64).to_le_bytes());
+            }
+            for v in [l.rms, m[(0, 0)], m[(0, 1)], m[(1, 0)], m[(1, 1)]] {
+                bytes.extend_from_slice(&v.to_le_bytes());
+            }
         }
-        c
+        Self { bytes }
     }
 
-    /// The dict of arrays: `start`, `end` (n, 2), `r`, `alpha`, `rms` (n,) float64, `first`,
-    /// `last`, `points` (n,) int64, `covariance` (n, 2, 2). The vectors move into the
-    /// arrays, without a copy.
-    pub fn into_dict(self, py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
-        let n = self.r.len();
-        let shape = |e: numpy::ndarray::ShapeError| PyValueError::new_err(e.to_string());
-        let d = PyDict::new(py);
-        let pairs = |v: Vec<f64>| Array2::from_shape_vec((n, 2), v).map_err(shape);
-        d.set_item(
-            "start",
-            numpy::PyArray2::from_owned_array(py, pairs(self.start)?),
-        )?;
-        d.set_item(
-            "end",
-            numpy::PyArray2::from_owned_array(py, pairs(self.end)?),
-        )?;
-        d.set_item("r", PyArray1::from_vec(py, self.r))?;
-        d.set_item("alpha", PyArray1::from_vec(py, self.alpha))?;
-        d.set_item("first", PyArray1::from_vec(py, self.first))?;
-        d.set_item("last", PyArray1::from_vec(py, self.last))?;
-        d.set_item("points", PyArray1::from_vec(py, self.points))?;
-        d.set_item("rms", PyArray1::from_vec(py, self.rms))?;
-        let cov = Array3::from_shape_vec((n, 2, 2), self.covariance).map_err(shape)?;
-        d.set_item("covariance", numpy::PyArray3::from_owned_array(py, cov))?;
-        Ok(d)
+    /// The structured array, one record per line: fields `start`, `end` (2,) m, `r` m,
+    /// `alpha` rad, `first`, `last`, `points` (int64), `rms` m, `covariance` (2, 2);
+    /// `lines["r"]` is the column of `r`, `lines["start"]` an (n, 2) array.
+    pub fn into_array(self, py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
+        PyArray1::from_slice(py, &self.bytes).call_method1("view", (line_dtype(py)?,))
     }
 }

@@ -9,7 +9,7 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::arrays::{LineColumns, ranges as read_ranges};
+use crate::arrays::{LineRecords, ranges as read_ranges};
 use crate::config::{self, make_extractor};
 use crate::errors::value_error;
 use crate::kwargs;
@@ -57,7 +57,7 @@ impl Extractor {
     }
 
     /// Extracts the lines of `view` without the GIL; the columns of the result.
-    fn extract_view(&self, py: Python<'_>, view: ScanView<'_>) -> LineColumns {
+    fn extract_view(&self, py: Python<'_>, view: ScanView<'_>) -> LineRecords {
         py.detach(|| {
             let mut w = self.working();
             let Working {
@@ -67,7 +67,7 @@ impl Extractor {
             } = &mut *w;
             extractor.extract_view_into(view, lines);
             *last_address = view.ranges.as_ptr() as usize;
-            LineColumns::of(lines)
+            LineRecords::of(lines)
         })
     }
 }
@@ -109,7 +109,7 @@ impl Extractor {
         angle_increment: Option<f64>,
         range_min: f64,
         range_max: f64,
-    ) -> PyResult<Bound<'py, PyDict>> {
+    ) -> PyResult<Bound<'py, PyAny>> {
         if let Ok(scan) = ranges.cast::<Scan>() {
             if angle_min.is_some() || angle_increment.is_some() {
                 return Err(PyTypeError::new_err(
@@ -126,7 +126,7 @@ impl Extractor {
                 scan.range_max,
             )
             .map_err(value_error)?;
-            return self.extract_view(py, view).into_dict(py);
+            return self.extract_view(py, view).into_array(py);
         }
         let (Some(angle_min), Some(angle_increment)) = (angle_min, angle_increment) else {
             return Err(PyTypeError::new_err(
@@ -142,7 +142,7 @@ impl Extractor {
             range_max,
         )
         .map_err(value_error)?;
-        self.extract_view(py, view).into_dict(py)
+        self.extract_view(py, view).into_array(py)
     }
 
     /// Seconds per extraction of one scan, timed in Rust around the extraction alone
@@ -234,7 +234,7 @@ pub fn extract<'py>(
     range_max: f64,
     algorithm: &str,
     params: Option<&Bound<'py, PyDict>>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let extractor = Extractor::build(algorithm, kwargs::to_table(params)?)?;
     extractor.extract(py, ranges, angle_min, angle_increment, range_min, range_max)
 }

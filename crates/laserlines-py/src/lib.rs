@@ -5,7 +5,7 @@
 //!
 //! - `extract(ranges, angle_min, angle_increment, range_min=0.0, range_max=inf,
 //!   algorithm="hough-split", **params)` and the `Extractor` class, which keeps its working
-//!   memory: lines of one scan as a dict of numpy arrays. A contiguous `float64` array is read
+//!   memory: lines of one scan as a numpy structured array (one record per line). A contiguous `float64` array is read
 //!   in place ([`laserlines::ScanView`]), never copied; the GIL is released while extracting.
 //! - `read(path, topic=None)`: the scans of any file the command line reads, with stamp and
 //!   pose.

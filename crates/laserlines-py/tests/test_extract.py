@@ -42,13 +42,13 @@ def test_lines_equal_the_cli_bit_for_bit(excerpt_lines):
     )
 
 
-def test_the_dict_has_documented_shapes_and_types():
+def test_the_lines_have_documented_fields_shapes_and_types():
     s = scans()[3]
     lines = laserlines.Extractor().extract(s)
-    n = len(lines["r"])
-    assert n > 0
-    assert sorted(lines) == sorted(
-        ["start", "end", "r", "alpha", "first", "last", "points", "rms", "covariance"]
+    n = len(lines)
+    assert n > 0 and lines.shape == (n,)
+    assert lines.dtype.names == (
+        "start", "end", "r", "alpha", "first", "last", "points", "rms", "covariance"
     )
     assert lines["start"].shape == (n, 2) and lines["end"].shape == (n, 2)
     assert lines["covariance"].shape == (n, 2, 2)
