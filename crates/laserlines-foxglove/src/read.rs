@@ -957,7 +957,7 @@ mod tests {
     use std::io::Cursor;
 
     use super::*;
-    use crate::ros::encode;
+    use crate::ros::{LaserScanMsg, encode};
 
     fn msg(k: u32) -> LaserScanMsg {
         LaserScanMsg {

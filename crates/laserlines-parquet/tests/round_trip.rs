@@ -1,6 +1,8 @@
 //! Scans and lines through Parquet and back, on the bundled real URG-04LX excerpt, and what
 //! other writers produce (float64 lists, large and fixed-size lists, nullable columns).
 
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 use std::sync::Arc;
 
 use arrow_array::cast::AsArray;

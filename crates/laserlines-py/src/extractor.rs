@@ -149,6 +149,8 @@ impl Extractor {
     /// (`repeat` times, the mean): what a call from Python costs beyond it is the binding's
     /// overhead.
     #[pyo3(signature = (ranges, angle_min, angle_increment, range_min = 0.0, range_max = f64::INFINITY, repeat = 1000))]
+    // The Python signature: a scan's fields as keyword arguments.
+    #[allow(clippy::too_many_arguments)]
     fn time_extract(
         &self,
         py: Python<'_>,
@@ -225,6 +227,8 @@ impl Extractor {
 /// The lines of one scan with a fresh extractor of `algorithm` (see `Extractor.extract`).
 #[pyfunction]
 #[pyo3(signature = (ranges, angle_min = None, angle_increment = None, range_min = 0.0, range_max = f64::INFINITY, algorithm = "hough-split", **params))]
+// The Python signature: a scan's fields as keyword arguments.
+#[allow(clippy::too_many_arguments)]
 pub fn extract<'py>(
     py: Python<'py>,
     ranges: &Bound<'py, PyAny>,

@@ -63,6 +63,8 @@ impl Scan {
 impl Scan {
     #[new]
     #[pyo3(signature = (ranges, angle_min, angle_increment, range_min = 0.0, range_max = f64::INFINITY, stamp = None, pose = None))]
+    // The Python signature: a scan's fields as keyword arguments.
+    #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         ranges: &Bound<'_, PyAny>,
