@@ -133,22 +133,37 @@ pub fn extract_path<'py>(
     skip_bad: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let mut reader = crate::scans::open(path, topic)?;
-    let built = py.detach(|| -> Result<LinesTable, PyErr> {
+    let built = py.detach(|| -> Result<(LinesTable, u64), PyErr> {
         let mut w = extractor.working();
         let mut out = LinesTable::new();
-        let mut scan = 0u64;
+        let (mut scan, mut skipped) = (0u64, 0u64);
         for item in reader.by_ref() {
             let record = match item {
                 Ok(record) => record,
-                Err(_) if skip_bad => continue,
+                Err(_) if skip_bad => {
+                    skipped += 1;
+                    continue;
+                }
                 Err(e) => return Err(read_error(&e)),
             };
             out.push(&mut w, scan, &record).map_err(value_error)?;
             scan += 1;
         }
-        Ok(out)
+        Ok((out, skipped))
     });
-    built?.into_pyarrow(py)
+    let (table, skipped) = built?;
+    if skipped > 0 {
+        // Skipped records are reported, as the command line reports them.
+        let message = format!(
+            "{}: skipped {skipped} bad records ({})",
+            reader.name(),
+            reader.skipped()
+        );
+        let message = std::ffi::CString::new(message).map_err(value_error)?;
+        let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+        PyErr::warn(py, &category, &message, 1)?;
+    }
+    table.into_pyarrow(py)
 }
 
 /// The lines of every scan of the file `path` as a `pyarrow.Table` (one row per line, with
