@@ -20,7 +20,7 @@
 //! below every band's estimate: clutter only ever adds dispersion, so the cleanest band
 //! tells the sensor's own noise.
 
-use crate::scan::{RangeWindow, Scan};
+use crate::scan::{RangeWindow, ScanView};
 
 /// A range-noise model `sigma(r) = max(sigma_min, fraction * r)`, metres.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -267,12 +267,18 @@ impl NoiseEstimator {
     /// Estimates the noise of `scan`'s ranges valid in `window`; `None` when no band has
     /// [`MIN_BAND_SAMPLES`] samples (a short or sparse scan). The result is never below
     /// `floor` (m).
-    pub fn estimate(&mut self, scan: &Scan, window: RangeWindow, floor: f64) -> Option<RangeNoise> {
+    pub fn estimate<'a>(
+        &mut self,
+        scan: impl Into<ScanView<'a>>,
+        window: RangeWindow,
+        floor: f64,
+    ) -> Option<RangeNoise> {
+        let scan = scan.into();
         for b in &mut self.abs {
             b.clear();
         }
         self.range_sum = [0.0; NOISE_BANDS];
-        let r = &scan.ranges;
+        let r = scan.ranges;
         let dphi = LAG as f64 * scan.angle_increment;
         let two_cos = 2.0 * dphi.cos();
         // Points of one smooth surface `LAG` beams apart differ by `2 r dphi tan(incidence)`
@@ -352,6 +358,7 @@ fn fit_lower_envelope(bands: &[BandEstimate; NOISE_BANDS], floor: f64) -> Option
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scan::Scan;
 
     #[test]
     fn bands_are_octaves_from_half_a_metre() {

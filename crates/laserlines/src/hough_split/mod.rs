@@ -29,7 +29,7 @@ pub use params::{HoughSplitParams, Weight};
 use crate::extractor::LineExtractor;
 use crate::line::Line;
 use crate::noise::{BandEstimate, NOISE_BANDS, NoiseEstimator, NoiseModel, RangeNoise};
-use crate::scan::{Scan, ScanPoint};
+use crate::scan::{Scan, ScanPoint, ScanView};
 use accumulator::{Accumulator, BeamTable};
 use linseg::SplitScratch;
 use segment::{Breakpoints, Components, SegmentRun};
@@ -98,7 +98,7 @@ impl HoughSplit {
     /// Converts the valid beams to points (step 0), leaving out those nearer than
     /// `min_range`, and marks isolated points (with `remove_mixed_pixels`): they vote in no
     /// cell and so are removed.
-    fn convert(&mut self, scan: &Scan) {
+    fn convert(&mut self, scan: ScanView<'_>) {
         let p = &self.params;
         self.table.prepare(
             scan.angle_min,
@@ -122,7 +122,7 @@ impl HoughSplit {
                     point,
                 });
                 self.isolated.push(
-                    p.remove_mixed_pixels && mixed::isolated(&scan.ranges, i, window, &self.noise),
+                    p.remove_mixed_pixels && mixed::isolated(scan.ranges, i, window, &self.noise),
                 );
             }
         }
@@ -131,7 +131,7 @@ impl HoughSplit {
     /// The range noise of `scan`: the fixed model, or the estimate from the scan itself
     /// ([`FALLBACK_NOISE`] when the scan is too short or sparse to tell), never below
     /// `noise_floor`.
-    fn noise_of(&mut self, scan: &Scan) {
+    fn noise_of(&mut self, scan: ScanView<'_>) {
         let p = &self.params;
         let floor = p.noise_floor;
         let (noise, estimated) = match p.noise {
@@ -164,7 +164,7 @@ impl LineExtractor for HoughSplit {
         Some(self.noise)
     }
 
-    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+    fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
         out.clear();
         self.split_points.clear();
         self.split_ranges.clear();
