@@ -148,7 +148,10 @@ fn check_bounds(scan: &Scan, hs: &HoughSplit, lines: &[Line]) {
             let gap = (b.index - a.index) as f64 * step;
             let d = p.breakpoint_distance(a.range, gap, step, noise.sigma(a.range));
             let Some(d) = d else {
-                panic!("beams {} and {} are too far apart to join: {l:?}", a.index, b.index);
+                panic!(
+                    "beams {} and {} are too far apart to join: {l:?}",
+                    a.index, b.index
+                );
             };
             let apart = (b.point - a.point).norm();
             assert!(
@@ -163,7 +166,11 @@ fn check_bounds(scan: &Scan, hs: &HoughSplit, lines: &[Line]) {
             .fold((0.0, 0.0), |(x, y), q| (x + q.point.x, y + q.point.y));
         let centroid = (cx / n).hypot(cy / n);
         let limit = p.max_rms_sigmas * noise.sigma(centroid);
-        assert!(l.rms <= limit * (1.0 + 1e-9), "rms {} > {limit}: {l:?}", l.rms);
+        assert!(
+            l.rms <= limit * (1.0 + 1e-9),
+            "rms {} > {limit}: {l:?}",
+            l.rms
+        );
     }
 }
 
