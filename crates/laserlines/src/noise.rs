@@ -362,11 +362,7 @@ mod tests {
         let got = est.estimate(&scan, scan.range_window(None), 0.001).unwrap();
         for r in [3.0, 4.0] {
             let ratio = got.sigma(r) / truth.sigma(r);
-            assert!(
-                (0.9..1.3).contains(&ratio),
-                "{r}: {got} {:?}",
-                est.bands()
-            );
+            assert!((0.9..1.3).contains(&ratio), "{r}: {got} {:?}", est.bands());
         }
     }
 

@@ -11,8 +11,8 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use laserlines::LineExtractor;
 use laserlines_eval::{
-    BenchOptions, BenchReport, BenchScan, MatchParams, DEFAULT_SCANS_PER_SUITE, SENSORS, SpeedRatio, TEST_SEED,
-    TRAIN_SEED, plain_scans, sensor, suite_scans,
+    BenchOptions, BenchReport, BenchScan, DEFAULT_SCANS_PER_SUITE, MatchParams, SENSORS,
+    SpeedRatio, TEST_SEED, TRAIN_SEED, plain_scans, sensor, suite_scans,
 };
 use laserlines_render::ScatterChart;
 use serde::Serialize;
@@ -270,12 +270,9 @@ fn tune(args: &BenchArgs, algorithm: &str) -> Result<()> {
     }
     let (source, scans) = load_scans(args, args.seed.unwrap_or(TRAIN_SEED))?;
     eprintln!("tuning {algorithm} on {source}");
-    let result = laserlines_eval::tune(
-        algorithm,
-        &scans,
-        &matching(args),
-        &mut |line| eprintln!("  {line}"),
-    )?;
+    let result = laserlines_eval::tune(algorithm, &scans, &matching(args), &mut |line| {
+        eprintln!("  {line}")
+    })?;
     let (a, b) = (&result.start_metrics, &result.chosen_metrics);
     outln!(
         "# {algorithm} tuned on {source}: {} parameter sets evaluated",

@@ -1,0 +1,103 @@
+//! Prints every line `hough-split` (default parameters) extracts from a fixed set of scans,
+//! with the bits of every float, so that two builds can be compared for identical output:
+//! the scene suites of every simulated sensor (`all`, seed 2, 30 scans per suite), the bundled
+//! real URG-04LX excerpt and, when it is there, the Intel Research Lab log from `../shared`.
+//!
+//! ```sh
+//! cargo run --release -p laserlines-benches --example dump_lines > before.txt
+//! ```
+
+use std::io::Write;
+use std::path::Path;
+
+use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, Scan};
+use laserlines_eval::workload::{SENSORS, sensor, suite_scans};
+
+/// The shared real log, relative to the workspace root.
+const INTEL: &str = "../shared/data/real/carmen-radish-corrected/intel-corrected.log.gz";
+
+fn bits(v: f64) -> String {
+    format!("{:016x}", v.to_bits())
+}
+
+fn write_lines(out: &mut impl Write, name: &str, lines: &[Line]) -> std::io::Result<()> {
+    writeln!(out, "{name} {}", lines.len())?;
+    for l in lines {
+        let c = &l.covariance;
+        writeln!(
+            out,
+            "  {} {} {} r {} a {} s {} {} e {} {} rms {} cov {} {} {} {}",
+            l.first,
+            l.last,
+            l.points,
+            bits(l.r),
+            bits(l.alpha),
+            bits(l.start.x),
+            bits(l.start.y),
+            bits(l.end.x),
+            bits(l.end.y),
+            bits(l.rms),
+            bits(c[(0, 0)]),
+            bits(c[(0, 1)]),
+            bits(c[(1, 0)]),
+            bits(c[(1, 1)]),
+        )?;
+    }
+    Ok(())
+}
+
+fn run(
+    hs: &mut HoughSplit,
+    out: &mut impl Write,
+    name: &str,
+    scan: &Scan,
+    lines: &mut Vec<Line>,
+) -> std::io::Result<()> {
+    hs.extract_into(scan, lines);
+    write_lines(out, name, lines)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut hs = HoughSplit::new(HoughSplitParams::default())?;
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    let mut lines = Vec::new();
+    for name in SENSORS {
+        let Some(s) = sensor(name) else { continue };
+        for bs in suite_scans("all", 2, 30, &s)? {
+            run(
+                &mut hs,
+                &mut out,
+                &format!("{name} {}", bs.name),
+                &bs.scan,
+                &mut lines,
+            )?;
+        }
+    }
+    for (k, rec) in laserlines_io::demo::urg04lx_excerpt()?.iter().enumerate() {
+        run(
+            &mut hs,
+            &mut out,
+            &format!("demo:{k}"),
+            &rec.scan,
+            &mut lines,
+        )?;
+    }
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let intel = root.join(INTEL);
+    if intel.exists() {
+        for (k, rec) in laserlines_io::open(&intel, None)?.enumerate() {
+            run(
+                &mut hs,
+                &mut out,
+                &format!("intel:{k}"),
+                &rec?.scan,
+                &mut lines,
+            )?;
+        }
+    } else {
+        eprintln!("{} not found: the Intel log is left out", intel.display());
+    }
+    out.flush()?;
+    Ok(())
+}
