@@ -54,7 +54,22 @@ fn run(
     lines: &mut Vec<Line>,
 ) -> std::io::Result<()> {
     hs.extract_into(scan, lines);
-    write_lines(out, name, lines)
+    write_lines(out, name, lines)?;
+    if std::env::var("DUMP_STAGES").is_ok_and(|v| v == "1") {
+        let st = hs.stages();
+        let segs: Vec<String> = st
+            .segments()
+            .map(|s| format!("{}-{}:{}", s.first, s.last, s.points))
+            .collect();
+        writeln!(out, "  segments {}", segs.join(" "))?;
+        let removed: Vec<String> = st.removed().iter().map(ToString::to_string).collect();
+        writeln!(out, "  removed {}", removed.join(" "))?;
+        let splits: Vec<String> = st.split_points().map(|s| format!("{s:?}")).collect();
+        writeln!(out, "  splits {}", splits.join(" "))?;
+        let n = st.noise();
+        writeln!(out, "  noise {} {}", bits(n.sigma_min), bits(n.fraction))?;
+    }
+    Ok(())
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

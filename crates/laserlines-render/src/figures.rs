@@ -173,7 +173,8 @@ pub fn render_hough_split(
     let stages = hs.stages();
     let raw = scan.points(scan.range_window(None));
     let raw_pts = points_of(&raw);
-    let used = stages.points();
+    let used_points = stages.points();
+    let used = &used_points[..];
     let view = view_for(opts, &raw_pts);
     let pw = plot_width(opts.width, 2);
     let mut canvas = Canvas::new(2);

@@ -3,10 +3,10 @@
 //! splitting a wall.
 
 use super::params::HoughSplitParams;
+use super::points::Seg;
 use crate::fit::FitSums;
 use crate::math::Point2;
 use crate::noise::RangeNoise;
-use crate::scan::ScanPoint;
 
 /// Working memory of the split.
 #[derive(Debug, Default, Clone)]
@@ -27,12 +27,12 @@ fn chord_distance(p: Point2, a: Point2, b: Point2) -> f64 {
 }
 
 /// Prefix sums of a segment's points: `pre[i]` holds the sums of `seg[..i]`.
-pub(crate) fn prefix_sums(points: &[ScanPoint], seg: &[u32], pre: &mut Vec<FitSums>) {
+pub(crate) fn prefix_sums(seg: Seg<'_>, pre: &mut Vec<FitSums>) {
     pre.clear();
     let mut acc = FitSums::new();
     pre.push(acc);
-    for &i in seg {
-        acc.add(points[i as usize].point);
+    for (&x, &y) in seg.x.iter().zip(seg.y) {
+        acc.add(Point2::new(x, y));
         pre.push(acc);
     }
 }
@@ -99,38 +99,40 @@ fn best_split(pre: &[FitSums], a: usize, b: usize) -> Option<usize> {
 /// tried instead (the farthest point can be an outlier while a shallow corner lies
 /// elsewhere).
 fn split_point(
-    points: &[ScanPoint],
-    seg: &[u32],
+    seg: Seg<'_>,
     pre: &[FitSums],
     (a, b): (usize, usize),
     p: &HoughSplitParams,
     noise: &RangeNoise,
 ) -> Option<usize> {
-    let pa = points[seg[a] as usize].point;
-    let pb = points[seg[b] as usize].point;
+    if b < a + 2 {
+        return None;
+    }
+    let (pa, pb) = (seg.point(a), seg.point(b));
     // Farthest point from the chord, compared by |cross product| (distance times chord
     // length) so that only the winner needs a division. When the chord's ends coincide, the
     // farthest point from them is taken instead.
     let ab = pb - pa;
     let degenerate = ab.norm_squared() <= f64::EPSILON;
     let mut best = (0.0f64, a);
-    for (m, &i) in seg.iter().enumerate().take(b).skip(a + 1) {
-        let ap = points[i as usize].point - pa;
+    let (xs, ys) = (&seg.x[a + 1..b], &seg.y[a + 1..b]);
+    for (m, (&x, &y)) in xs.iter().zip(ys).enumerate() {
+        let (apx, apy) = (x - pa.x, y - pa.y);
         let c = if degenerate {
-            ap.norm_squared()
+            apx * apx + apy * apy
         } else {
-            (ab.x * ap.y - ab.y * ap.x).abs()
+            (ab.x * apy - ab.y * apx).abs()
         };
         if c > best.0 {
-            best = (c, m);
+            best = (c, a + 1 + m);
         }
     }
     let middle = best.1;
     if middle == a {
         return None;
     }
-    let far = &points[seg[middle] as usize];
-    if chord_distance(far.point, pa, pb) <= p.split_sigmas * noise.sigma(far.range) {
+    let far = seg.point(middle);
+    if chord_distance(far, pa, pb) <= p.split_sigmas * noise.sigma(seg.range[middle]) {
         return None;
     }
     if p.split_significance <= 0.0 || split_is_significant(pre, a, middle, b, p, noise) {
@@ -144,20 +146,19 @@ fn split_point(
     best_split(pre, a, b).filter(|&m| split_is_significant(pre, a, m, b, p, noise))
 }
 
-/// Runs `Linseg(start, end)` over `seg` (indices into `points`, in beam order), whose prefix
+/// Runs `Linseg(start, end)` over the points of `seg` (in beam order), whose prefix
 /// sums are `scratch.prefix`, and leaves the split tree's end points in `scratch.breaks`, as
 /// positions in `seg`, ascending, first and last included. Neighbouring pieces share their
 /// end point, as in the paper.
 pub(crate) fn linseg(
-    points: &[ScanPoint],
-    seg: &[u32],
+    seg: Seg<'_>,
     p: &HoughSplitParams,
     noise: &RangeNoise,
     scratch: &mut SplitScratch,
 ) {
     scratch.breaks.clear();
     scratch.stack.clear();
-    if seg.is_empty() {
+    if seg.len() == 0 {
         return;
     }
     let last = (seg.len() - 1) as u32;
@@ -166,7 +167,7 @@ pub(crate) fn linseg(
     // Depth-first, left piece first: breaks come out in ascending order.
     while let Some((a, b)) = scratch.stack.pop() {
         let piece = (a as usize, b as usize);
-        match split_point(points, seg, &scratch.prefix, piece, p, noise) {
+        match split_point(seg, &scratch.prefix, piece, p, noise) {
             Some(m) => {
                 scratch.stack.push((m as u32, b));
                 scratch.stack.push((a, m as u32));
@@ -184,25 +185,13 @@ pub(crate) fn linseg(
 mod tests {
     use super::*;
 
-    pub(crate) fn pts(xy: &[(f64, f64)]) -> Vec<ScanPoint> {
-        xy.iter()
-            .enumerate()
-            .map(|(i, &(x, y))| ScanPoint {
-                index: i,
-                range: (x * x + y * y).sqrt(),
-                angle: y.atan2(x),
-                point: Point2::new(x, y),
-            })
-            .collect()
-    }
-
     fn run(xy: &[(f64, f64)], p: &HoughSplitParams) -> Vec<u32> {
-        let points = pts(xy);
-        let seg: Vec<u32> = (0..points.len() as u32).collect();
+        let points = crate::hough_split::points::Points::from_xy(xy);
+        let seg = points.slice(0, points.len());
         let mut scratch = SplitScratch::default();
-        prefix_sums(&points, &seg, &mut scratch.prefix);
+        prefix_sums(seg, &mut scratch.prefix);
         let noise = RangeNoise::new(0.002, 0.0);
-        linseg(&points, &seg, p, &noise, &mut scratch);
+        linseg(seg, p, &noise, &mut scratch);
         scratch.breaks
     }
 

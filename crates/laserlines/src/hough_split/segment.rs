@@ -1,101 +1,22 @@
-//! Step 3-4: radius grouping, merging of touching groups into data segments, and removal of
-//! the points outside every segment (paper section II-B, ALGORITHM section 2).
+//! Step 4: data segments, and removal of the points outside every segment (paper section
+//! II-B, ALGORITHM section 2), after the beam bridge joins the components of nearby points.
 //!
-//! Grouping along a ring and merging groups that touch in a neighbouring ring is computed in
-//! one union-find pass over the kept cells: two kept cells are joined when they lie in the same
-//! ring at most `1 + group_gap` sectors apart, or in neighbouring rings of the same or of
-//! neighbouring sectors (the 8-neighbourhood). Each connected component is one group of the
-//! paper's Fig. 4b. A data segment is then a maximal run of surviving points, in beam order,
-//! whose cells belong to one component: this resolves interleaved components (a box in front
-//! of a wall) so that every point belongs to exactly one segment, and segments never overlap.
+//! A data segment is a maximal run of surviving points, in beam order, whose cells belong to
+//! one component ([`super::components`]): this resolves interleaved components (a box in
+//! front of a wall) so that every point belongs to exactly one segment, and segments never
+//! overlap.
 
-use super::accumulator::{Accumulator, NONE};
+use super::accumulator::NONE;
+use super::components::Components;
 use super::params::HoughSplitParams;
+use super::points::Points;
 use crate::noise::RangeNoise;
-use crate::scan::ScanPoint;
 
 /// A data segment: a run of surviving points `kept[start..end]` in beam order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct SegmentRun {
     pub(crate) start: u32,
     pub(crate) end: u32,
-}
-
-/// Union-find over cell indices.
-#[derive(Debug, Default, Clone)]
-pub(crate) struct Components {
-    pub(crate) parent: Vec<u32>,
-}
-
-impl Components {
-    fn reset(&mut self, n: usize) {
-        self.parent.clear();
-        self.parent.extend(0..n as u32);
-    }
-
-    pub(crate) fn find(&mut self, mut x: usize) -> usize {
-        while self.parent[x] as usize != x {
-            let grand = self.parent[self.parent[x] as usize];
-            self.parent[x] = grand;
-            x = grand as usize;
-        }
-        x
-    }
-
-    fn same(&mut self, a: usize, b: usize) -> bool {
-        self.find(a) == self.find(b)
-    }
-
-    fn union(&mut self, a: usize, b: usize) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            // Smaller index becomes the root: roots are then deterministic and in scan order.
-            let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-            self.parent[hi] = lo as u32;
-        }
-    }
-}
-
-/// Joins touching kept cells (grouping along rings and merging across rings).
-pub(crate) fn connect_cells(acc: &Accumulator, p: &HoughSplitParams, uf: &mut Components) {
-    uf.reset(acc.cells.len());
-    let sectors = acc.sector_start.len().saturating_sub(1);
-    for k in 0..sectors {
-        let here = acc.sector_cells(k);
-        // Same sector: neighbouring rings.
-        for c in here.clone().skip(1) {
-            let (a, b) = (&acc.cells[c - 1], &acc.cells[c]);
-            if a.kept && b.kept && b.ring - a.ring <= 1 {
-                uf.union(c - 1, c);
-            }
-        }
-        // Earlier sectors: the neighbouring one in the 8-neighbourhood, farther ones (up to the
-        // grouping gap) along the same ring only.
-        for back in 1..=(1 + p.group_gap) {
-            if back > k {
-                break;
-            }
-            let there = acc.sector_cells(k - back);
-            let reach = u32::from(back == 1);
-            let mut lo = there.start;
-            for c in here.clone() {
-                let cell = acc.cells[c];
-                if !cell.kept {
-                    continue;
-                }
-                while lo < there.end && acc.cells[lo].ring + reach < cell.ring {
-                    lo += 1;
-                }
-                let mut o = lo;
-                while o < there.end && acc.cells[o].ring <= cell.ring + reach {
-                    if acc.cells[o].kept {
-                        uf.union(c, o);
-                    }
-                    o += 1;
-                }
-            }
-        }
-    }
 }
 
 /// The breakpoint distance `D` of one scan ([`HoughSplitParams::breakpoint_distance`]) with
@@ -137,17 +58,23 @@ impl Breakpoints {
         self.factor.len()
     }
 
-    /// True when `b`, `gap` beams after `a`, lies within `D` of it.
-    #[inline]
-    pub(crate) fn joins(&self, a: &ScanPoint, b: &ScanPoint, gap: usize) -> bool {
+    /// True when a point at `(xb, yb)`, `gap` beams after the point at range `ra` and
+    /// `(xa, ya)`, lies within `D` of it.
+    #[inline(always)]
+    pub(crate) fn joins(
+        &self,
+        (ra, xa, ya): (f64, f64, f64),
+        (xb, yb): (f64, f64),
+        gap: usize,
+    ) -> bool {
         let Some(&f) = self.factor.get(gap.wrapping_sub(1)) else {
             return false;
         };
-        let limit = a.range * f + self.spread * self.noise.sigma(a.range);
-        let d = b.point - a.point;
-        let d2 = d.x * d.x + d.y * d.y;
+        let limit = ra * f + self.spread * self.noise.sigma(ra);
+        let (dx, dy) = (xb - xa, yb - ya);
+        let d2 = dx * dx + dy * dy;
         // NaN factors and limits fail; squares that overflow (absurd ranges) never join.
-        d2.is_finite() && d2 <= limit * limit
+        d2 < f64::INFINITY && d2 <= limit * limit
     }
 }
 
@@ -156,20 +83,25 @@ impl Breakpoints {
 /// (missing beams, or points of other cells in between) until one joins it, so that a single
 /// outlier does not cut a wall in two.
 pub(crate) fn bridge_beams(
-    points: &[ScanPoint],
+    points: &Points,
     cell_of: &[u32],
     bp: &Breakpoints,
     uf: &mut Components,
 ) {
     let reach = bp.reach();
-    for pi in 0..points.len() {
-        let cell = cell_of[pi];
-        if cell == NONE {
+    let (idx, range) = (
+        &points.idx()[..cell_of.len()],
+        &points.range()[..cell_of.len()],
+    );
+    let (xs, ys) = (&points.x()[..cell_of.len()], &points.y()[..cell_of.len()]);
+    for pi in 1..cell_of.len() {
+        let (cell, before) = (cell_of[pi], cell_of[pi - 1]);
+        // The usual case: the point before lies in the same component.
+        if cell == NONE || (before != NONE && uf.same(cell as usize, before as usize)) {
             continue;
         }
-        let here = &points[pi];
         for q in (0..pi).rev() {
-            let gap = here.index - points[q].index;
+            let gap = idx[pi] - idx[q];
             if gap > reach {
                 break;
             }
@@ -180,7 +112,7 @@ pub(crate) fn bridge_beams(
             if other == cell || uf.same(cell as usize, other as usize) {
                 break;
             }
-            if bp.joins(&points[q], here, gap) {
+            if bp.joins((range[q], xs[q], ys[q]), (xs[pi], ys[pi]), gap) {
                 uf.union(cell as usize, other as usize);
                 break;
             }
@@ -188,74 +120,105 @@ pub(crate) fn bridge_beams(
     }
 }
 
-/// Cuts the surviving points into data segments and fills `kept` with the indices of the
-/// points that remain.
+/// Where [`cut_segments`] puts its results and keeps its working memory.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct Segments {
+    /// The surviving points, in beam order.
+    pub(crate) kept: Points,
+    /// The data segments, as runs of `kept`.
+    pub(crate) runs: Vec<SegmentRun>,
+    /// Per point: the root of its kept cell's component, or `NONE`.
+    comp: Vec<u32>,
+    /// Points per component, counted at each component's root.
+    sizes: Vec<u32>,
+}
+
+/// Cuts the surviving points into data segments, filling `out.kept` with the points that
+/// remain and `out.runs` with the segments.
 ///
 /// Points whose component holds fewer than `min_segment_points` points are removed first
 /// (sparse and cluttered points: the paper's `Pm[i] = 0`); the rest are cut into maximal
 /// runs of one component, and (with `bridge_beams`) a run is also cut where consecutive
 /// points lie more than `bridge_max_gap` missing beams or more than the breakpoint distance
-/// `D` apart, so that no segment, and no line, spans empty space. Runs shorter than `min_segment_points` are
-/// removed too.
-#[allow(clippy::too_many_arguments)]
+/// `D` apart, so that no segment, and no line, spans empty space. Runs shorter than
+/// `min_segment_points` are removed too.
 pub(crate) fn cut_segments(
-    points: &[ScanPoint],
+    points: &Points,
     cell_of: &[u32],
     p: &HoughSplitParams,
     bp: &Breakpoints,
     uf: &mut Components,
-    sizes: &mut Vec<u32>,
-    kept: &mut Vec<u32>,
-    segments: &mut Vec<SegmentRun>,
+    out: &mut Segments,
 ) {
-    kept.clear();
-    segments.clear();
+    let Segments {
+        kept,
+        runs,
+        comp,
+        sizes,
+    } = out;
+    kept.reset(points.len());
+    runs.clear();
     let min = p.min_segment_points.max(1);
-    // Points per component, counted at each component's root.
+    uf.flatten();
     sizes.clear();
     sizes.resize(uf.parent.len(), 0);
-    for &cell in cell_of {
-        if cell != NONE {
-            let root = uf.find(cell as usize);
-            sizes[root] += 1;
-        }
-    }
-    let close = |kept: &mut Vec<u32>, segments: &mut Vec<SegmentRun>, start: usize| {
-        if kept.len() - start >= min {
-            segments.push(SegmentRun {
-                start: start as u32,
-                end: kept.len() as u32,
-            });
-        } else {
-            kept.truncate(start);
-        }
-    };
-    let mut run_root = usize::MAX;
-    let mut run_start = 0usize;
-    for (pi, &cell) in cell_of.iter().enumerate() {
+    comp.clear();
+    comp.extend(cell_of.iter().map(|&cell| {
         if cell == NONE {
+            NONE
+        } else {
+            let root = uf.parent[cell as usize];
+            sizes[root as usize] += 1;
+            root
+        }
+    }));
+    let n = comp.len();
+    let (idx, range) = (&points.idx()[..n], &points.range()[..n]);
+    let (xs, ys) = (&points.x()[..n], &points.y()[..n]);
+    let (comp, sizes) = (&comp[..n], &sizes[..]);
+    let out = kept.parts_mut();
+    let (kidx, krange) = (&mut out.idx[..n], &mut out.range[..n]);
+    let (kx, ky) = (&mut out.x[..n], &mut out.y[..n]);
+    let bridge = p.bridge_beams;
+    let mut m = 0usize;
+    let mut run_root = NONE;
+    let mut run_start = 0usize;
+    // The last kept point: beam, range, x, y.
+    let mut last = (0usize, 0.0, 0.0, 0.0);
+    for pi in 0..n {
+        let root = comp[pi];
+        if root == NONE || (sizes[root as usize] as usize) < min {
             continue;
         }
-        let root = uf.find(cell as usize);
-        if (sizes[root] as usize) < min {
-            continue;
-        }
-        let joined = run_root == root
-            && (!p.bridge_beams
-                || kept.last().is_some_and(|&q| {
-                    let (a, b) = (&points[q as usize], &points[pi]);
-                    bp.joins(a, b, b.index - a.index)
-                }));
+        let (i, r, x, y) = (idx[pi], range[pi], xs[pi], ys[pi]);
+        let joined =
+            run_root == root && (!bridge || bp.joins((last.1, last.2, last.3), (x, y), i - last.0));
         if !joined {
-            if run_root != usize::MAX {
-                close(kept, segments, run_start);
+            if run_root != NONE {
+                close_run(runs, &mut m, run_start, min);
             }
             run_root = root;
-            run_start = kept.len();
+            run_start = m;
         }
-        kept.push(pi as u32);
+        (kidx[m], krange[m], kx[m], ky[m]) = (i, r, x, y);
+        m += 1;
+        last = (i, r, x, y);
     }
-    if run_root != usize::MAX {
-        close(kept, segments, run_start);
+    if run_root != NONE {
+        close_run(runs, &mut m, run_start, min);
+    }
+    *out.n = m;
+}
+
+/// Ends the run of kept points `start..m`: a data segment when it has `min` points or more,
+/// else its points are dropped (`m` goes back to `start`).
+fn close_run(runs: &mut Vec<SegmentRun>, m: &mut usize, start: usize, min: usize) {
+    if *m - start >= min {
+        runs.push(SegmentRun {
+            start: start as u32,
+            end: *m as u32,
+        });
+    } else {
+        *m = start;
     }
 }
