@@ -5,7 +5,7 @@
 use super::linseg::{split_is_significant, sums};
 use super::params::HoughSplitParams;
 use super::points::Seg;
-use crate::fit::FitSums;
+use crate::fit::{FitSums, NormalFit};
 use crate::line::Line;
 use crate::math::Point2;
 use crate::noise::RangeNoise;
@@ -68,9 +68,9 @@ impl Pieces<'_> {
         if whi < wlo {
             return b + 1;
         }
-        let left = sums(self.pre, lo, wlo).fit();
-        let right = sums(self.pre, whi + 1, next + 1).fit();
-        let near = |fit: &crate::fit::PolarFit, k: usize| {
+        let left = sums(self.pre, lo, wlo).normal_fit();
+        let right = sums(self.pre, whi + 1, next + 1).normal_fit();
+        let near = |fit: &NormalFit, k: usize| {
             fit.distance(self.point(k)).abs()
                 <= self.p.split_sigmas * self.noise.sigma(self.seg.range[k])
         };
@@ -93,7 +93,7 @@ impl Pieces<'_> {
             (None, None) => return b + 1,
         };
         // cost(c) = sum over window points before c of dL^2 + from c on of dR^2.
-        let (dl, dr) = (left.distance_fn(), right.distance_fn());
+        let (dl, dr) = (|p| left.distance(p), |p| right.distance(p));
         let mut cost: f64 = (wlo..=whi).map(|k| dr(self.point(k)).powi(2)).sum();
         let mut best = (cost, wlo);
         for c in wlo..=whi {
@@ -132,7 +132,7 @@ impl Pieces<'_> {
             for k in 1..=max_k {
                 let idx = |j: usize| if from_end { hi - 1 - j } else { lo + j };
                 rest.remove(self.point(idx(k - 1)));
-                let Some(fit) = rest.fit() else { break };
+                let Some(fit) = rest.normal_fit() else { break };
                 let (chi2, bent) = self.end_chi2(&fit, (0..k).map(idx));
                 let excess = chi2 - k as f64;
                 if bent && chi2 >= CHI2_1E2[k - 1] && best.is_none_or(|(e, _)| excess > e) {
@@ -153,9 +153,8 @@ impl Pieces<'_> {
     /// The chi-square of the points at positions `ks` (the outermost first) against `fit`
     /// (point noise plus the fit's uncertainty there), and whether they bend away from it: all
     /// on one side, the outermost farthest.
-    fn end_chi2(&self, fit: &crate::fit::PolarFit, ks: impl Iterator<Item = usize>) -> (f64, bool) {
-        // The normal once, for the distances and the positions along the line.
-        let normal = fit.normal();
+    fn end_chi2(&self, fit: &NormalFit, ks: impl Iterator<Item = usize>) -> (f64, bool) {
+        let normal = fit.normal;
         let (ca, sa) = (normal.x, normal.y);
         let cov = fit.covariance;
         let n = fit.n as f64;
