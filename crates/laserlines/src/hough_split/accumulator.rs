@@ -3,12 +3,13 @@
 //!
 //! Each valid point votes only in the column of its own beam sector, and there in every ring
 //! whose window `|r cos(phi - gamma_k) - d_j| <= a` it meets. The grid is sparse: only cells
-//! that received a vote exist, stored sector by sector in ring order, as parallel arrays.
+//! that received a vote exist, stored sector by sector in ring order.
 
-use super::params::{HoughSplitParams, Weight};
 use std::ops::Range;
 
-use super::points::{BeamTable, Points};
+use super::params::{HoughSplitParams, Weight};
+use super::points::{BeamTable, Pt};
+use crate::scan::{RangeWindow, Scan};
 
 /// One cell of the accumulator that received votes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,11 +24,17 @@ pub struct Cell {
     pub kept: bool,
 }
 
-/// Marks a point without a kept cell.
+/// Marks the absence of a cell.
 pub(crate) const NONE: u32 = u32::MAX;
+
+/// The cell of points that voted in no cell: `bins[VOID]`, in no sector and never kept.
+pub(crate) const VOID: u32 = 0;
 
 /// Rings a sector may span for its cells to be summed in the local table.
 const LOCAL: u32 = 64;
+
+/// The local slot of a point that voted in no ring.
+const NO_SLOT: u32 = LOCAL;
 
 /// A cell as the pipeline keeps it (its sector is implied by its position).
 #[derive(Debug, Default, Clone, Copy)]
@@ -36,11 +43,14 @@ pub(crate) struct Bin {
     pub(crate) value: f64,
     /// Ring index.
     pub(crate) ring: u32,
+    /// Points whose kept cell this is (when kept).
+    pub(crate) points: u32,
     /// Above the criterion.
     pub(crate) kept: bool,
 }
 
 /// The sector being summed in [`Accumulator::build`].
+#[derive(Default)]
 struct Sector {
     /// Its first point.
     start: usize,
@@ -54,18 +64,24 @@ struct Sector {
     fits: bool,
 }
 
-/// The sparse accumulator: the cells of sector `k` are
+/// The sparse accumulator: `bins[VOID]`, then the cells of sector `k`,
 /// `bins[sector_start[k]..sector_start[k + 1]]`, in ring order.
 #[derive(Debug, Clone)]
 pub(crate) struct Accumulator {
     pub(crate) bins: Vec<Bin>,
     pub(crate) sector_start: Vec<u32>,
+    /// Per point: its distance along its sector's centre, m.
+    along: Vec<f64>,
     /// Per point: the first and last ring its window meets.
     rings: Vec<(u32, u32)>,
     /// A sector's values by ring, from its base ring on (all zero between sectors).
     local: [f64; LOCAL as usize],
-    /// The kept cell of each ring of `local`, or `NONE`.
-    local_kept: [u32; LOCAL as usize],
+    /// Points per ring of `local` whose first ring it is (all zero between sectors).
+    local_points: [u32; LOCAL as usize],
+    /// The cell of each ring of `local`, and `VOID` for `NO_SLOT`.
+    local_cell: [u32; LOCAL as usize + 1],
+    /// The sector's points that vote in more than one ring.
+    multi: Vec<u32>,
     /// The distinct rings of a sector too deep for `local`.
     distinct: Vec<u32>,
 }
@@ -75,22 +91,31 @@ impl Default for Accumulator {
         Self {
             bins: Vec::new(),
             sector_start: Vec::new(),
+            along: Vec::new(),
             rings: Vec::new(),
             local: [0.0; LOCAL as usize],
-            local_kept: [NONE; LOCAL as usize],
+            local_points: [0; LOCAL as usize],
+            local_cell: [VOID; LOCAL as usize + 1],
+            multi: Vec::new(),
             distinct: Vec::new(),
         }
     }
 }
 
-/// What a sector's points vote with.
-struct Votes<'a> {
-    /// Ranges of the points.
-    range: &'a [f64],
+/// What the points vote with.
+#[derive(Clone, Copy)]
+struct Votes {
     /// `g = 1` rather than `g = r`.
     weight_one: bool,
     /// The noise-cancelling criterion.
     criterion: f64,
+}
+
+impl Votes {
+    #[inline]
+    fn g(self, p: &Pt) -> f64 {
+        if self.weight_one { 1.0 } else { p.range }
+    }
 }
 
 /// The largest ring index.
@@ -133,128 +158,219 @@ fn ring_span(x: f64, a: f64, inv: f64) -> (u32, u32) {
 }
 
 impl Accumulator {
-    /// Number of cells.
+    /// Number of cells (with `VOID`).
     pub(crate) fn len(&self) -> usize {
         self.bins.len()
     }
 
-    /// Builds the accumulator of `points` (valid points in beam order), applies the criterion
-    /// and fills `cell_of` with a kept cell of each point, or [`NONE`] when the point lies in
-    /// no kept cell (it is removed as noise): the first of its cells when that is kept, else
-    /// the last.
+    /// Converts the valid beams of `scan` to `points` (step 0: range valid in `window` and
+    /// at least `min_range`, finite point), builds their accumulator, applies the criterion
+    /// and fills `cell_of` with the cell of each point that the later steps join: its first
+    /// cell when that is kept, else its last when that is kept, else any of its cells (not
+    /// kept: the point is removed as noise), or `VOID` when it voted in none.
     ///
-    /// A sector's points are consecutive in beam order, so each sector is built in one pass
-    /// over them: a point adds its weight to the cell of each ring its window meets, summed
-    /// in point order as the paper's sum over `i`; the sector's cells then come out in ring
-    /// order.
+    /// A sector's points are consecutive, so its sums are kept in a table indexed by ring,
+    /// summed in point order as the paper's sum over `i`, and turn into cells in ring order
+    /// when the next sector begins.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn build(
         &mut self,
-        points: &Points,
+        scan: &Scan,
+        window: RangeWindow,
+        min_range: f64,
         table: &BeamTable,
         p: &HoughSplitParams,
+        points: &mut Vec<Pt>,
         cell_of: &mut Vec<u32>,
     ) {
         self.bins.clear();
+        self.bins.push(Bin::default());
         self.sector_start.clear();
+        self.fill(scan, window, min_range, table, points);
         let n = points.len();
-        cell_of.clear();
-        cell_of.resize(n, NONE);
         self.rings.resize(n, (0, 0));
         let (inv, a) = (1.0 / p.ring_step, p.window);
-        let (idx, range) = (points.idx(), points.range());
+        for (ring, &x) in self.rings[..n].iter_mut().zip(&self.along[..n]) {
+            *ring = ring_span(x, a, inv);
+        }
+        cell_of.resize(n, 0);
+        self.vote(points, table, p, &mut cell_of[..n]);
+        cell_of.truncate(n);
+        self.sector_start.push(self.bins.len() as u32);
+    }
+
+    /// Step 0: the valid beams of `scan` as points, and each point's distance along its
+    /// sector's centre in `along`. Every beam is written at the end of the store, which only
+    /// advances for valid ones: no branch on the data.
+    fn fill(
+        &mut self,
+        scan: &Scan,
+        window: RangeWindow,
+        min_range: f64,
+        table: &BeamTable,
+        points: &mut Vec<Pt>,
+    ) {
+        let n = scan.ranges.len().min(table.beams.len());
+        points.resize(n, Pt::default());
+        self.along.resize(n, 0.0);
+        // RangeWindow::contains and the minimum range as two comparisons: `r >= lo` implies
+        // `r > 0`, `r <= hi` implies a finite `r`; NaN fails both (and a NaN limit fails all).
+        let nan = window.min.is_nan() || window.max.is_nan() || min_range.is_nan();
+        let lo = if nan {
+            f64::INFINITY
+        } else {
+            window.min.max(min_range).max(f64::from_bits(1))
+        };
+        let hi = window.max.min(f64::MAX);
+        let (ranges, beams) = (&scan.ranges[..n], &table.beams[..n]);
+        let (out, along) = (&mut points[..n], &mut self.along[..n]);
+        let mut count = 0usize;
+        if table.finite {
+            // With finite beam directions, a finite range gives a finite point.
+            for (i, (&r, beam)) in ranges.iter().zip(beams).enumerate() {
+                let k = count.min(n - 1);
+                out[k] = Pt {
+                    x: r * beam.cos,
+                    y: r * beam.sin,
+                    range: r,
+                    idx: i,
+                };
+                along[k] = r * beam.cos_to_sector;
+                count += usize::from((r >= lo) & (r <= hi));
+            }
+        } else {
+            for (i, (&r, beam)) in ranges.iter().zip(beams).enumerate() {
+                let (x, y) = (r * beam.cos, r * beam.sin);
+                let k = count.min(n - 1);
+                out[k] = Pt {
+                    x,
+                    y,
+                    range: r,
+                    idx: i,
+                };
+                along[k] = r * beam.cos_to_sector;
+                // A finite point: `v * 0` is 0 for finite `v`, NaN otherwise.
+                let finite = (x * 0.0 == 0.0) & (y * 0.0 == 0.0);
+                count += usize::from((r >= lo) & (r <= hi) & finite);
+            }
+        }
+        points.truncate(count);
+    }
+
+    /// Steps 1-2 for the points, whose rings are in `rings`: each adds its weight to the cell
+    /// of each ring its window meets in its own sector; `cell_of` gets each point's cell.
+    fn vote(
+        &mut self,
+        points: &[Pt],
+        table: &BeamTable,
+        p: &HoughSplitParams,
+        cell_of: &mut [u32],
+    ) {
         let votes = Votes {
-            range,
             weight_one: p.weight == Weight::One,
             criterion: p.criterion,
         };
-        let mut sector = Sector {
-            start: 0,
-            stop: 0,
-            base: 0,
-            touched: 0,
-            fits: true,
-        };
+        let n = points.len().min(cell_of.len()).min(self.rings.len());
+        let mut sector = Sector::default();
         for k in 0..n {
-            let (i, r) = (idx[k], range[k]);
-            let (lo, hi) = ring_span(r * table.cos_to_sector[i], a, inv);
-            self.rings[k] = (lo, hi);
-            if i >= sector.stop {
+            let (pt, (first, last)) = (&points[k], self.rings[k]);
+            if pt.idx >= sector.stop {
                 if k > 0 {
-                    self.flush(&sector, k, &votes, cell_of);
+                    self.flush(&sector, &points[..k], votes, &mut cell_of[..k]);
                 }
-                let s = table.sector[i] as usize;
+                let s = table.beams[pt.idx].sector as usize;
                 while self.sector_start.len() <= s {
                     self.sector_start.push(self.bins.len() as u32);
                 }
                 sector = Sector {
                     start: k,
                     stop: table.sector_end[s],
-                    base: lo.saturating_sub(LOCAL / 2),
+                    base: first.saturating_sub(LOCAL / 2),
                     touched: 0,
                     fits: true,
                 };
             }
-            if lo > hi {
-                continue;
-            }
-            let (j, last) = (lo.wrapping_sub(sector.base), hi.wrapping_sub(sector.base));
-            if j >= LOCAL || last >= LOCAL {
-                sector.fits = false;
-                continue;
-            }
-            let g = if votes.weight_one { 1.0 } else { r };
-            self.local[j as usize] += g;
-            sector.touched |= 1 << j;
-            for j in j + 1..=last {
+            let j = first.wrapping_sub(sector.base);
+            let g = votes.g(pt);
+            cell_of[k] = if first == last && j < LOCAL {
+                // The usual case: one ring.
                 self.local[j as usize] += g;
+                self.local_points[j as usize] += 1;
                 sector.touched |= 1 << j;
-            }
+                j
+            } else if first > last {
+                NO_SLOT
+            } else if first < last && j < LOCAL && last.wrapping_sub(sector.base) < LOCAL {
+                for i in j..=last - sector.base {
+                    self.local[i as usize] += g;
+                    sector.touched |= 1 << i;
+                }
+                self.local_points[j as usize] += 1;
+                self.multi.push(k as u32);
+                j
+            } else {
+                sector.fits = false;
+                NO_SLOT
+            };
         }
         if n > 0 {
-            self.flush(&sector, n, &votes, cell_of);
+            self.flush(&sector, &points[..n], votes, &mut cell_of[..n]);
         }
-        self.sector_start.push(self.bins.len() as u32);
     }
 
-    /// Turns the sums of the sector of points `sector.start..end` into cells in ring order
-    /// (or, when its rings did not fit in `local`, builds it by [`Accumulator::sector_sorted`])
-    /// and notes each point's kept cell.
-    fn flush(&mut self, sector: &Sector, end: usize, votes: &Votes, cell_of: &mut [u32]) {
-        let span = sector.start..end;
+    /// Turns the sums of the sector of points `sector.start..` into cells in ring order (or,
+    /// when its rings did not fit in `local`, builds it by [`Accumulator::sector_sorted`]) and
+    /// turns each point's local slot in `cell_of` into its cell.
+    fn flush(&mut self, sector: &Sector, points: &[Pt], votes: Votes, cell_of: &mut [u32]) {
+        let span = sector.start..points.len();
         let mut touched = sector.touched;
         if !sector.fits {
             while touched != 0 {
-                self.local[touched.trailing_zeros() as usize] = 0.0;
+                let j = touched.trailing_zeros() as usize;
+                (self.local[j], self.local_points[j]) = (0.0, 0);
                 touched &= touched - 1;
             }
-            return self.sector_sorted(span, votes, cell_of);
+            self.multi.clear();
+            return self.sector_sorted(span, points, votes, cell_of);
         }
         while touched != 0 {
             let j = touched.trailing_zeros() as usize;
             touched &= touched - 1;
+            self.local_cell[j] = self.bins.len() as u32;
             let value = std::mem::take(&mut self.local[j]);
-            let kept = value > votes.criterion;
-            self.local_kept[j] = if kept { self.bins.len() as u32 } else { NONE };
             self.bins.push(Bin {
                 value,
                 ring: sector.base + j as u32,
-                kept,
+                points: std::mem::take(&mut self.local_points[j]),
+                kept: value > votes.criterion,
             });
         }
-        // A point's kept cell: its first cell when kept, else its last when kept.
-        let (base, local_kept) = (sector.base, &self.local_kept);
-        for (c, &(lo, hi)) in cell_of[span.clone()].iter_mut().zip(&self.rings[span]) {
-            if lo <= hi {
-                let first = local_kept[((lo - base) as usize).min(LOCAL as usize - 1)];
-                let last = local_kept[((hi - base) as usize).min(LOCAL as usize - 1)];
-                *c = if first != NONE { first } else { last };
+        let local_cell = &self.local_cell;
+        for c in &mut cell_of[span] {
+            *c = local_cell[(*c).min(NO_SLOT) as usize];
+        }
+        // A point of several rings: its first cell when kept, else its last when kept.
+        for &k in &self.multi {
+            let first = cell_of[k as usize] as usize;
+            let last = first + (self.rings[k as usize].1 - self.rings[k as usize].0) as usize;
+            if !self.bins[first].kept && self.bins[last].kept {
+                cell_of[k as usize] = last as u32;
+                self.bins[first].points -= 1;
+                self.bins[last].points += 1;
             }
         }
+        self.multi.clear();
     }
 
     /// Builds a sector (points `span`) whose rings lie far apart: its distinct rings sorted,
     /// each point's cells found among them.
-    fn sector_sorted(&mut self, span: Range<usize>, votes: &Votes, cell_of: &mut [u32]) {
+    fn sector_sorted(
+        &mut self,
+        span: Range<usize>,
+        points: &[Pt],
+        votes: Votes,
+        cell_of: &mut [u32],
+    ) {
         self.distinct.clear();
         for &(lo, hi) in &self.rings[span.clone()] {
             if lo <= hi {
@@ -267,13 +383,13 @@ impl Accumulator {
         self.bins.extend(self.distinct.iter().map(|&ring| Bin {
             value: 0.0,
             ring,
+            points: 0,
             kept: false,
         }));
         let position = |d: &[u32], ring: u32| base + d.binary_search(&ring).unwrap_or(0);
-        let range = &votes.range[span.clone()];
-        for (&(lo, hi), &r) in self.rings[span.clone()].iter().zip(range) {
+        for (&(lo, hi), pt) in self.rings[span.clone()].iter().zip(&points[span.clone()]) {
             if lo <= hi {
-                let g = if votes.weight_one { 1.0 } else { r };
+                let g = votes.g(pt);
                 let first = position(&self.distinct, lo);
                 for bin in &mut self.bins[first..=first + (hi - lo) as usize] {
                     bin.value += g;
@@ -284,16 +400,17 @@ impl Accumulator {
             bin.kept = bin.value > votes.criterion;
         }
         for (c, &(lo, hi)) in cell_of[span.clone()].iter_mut().zip(&self.rings[span]) {
+            *c = VOID;
             if lo <= hi {
                 let first = position(&self.distinct, lo);
                 let last = first + (hi - lo) as usize;
-                *c = if self.bins[first].kept {
-                    first as u32
-                } else if self.bins[last].kept {
-                    last as u32
+                let cell = if self.bins[last].kept && !self.bins[first].kept {
+                    last
                 } else {
-                    NONE
+                    first
                 };
+                self.bins[cell].points += 1;
+                *c = cell as u32;
             }
         }
     }

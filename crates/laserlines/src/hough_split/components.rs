@@ -7,14 +7,15 @@
 //! neighbouring sectors (the 8-neighbourhood). Each connected component is one group of the
 //! paper's Fig. 4b.
 
-use super::accumulator::Accumulator;
+use super::accumulator::{Accumulator, Bin, NONE};
 use super::params::HoughSplitParams;
 
 /// Rings up to which [`connect_cells`] looks neighbours up in a table indexed by ring.
 const TABLE_RINGS: u32 = 1 << 16;
 
-/// Union-find over cell indices. A root is always the smallest index of its set, so every
-/// parent lies before its child: [`Components::flatten`] needs one pass.
+/// Union-find over the kept cells (the parent of a cell not kept is `NONE`). A root is always
+/// the smallest index of its set, so every parent lies before its child:
+/// [`Components::flatten`] needs one pass.
 #[derive(Debug, Default, Clone)]
 pub(crate) struct Components {
     pub(crate) parent: Vec<u32>,
@@ -24,9 +25,14 @@ pub(crate) struct Components {
 }
 
 impl Components {
-    fn reset(&mut self, n: usize) {
+    /// Every kept cell of `bins` its own set; the others `NONE`.
+    fn reset(&mut self, bins: &[Bin]) {
         self.parent.clear();
-        self.parent.extend(0..n as u32);
+        self.parent.extend(
+            bins.iter()
+                .enumerate()
+                .map(|(c, b)| if b.kept { c as u32 } else { NONE }),
+        );
     }
 
     #[inline]
@@ -61,12 +67,12 @@ impl Components {
         }
     }
 
-    /// Points every index at its root directly (parents come before their children).
+    /// Points every kept cell at its root directly (parents come before their children).
     pub(crate) fn flatten(&mut self) {
         for c in 0..self.parent.len() {
-            let p = self.parent[c] as usize;
-            if p < c {
-                self.parent[c] = self.parent[p];
+            let p = self.parent[c];
+            if p != NONE && (p as usize) < c {
+                self.parent[c] = self.parent[p as usize];
             }
         }
     }
@@ -80,8 +86,8 @@ impl Components {
 /// `1 + group_gap` sectors back: any other kept cell of that ring within reach is already
 /// joined to it) and those in the neighbouring rings (when in the sector just before).
 pub(crate) fn connect_cells(acc: &Accumulator, p: &HoughSplitParams, uf: &mut Components) {
-    uf.reset(acc.len());
     let bins = &acc.bins[..];
+    uf.reset(bins);
     let Some(top) = bins.iter().filter(|b| b.kept).map(|b| b.ring).max() else {
         return;
     };
@@ -108,22 +114,22 @@ pub(crate) fn connect_cells(acc: &Accumulator, p: &HoughSplitParams, uf: &mut Co
             if c > here.start && bins[c - 1].kept && cell.ring - bins[c - 1].ring <= 1 {
                 uf.union(c - 1, c);
             }
-            // The sector before: the neighbouring rings.
-            for (s, o) in [latest[r.saturating_sub(1)], latest[r + 1]] {
-                if s == stamp - 1 && s != 0 {
-                    uf.union(c, o as usize);
-                }
+            // The sector before: the neighbouring rings. (A cell of this sector in the ring
+            // below has replaced the entry there; it is joined to this cell and to the earlier
+            // one in its ring already.)
+            let (below, above) = (latest[r.saturating_sub(1)], latest[r + 1]);
+            if below.0 == stamp - 1 && below.0 != 0 {
+                uf.union(c, below.1 as usize);
+            }
+            if above.0 == stamp - 1 && above.0 != 0 {
+                uf.union(c, above.1 as usize);
             }
             // The same ring, up to `1 + group_gap` sectors before.
             let (s, o) = latest[r];
             if s != 0 && ((stamp - s) as usize) <= reach {
                 uf.union(c, o as usize);
             }
-        }
-        for c in here {
-            if bins[c].kept {
-                latest[bins[c].ring as usize] = (stamp, c as u32);
-            }
+            latest[r] = (stamp, c as u32);
         }
     }
     uf.latest = latest;

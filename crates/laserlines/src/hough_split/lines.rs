@@ -72,7 +72,7 @@ impl Pieces<'_> {
         let right = sums(self.pre, whi + 1, next + 1).normal_fit();
         let near = |fit: &NormalFit, k: usize| {
             fit.distance(self.point(k)).abs()
-                <= self.p.split_sigmas * self.noise.sigma(self.seg.range[k])
+                <= self.p.split_sigmas * self.noise.sigma(self.seg.range(k))
         };
         let (left, right) = match (left, right) {
             (Some(l), Some(r)) => (l, r),
@@ -174,7 +174,7 @@ impl Pieces<'_> {
             } else if d.signum() != sign || d.abs() > outermost {
                 bent = false;
             }
-            let noise = self.noise.sigma(self.seg.range[k]);
+            let noise = self.noise.sigma(self.seg.range(k));
             let t = -sp.x * sa + sp.y * ca;
             let line_var = cov[(0, 0)] - 2.0 * t * cov[(0, 1)] + t * t * cov[(1, 1)];
             chi2 += d * d / ((noise * noise).max(residual) + line_var.max(0.0));
@@ -196,8 +196,8 @@ impl Pieces<'_> {
         if fit.rms > self.p.max_rms_sigmas * sigma {
             return None;
         }
-        let first = (self.seg.idx[a], self.point(a));
-        let last = (self.seg.idx[z - 1], self.point(z - 1));
+        let first = (self.seg.idx(a), self.point(a));
+        let last = (self.seg.idx(z - 1), self.point(z - 1));
         let mut line = Line::from_fit(&fit, first, last);
         if line.length() < self.p.min_line_length {
             return None;
@@ -287,7 +287,7 @@ fn join_corners(lines: &mut [Line], p: &HoughSplitParams, noise: &RangeNoise) {
 #[cfg(test)]
 mod tests {
     use super::super::linseg::{SplitScratch, linseg, prefix_sums};
-    use super::super::points::Points;
+    use super::super::points::{Seg, points_at};
     use super::*;
 
     #[test]
@@ -299,8 +299,8 @@ mod tests {
         for i in 1..=20 {
             xy.push((1.0 - 0.025 * f64::from(i), 0.0));
         }
-        let points = Points::from_xy(&xy);
-        let seg = points.slice(0, points.len());
+        let points = points_at(&xy);
+        let seg = Seg(&points);
         let p = HoughSplitParams::default();
         let noise = RangeNoise::new(0.002, 0.0);
         let mut scratch = SplitScratch::default();

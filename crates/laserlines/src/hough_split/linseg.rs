@@ -31,8 +31,8 @@ pub(crate) fn prefix_sums(seg: Seg<'_>, pre: &mut Vec<FitSums>) {
     pre.clear();
     let mut acc = FitSums::new();
     pre.push(acc);
-    for (&x, &y) in seg.x.iter().zip(seg.y) {
-        acc.add(Point2::new(x, y));
+    for pt in seg.0 {
+        acc.add(Point2::new(pt.x, pt.y));
         pre.push(acc);
     }
 }
@@ -115,9 +115,8 @@ fn split_point(
     let ab = pb - pa;
     let degenerate = ab.norm_squared() <= f64::EPSILON;
     let mut best = (0.0f64, a);
-    let (xs, ys) = (&seg.x[a + 1..b], &seg.y[a + 1..b]);
-    for (m, (&x, &y)) in xs.iter().zip(ys).enumerate() {
-        let (apx, apy) = (x - pa.x, y - pa.y);
+    for (m, pt) in seg.0[a + 1..b].iter().enumerate() {
+        let (apx, apy) = (pt.x - pa.x, pt.y - pa.y);
         let c = if degenerate {
             apx * apx + apy * apy
         } else {
@@ -132,7 +131,7 @@ fn split_point(
         return None;
     }
     let far = seg.point(middle);
-    if chord_distance(far, pa, pb) <= p.split_sigmas * noise.sigma(seg.range[middle]) {
+    if chord_distance(far, pa, pb) <= p.split_sigmas * noise.sigma(seg.range(middle)) {
         return None;
     }
     if p.split_significance <= 0.0 || split_is_significant(pre, a, middle, b, p, noise) {
@@ -186,8 +185,8 @@ mod tests {
     use super::*;
 
     fn run(xy: &[(f64, f64)], p: &HoughSplitParams) -> Vec<u32> {
-        let points = crate::hough_split::points::Points::from_xy(xy);
-        let seg = points.slice(0, points.len());
+        let points = crate::hough_split::points::points_at(xy);
+        let seg = Seg(&points);
         let mut scratch = SplitScratch::default();
         prefix_sums(seg, &mut scratch.prefix);
         let noise = RangeNoise::new(0.002, 0.0);

@@ -34,7 +34,7 @@ use crate::scan::{Scan, ScanPoint};
 use accumulator::Accumulator;
 use components::Components;
 use linseg::SplitScratch;
-use points::{BeamTable, Points};
+use points::{BeamTable, Pt};
 use segment::{Breakpoints, Segments};
 
 /// The paper's line extractor (see the module docs). Reuse one value across scans: its
@@ -51,10 +51,10 @@ pub struct HoughSplit {
     /// The last scan's `angle_min` and `angle_increment`.
     angles: (f64, f64),
     breakpoints: Breakpoints,
-    points: Points,
+    points: Vec<Pt>,
     acc: Accumulator,
     uf: Components,
-    /// Per point: its kept cell, or `accumulator::NONE`.
+    /// Per point: its cell (see `Accumulator::build`).
     cell_of: Vec<u32>,
     segments: Segments,
     scratch: SplitScratch,
@@ -78,7 +78,7 @@ impl HoughSplit {
             estimated: false,
             angles: (0.0, 0.0),
             breakpoints: Breakpoints::default(),
-            points: Points::default(),
+            points: Vec::new(),
             acc: Accumulator::default(),
             uf: Components::default(),
             cell_of: Vec::new(),
@@ -93,20 +93,6 @@ impl HoughSplit {
     #[must_use]
     pub fn params(&self) -> &HoughSplitParams {
         &self.params
-    }
-
-    /// Converts the valid beams to points (step 0).
-    fn convert(&mut self, scan: &Scan) {
-        let p = &self.params;
-        self.table.prepare(
-            scan.angle_min,
-            scan.angle_increment,
-            scan.ranges.len(),
-            p.sector_step,
-        );
-        self.angles = (scan.angle_min, scan.angle_increment);
-        let window = scan.range_window(p.range_limits);
-        self.points.fill(scan, &self.table, window, p.min_range);
     }
 
     /// The range noise of `scan`: the fixed model, or the estimate from the scan itself
@@ -146,12 +132,26 @@ impl LineExtractor for HoughSplit {
         self.split_points.clear();
         self.split_ranges.clear();
         // 0. valid beams to points, and their noise; 1-2. accumulator and criterion.
-        self.convert(scan);
+        let p = &self.params;
+        self.table.prepare(
+            scan.angle_min,
+            scan.angle_increment,
+            scan.ranges.len(),
+            p.sector_step,
+        );
+        self.angles = (scan.angle_min, scan.angle_increment);
         self.noise_of(scan);
         self.breakpoints
             .prepare(&self.params, scan.angle_increment, self.noise);
-        self.acc
-            .build(&self.points, &self.table, &self.params, &mut self.cell_of);
+        self.acc.build(
+            scan,
+            scan.range_window(self.params.range_limits),
+            self.params.min_range,
+            &self.table,
+            &self.params,
+            &mut self.points,
+            &mut self.cell_of,
+        );
         // 3. radius grouping and merging of touching groups.
         components::connect_cells(&self.acc, &self.params, &mut self.uf);
         if self.params.bridge_beams {
@@ -161,6 +161,7 @@ impl LineExtractor for HoughSplit {
         segment::cut_segments(
             &self.points,
             &self.cell_of,
+            &self.acc.bins,
             &self.params,
             &self.breakpoints,
             &mut self.uf,
@@ -169,12 +170,12 @@ impl LineExtractor for HoughSplit {
         // 5-6. Linseg on each segment, then the least-squares lines.
         let kept = &self.segments.kept;
         for run in &self.segments.runs {
-            let seg = kept.slice(run.start as usize, run.end as usize);
+            let seg = points::Seg(&kept[run.start as usize..run.end as usize]);
             linseg::prefix_sums(seg, &mut self.scratch.prefix);
             linseg::linseg(seg, &self.params, &self.noise, &mut self.scratch);
             let from = self.split_points.len() as u32;
             self.split_points
-                .extend(self.scratch.breaks.iter().map(|&b| seg.idx[b as usize]));
+                .extend(self.scratch.breaks.iter().map(|&b| seg.idx(b as usize)));
             self.split_ranges
                 .push((from, self.split_points.len() as u32));
             let pieces = lines::Pieces {
@@ -246,10 +247,10 @@ impl<'a> Stages<'a> {
         let (angle_min, increment) = self.hs.angles;
         (0..pts.len())
             .map(|k| ScanPoint {
-                index: pts.idx()[k],
-                range: pts.range()[k],
-                angle: angle_min + pts.idx()[k] as f64 * increment,
-                point: Point2::new(pts.x()[k], pts.y()[k]),
+                index: pts[k].idx,
+                range: pts[k].range,
+                angle: angle_min + pts[k].idx as f64 * increment,
+                point: Point2::new(pts[k].x, pts[k].y),
             })
             .collect()
     }
@@ -308,24 +309,24 @@ impl<'a> Stages<'a> {
     pub fn segments(&self) -> impl Iterator<Item = DataSegment> + 'a {
         let segs = &self.hs.segments;
         segs.runs.iter().map(move |run| DataSegment {
-            first: segs.kept.idx()[run.start as usize],
-            last: segs.kept.idx()[run.end as usize - 1],
+            first: segs.kept[run.start as usize].idx,
+            last: segs.kept[run.end as usize - 1].idx,
             points: (run.end - run.start) as usize,
         })
     }
 
     /// Beam indices of the surviving points (the paper's non-zero `Pm[i]`).
     pub fn kept(&self) -> impl Iterator<Item = usize> + 'a {
-        self.hs.segments.kept.idx().iter().copied()
+        self.hs.segments.kept.iter().map(|p| p.idx)
     }
 
     /// Beam indices of valid points removed as sparse or cluttered (the paper's `Pm[i] = 0`).
     #[must_use]
     pub fn removed(&self) -> Vec<usize> {
-        let mut keep = self.hs.segments.kept.idx().iter().peekable();
+        let mut keep = self.hs.segments.kept.iter().map(|p| p.idx).peekable();
         let mut out = Vec::new();
-        for &i in self.hs.points.idx() {
-            if keep.peek().is_some_and(|&&x| x == i) {
+        for i in self.hs.points.iter().map(|p| p.idx) {
+            if keep.peek().is_some_and(|&x| x == i) {
                 keep.next();
             } else {
                 out.push(i);

@@ -1,20 +1,26 @@
-//! Step 0: the valid beams of a scan as points, stored as parallel arrays (beam index, range,
-//! x, y), and the beam geometry they are computed from, cached per scan shape.
+//! Step 0: the valid beams of a scan as points, and the beam geometry they are computed from
+//! (cached per scan shape).
 
 use crate::math::Point2;
-use crate::scan::{RangeWindow, Scan};
 
-/// Beam geometry of one scan shape, cached between scans of the same shape: per beam
-/// `cos(phi)`, `sin(phi)`, the beam's sector and `cos(phi - gamma_sector)`.
+/// One beam's geometry: its direction, its sector and `cos(phi - gamma_sector)`.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct Beam {
+    pub(crate) cos: f64,
+    pub(crate) sin: f64,
+    pub(crate) cos_to_sector: f64,
+    pub(crate) sector: u32,
+}
+
+/// Beam geometry of one scan shape, cached between scans of the same shape.
 #[derive(Debug, Default, Clone)]
 pub(crate) struct BeamTable {
     key: Option<(u64, u64, usize, u64)>,
-    pub(crate) cos: Vec<f64>,
-    pub(crate) sin: Vec<f64>,
-    pub(crate) sector: Vec<u32>,
-    pub(crate) cos_to_sector: Vec<f64>,
+    pub(crate) beams: Vec<Beam>,
     /// Per sector: the first beam after it.
     pub(crate) sector_end: Vec<usize>,
+    /// True when every beam direction is finite.
+    pub(crate) finite: bool,
 }
 
 impl BeamTable {
@@ -30,11 +36,9 @@ impl BeamTable {
             return;
         }
         self.key = Some(key);
-        self.cos.clear();
-        self.sin.clear();
-        self.sector.clear();
-        self.cos_to_sector.clear();
+        self.beams.clear();
         self.sector_end.clear();
+        self.finite = true;
         let sign = if increment < 0.0 { -1.0 } else { 1.0 };
         let step = increment.abs();
         for i in 0..n {
@@ -51,175 +55,72 @@ impl BeamTable {
             };
             let gamma = angle_min + sign * (k as f64 + 0.5) * sector_step;
             let cos_to_sector = (phi - gamma).cos();
-            self.cos.push(cos);
-            self.sin.push(sin);
-            self.sector.push(k as u32);
+            self.finite &= cos.is_finite() && sin.is_finite();
             // Sectors are non-decreasing along the beams.
             self.sector_end.resize(k + 1, i);
             self.sector_end[k] = i + 1;
-            self.cos_to_sector.push(if cos_to_sector.is_finite() {
-                cos_to_sector
-            } else {
-                1.0
+            self.beams.push(Beam {
+                cos,
+                sin,
+                cos_to_sector: if cos_to_sector.is_finite() {
+                    cos_to_sector
+                } else {
+                    1.0
+                },
+                sector: k as u32,
             });
         }
     }
 }
 
-/// The valid points of a scan in beam order, as parallel arrays: point `k` is beam `idx[k]`
-/// at range `range[k]`, at `(x[k], y[k])` in the sensor frame. The arrays keep their length
-/// between scans; `n` points of them are in use.
-#[derive(Debug, Default, Clone)]
-pub(crate) struct Points {
-    n: usize,
-    idx: Vec<usize>,
-    range: Vec<f64>,
-    x: Vec<f64>,
-    y: Vec<f64>,
+/// A valid beam as a point: `(x, y)` in the sensor frame, m, its range, m, and beam index.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct Pt {
+    pub(crate) x: f64,
+    pub(crate) y: f64,
+    pub(crate) range: f64,
+    pub(crate) idx: usize,
 }
 
-impl Points {
-    /// Number of points.
-    pub(crate) fn len(&self) -> usize {
-        self.n
-    }
-
-    /// Beam indices.
-    pub(crate) fn idx(&self) -> &[usize] {
-        &self.idx[..self.n]
-    }
-
-    /// Ranges, m.
-    pub(crate) fn range(&self) -> &[f64] {
-        &self.range[..self.n]
-    }
-
-    /// x coordinates, m.
-    pub(crate) fn x(&self) -> &[f64] {
-        &self.x[..self.n]
-    }
-
-    /// y coordinates, m.
-    pub(crate) fn y(&self) -> &[f64] {
-        &self.y[..self.n]
-    }
-
-    /// Removes every point and makes room for `capacity` points.
-    pub(crate) fn reset(&mut self, capacity: usize) {
-        self.n = 0;
-        if self.idx.len() < capacity {
-            self.idx.resize(capacity, 0);
-            self.range.resize(capacity, 0.0);
-            self.x.resize(capacity, 0.0);
-            self.y.resize(capacity, 0.0);
-        }
-    }
-
-    /// Points `start..end` as slices.
-    pub(crate) fn slice(&self, start: usize, end: usize) -> Seg<'_> {
-        Seg {
-            idx: &self.idx()[start..end],
-            range: &self.range()[start..end],
-            x: &self.x()[start..end],
-            y: &self.y()[start..end],
-        }
-    }
-
-    /// The whole arrays (room made by [`Points::reset`]) to write points into, and the
-    /// number of points in use, to update after writing.
-    pub(crate) fn parts_mut(&mut self) -> PartsMut<'_> {
-        PartsMut {
-            idx: &mut self.idx,
-            range: &mut self.range,
-            x: &mut self.x,
-            y: &mut self.y,
-            n: &mut self.n,
-        }
-    }
-
-    /// Fills the store with the beams of `scan` whose range is valid in `window` and at least
-    /// `min_range`, and whose point is finite, using the beam geometry `table`.
-    ///
-    /// Every beam is written and the count advanced only for valid ones, so the loop has no
-    /// branch on the data.
-    pub(crate) fn fill(
-        &mut self,
-        scan: &Scan,
-        table: &BeamTable,
-        window: RangeWindow,
-        min_range: f64,
-    ) {
-        let n = scan.ranges.len().min(table.cos.len());
-        self.reset(n);
-        if window.min.is_nan() || window.max.is_nan() || min_range.is_nan() {
-            return;
-        }
-        // RangeWindow::contains and the minimum range as two comparisons: `r >= lo` implies
-        // `r > 0`, `r <= hi` implies a finite `r`; NaN fails both.
-        let lo = window.min.max(min_range).max(f64::from_bits(1));
-        let hi = window.max.min(f64::MAX);
-        let (ranges, cos, sin) = (&scan.ranges[..n], &table.cos[..n], &table.sin[..n]);
-        let (idx, range) = (&mut self.idx[..n], &mut self.range[..n]);
-        let (xs, ys) = (&mut self.x[..n], &mut self.y[..n]);
-        let mut count = 0usize;
-        for i in 0..n {
-            let r = ranges[i];
-            let (x, y) = (r * cos[i], r * sin[i]);
-            // A finite point: `v * 0` is 0 for finite `v`, NaN otherwise.
-            let valid = (r >= lo) & (r <= hi) & (x * 0.0 == 0.0) & (y * 0.0 == 0.0);
-            idx[count] = i;
-            range[count] = r;
-            xs[count] = x;
-            ys[count] = y;
-            count += usize::from(valid);
-        }
-        self.n = count;
-    }
-}
-
-#[cfg(test)]
-impl Points {
-    /// Points at `xy`, beam `k` for the `k`-th, their ranges from the origin.
-    pub(crate) fn from_xy(xy: &[(f64, f64)]) -> Self {
-        let mut p = Self::default();
-        for (i, &(x, y)) in xy.iter().enumerate() {
-            p.idx.push(i);
-            p.range.push((x * x + y * y).sqrt());
-            p.x.push(x);
-            p.y.push(y);
-        }
-        p.n = xy.len();
-        p
-    }
-}
-
-/// The arrays of [`Points`] open for writing.
-pub(crate) struct PartsMut<'a> {
-    pub(crate) idx: &'a mut [usize],
-    pub(crate) range: &'a mut [f64],
-    pub(crate) x: &'a mut [f64],
-    pub(crate) y: &'a mut [f64],
-    pub(crate) n: &'a mut usize,
-}
-
-/// A run of points (one data segment) as parallel slices of equal length.
+/// A run of points (one data segment).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Seg<'a> {
-    pub(crate) idx: &'a [usize],
-    pub(crate) range: &'a [f64],
-    pub(crate) x: &'a [f64],
-    pub(crate) y: &'a [f64],
-}
+pub(crate) struct Seg<'a>(pub(crate) &'a [Pt]);
 
 impl Seg<'_> {
     /// Number of points.
     pub(crate) fn len(&self) -> usize {
-        self.idx.len()
+        self.0.len()
     }
 
     /// Point `k`.
     #[inline]
     pub(crate) fn point(&self, k: usize) -> Point2 {
-        Point2::new(self.x[k], self.y[k])
+        Point2::new(self.0[k].x, self.0[k].y)
     }
+
+    /// Range of point `k`, m.
+    #[inline]
+    pub(crate) fn range(&self, k: usize) -> f64 {
+        self.0[k].range
+    }
+
+    /// Beam index of point `k`.
+    #[inline]
+    pub(crate) fn idx(&self, k: usize) -> usize {
+        self.0[k].idx
+    }
+}
+
+/// Points at `xy`, beam `k` for the `k`-th, their ranges from the origin.
+#[cfg(test)]
+pub(crate) fn points_at(xy: &[(f64, f64)]) -> Vec<Pt> {
+    xy.iter()
+        .enumerate()
+        .map(|(i, &(x, y))| Pt {
+            x,
+            y,
+            range: (x * x + y * y).sqrt(),
+            idx: i,
+        })
+        .collect()
 }

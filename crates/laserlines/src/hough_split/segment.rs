@@ -6,10 +6,10 @@
 //! front of a wall) so that every point belongs to exactly one segment, and segments never
 //! overlap.
 
-use super::accumulator::NONE;
+use super::accumulator::{Bin, NONE};
 use super::components::Components;
 use super::params::HoughSplitParams;
-use super::points::Points;
+use super::points::Pt;
 use crate::noise::RangeNoise;
 
 /// A data segment: a run of surviving points `kept[start..end]` in beam order.
@@ -58,20 +58,15 @@ impl Breakpoints {
         self.factor.len()
     }
 
-    /// True when a point at `(xb, yb)`, `gap` beams after the point at range `ra` and
-    /// `(xa, ya)`, lies within `D` of it.
+    /// True when a point at `(xb, yb)`, `gap` beams after the point `a`, lies within `D` of
+    /// it.
     #[inline(always)]
-    pub(crate) fn joins(
-        &self,
-        (ra, xa, ya): (f64, f64, f64),
-        (xb, yb): (f64, f64),
-        gap: usize,
-    ) -> bool {
+    pub(crate) fn joins(&self, a: &Pt, (xb, yb): (f64, f64), gap: usize) -> bool {
         let Some(&f) = self.factor.get(gap.wrapping_sub(1)) else {
             return false;
         };
-        let limit = ra * f + self.spread * self.noise.sigma(ra);
-        let (dx, dy) = (xb - xa, yb - ya);
+        let limit = a.range * f + self.spread * self.noise.sigma(a.range);
+        let (dx, dy) = (xb - a.x, yb - a.y);
         let d2 = dx * dx + dy * dy;
         // NaN factors and limits fail; squares that overflow (absurd ranges) never join.
         d2 < f64::INFINITY && d2 <= limit * limit
@@ -82,38 +77,31 @@ impl Breakpoints {
 /// `D`: each point is compared with the points up to `bridge_max_gap` beams before it
 /// (missing beams, or points of other cells in between) until one joins it, so that a single
 /// outlier does not cut a wall in two.
-pub(crate) fn bridge_beams(
-    points: &Points,
-    cell_of: &[u32],
-    bp: &Breakpoints,
-    uf: &mut Components,
-) {
+pub(crate) fn bridge_beams(points: &[Pt], cell_of: &[u32], bp: &Breakpoints, uf: &mut Components) {
     let reach = bp.reach();
-    let (idx, range) = (
-        &points.idx()[..cell_of.len()],
-        &points.range()[..cell_of.len()],
-    );
-    let (xs, ys) = (&points.x()[..cell_of.len()], &points.y()[..cell_of.len()]);
+    let points = &points[..cell_of.len()];
     for pi in 1..cell_of.len() {
-        let (cell, before) = (cell_of[pi], cell_of[pi - 1]);
-        // The usual case: the point before lies in the same component.
-        if cell == NONE || (before != NONE && uf.same(cell as usize, before as usize)) {
+        let (cell, before) = (cell_of[pi] as usize, cell_of[pi - 1] as usize);
+        // Points without a kept cell, and the usual case: the point before lies in the same
+        // component.
+        if uf.parent[cell] == NONE || (uf.parent[before] != NONE && uf.same(cell, before)) {
             continue;
         }
+        let here = points[pi];
         for q in (0..pi).rev() {
-            let gap = idx[pi] - idx[q];
+            let gap = here.idx - points[q].idx;
             if gap > reach {
                 break;
             }
-            let other = cell_of[q];
-            if other == NONE {
+            let other = cell_of[q] as usize;
+            if uf.parent[other] == NONE {
                 continue;
             }
-            if other == cell || uf.same(cell as usize, other as usize) {
+            if other == cell || uf.same(cell, other) {
                 break;
             }
-            if bp.joins((range[q], xs[q], ys[q]), (xs[pi], ys[pi]), gap) {
-                uf.union(cell as usize, other as usize);
+            if bp.joins(&points[q], (here.x, here.y), gap) {
+                uf.union(cell, other);
                 break;
             }
         }
@@ -124,11 +112,9 @@ pub(crate) fn bridge_beams(
 #[derive(Debug, Default, Clone)]
 pub(crate) struct Segments {
     /// The surviving points, in beam order.
-    pub(crate) kept: Points,
+    pub(crate) kept: Vec<Pt>,
     /// The data segments, as runs of `kept`.
     pub(crate) runs: Vec<SegmentRun>,
-    /// Per point: the root of its kept cell's component, or `NONE`.
-    comp: Vec<u32>,
     /// Points per component, counted at each component's root.
     sizes: Vec<u32>,
 }
@@ -143,82 +129,71 @@ pub(crate) struct Segments {
 /// `D` apart, so that no segment, and no line, spans empty space. Runs shorter than
 /// `min_segment_points` are removed too.
 pub(crate) fn cut_segments(
-    points: &Points,
+    points: &[Pt],
     cell_of: &[u32],
+    bins: &[Bin],
     p: &HoughSplitParams,
     bp: &Breakpoints,
     uf: &mut Components,
     out: &mut Segments,
 ) {
-    let Segments {
-        kept,
-        runs,
-        comp,
-        sizes,
-    } = out;
-    kept.reset(points.len());
+    let Segments { kept, runs, sizes } = out;
     runs.clear();
     let min = p.min_segment_points.max(1);
     uf.flatten();
+    // Points per component, from the points of each kept cell.
     sizes.clear();
     sizes.resize(uf.parent.len(), 0);
-    comp.clear();
-    comp.extend(cell_of.iter().map(|&cell| {
-        if cell == NONE {
-            NONE
-        } else {
-            let root = uf.parent[cell as usize];
-            sizes[root as usize] += 1;
-            root
+    for (b, &root) in bins.iter().zip(&uf.parent) {
+        if root != NONE {
+            sizes[root as usize] += b.points;
         }
-    }));
-    let n = comp.len();
-    let (idx, range) = (&points.idx()[..n], &points.range()[..n]);
-    let (xs, ys) = (&points.x()[..n], &points.y()[..n]);
-    let (comp, sizes) = (&comp[..n], &sizes[..]);
-    let out = kept.parts_mut();
-    let (kidx, krange) = (&mut out.idx[..n], &mut out.range[..n]);
-    let (kx, ky) = (&mut out.x[..n], &mut out.y[..n]);
+    }
+    let (parent, sizes) = (&uf.parent[..], &sizes[..]);
+    let n = points.len().min(cell_of.len());
+    // Every point is written at the end of `kept`, which advances when it survives.
+    kept.resize(n, Pt::default());
+    let out = &mut kept[..n];
     let bridge = p.bridge_beams;
     let mut m = 0usize;
     let mut run_root = NONE;
     let mut run_start = 0usize;
-    // The last kept point: beam, range, x, y.
-    let mut last = (0usize, 0.0, 0.0, 0.0);
-    for pi in 0..n {
-        let root = comp[pi];
+    // The last kept point.
+    let mut last = Pt::default();
+    for (&pt, &cell) in points[..n].iter().zip(&cell_of[..n]) {
+        let root = parent[cell as usize];
         if root == NONE || (sizes[root as usize] as usize) < min {
             continue;
         }
-        let (i, r, x, y) = (idx[pi], range[pi], xs[pi], ys[pi]);
         let joined =
-            run_root == root && (!bridge || bp.joins((last.1, last.2, last.3), (x, y), i - last.0));
+            run_root == root && (!bridge || bp.joins(&last, (pt.x, pt.y), pt.idx - last.idx));
         if !joined {
             if run_root != NONE {
-                close_run(runs, &mut m, run_start, min);
+                m = close_run(runs, m, run_start, min);
             }
             run_root = root;
             run_start = m;
         }
-        (kidx[m], krange[m], kx[m], ky[m]) = (i, r, x, y);
+        out[m] = pt;
         m += 1;
-        last = (i, r, x, y);
+        last = pt;
     }
     if run_root != NONE {
-        close_run(runs, &mut m, run_start, min);
+        m = close_run(runs, m, run_start, min);
     }
-    *out.n = m;
+    kept.truncate(m);
 }
 
 /// Ends the run of kept points `start..m`: a data segment when it has `min` points or more,
-/// else its points are dropped (`m` goes back to `start`).
-fn close_run(runs: &mut Vec<SegmentRun>, m: &mut usize, start: usize, min: usize) {
-    if *m - start >= min {
+/// else its points are dropped. Returns the number of kept points.
+fn close_run(runs: &mut Vec<SegmentRun>, m: usize, start: usize, min: usize) -> usize {
+    if m - start >= min {
         runs.push(SegmentRun {
             start: start as u32,
-            end: *m as u32,
+            end: m as u32,
         });
+        m
     } else {
-        *m = start;
+        start
     }
 }
