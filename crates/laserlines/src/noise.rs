@@ -257,20 +257,25 @@ impl NoiseEstimator {
         let spread = 12.0 * scan.angle_increment.abs() + 0.1;
         // Every second beam on long scans: neighbouring samples share a reading.
         let stride = if r.len() > 360 { 2 } else { 1 };
+        for b in &mut self.abs {
+            b.reserve(r.len() / stride + 1);
+        }
         let mut i = 1;
         while i + 1 < r.len() {
             let (r0, r1, r2) = (r[i - 1], r[i], r[i + 1]);
             i += stride;
-            if !(valid(r0) & valid(r1) & valid(r2)) || (r2 - r0).abs() > spread * r1 {
-                continue;
-            }
+            // Computed for every triple, used for the valid ones (NaN fails every test).
             let e = (r1 - two_cos * r0 * r2 / (r0 + r2)).abs();
-            if e.is_nan() || e > 0.25 * r1 {
-                continue;
+            let usable = valid(r0)
+                & valid(r1)
+                & valid(r2)
+                & ((r2 - r0).abs() <= spread * r1)
+                & (e <= 0.25 * r1);
+            if usable {
+                let b = band_of(r1);
+                self.abs[b].push(e.to_bits());
+                self.range_sum[b] += r1;
             }
-            let b = band_of(r1);
-            self.abs[b].push(e.to_bits());
-            self.range_sum[b] += r1;
         }
     }
 }

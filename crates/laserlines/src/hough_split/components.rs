@@ -48,12 +48,12 @@ impl Components {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     pub(crate) fn same(&mut self, a: usize, b: usize) -> bool {
         self.parent[a] == self.parent[b] || self.find(a) == self.find(b)
     }
 
-    #[inline]
+    #[inline(always)]
     pub(crate) fn union(&mut self, a: usize, b: usize) {
         // The usual case: already joined through a common parent.
         if self.parent[a] == self.parent[b] {

@@ -82,9 +82,13 @@ pub(crate) fn bridge_beams(points: &[Pt], cell_of: &[u32], bp: &Breakpoints, uf:
     let points = &points[..cell_of.len()];
     for pi in 1..cell_of.len() {
         let (cell, before) = (cell_of[pi] as usize, cell_of[pi - 1] as usize);
-        // Points without a kept cell, and the usual case: the point before lies in the same
-        // component.
-        if uf.parent[cell] == NONE || (uf.parent[before] != NONE && uf.same(cell, before)) {
+        // The usual case: the point before lies in the same cell, or in the same component.
+        // Points without a kept cell are skipped.
+        if cell == before {
+            continue;
+        }
+        let (pc, pb) = (uf.parent[cell], uf.parent[before]);
+        if pc == NONE || (pb != NONE && (pc == pb || uf.same(cell, before))) {
             continue;
         }
         let here = points[pi];
@@ -117,6 +121,8 @@ pub(crate) struct Segments {
     pub(crate) runs: Vec<SegmentRun>,
     /// Points per component, counted at each component's root.
     sizes: Vec<u32>,
+    /// Per cell: the root of its component when that is kept as a data segment, else `NONE`.
+    root_of: Vec<u32>,
 }
 
 /// Cuts the surviving points into data segments, filling `out.kept` with the points that
@@ -137,11 +143,17 @@ pub(crate) fn cut_segments(
     uf: &mut Components,
     out: &mut Segments,
 ) {
-    let Segments { kept, runs, sizes } = out;
+    let Segments {
+        kept,
+        runs,
+        sizes,
+        root_of,
+    } = out;
     runs.clear();
     let min = p.min_segment_points.max(1);
     uf.flatten();
-    // Points per component, from the points of each kept cell.
+    // Points per component, from the points of each kept cell; then each cell's root when
+    // its component is large enough.
     sizes.clear();
     sizes.resize(uf.parent.len(), 0);
     for (b, &root) in bins.iter().zip(&uf.parent) {
@@ -149,39 +161,61 @@ pub(crate) fn cut_segments(
             sizes[root as usize] += b.points;
         }
     }
-    let (parent, sizes) = (&uf.parent[..], &sizes[..]);
+    root_of.clear();
+    root_of.extend(uf.parent.iter().map(|&root| {
+        if root != NONE && sizes[root as usize] as usize >= min {
+            root
+        } else {
+            NONE
+        }
+    }));
     let n = points.len().min(cell_of.len());
     // Every point is written at the end of `kept`, which advances when it survives.
     kept.resize(n, Pt::default());
-    let out = &mut kept[..n];
-    let bridge = p.bridge_beams;
+    let m = if p.bridge_beams {
+        runs_of::<true>(&points[..n], &cell_of[..n], root_of, bp, min, kept, runs)
+    } else {
+        runs_of::<false>(&points[..n], &cell_of[..n], root_of, bp, min, kept, runs)
+    };
+    kept.truncate(m);
+}
+
+/// The run loop of [`cut_segments`]: writes the surviving points to `kept` (as long as
+/// `points`) and their runs to `runs`; returns the number of surviving points.
+fn runs_of<const BRIDGE: bool>(
+    points: &[Pt],
+    cell_of: &[u32],
+    root_of: &[u32],
+    bp: &Breakpoints,
+    min: usize,
+    kept: &mut [Pt],
+    runs: &mut Vec<SegmentRun>,
+) -> usize {
     let mut m = 0usize;
     let mut run_root = NONE;
     let mut run_start = 0usize;
     // The last kept point.
     let mut last = Pt::default();
-    for (&pt, &cell) in points[..n].iter().zip(&cell_of[..n]) {
-        let root = parent[cell as usize];
-        if root == NONE || (sizes[root as usize] as usize) < min {
+    for (&pt, &cell) in points.iter().zip(cell_of) {
+        let root = root_of[cell as usize];
+        if root == NONE {
             continue;
         }
-        let joined =
-            run_root == root && (!bridge || bp.joins(&last, (pt.x, pt.y), pt.idx - last.idx));
-        if !joined {
+        if root != run_root || (BRIDGE && !bp.joins(&last, (pt.x, pt.y), pt.idx - last.idx)) {
             if run_root != NONE {
                 m = close_run(runs, m, run_start, min);
             }
             run_root = root;
             run_start = m;
         }
-        out[m] = pt;
+        kept[m] = pt;
         m += 1;
         last = pt;
     }
     if run_root != NONE {
         m = close_run(runs, m, run_start, min);
     }
-    kept.truncate(m);
+    m
 }
 
 /// Ends the run of kept points `start..m`: a data segment when it has `min` points or more,
