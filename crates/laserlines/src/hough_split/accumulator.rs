@@ -70,6 +70,8 @@ struct Sector {
 pub(crate) struct Accumulator {
     pub(crate) bins: Vec<Bin>,
     pub(crate) sector_start: Vec<u32>,
+    /// The highest ring of a kept cell (0 without any).
+    pub(crate) top_ring: u32,
     /// Per point: its distance along its sector's centre, m.
     along: Vec<f64>,
     /// Per point: the first and last ring its window meets.
@@ -91,6 +93,7 @@ impl Default for Accumulator {
         Self {
             bins: Vec::new(),
             sector_start: Vec::new(),
+            top_ring: 0,
             along: Vec::new(),
             rings: Vec::new(),
             local: [0.0; LOCAL as usize],
@@ -186,6 +189,7 @@ impl Accumulator {
         self.bins.clear();
         self.bins.push(Bin::default());
         self.sector_start.clear();
+        self.top_ring = 0;
         self.fill(scan, window, min_range, table, points);
         let n = points.len();
         self.rings.resize(n, (0, 0));
@@ -338,11 +342,15 @@ impl Accumulator {
             touched &= touched - 1;
             self.local_cell[j] = self.bins.len() as u32;
             let value = std::mem::take(&mut self.local[j]);
+            let (ring, kept) = (sector.base + j as u32, value > votes.criterion);
+            if kept {
+                self.top_ring = self.top_ring.max(ring);
+            }
             self.bins.push(Bin {
                 value,
-                ring: sector.base + j as u32,
+                ring,
                 points: std::mem::take(&mut self.local_points[j]),
-                kept: value > votes.criterion,
+                kept,
             });
         }
         let local_cell = &self.local_cell;
@@ -398,6 +406,9 @@ impl Accumulator {
         }
         for bin in &mut self.bins[base..] {
             bin.kept = bin.value > votes.criterion;
+            if bin.kept {
+                self.top_ring = self.top_ring.max(bin.ring);
+            }
         }
         for (c, &(lo, hi)) in cell_of[span.clone()].iter_mut().zip(&self.rings[span]) {
             *c = VOID;

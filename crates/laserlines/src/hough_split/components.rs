@@ -88,9 +88,7 @@ impl Components {
 pub(crate) fn connect_cells(acc: &Accumulator, p: &HoughSplitParams, uf: &mut Components) {
     let bins = &acc.bins[..];
     uf.reset(bins);
-    let Some(top) = bins.iter().filter(|b| b.kept).map(|b| b.ring).max() else {
-        return;
-    };
+    let top = acc.top_ring;
     if top >= TABLE_RINGS {
         connect_by_merging(acc, p, uf);
         uf.flatten();

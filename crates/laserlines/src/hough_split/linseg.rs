@@ -28,12 +28,12 @@ fn chord_distance(p: Point2, a: Point2, b: Point2) -> f64 {
 
 /// Prefix sums of a segment's points: `pre[i]` holds the sums of `seg[..i]`.
 pub(crate) fn prefix_sums(seg: Seg<'_>, pre: &mut Vec<FitSums>) {
-    pre.clear();
+    pre.resize(seg.len() + 1, FitSums::new());
     let mut acc = FitSums::new();
-    pre.push(acc);
-    for pt in seg.0 {
+    pre[0] = acc;
+    for (out, pt) in pre[1..].iter_mut().zip(seg.0) {
         acc.add(Point2::new(pt.x, pt.y));
-        pre.push(acc);
+        *out = acc;
     }
 }
 
