@@ -1,7 +1,9 @@
 //! Prints every line `hough-split` (default parameters) extracts from a fixed set of scans,
 //! with the bits of every float, so that two builds can be compared for identical output:
-//! the scene suites of every simulated sensor (`all`, seed 2, 30 scans per suite), the bundled
-//! real URG-04LX excerpt and, when it is there, the Intel Research Lab log from `../shared`.
+//! the scene suites of every simulated sensor (`all`, seed 2, 30 scans per suite or
+//! `DUMP_SCANS`), the bundled real URG-04LX excerpt and, when it is there, the Intel Research
+//! Lab log from `../shared`. With `DUMP_STAGES=1` also each scan's data segments, removed
+//! beams, split points and noise estimate.
 //!
 //! ```sh
 //! cargo run --release -p laserlines-benches --example dump_lines > before.txt
@@ -77,9 +79,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     let mut lines = Vec::new();
+    // Scans per suite: 30, or DUMP_SCANS.
+    let count = std::env::var("DUMP_SCANS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(30);
     for name in SENSORS {
         let Some(s) = sensor(name) else { continue };
-        for bs in suite_scans("all", 2, 30, &s)? {
+        for bs in suite_scans("all", 2, count, &s)? {
             run(
                 &mut hs,
                 &mut out,

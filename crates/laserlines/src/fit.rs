@@ -98,7 +98,7 @@ impl FitSums {
 
     /// The sum of squared orthogonal residuals of the best line through the points, m^2
     /// (0 for fewer than three points or non-finite sums): what [`FitSums::fit`] would give
-    /// as `n * rms^2`, at the cost of one square root and one division. The smaller
+    /// as `n * rms^2` (to rounding), at the cost of one square root and two divisions. The smaller
     /// eigenvalue of the scatter matrix is taken as its determinant over the larger one,
     /// which keeps it accurate for nearly perfect lines far from the origin.
     #[must_use]
@@ -106,8 +106,8 @@ impl FitSums {
         if self.n < 3 {
             return 0.0;
         }
-        let n = self.n as f64;
-        let (cx, cy) = (self.sx / n, self.sy / n);
+        let inv = 1.0 / self.n as f64;
+        let (cx, cy) = (self.sx * inv, self.sy * inv);
         let mxx = (self.sxx - self.sx * cx).max(0.0);
         let myy = (self.syy - self.sy * cy).max(0.0);
         let mxy = self.sxy - self.sx * cy;
@@ -120,6 +120,17 @@ impl FitSums {
             0.0
         };
         if v.is_finite() { v } else { 0.0 }
+    }
+
+    /// The squared distance of the centroid from the origin, m^2 (0 when empty).
+    #[must_use]
+    pub fn centroid_norm_squared(&self) -> f64 {
+        if self.n == 0 {
+            return 0.0;
+        }
+        let inv = 1.0 / self.n as f64;
+        let (cx, cy) = (self.sx * inv, self.sy * inv);
+        cx * cx + cy * cy
     }
 
     /// The centroid of the points (`None` when empty).
@@ -199,7 +210,8 @@ impl FitSums {
             return None;
         }
         let n = self.n as f64;
-        let (cx, cy) = (self.sx / n, self.sy / n);
+        let inv = 1.0 / n;
+        let (cx, cy) = (self.sx * inv, self.sy * inv);
         let mxx = (self.sxx - self.sx * cx).max(0.0);
         let myy = (self.syy - self.sy * cy).max(0.0);
         let mxy = self.sxy - self.sx * cy;
@@ -226,8 +238,8 @@ impl FitSums {
         } else {
             (lambda - myy, mxy)
         };
-        let len = (vx * vx + vy * vy).sqrt();
-        let (mut cos, mut sin) = (vx / len, vy / len);
+        let scale = 1.0 / (vx * vx + vy * vy).sqrt();
+        let (mut cos, mut sin) = (vx * scale, vy * scale);
         let mut r = cx * cos + cy * sin;
         if r < 0.0 {
             r = -r;
@@ -240,9 +252,9 @@ impl FitSums {
             normal: Vector2::new(cos, sin),
             r,
             n: self.n,
-            rms: (sse / n).sqrt(),
+            s2,
             covariance: Matrix2::new(
-                s2 / n + t0 * t0 * var_alpha,
+                s2 * inv + t0 * t0 * var_alpha,
                 t0 * var_alpha,
                 t0 * var_alpha,
                 var_alpha,
@@ -260,8 +272,8 @@ pub struct NormalFit {
     pub r: f64,
     /// Number of fitted points.
     pub n: usize,
-    /// Root-mean-square orthogonal residual, m.
-    pub rms: f64,
+    /// Residual variance `SSE / (n - 2)`, m^2 (0 for two points).
+    pub s2: f64,
     /// Covariance of `(r, alpha)`: m^2, m rad, rad^2.
     pub covariance: Matrix2,
 }
@@ -466,7 +478,8 @@ mod tests {
             let (f, g) = (s.fit().unwrap(), s.normal_fit().unwrap());
             assert!((g.normal - f.normal()).norm() < 1e-12, "{slope}");
             assert!((g.r - f.r).abs() < 1e-12 && g.n == f.n);
-            assert!((g.rms - f.rms).abs() < 1e-15);
+            let s2 = f.rms * f.rms * 25.0 / 23.0;
+            assert!((g.s2 - s2).abs() < 1e-12 * (1.0 + s2));
             assert!((g.covariance - f.covariance).norm() < 1e-12 * (1.0 + f.covariance.norm()));
             for p in &pts {
                 assert!((g.distance(*p) - f.distance(*p)).abs() < 1e-12);

@@ -157,12 +157,7 @@ impl Pieces<'_> {
         let normal = fit.normal;
         let (ca, sa) = (normal.x, normal.y);
         let cov = fit.covariance;
-        let n = fit.n as f64;
-        let residual = if fit.n > 2 {
-            fit.rms * fit.rms * n / (n - 2.0)
-        } else {
-            0.0
-        };
+        let residual = fit.s2;
         let (mut chi2, mut sign, mut bent) = (0.0, 0.0f64, true);
         let mut outermost = 0.0f64;
         for k in ks {

@@ -45,11 +45,17 @@ pub(crate) fn sums(pre: &[FitSums], from: usize, to: usize) -> FitSums {
 /// The noise variance a test on the points `seg[a..=b]` uses: `sigma(r)^2` at their
 /// centroid's range.
 pub(crate) fn model_variance(pre: &[FitSums], a: usize, b: usize, noise: &RangeNoise) -> f64 {
-    let r = sums(pre, a, b + 1)
-        .centroid()
-        .map_or(0.0, |c| c.coords.norm());
-    let s = noise.sigma(r);
-    s * s
+    variance_at(&sums(pre, a, b + 1), noise)
+}
+
+/// `sigma(r)^2` at the range of the centroid of `s`: `max(sigma_min^2, fraction^2 r^2)`.
+fn variance_at(s: &FitSums, noise: &RangeNoise) -> f64 {
+    let r2 = s.centroid_norm_squared();
+    let (floor, growth) = (
+        noise.sigma_min * noise.sigma_min,
+        noise.fraction * noise.fraction,
+    );
+    (growth * r2).max(floor)
 }
 
 /// True when two lines, `seg[a..=m]` and `seg[m..=b]`, explain the points `seg[a..=b]`
@@ -65,12 +71,13 @@ pub(crate) fn split_is_significant(
     p: &HoughSplitParams,
     noise: &RangeNoise,
 ) -> bool {
-    let one = sums(pre, a, b + 1).sse();
+    let whole = sums(pre, a, b + 1);
+    let one = whole.sse();
     let two = sums(pre, a, m + 1).sse() + sums(pre, m, b + 1).sse();
     // Both lines hold the shared point: n + 1 residuals, four parameters.
     let n = b - a + 1;
     let residual = if n > 3 { two / (n - 3) as f64 } else { 0.0 };
-    let variance = model_variance(pre, a, b, noise).max(residual);
+    let variance = variance_at(&whole, noise).max(residual);
     one - two > p.split_significance * variance
 }
 
