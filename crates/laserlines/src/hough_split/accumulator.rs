@@ -204,8 +204,7 @@ impl Accumulator {
     }
 
     /// Step 0: the valid beams of `scan` as points, and each point's distance along its
-    /// sector's centre in `along`. Every beam is written at the end of the store, which only
-    /// advances for valid ones: no branch on the data.
+    /// sector's centre in `along`.
     fn fill(
         &mut self,
         scan: &Scan,
@@ -229,34 +228,25 @@ impl Accumulator {
         let (ranges, beams) = (&scan.ranges[..n], &table.beams[..n]);
         let (out, along) = (&mut points[..n], &mut self.along[..n]);
         let mut count = 0usize;
-        if table.finite {
-            // With finite beam directions, a finite range gives a finite point.
-            for (i, (&r, beam)) in ranges.iter().zip(beams).enumerate() {
-                let k = count.min(n - 1);
-                out[k] = Pt {
-                    x: r * beam.cos,
-                    y: r * beam.sin,
-                    range: r,
-                    idx: i,
-                };
-                along[k] = r * beam.cos_to_sector;
-                count += usize::from((r >= lo) & (r <= hi));
+        // With finite beam directions, a finite range gives a finite point.
+        let check = !table.finite;
+        for (i, (&r, beam)) in ranges.iter().zip(beams).enumerate() {
+            if !((r >= lo) & (r <= hi)) {
+                continue;
             }
-        } else {
-            for (i, (&r, beam)) in ranges.iter().zip(beams).enumerate() {
-                let (x, y) = (r * beam.cos, r * beam.sin);
-                let k = count.min(n - 1);
-                out[k] = Pt {
-                    x,
-                    y,
-                    range: r,
-                    idx: i,
-                };
-                along[k] = r * beam.cos_to_sector;
-                // A finite point: `v * 0` is 0 for finite `v`, NaN otherwise.
-                let finite = (x * 0.0 == 0.0) & (y * 0.0 == 0.0);
-                count += usize::from((r >= lo) & (r <= hi) & finite);
+            let (x, y) = (r * beam.cos, r * beam.sin);
+            // A finite point: `v * 0` is 0 for finite `v`, NaN otherwise.
+            if check && !((x * 0.0 == 0.0) & (y * 0.0 == 0.0)) {
+                continue;
             }
+            out[count] = Pt {
+                x,
+                y,
+                range: r,
+                idx: i,
+            };
+            along[count] = r * beam.cos_to_sector;
+            count += 1;
         }
         points.truncate(count);
     }
