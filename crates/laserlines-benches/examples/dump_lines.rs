@@ -2,8 +2,8 @@
 //! with the bits of every float, so that two builds can be compared for identical output:
 //! the scene suites of every simulated sensor (`all`, seed 2, 30 scans per suite or
 //! `DUMP_SCANS`), the bundled real URG-04LX excerpt and, when it is there, the Intel Research
-//! Lab log from `../shared`. With `DUMP_STAGES=1` also each scan's data segments, removed
-//! beams, split points and noise estimate.
+//! Lab log from `../shared`, and any logs named as arguments. With `DUMP_STAGES=1` also each
+//! scan's data segments, removed beams, split points and noise estimate.
 //!
 //! ```sh
 //! cargo run --release -p laserlines-benches --example dump_lines > before.txt
@@ -119,6 +119,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
     } else {
         eprintln!("{} not found: the Intel log is left out", intel.display());
+    }
+    // Any other logs named on the command line.
+    for log in std::env::args().skip(1) {
+        for (k, rec) in laserlines_io::open(Path::new(&log), None)?.enumerate() {
+            run(&mut hs, &mut out, &format!("{log}:{k}"), &rec?.scan, &mut lines)?;
+        }
     }
     out.flush()?;
     Ok(())
