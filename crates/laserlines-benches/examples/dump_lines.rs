@@ -123,7 +123,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // Any other logs named on the command line.
     for log in std::env::args().skip(1) {
         for (k, rec) in laserlines_io::open(Path::new(&log), None)?.enumerate() {
-            run(&mut hs, &mut out, &format!("{log}:{k}"), &rec?.scan, &mut lines)?;
+            run(
+                &mut hs,
+                &mut out,
+                &format!("{log}:{k}"),
+                &rec?.scan,
+                &mut lines,
+            )?;
         }
     }
     out.flush()?;
