@@ -23,7 +23,7 @@ use laserlines_hokuyo_emulator::ArenaFeed;
 use laserlines_sim::arena::{ArenaOptions, interior_start};
 
 fn arena_feed() -> ArenaFeed {
-    let arena = laserlines_nav::arenas::bundled("maze_10m_x_14m", &ArenaOptions::default())
+    let arena = laserlines_harness::arenas::bundled("maze_10m_x_14m", &ArenaOptions::default())
         .and_then(Result::ok)
         .map(|a| a.world)
         .unwrap_or_default();

@@ -12,7 +12,7 @@ use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use laserlines::math::Isometry2;
-use laserlines_nav::{RunConfig, arenas, run};
+use laserlines_harness::{RunConfig, arenas, run};
 use laserlines_sim::arena::ArenaOptions;
 
 fn simulate(c: &mut Criterion) {

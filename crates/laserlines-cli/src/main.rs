@@ -14,7 +14,6 @@ macro_rules! outln {
 }
 
 mod cmd;
-mod params;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -24,7 +23,13 @@ use clap::{Args, Parser, Subcommand};
 /// Line segments from 2D laser range scans: the g-weighted Hough transform, data segments and
 /// recursive split of the NAJI V rescue robot, and the classic extractors.
 #[derive(Debug, Parser)]
-#[command(name = "laserlines", version, about, long_about = None)]
+#[command(
+    name = "laserlines",
+    version,
+    about = "Line segments from 2D laser range scans: extract them from logs, bags and sensors, \
+             draw the paper's figures, compare extractors, simulate and view runs",
+    long_about = None
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -51,15 +56,21 @@ enum Command {
     Live(cmd::live::LiveArgs),
     /// Emulate a Hokuyo sensor (SCIP 2.0 over TCP or a pseudo-terminal), with faults.
     HokuyoEmulator(cmd::hokuyo_emulator::HokuyoEmulatorArgs),
+    /// Build a map and a trajectory from a log (scan matching, loop closure, pose graph).
+    Map(cmd::map::MapArgs),
+    /// Score a trajectory against relations (the Freiburg SLAM benchmark's metric).
+    Relations(cmd::relations::RelationsArgs),
 }
 
 /// Where scans come from: a path (or `-` for stdin) and an optional format override.
 #[derive(Debug, Clone, Args)]
 pub struct InputArgs {
-    /// Input file (.json, .jsonl, .csv, .dat, .mcap, .clf/.log for CARMEN, .bag; optionally
-    /// .gz), or `-` for stdin.
+    /// Input file (.json, .jsonl, .csv, .dat, .mcap, .clf/.log for CARMEN, .bag for ROS 1,
+    /// .db3; optionally .gz), a ROS 2 bag directory (MCAP or sqlite3 storage), or `-` for
+    /// stdin.
     pub input: PathBuf,
-    /// Input format, overriding the file extension (json, jsonl, csv, dat, mcap, carmen, bag).
+    /// Input format, overriding the file extension (json, jsonl, csv, dat, mcap, carmen, bag,
+    /// db3).
     #[arg(long)]
     pub format: Option<String>,
     /// Topic to read from an MCAP file or a ROS bag (default: the first LaserScan topic), or
@@ -81,6 +92,8 @@ fn main() -> ExitCode {
         Command::View(a) => cmd::view::run(&a),
         Command::Live(a) => cmd::live::run(&a),
         Command::HokuyoEmulator(a) => cmd::hokuyo_emulator::run(&a),
+        Command::Map(a) => cmd::map::run(&a),
+        Command::Relations(a) => cmd::relations::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -156,36 +156,34 @@ fn bench_on_a_real_log_reports_coverage() {
 
 #[test]
 fn tuning_prints_a_params_table_that_bench_accepts() {
-    let o = run(bin().args([
-        "bench",
-        "--tune",
-        "hough-split",
-        "--suite",
-        "rooms",
-        "--scans",
-        "2",
-    ]));
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let stdout = text(&o.stdout);
-    assert!(stdout.contains("[hough-split]"), "{stdout}");
-    assert!(stdout.contains("criterion = "), "{stdout}");
-    let params = tmp("tuned.toml");
-    std::fs::write(&params, &stdout).unwrap();
-    let o = run(bin()
-        .args([
-            "bench",
-            "--suite",
-            "rooms",
-            "--scans",
-            "1",
-            "--algorithms",
-            "hough-split",
-            "--params",
-        ])
-        .arg(&params)
-        .arg("-o")
-        .arg(tmp("out-tuned")));
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    // hough-split's knobs are flat keys; iepf's include nested ones (`breakpoints.noise`).
+    for (name, key) in [
+        ("hough-split", "criterion = "),
+        ("iepf", "breakpoints.noise = "),
+    ] {
+        let o = run(bin().args(["bench", "--tune", name, "--suite", "rooms", "--scans", "2"]));
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let stdout = text(&o.stdout);
+        assert!(stdout.contains(&format!("[{name}]")), "{stdout}");
+        assert!(stdout.contains(key), "{stdout}");
+        let params = tmp(&format!("tuned-{name}.toml"));
+        std::fs::write(&params, &stdout).unwrap();
+        let o = run(bin()
+            .args([
+                "bench",
+                "--suite",
+                "rooms",
+                "--scans",
+                "1",
+                "--algorithms",
+                name,
+                "--params",
+            ])
+            .arg(&params)
+            .arg("-o")
+            .arg(tmp(&format!("out-tuned-{name}"))));
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    }
 }
 
 #[test]
@@ -225,7 +223,7 @@ fn extract_and_render_accept_every_algorithm() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     // A params table for another algorithm changes its result.
     let params = tmp("iepf.toml");
-    std::fs::write(&params, "[iepf]\nmin_line_length = 1.5\n").unwrap();
+    std::fs::write(&params, "[iepf]\nfilter.min_length = 1.5\n").unwrap();
     let plain = run(bin().args(["extract", "--algorithm", "iepf"]).arg(&dat));
     let strict = run(bin()
         .args(["extract", "--algorithm", "iepf", "--params"])

@@ -120,7 +120,7 @@ fn simulate_records_the_run_as_mcap() {
         assert_eq!(by_topic[topic].len() as u64, scans, "{topic}");
     }
     // The arena once, with every wall of the bundled arena.
-    let arena = laserlines_nav::arenas::bundled("inner_explore_test", &Default::default())
+    let arena = laserlines_harness::arenas::bundled("inner_explore_test", &Default::default())
         .unwrap()
         .unwrap();
     let walls = SceneUpdate::decode(by_topic["/arena"][0].as_slice()).unwrap();
@@ -180,7 +180,7 @@ fn simulate_takes_robot_and_explorer_settings_from_a_params_file() {
     let params = dir.join("robot.toml");
     std::fs::write(
         &params,
-        "[robot]\nmax_speed = 0.2\nfootprint_width = 0.35\nlaser_x = 0.1\n\n[explorer]\nside = \"right\"\ncruise_speed = 0.2\n",
+        "[robot]\nlimits.max_speed = 0.2\nfootprint.width = 0.35\nlaser.x = 0.1\n\n[explorer]\nside = \"right\"\nfollow.cruise_speed = 0.2\n",
     )
     .unwrap();
     let (m, text) = simulate_ok(&dir, "20", &["--params".as_ref(), params.as_os_str()]);
@@ -192,10 +192,18 @@ fn simulate_takes_robot_and_explorer_settings_from_a_params_file() {
 
     // Bad settings: a clear error naming the table and the key, exit code 2.
     for (body, needle) in [
-        ("[robot]\nfootprint_width = -1\n", "footprint.width"),
+        ("[robot]\nfootprint.width = -1\n", "[robot] footprint.width"),
         ("[robot]\nwheels = 3\n", "wheels"),
-        ("[explorer]\nfollow_distance = 0\n", "follow_distance"),
-        ("[explorer]\nside = \"up\"\n", "side"),
+        (
+            "[explorer]\nfollow.distance = 0\n",
+            "[explorer] follow.distance",
+        ),
+        ("[explorer]\nside = \"up\"\n", "[explorer] side"),
+        (
+            "[simulator]\nphysics_dt_s = 0.5\n",
+            "[simulator] physics_dt_s",
+        ),
+        ("[robot]\nfootprint_width = 0.4\n", "footprint_width"),
     ] {
         std::fs::write(&params, body).unwrap();
         let o = bin()

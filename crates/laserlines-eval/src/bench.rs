@@ -400,6 +400,32 @@ impl Tally {
     }
 }
 
+/// Adds each extractor's errors on the significant pieces (of `pieces`) that every
+/// extractor found to its overall and group tallies.
+fn add_common(
+    pieces: usize,
+    matches: &[Option<ScanMatch>],
+    overall: &mut [Tally],
+    group: &mut [Tally],
+) {
+    let found_by_all = |pi: usize| {
+        matches.iter().all(|m| {
+            m.as_ref()
+                .is_some_and(|m| m.pairs.iter().any(|p| p.piece == pi && p.significant))
+        })
+    };
+    let common: Vec<usize> = (0..pieces).filter(|&pi| found_by_all(pi)).collect();
+    for (a, m) in matches.iter().enumerate() {
+        let Some(m) = m else { continue };
+        let mut acc = Accuracy::default();
+        for p in m.pairs.iter().filter(|p| common.contains(&p.piece)) {
+            acc.push(p);
+        }
+        overall[a].common.add(&acc);
+        group[a].common.add(&acc);
+    }
+}
+
 /// The name `all` of the overall group.
 pub const OVERALL: &str = "all";
 
@@ -458,22 +484,8 @@ pub fn run(
         }
         // The significant pieces every extractor found, and each one's errors on them.
         if let Some(pieces) = &bs.truth {
-            let found_by_all = |pi: usize| {
-                matches.iter().all(|m| {
-                    m.as_ref()
-                        .is_some_and(|m| m.pairs.iter().any(|p| p.piece == pi && p.significant))
-                })
-            };
-            let common: Vec<usize> = (0..pieces.len()).filter(|&pi| found_by_all(pi)).collect();
-            for (a, m) in matches.iter().enumerate() {
-                let Some(m) = m else { continue };
-                let mut acc = Accuracy::default();
-                for p in m.pairs.iter().filter(|p| common.contains(&p.piece)) {
-                    acc.push(p);
-                }
-                overall[a].common.add(&acc);
-                groups[gi].1[a].common.add(&acc);
-            }
+            let (all, group) = (&mut overall, &mut groups[gi].1);
+            add_common(pieces.len(), &matches, all, group);
         }
         progress(k + 1);
     }

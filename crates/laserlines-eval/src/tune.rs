@@ -15,22 +15,18 @@
 //! parameter sets are not re-evaluated.
 //!
 //! Only parameters that shape the result are knobs, never work budgets (iterations, trials),
-//! which the objective would always push up. The knobs and their candidates are listed by
-//! [`knobs`]; they span each parameter's documented sensible range, with one limit: the
-//! minimum sizes of lines, segments and clusters stay below the size from which the metric
-//! requires a piece to be found (10 beams, 0.2 m). A line shorter than that can only count as
-//! false or not at all, so a search allowed to reach the bound would learn to drop every such
-//! line, real small walls included: that would fit the metric, not the scenes.
+//! which the objective would always push up. The knobs and their candidates are listed in
+//! the extractors' registry ([`laserlines::registry::Algorithm::knobs`], [`knobs`] by name);
+//! they span each parameter's documented sensible range, with one limit: the minimum sizes
+//! of lines, segments and clusters stay below the size from which the metric requires a
+//! piece to be found (10 beams, 0.2 m). A line shorter than that can only count as false or
+//! not at all, so a search allowed to reach the bound would learn to drop every such line,
+//! real small walls included: that would fit the metric, not the scenes.
 
 use std::collections::HashMap;
 use std::fmt::Debug;
 
-use laserlines::extractors::{
-    Em, EmParams, Iepf, IepfParams, Incremental, IncrementalParams, IterativeHough,
-    IterativeHoughParams, LineRegression, LineRegressionParams, Ransac, RansacParams,
-    SplitAndMerge, SplitAndMergeParams,
-};
-use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
+use laserlines::registry::{self, Algorithm, Knob, Params, Visitor};
 use serde::Serialize;
 
 use crate::bench::{TruthMetrics, score};
@@ -51,7 +47,7 @@ pub const MIN_ERROR_GAIN: f64 = 0.01;
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum TuneError {
     /// The algorithm has no knobs here (unknown name).
-    #[error("unknown algorithm {0:?}: expected one of {list}", list = laserlines::extractors::ALGORITHMS.join(", "))]
+    #[error("unknown algorithm {0:?}: expected one of {list}", list = registry::ALGORITHMS.join(", "))]
     UnknownAlgorithm(String),
     /// No scan has ground truth to tune on.
     #[error("tuning needs scans with ground truth (a simulated suite)")]
@@ -61,236 +57,21 @@ pub enum TuneError {
     BadDefaults(String),
 }
 
-/// One tunable parameter of a params struct `P`.
-pub struct Knob<P> {
-    /// The field's name (as in the params struct and the params file).
-    pub name: &'static str,
-    /// Candidate values (counts as whole numbers, angles in rad, distances in m).
-    pub values: Vec<f64>,
-    /// True for a count.
-    pub integer: bool,
-    get: fn(&P) -> f64,
-    set: fn(&mut P, f64),
-}
-
-impl<P> Debug for Knob<P> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Knob")
-            .field("name", &self.name)
-            .field("values", &self.values)
-            .finish_non_exhaustive()
-    }
-}
-
-macro_rules! real {
-    ($p:ty, $field:ident, $values:expr) => {
-        Knob {
-            name: stringify!($field),
-            values: $values,
-            integer: false,
-            get: |p: &$p| p.$field,
-            set: |p: &mut $p, v| p.$field = v,
-        }
-    };
-}
-
-macro_rules! count {
-    ($p:ty, $field:ident, $values:expr) => {
-        Knob {
-            name: stringify!($field),
-            values: $values,
-            integer: true,
-            get: |p: &$p| p.$field as f64,
-            set: |p: &mut $p, v| p.$field = v.max(0.0).round() as usize,
-        }
-    };
-}
-
-fn degrees(values: &[f64]) -> Vec<f64> {
-    values.iter().map(|d| d.to_radians()).collect()
-}
-
-macro_rules! line_filters {
-    ($p:ty) => {
-        [
-            count!($p, min_line_points, vec![4.0, 6.0, 8.0]),
-            real!($p, min_line_length, vec![0.05, 0.1, 0.15]),
-        ]
-    };
-}
-
-/// The knobs of `hough-split`. Its `min_line_length` is not one: it is the size of the
-/// smallest surface that counts as a wall (legs and posts up to 12 cm give no line), a
-/// definition rather than a tuning.
-fn hough_split_knobs() -> Vec<Knob<HoughSplitParams>> {
-    vec![
-        real!(
-            HoughSplitParams,
-            criterion,
-            vec![0.0, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0]
-        ),
-        real!(
-            HoughSplitParams,
-            split_sigmas,
-            vec![2.5, 3.0, 3.5, 4.0, 5.0]
-        ),
-        real!(
-            HoughSplitParams,
-            split_significance,
-            vec![10.0, 15.0, 20.0, 30.0, 40.0]
-        ),
-        real!(HoughSplitParams, bridge_sigmas, vec![2.0, 3.0, 4.0]),
-        real!(HoughSplitParams, max_rms_sigmas, vec![2.0, 2.5, 3.0, 4.0]),
-        count!(
-            HoughSplitParams,
-            min_segment_points,
-            vec![3.0, 4.0, 6.0, 8.0]
-        ),
-        count!(HoughSplitParams, min_line_points, vec![4.0, 6.0, 8.0]),
-    ]
-}
-
-fn iterative_hough_knobs() -> Vec<Knob<IterativeHoughParams>> {
-    let mut k = vec![
-        real!(
-            IterativeHoughParams,
-            min_votes,
-            vec![5.0, 8.0, 10.0, 15.0, 20.0]
-        ),
-        real!(
-            IterativeHoughParams,
-            inlier_distance,
-            vec![0.01, 0.015, 0.02, 0.03]
-        ),
-        real!(
-            IterativeHoughParams,
-            inlier_distance_per_metre,
-            vec![0.005, 0.01, 0.015, 0.02]
-        ),
-        count!(IterativeHoughParams, max_skipped, vec![0.0, 1.0, 2.0, 3.0]),
-    ];
-    k.extend(line_filters!(IterativeHoughParams));
-    k
-}
-
-macro_rules! split_knobs {
-    ($p:ty) => {{
-        let mut k: Vec<Knob<$p>> = vec![
-            real!($p, split_distance, vec![0.01, 0.015, 0.02, 0.03]),
-            real!(
-                $p,
-                split_distance_per_metre,
-                vec![0.005, 0.01, 0.015, 0.02, 0.03]
-            ),
-            real!($p, breakpoint_incidence, degrees(&[5.0, 10.0, 15.0])),
-            real!($p, breakpoint_noise, vec![0.005, 0.01, 0.02]),
-            count!($p, min_cluster_points, vec![3.0, 5.0, 8.0]),
-        ];
-        k.extend(line_filters!($p));
-        k
-    }};
-}
-
-fn incremental_knobs() -> Vec<Knob<IncrementalParams>> {
-    let mut k = vec![
-        real!(
-            IncrementalParams,
-            track_distance,
-            vec![0.01, 0.015, 0.02, 0.03]
-        ),
-        real!(
-            IncrementalParams,
-            track_distance_per_metre,
-            vec![0.005, 0.01, 0.015, 0.02]
-        ),
-        count!(IncrementalParams, seed_points, vec![3.0, 5.0, 7.0, 10.0]),
-        count!(IncrementalParams, max_outliers, vec![0.0, 1.0, 2.0]),
-        real!(
-            IncrementalParams,
-            breakpoint_incidence,
-            degrees(&[5.0, 10.0, 15.0])
-        ),
-    ];
-    k.extend(line_filters!(IncrementalParams));
-    k
-}
-
-fn line_regression_knobs() -> Vec<Knob<LineRegressionParams>> {
-    let mut k = vec![
-        count!(
-            LineRegressionParams,
-            window,
-            vec![5.0, 7.0, 9.0, 11.0, 15.0]
-        ),
-        real!(
-            LineRegressionParams,
-            similarity,
-            vec![4.0, 9.21, 16.0, 30.0]
-        ),
-        real!(
-            LineRegressionParams,
-            noise_sigma_per_metre,
-            vec![0.0025, 0.005, 0.01]
-        ),
-        real!(
-            LineRegressionParams,
-            merge_distance_per_metre,
-            vec![0.005, 0.01, 0.02]
-        ),
-        count!(LineRegressionParams, min_windows, vec![1.0, 2.0, 3.0, 5.0]),
-    ];
-    k.extend(line_filters!(LineRegressionParams));
-    k
-}
-
-fn ransac_knobs() -> Vec<Knob<RansacParams>> {
-    let mut k = vec![
-        real!(RansacParams, inlier_distance, vec![0.01, 0.015, 0.02, 0.03]),
-        real!(
-            RansacParams,
-            inlier_distance_per_metre,
-            vec![0.005, 0.01, 0.015, 0.02]
-        ),
-        count!(RansacParams, min_inliers, vec![5.0, 8.0, 10.0, 15.0, 20.0]),
-        count!(RansacParams, sample_span, vec![10.0, 20.0, 30.0, 50.0]),
-        count!(RansacParams, max_skipped, vec![0.0, 1.0, 2.0, 3.0]),
-    ];
-    k.extend(line_filters!(RansacParams));
-    k
-}
-
-fn em_knobs() -> Vec<Knob<EmParams>> {
-    let mut k = vec![
-        real!(
-            EmParams,
-            noise_sigma_per_metre,
-            vec![0.0025, 0.005, 0.0075, 0.01]
-        ),
-        real!(EmParams, outlier_density, vec![0.05, 0.2, 1.0, 5.0]),
-        real!(EmParams, inlier_probability, vec![0.3, 0.5, 0.7]),
-        count!(EmParams, init_points, vec![5.0, 7.0, 10.0]),
-    ];
-    k.extend(line_filters!(EmParams));
-    k
-}
-
 /// The knobs of `algorithm` as `(name, candidate values)`, or `None` for an unknown name.
 #[must_use]
 pub fn knobs(algorithm: &str) -> Option<Vec<(&'static str, Vec<f64>)>> {
-    fn list<P>(k: Vec<Knob<P>>) -> Vec<(&'static str, Vec<f64>)> {
-        k.into_iter().map(|k| (k.name, k.values)).collect()
+    struct List;
+    impl Visitor for List {
+        type Output = Vec<(&'static str, Vec<f64>)>;
+        fn visit<P: Params>(self, algorithm: &'static Algorithm<P>) -> Self::Output {
+            algorithm
+                .knobs
+                .iter()
+                .map(|k| (k.name, k.values.to_vec()))
+                .collect()
+        }
     }
-    Some(match algorithm {
-        "hough-split" => list(hough_split_knobs()),
-        "iterative-hough" => list(iterative_hough_knobs()),
-        "split-and-merge" => list::<SplitAndMergeParams>(split_knobs!(SplitAndMergeParams)),
-        "iepf" => list::<IepfParams>(split_knobs!(IepfParams)),
-        "incremental" => list(incremental_knobs()),
-        "line-regression" => list(line_regression_knobs()),
-        "ransac" => list(ransac_knobs()),
-        "em" => list(em_knobs()),
-        _ => return None,
-    })
+    registry::visit(algorithm, List)
 }
 
 /// A knob's value.
@@ -368,20 +149,21 @@ impl Score {
     }
 }
 
-struct Search<'a, P> {
+struct Search<'a, P: 'static> {
     scans: &'a [BenchScan],
     matching: &'a MatchParams,
-    build: fn(&P) -> Option<Box<dyn LineExtractor>>,
+    algorithm: &'static Algorithm<P>,
     cache: HashMap<String, Option<Score>>,
 }
 
-impl<P: Debug> Search<'_, P> {
+impl<P: Params> Search<'_, P> {
     fn evaluate(&mut self, p: &P) -> Option<Score> {
         let key = format!("{p:?}");
         if let Some(s) = self.cache.get(&key) {
             return s.clone();
         }
-        let s = (self.build)(p).map(|mut e| {
+        let built = (self.algorithm.build)(p.clone()).ok();
+        let s = built.map(|mut e| {
             let metrics = score(self.scans, e.as_mut(), self.matching).metrics();
             let error = metrics.rms_dr_m / self.matching.r_tolerance
                 + metrics.rms_dalpha_rad / self.matching.alpha_tolerance;
@@ -414,19 +196,19 @@ fn values<P>(p: &P, knobs: &[Knob<P>]) -> Vec<KnobValue> {
         .collect()
 }
 
-fn search<P: Clone + Debug>(
-    algorithm: &str,
-    start: P,
-    knobs: &[Knob<P>],
-    build: fn(&P) -> Option<Box<dyn LineExtractor>>,
+fn search<P: Params>(
+    entry: &'static Algorithm<P>,
     scans: &[BenchScan],
     matching: &MatchParams,
     log: &mut dyn FnMut(&str),
 ) -> Result<TuneResult, TuneError> {
+    let algorithm = entry.name;
+    let start = (entry.defaults)();
+    let knobs = entry.knobs;
     let mut s = Search {
         scans,
         matching,
-        build,
+        algorithm: entry,
         cache: HashMap::new(),
     };
     let Some(start_score) = s.evaluate(&start) else {
@@ -442,7 +224,7 @@ fn search<P: Clone + Debug>(
         let mut changed = false;
         for knob in knobs {
             let held = (knob.get)(&best);
-            for &v in &knob.values {
+            for &v in knob.values {
                 if v == held {
                     continue;
                 }
@@ -475,10 +257,6 @@ fn search<P: Clone + Debug>(
     })
 }
 
-fn boxed<E: LineExtractor + 'static>(e: Option<E>) -> Option<Box<dyn LineExtractor>> {
-    e.map(|e| Box::new(e) as Box<dyn LineExtractor>)
-}
-
 /// Tunes `algorithm` on the scans with ground truth among `scans` (see the module docs),
 /// reporting progress lines to `log`.
 ///
@@ -493,79 +271,24 @@ pub fn tune(
     if !scans.iter().any(|s| s.truth.is_some()) {
         return Err(TuneError::NoTruth);
     }
-    match algorithm {
-        "hough-split" => search(
-            algorithm,
-            HoughSplitParams::default(),
-            &hough_split_knobs(),
-            |p| boxed(HoughSplit::new(p.clone()).ok()),
-            scans,
-            matching,
-            log,
-        ),
-        "iterative-hough" => search(
-            algorithm,
-            IterativeHoughParams::default(),
-            &iterative_hough_knobs(),
-            |p| boxed(IterativeHough::new(p.clone()).ok()),
-            scans,
-            matching,
-            log,
-        ),
-        "split-and-merge" => search(
-            algorithm,
-            SplitAndMergeParams::default(),
-            &split_knobs!(SplitAndMergeParams),
-            |p| boxed(SplitAndMerge::new(p.clone()).ok()),
-            scans,
-            matching,
-            log,
-        ),
-        "iepf" => search(
-            algorithm,
-            IepfParams::default(),
-            &split_knobs!(IepfParams),
-            |p| boxed(Iepf::new(p.clone()).ok()),
-            scans,
-            matching,
-            log,
-        ),
-        "incremental" => search(
-            algorithm,
-            IncrementalParams::default(),
-            &incremental_knobs(),
-            |p| boxed(Incremental::new(p.clone()).ok()),
-            scans,
-            matching,
-            log,
-        ),
-        "line-regression" => search(
-            algorithm,
-            LineRegressionParams::default(),
-            &line_regression_knobs(),
-            |p| boxed(LineRegression::new(p.clone()).ok()),
-            scans,
-            matching,
-            log,
-        ),
-        "ransac" => search(
-            algorithm,
-            RansacParams::default(),
-            &ransac_knobs(),
-            |p| boxed(Ransac::new(p.clone()).ok()),
-            scans,
-            matching,
-            log,
-        ),
-        "em" => search(
-            algorithm,
-            EmParams::default(),
-            &em_knobs(),
-            |p| boxed(Em::new(p.clone()).ok()),
-            scans,
-            matching,
-            log,
-        ),
-        other => Err(TuneError::UnknownAlgorithm(other.to_string())),
+    struct Tune<'a, 'l> {
+        scans: &'a [BenchScan],
+        matching: &'a MatchParams,
+        log: &'l mut dyn FnMut(&str),
     }
+    impl Visitor for Tune<'_, '_> {
+        type Output = Result<TuneResult, TuneError>;
+        fn visit<P: Params>(self, entry: &'static Algorithm<P>) -> Self::Output {
+            search(entry, self.scans, self.matching, self.log)
+        }
+    }
+    registry::visit(
+        algorithm,
+        Tune {
+            scans,
+            matching,
+            log,
+        },
+    )
+    .unwrap_or_else(|| Err(TuneError::UnknownAlgorithm(algorithm.to_string())))
 }

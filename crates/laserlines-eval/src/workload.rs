@@ -57,6 +57,19 @@ impl Sensor {
         }
     }
 
+    /// The factor from the noise the classic extractors' defaults were chosen for to this
+    /// sensor's ([`laserlines::registry::noise_scale`]): 1 for the URG-04LX as simulated.
+    #[must_use]
+    pub fn noise_scale(&self) -> f64 {
+        match self.model.noise {
+            Noise::Range(n) => laserlines::registry::noise_scale(&n),
+            Noise::Gaussian { sigma } => {
+                laserlines::registry::noise_scale(&RangeNoise::new(sigma, 0.0))
+            }
+            Noise::Urg04lx | Noise::None => 1.0,
+        }
+    }
+
     /// The field conditions at `level` times the URG-04LX data sheet's band (+-10 mm to 1 m,
     /// +-1 % beyond, taken as one standard deviation): mixed pixels at half of the depth edges,
     /// 0-5 % of the returns dropped (drawn per scan), 0-8 chair and table legs of 3-12 cm

@@ -6,9 +6,13 @@
 //! `max(0.5 deg, 4 sigma_alpha)`, the tolerances of `HoughSplit`'s round-trip tests.
 //!
 //! Each extractor's documented tolerance is its least true-positive rate and largest
-//! false-positive rate below ([`TOLERANCE`], also in the README); `hough-split` is held to
-//! finding every piece here and, by `crates/laserlines/tests/roundtrip.rs`, to end points as
-//! well. On the bench scan every extractor must find all six pieces with no false line, except
+//! false-positive rate below ([`TOLERANCE`], also in the README). **These bounds are a
+//! ratchet**: each is set just under what the extractor measures on these scenes today (the
+//! README lists both), so that a change that makes any extractor worse here fails; they are
+//! not targets, and are raised when an extractor improves. The requirements every extractor
+//! must meet on every suite are in `suites.rs`. `hough-split` is held to finding 99 % of the
+//! pieces here (where a line ends is a decision at the 1 % level: a corner leg of three beams
+//! at 4 m can stay on the wall's line) and, by `crates/laserlines/tests/roundtrip.rs`, to end points as well. On the bench scan every extractor must find all six pieces with no false line, except
 //! EM, which may get one of them wrong.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -19,9 +23,9 @@ use laserlines_sim::scenes::{self, Scene};
 use laserlines_sim::{LaserModel, Rng, SimScan};
 
 /// `(algorithm, least true-positive rate, largest false-positive rate)` on the round-trip
-/// scenes.
+/// scenes: a ratchet, just under today's measured figures (see the module docs).
 const TOLERANCE: &[(&str, f64, f64)] = &[
-    ("hough-split", 1.0, 0.01),
+    ("hough-split", 0.99, 0.01),
     ("iterative-hough", 0.98, 0.01),
     ("split-and-merge", 0.98, 0.03),
     ("iepf", 0.98, 0.02),

@@ -8,9 +8,16 @@
 //!   CDR, ROS 1 `sensor_msgs/LaserScan`, `foxglove.LaserScan` in protobuf), giving a
 //!   [`laserlines_io::ScanReader`] like every other format.
 //! - [`write`]: scans, lines and poses into an MCAP file that Foxglove plays.
+//! - [`files`]: the choice between MCAP and the formats of `laserlines-io`, for input
+//!   ([`open_scans`]) and output ([`LinesOutput`], [`ScanOutput`]), in one place.
+//! - [`navigation`]: a navigation run (arena, poses, scans, lines, sector objects, the
+//!   explorer's goal) as MCAP scenes.
 //! - [`live`] (feature `live`, on by default): the same messages served on a Foxglove
 //!   WebSocket, paced to replay a log.
-//! - [`scene`]: the messages themselves; [`ros`], [`proto`]: the decoders.
+//! - [`sectors`]: the paper's three sectors and their objects as a scene (`/sectors`), for
+//!   a navigation run and for a live sensor.
+//! - [`scene`]: the messages themselves; [`ros`] (from `laserlines-io`), [`proto`]: the
+//!   decoders.
 //!
 //! Channels and frames (REP 103 frames, SI units):
 //!
@@ -42,21 +49,27 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod files;
+pub mod grid;
 #[cfg(feature = "live")]
 pub mod live;
+pub mod navigation;
 pub mod proto;
 pub mod read;
-pub mod ros;
 pub mod scene;
-mod wire;
+pub mod sectors;
+mod shapes;
 pub mod write;
 
+pub use files::{LinesOutput, ScanOutput, open_scans};
 /// The Foxglove message types and their encoding, for [`McapSceneWriter::write_message`].
 pub use foxglove::{Encode, messages};
+/// The ROS LaserScan decoders, shared with the ROS bag reader.
+pub use laserlines_io::ros;
+pub use laserlines_io::{DecodeError, LaserScanMsg};
+pub use navigation::{NavFrame, NavRecorder};
 pub use read::{McapReadOptions, McapScanSource, ScanEncoding};
-pub use ros::LaserScanMsg;
-pub use wire::DecodeError;
-pub use write::{LinesOutput, McapSceneWriter};
+pub use write::McapSceneWriter;
 
 /// Topic of the scans (`foxglove.LaserScan`).
 pub const SCAN_TOPIC: &str = "/scan";

@@ -12,7 +12,7 @@ use std::path::Path;
 
 use foxglove::Encode;
 use laserlines::Line;
-use laserlines_io::{LinesWriter, Output, ScanRecord, WriteError};
+use laserlines_io::{ScanRecord, WriteError};
 use mcap::records::MessageHeader;
 
 use crate::scene::{SceneClock, SceneMessages, log_time_ns, scene_messages};
@@ -65,12 +65,26 @@ fn mcap_error(name: &str, e: mcap::McapError) -> WriteError {
 }
 
 impl McapSceneWriter<BufWriter<File>> {
-    /// Creates an MCAP file at `path` (replacing any file there).
+    /// Creates an MCAP file at `path` (replacing any file there). A name ending in `.gz` is
+    /// refused: MCAP compresses its own chunks (zstd), and a gzipped MCAP (`.mcap.gz`, which
+    /// [`crate::read`] reads) would only be larger to seek in.
     ///
     /// # Errors
-    /// [`WriteError::Io`] when the file cannot be created or the header written.
+    /// [`WriteError::Io`] when the file cannot be created or the header written;
+    /// [`WriteError::Name`] for a `.gz` name.
     pub fn create(path: &Path) -> Result<Self, WriteError> {
         let name = path.display().to_string();
+        let gz = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+        if gz {
+            return Err(WriteError::Name {
+                file: name,
+                expected: "a name ending in .mcap: MCAP compresses its own chunks (zstd), so \
+                           .mcap.gz is read but not written",
+            });
+        }
         if path == Path::new("-") {
             return Err(WriteError::Io {
                 file: name,
@@ -319,61 +333,6 @@ impl<W: Write + Seek> McapSceneWriter<W> {
         out.flush()
             .map_err(|source| WriteError::Io { file: name, source })?;
         Ok(out)
-    }
-}
-
-/// Where `laserlines extract` writes its lines: an MCAP scene ([`McapSceneWriter`]: scan,
-/// lines and pose) when the name ends in `.mcap`, else lines JSONL ([`LinesWriter`]).
-#[derive(Debug)]
-pub enum LinesOutput {
-    /// Lines JSONL (`-` = standard output, `.gz` = gzip).
-    Jsonl(Box<LinesWriter<Output>>),
-    /// An MCAP file that Foxglove plays.
-    Mcap(Box<McapSceneWriter<BufWriter<File>>>),
-}
-
-impl LinesOutput {
-    /// Creates the output named `path`, choosing the kind by its extension.
-    ///
-    /// # Errors
-    /// [`WriteError::Io`] when the file cannot be created.
-    pub fn create(path: &Path) -> Result<Self, WriteError> {
-        let is_mcap = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
-        Ok(if is_mcap {
-            Self::Mcap(Box::new(McapSceneWriter::create(path)?))
-        } else {
-            Self::Jsonl(Box::new(LinesWriter::create(path)?))
-        })
-    }
-
-    /// Writes the lines of scan number `scan` (0-based, in input order) with its record.
-    ///
-    /// # Errors
-    /// [`WriteError::Io`] when writing fails.
-    pub fn write_record(
-        &mut self,
-        scan: u64,
-        record: &ScanRecord,
-        lines: &[Line],
-    ) -> Result<(), WriteError> {
-        match self {
-            Self::Jsonl(w) => w.write_record(scan, record, lines),
-            Self::Mcap(w) => w.write_lines(record, lines),
-        }
-    }
-
-    /// Completes the output (MCAP summary, end of a gzip stream) and flushes it.
-    ///
-    /// # Errors
-    /// [`WriteError::Io`] when writing fails.
-    pub fn close(self) -> Result<(), WriteError> {
-        match self {
-            Self::Jsonl(w) => w.close(),
-            Self::Mcap(w) => w.finish().map(|_| ()),
-        }
     }
 }
 

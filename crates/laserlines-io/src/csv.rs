@@ -78,12 +78,52 @@ impl CsvSource {
     fn read_scan(&mut self) -> Result<ScanRecord, ReadError> {
         let name = self.name.clone();
         let mut meta = Meta::default();
-        let mut header: Option<(usize, usize)> = None; // (line, columns)
-        let mut angles: Vec<f64> = Vec::new();
-        let mut ranges: Vec<f64> = Vec::new();
-        let mut intensities: Vec<f64> = Vec::new();
-        let mut row_lines: Vec<usize> = Vec::new();
+        let rows = self.read_rows(&mut meta)?;
+        let Some((header_line, columns)) = rows.header else {
+            return Err(ReadError::Syntax {
+                pos: SourcePos::line(&name, self.lines.line_number() + 1),
+                expected: format!("the header `{HEADER}`"),
+                found: "the end of the input".to_owned(),
+            });
+        };
+        let end_line = self.lines.line_number() + 1;
+        let (angle_min, increment) = geometry(&name, &meta, &rows, end_line)?;
+        let pose = match meta.pose {
+            [None, None, None] => None,
+            [Some(x), Some(y), Some(theta)] => Some(Pose2::new(x, y, theta)),
+            _ => {
+                return Err(ReadError::Syntax {
+                    pos: SourcePos::line(&name, meta.pose_line),
+                    expected: "all of `# pose_x:`, `# pose_y:` and `# pose_theta:`".to_owned(),
+                    found: "only some of them".to_owned(),
+                });
+            }
+        };
+        let first_line = rows.lines.first().copied().unwrap_or(header_line);
+        let scan = Scan {
+            angle_min,
+            angle_increment: increment,
+            range_min: meta.range_min.unwrap_or(DEFAULT_RANGE_MIN),
+            range_max: meta.range_max.unwrap_or(DEFAULT_RANGE_MAX),
+            ranges: rows.ranges,
+            intensities: (columns == 4).then_some(rows.intensities),
+            stamp: meta.stamp,
+        };
+        scan.validate().map_err(|source| ReadError::InvalidScan {
+            pos: SourcePos::line(&name, header_line),
+            source,
+        })?;
+        Ok(ScanRecord {
+            scan,
+            pose,
+            line: Some(first_line),
+        })
+    }
 
+    /// The comments (into `meta`), the header and the data rows, to the end of the input.
+    fn read_rows(&mut self, meta: &mut Meta) -> Result<Rows, ReadError> {
+        let name = self.name.clone();
+        let mut rows = Rows::default();
         while let Some(item) = self.lines.next_line() {
             let (line, text) = match item? {
                 LineItem::Text(line, text) => (line, text),
@@ -94,23 +134,12 @@ impl CsvSource {
                 continue;
             }
             if let Some(comment) = trimmed.strip_prefix('#') {
-                parse_comment(&name, line, comment, &mut meta)?;
+                parse_comment(&name, line, comment, meta)?;
                 continue;
             }
             let fields: Vec<&str> = trimmed.split(',').map(str::trim).collect();
-            let Some((_, columns)) = header else {
-                let columns = if fields == ["index", "angle_rad", "range_m"] {
-                    3
-                } else if fields == ["index", "angle_rad", "range_m", "intensity"] {
-                    4
-                } else {
-                    return Err(ReadError::Syntax {
-                        pos: SourcePos::line(&name, line),
-                        expected: format!("the header `{HEADER}` (or `{HEADER_WITH_INTENSITY}`)"),
-                        found: shown(trimmed),
-                    });
-                };
-                header = Some((line, columns));
+            let Some((_, columns)) = rows.header else {
+                rows.header = Some((line, header_columns(&name, line, trimmed, &fields)?));
                 continue;
             };
             if fields.len() != columns {
@@ -125,144 +154,156 @@ impl CsvSource {
                     found: format!("{} columns: {}", fields.len(), shown(trimmed)),
                 });
             }
-            let row = angles.len();
-            let field = |field: &str, expected: String, found: &str| ReadError::Field {
-                pos: SourcePos::line(&name, line),
-                field: field.to_owned(),
-                expected,
-                found: shown(found),
-            };
-            match fields[0].parse::<usize>() {
-                Ok(i) if i == row => {}
-                _ => {
-                    return Err(field(
-                        "index",
-                        format!("{row} (rows are numbered from 0 without gaps)"),
-                        fields[0],
-                    ));
-                }
+            let (angle, range, intensity) = parse_row(&name, line, &fields, rows.angles.len())?;
+            if let Some(intensity) = intensity {
+                rows.intensities.push(intensity);
             }
-            let angle = match fields[1].parse::<f64>() {
-                Ok(a) if a.is_finite() => a,
-                _ => {
-                    return Err(field(
-                        "angle_rad",
-                        "a finite angle in radians".to_owned(),
-                        fields[1],
-                    ));
-                }
-            };
-            let range = if fields[2].is_empty() {
-                f64::NAN
-            } else {
-                fields[2].parse::<f64>().map_err(|_| {
-                    field(
-                        "range_m",
-                        "a range in metres, or empty or `nan` for no return".to_owned(),
-                        fields[2],
-                    )
-                })?
-            };
-            if columns == 4 {
-                let intensity = if fields[3].is_empty() {
-                    f64::NAN
-                } else {
-                    fields[3].parse::<f64>().map_err(|_| {
-                        field(
-                            "intensity",
-                            "a number, or empty or `nan`".to_owned(),
-                            fields[3],
-                        )
-                    })?
-                };
-                intensities.push(intensity);
-            }
-            angles.push(angle);
-            ranges.push(range);
-            row_lines.push(line);
+            rows.angles.push(angle);
+            rows.ranges.push(range);
+            rows.lines.push(line);
         }
+        Ok(rows)
+    }
+}
 
-        let Some((header_line, columns)) = header else {
-            return Err(ReadError::Syntax {
-                pos: SourcePos::line(&name, self.lines.line_number() + 1),
-                expected: format!("the header `{HEADER}`"),
-                found: "the end of the input".to_owned(),
-            });
-        };
-        let n = angles.len();
-        let end_line = self.lines.line_number() + 1;
-        // Geometry given in the comments (as the writer writes it) is used exactly, and the
-        // rows are checked against it; otherwise it comes from the first and last rows.
-        let angle_min = meta.angle_min.or_else(|| angles.first().copied());
-        let increment = meta
-            .angle_increment
-            .or_else(|| (n >= 2).then(|| (angles[n - 1] - angles[0]) / (n - 1) as f64));
-        let (Some(angle_min), Some(increment)) = (angle_min, increment) else {
-            return Err(ReadError::Syntax {
-                pos: SourcePos::line(&name, end_line),
-                expected: "at least 2 data rows (to derive angle_increment), or the comments \
-                           `# angle_min:` and `# angle_increment:`"
-                    .to_owned(),
-                found: format!(
-                    "{n} row{} and then the end of the input",
-                    if n == 1 { "" } else { "s" }
-                ),
-            });
-        };
-        if !increment.is_finite() || increment == 0.0 {
-            let line = row_lines.last().copied().unwrap_or(end_line);
-            return Err(ReadError::Field {
-                pos: SourcePos::line(&name, line),
-                field: "angle_rad".to_owned(),
-                expected: "angles that change from row to row".to_owned(),
-                found: format!("an angle increment of {increment} rad"),
-            });
-        }
-        let tolerance = ANGLE_TOLERANCE * increment.abs();
-        for (i, (&a, &line)) in angles.iter().zip(&row_lines).enumerate() {
-            let want = angle_min + i as f64 * increment;
-            if (a - want).abs().is_nan() || (a - want).abs() > tolerance {
-                return Err(ReadError::Field {
-                    pos: SourcePos::line(&name, line),
-                    field: "angle_rad".to_owned(),
-                    expected: format!(
-                        "uniform angles: {want} (= {angle_min} + {i} * {increment}) within \
-                         {tolerance}"
-                    ),
-                    found: format!("{a}"),
-                });
-            }
-        }
-        let pose = match meta.pose {
-            [None, None, None] => None,
-            [Some(x), Some(y), Some(theta)] => Some(Pose2::new(x, y, theta)),
-            _ => {
-                return Err(ReadError::Syntax {
-                    pos: SourcePos::line(&name, meta.pose_line),
-                    expected: "all of `# pose_x:`, `# pose_y:` and `# pose_theta:`".to_owned(),
-                    found: "only some of them".to_owned(),
-                });
-            }
-        };
-        let scan = Scan {
-            angle_min,
-            angle_increment: increment,
-            range_min: meta.range_min.unwrap_or(DEFAULT_RANGE_MIN),
-            range_max: meta.range_max.unwrap_or(DEFAULT_RANGE_MAX),
-            ranges,
-            intensities: (columns == 4).then_some(intensities),
-            stamp: meta.stamp,
-        };
-        scan.validate().map_err(|source| ReadError::InvalidScan {
-            pos: SourcePos::line(&name, header_line),
-            source,
-        })?;
-        Ok(ScanRecord {
-            scan,
-            pose,
-            line: Some(row_lines.first().copied().unwrap_or(header_line)),
+/// What the rows of a CSV scan hold.
+#[derive(Debug, Default)]
+struct Rows {
+    /// The header's line and its number of columns (3, or 4 with intensities).
+    header: Option<(usize, usize)>,
+    angles: Vec<f64>,
+    ranges: Vec<f64>,
+    intensities: Vec<f64>,
+    /// The line of each row.
+    lines: Vec<usize>,
+}
+
+/// The number of columns the header names.
+fn header_columns(
+    name: &str,
+    line: usize,
+    trimmed: &str,
+    fields: &[&str],
+) -> Result<usize, ReadError> {
+    if fields == ["index", "angle_rad", "range_m"] {
+        Ok(3)
+    } else if fields == ["index", "angle_rad", "range_m", "intensity"] {
+        Ok(4)
+    } else {
+        Err(ReadError::Syntax {
+            pos: SourcePos::line(name, line),
+            expected: format!("the header `{HEADER}` (or `{HEADER_WITH_INTENSITY}`)"),
+            found: shown(trimmed),
         })
     }
+}
+
+/// The angle, range and (with 4 columns) intensity of data row number `row`.
+fn parse_row(
+    name: &str,
+    line: usize,
+    fields: &[&str],
+    row: usize,
+) -> Result<(f64, f64, Option<f64>), ReadError> {
+    let field = |field: &str, expected: String, found: &str| ReadError::Field {
+        pos: SourcePos::line(name, line),
+        field: field.to_owned(),
+        expected,
+        found: shown(found),
+    };
+    match fields[0].parse::<usize>() {
+        Ok(i) if i == row => {}
+        _ => {
+            return Err(field(
+                "index",
+                format!("{row} (rows are numbered from 0 without gaps)"),
+                fields[0],
+            ));
+        }
+    }
+    let angle = match fields[1].parse::<f64>() {
+        Ok(a) if a.is_finite() => a,
+        _ => {
+            return Err(field(
+                "angle_rad",
+                "a finite angle in radians".to_owned(),
+                fields[1],
+            ));
+        }
+    };
+    let number = |i: usize, what: &str, expected: &str| {
+        if fields[i].is_empty() {
+            Ok(f64::NAN)
+        } else {
+            fields[i]
+                .parse::<f64>()
+                .map_err(|_| field(what, expected.to_owned(), fields[i]))
+        }
+    };
+    let range = number(
+        2,
+        "range_m",
+        "a range in metres, or empty or `nan` for no return",
+    )?;
+    let intensity = if fields.len() == 4 {
+        Some(number(3, "intensity", "a number, or empty or `nan`")?)
+    } else {
+        None
+    };
+    Ok((angle, range, intensity))
+}
+
+/// The scan's first angle and increment: from the comments (as the writer writes them),
+/// else from the first and last rows; every row's angle checked against them.
+fn geometry(
+    name: &str,
+    meta: &Meta,
+    rows: &Rows,
+    end_line: usize,
+) -> Result<(f64, f64), ReadError> {
+    let angles = &rows.angles;
+    let n = angles.len();
+    let angle_min = meta.angle_min.or_else(|| angles.first().copied());
+    let increment = meta
+        .angle_increment
+        .or_else(|| (n >= 2).then(|| (angles[n - 1] - angles[0]) / (n - 1) as f64));
+    let (Some(angle_min), Some(increment)) = (angle_min, increment) else {
+        return Err(ReadError::Syntax {
+            pos: SourcePos::line(name, end_line),
+            expected: "at least 2 data rows (to derive angle_increment), or the comments \
+                       `# angle_min:` and `# angle_increment:`"
+                .to_owned(),
+            found: format!(
+                "{n} row{} and then the end of the input",
+                if n == 1 { "" } else { "s" }
+            ),
+        });
+    };
+    if !increment.is_finite() || increment == 0.0 {
+        let line = rows.lines.last().copied().unwrap_or(end_line);
+        return Err(ReadError::Field {
+            pos: SourcePos::line(name, line),
+            field: "angle_rad".to_owned(),
+            expected: "angles that change from row to row".to_owned(),
+            found: format!("an angle increment of {increment} rad"),
+        });
+    }
+    let tolerance = ANGLE_TOLERANCE * increment.abs();
+    for (i, (&a, &line)) in angles.iter().zip(&rows.lines).enumerate() {
+        let want = angle_min + i as f64 * increment;
+        if (a - want).abs().is_nan() || (a - want).abs() > tolerance {
+            return Err(ReadError::Field {
+                pos: SourcePos::line(name, line),
+                field: "angle_rad".to_owned(),
+                expected: format!(
+                    "uniform angles: {want} (= {angle_min} + {i} * {increment}) within \
+                     {tolerance}"
+                ),
+                found: format!("{a}"),
+            });
+        }
+    }
+    Ok((angle_min, increment))
 }
 
 fn parse_comment(name: &str, line: usize, comment: &str, meta: &mut Meta) -> Result<(), ReadError> {

@@ -55,9 +55,13 @@ pub mod error;
 pub mod format;
 pub mod json;
 pub mod lines;
+pub mod params;
 pub mod reader;
 pub mod record;
+pub mod ros;
 pub mod skip;
+pub mod trajectory;
+mod wire;
 pub mod writer;
 
 pub use breezy::WheelOdometry;
@@ -69,5 +73,7 @@ pub use reader::{
     from_reader_with, open, open_input, open_with,
 };
 pub use record::{Pose2, ScanRecord};
+pub use ros::LaserScanMsg;
 pub use skip::SkipCounts;
+pub use wire::DecodeError;
 pub use writer::{LinesWriter, Output, ScanWriter, encode_unnumbered};

@@ -2,8 +2,10 @@
 //!
 //! Navigation as on the NAJI V rescue robot (section III of the paper): the lines extracted
 //! from each scan describe the robot's surroundings in three sectors, and a wall-following
-//! explorer drives through a maze-like rescue arena on them. Everything runs in the
-//! simulator of `laserlines-sim` and is scored against its ground truth.
+//! explorer drives through a maze-like rescue arena on them. It depends on the core crate
+//! alone: it reads what a real robot has (each scan, its lines, the wheel odometry) and
+//! describes the robot with [`laserlines::robot::RobotDescription`]. The closed loop in the
+//! simulator, scored against ground truth, is `laserlines-harness`.
 //!
 //! - [`sectors`]: the three sectors (left 70 deg, front 100 deg, right 70 deg) and the
 //!   "biggest and nearest" object in each, with its distance, width and angle;
@@ -12,38 +14,37 @@
 //! - [`map`]: the robot's own map (free / occupied / unknown, and wall lines for scan
 //!   matching) and the scan matching that corrects its odometry;
 //! - [`planner`]: the nearest frontier on that map and the path there;
-//! - [`coverage`]: the ground-truth coverage grid (0.1 m cells, reachable area by flood fill);
-//! - [`run()`]: one simulated run returning [`Metrics`] and what the pictures need.
+//! - [`raster`]: scan-line filling of a scan's fan, shared by the map and the ground-truth
+//!   coverage of `laserlines-harness`.
 //!
 //! Units are SI (metres, radians, seconds); frames follow REP 103 (x forward, y left, angles
 //! counter-clockwise) and are named in variables (`world_from_robot`, `odom_from_robot`,
 //! `map_from_robot`).
 //!
 //! ```
-//! use laserlines_nav::{RunConfig, run};
-//! use laserlines_sim::maze::{MazeParams, generate};
-//! let maze = generate(&MazeParams { cols: 4, rows: 4, ..MazeParams::default() }, 1);
-//! let config = RunConfig { duration_s: 60.0, seed: 1, ..RunConfig::default() };
-//! let record = run(&maze.world, maze.start, &config).unwrap();
-//! assert_eq!(record.metrics.collisions, 0);
-//! assert!(record.metrics.coverage > 0.3);
+//! use laserlines::math::{Isometry2, Matrix2, Point2};
+//! use laserlines::Line;
+//! use laserlines_nav::{Sector, SectorParams, select_objects};
+//! // A wall 1 m to the left of the laser, seen from x = -1 m to 1 m.
+//! let wall = Line {
+//!     start: Point2::new(-1.0, 1.0), end: Point2::new(1.0, 1.0), r: 1.0,
+//!     alpha: std::f64::consts::FRAC_PI_2, first: 0, last: 10, points: 11, rms: 0.0,
+//!     covariance: Matrix2::zeros(),
+//! };
+//! let objects = select_objects(&[wall], &Isometry2::identity(), &SectorParams::default());
+//! assert!((objects.get(Sector::Left).unwrap().distance_m - 1.0).abs() < 1e-12);
 //! ```
 
-pub mod arenas;
-pub mod coverage;
 pub mod explorer;
 pub mod map;
 pub mod planner;
-mod raster;
-pub mod run;
+pub mod raster;
 pub mod sectors;
 
-pub use coverage::{COVERAGE_CELL, CoverageGrid};
-pub use explorer::{Decision, Explorer, ExplorerParams, Mode, WallSide};
+pub use explorer::{
+    Decision, Explorer, ExplorerParams, FollowParams, LoopParams, MapParams, Mode, SafetyParams,
+    TravelParams, WallSide,
+};
 pub use map::{CellState, MatchParams, MatchPoint, RobotMap};
 pub use planner::{Plan, Planner, PlannerParams};
-pub use run::{
-    Metrics, RunConfig, RunError, RunObserver, RunRecord, ScanFrame, Snapshot, StopReason, run,
-    run_observed, run_with_progress,
-};
 pub use sectors::{Sector, SectorObject, SectorObjects, SectorParams, select_objects};

@@ -35,6 +35,11 @@ use crate::raster::floor_i64;
 
 /// Settings of the planner. Distances in metres.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct PlannerParams {
     /// Least clearance of a passable cell, m. Default 0.3.
     pub clearance_m: f64,
@@ -169,10 +174,20 @@ impl Planner {
         keep: Option<(Point2, f64)>,
         params: &PlannerParams,
     ) -> Option<Plan> {
+        let win = self.load_window(map)?;
+        self.chamfer_clearance(&win);
+        self.count_unknowns(&win);
+        let start = win.cell_of(map, from)?;
+        self.step_factors(map, &win, start, params);
+        let goal = self.search(map, &win, start, avoid, avoid_radius, keep, params)?;
+        self.path_to(map, &win, start, goal)
+    }
+
+    /// The window of the knowledge grid around the scanned box (and 3 cells), with its
+    /// cells' states; `None` for an empty map.
+    fn load_window(&mut self, map: &RobotMap) -> Option<Window> {
         let grid = map.knowledge();
         let (lo, hi) = map.extent()?;
-        let cell = grid.cell;
-        // The window: the scanned box and a margin of 3 cells, within the grid.
         let (u0, v0) = grid.to_cells(lo);
         let (u1, v1) = grid.to_cells(hi);
         let clamp = |x: f64, n: usize| floor_i64(x).clamp(0, n as i64 - 1) as usize;
@@ -181,27 +196,35 @@ impl Planner {
         }
         let (i0, j0) = (clamp(u0 - 3.0, grid.cols), clamp(v0 - 3.0, grid.rows));
         let (i1, j1) = (clamp(u1 + 3.0, grid.cols), clamp(v1 + 3.0, grid.rows));
-        let (w, h) = (i1 - i0 + 1, j1 - j0 + 1);
-        self.window = (i0, j0, w, h);
-        let n = w * h;
-        let at = |i: usize, j: usize| (j0 + j) * grid.cols + i0 + i;
+        let win = Window {
+            i0,
+            j0,
+            w: i1 - i0 + 1,
+            h: j1 - j0 + 1,
+            cols: grid.cols,
+            cell: grid.cell,
+        };
+        self.window = (i0, j0, win.w, win.h);
         // The window's states, row by row (no division per lookup later).
         self.state.clear();
-        self.state.reserve(n);
-        for j in 0..h {
-            let row = at(0, j);
+        self.state.reserve(win.w * win.h);
+        for j in 0..win.h {
+            let row = win.grid_index(0, j);
             self.state
-                .extend((row..row + w).map(|c| map.state_at(c) as u8));
+                .extend((row..row + win.w).map(|c| map.state_at(c) as u8));
         }
-        let state = &self.state;
-        const UNKNOWN: u8 = CellState::Unknown as u8;
-        const FREE: u8 = CellState::Free as u8;
-        const OCCUPIED: u8 = CellState::Occupied as u8;
+        Some(win)
+    }
 
-        // Clearance: chamfer distance transform from the occupied cells.
+    /// Clearance: chamfer distance transform from the occupied cells, two passes.
+    fn chamfer_clearance(&mut self, win: &Window) {
+        let (w, h) = (win.w, win.h);
         self.clearance.clear();
-        self.clearance
-            .extend(state.iter().map(|&s| if s == OCCUPIED { 0 } else { FAR }));
+        self.clearance.extend(
+            self.state
+                .iter()
+                .map(|&s| if s == OCCUPIED { 0 } else { FAR }),
+        );
         let d = &mut self.clearance;
         let relax = |d: &mut Vec<u16>, k: usize, other: usize, weight: u32| {
             let via = u32::from(d[other]) + weight;
@@ -243,60 +266,57 @@ impl Planner {
                 }
             }
         }
+    }
 
-        // Unknown cells in the 5 x 5 around each cell (outside the window counts as
-        // unknown), by a summed-area table of (w + 1) x (h + 1).
-        let (sw, sh) = (w + 1, h + 1);
+    /// The summed-area table of the unknown cells, `(w + 1) x (h + 1)`.
+    fn count_unknowns(&mut self, win: &Window) {
+        let (w, h, sw) = (win.w, win.h, win.w + 1);
         self.summed.clear();
-        self.summed.resize(sw * sh, 0);
+        self.summed.resize(sw * (h + 1), 0);
         for j in 0..h {
             let mut row_sum = 0_u32;
             for i in 0..w {
-                row_sum += u32::from(state[j * w + i] == UNKNOWN);
+                row_sum += u32::from(self.state[j * w + i] == UNKNOWN);
                 self.summed[(j + 1) * sw + i + 1] = self.summed[j * sw + i + 1] + row_sum;
             }
         }
-        let summed = &self.summed;
-        let unknown_around = |k: usize| {
-            let (i, j) = ((k % w) as i64, (k / w) as i64);
-            let (x0, x1) = (
-                (i - 2).max(0) as usize,
-                ((i + 2).min(w as i64 - 1)) as usize,
-            );
-            let (y0, y1) = (
-                (j - 2).max(0) as usize,
-                ((j + 2).min(h as i64 - 1)) as usize,
-            );
-            let inside = summed[(y1 + 1) * sw + x1 + 1] + summed[y0 * sw + x0]
-                - summed[y0 * sw + x1 + 1]
-                - summed[(y1 + 1) * sw + x0];
-            let outside = 25 - ((x1 - x0 + 1) * (y1 - y0 + 1)) as u32;
-            (inside + outside) as usize
-        };
+    }
 
-        // The start cell.
-        let (us, vs) = grid.to_cells(from);
-        if !(us.is_finite() && vs.is_finite()) {
-            return None;
-        }
-        let (si, sj) = (
-            floor_i64(us).saturating_sub(i0 as i64),
-            floor_i64(vs).saturating_sub(j0 as i64),
+    /// Unknown cells in the 5 x 5 around cell `k` of the window (outside the window counts
+    /// as unknown).
+    fn unknown_around(&self, win: &Window, k: usize) -> usize {
+        let (w, h, sw) = (win.w, win.h, win.w + 1);
+        let summed = &self.summed;
+        let (i, j) = ((k % w) as i64, (k / w) as i64);
+        let (x0, x1) = (
+            (i - 2).max(0) as usize,
+            ((i + 2).min(w as i64 - 1)) as usize,
         );
-        if !(si >= 0 && sj >= 0 && (si as usize) < w && (sj as usize) < h) {
-            return None;
-        }
-        let start = sj as usize * w + si as usize;
-        let units = |m: f64| (m / cell * f64::from(STRAIGHT)).round().max(0.0) as u32;
+        let (y0, y1) = (
+            (j - 2).max(0) as usize,
+            ((j + 2).min(h as i64 - 1)) as usize,
+        );
+        let inside = summed[(y1 + 1) * sw + x1 + 1] + summed[y0 * sw + x0]
+            - summed[y0 * sw + x1 + 1]
+            - summed[(y1 + 1) * sw + x0];
+        let outside = 25 - ((x1 - x0 + 1) * (y1 - y0 + 1)) as u32;
+        (inside + outside) as usize
+    }
+
+    /// Per cell: `u32::MAX` when not passable, else the cost factor of a step onto it (10
+    /// per unit of step length, more where the clearance is small). Near the start the
+    /// escape clearance will do; blocked spots are closed, but never around the start.
+    fn step_factors(&mut self, map: &RobotMap, win: &Window, start: usize, params: &PlannerParams) {
+        let (w, h, cell) = (win.w, win.h, win.cell);
+        let (si, sj) = ((start % w) as i64, (start / w) as i64);
+        let units = |m: f64| to_units(m, cell);
         let need = units(params.clearance_m);
         let need_near = units(params.escape_clearance_m);
         let prefer = units(params.preferred_clearance_m).max(1);
         let near_start2 = (params.escape_radius_m / cell) * (params.escape_radius_m / cell);
-        // Per cell: u32::MAX when not passable, else the cost factor of a step onto it
-        // (10 per unit of step length, more where the clearance is small).
         self.factor.clear();
         self.factor
-            .extend(self.clearance.iter().zip(state).map(|(&c, &s)| {
+            .extend(self.clearance.iter().zip(&self.state).map(|(&c, &s)| {
                 let c = u32::from(c);
                 if s != FREE || c < need_near {
                     return u32::MAX;
@@ -323,38 +343,56 @@ impl Planner {
                 *f = u32::MAX;
             }
         }
-        // The blocked spots, but never around the robot itself.
-        if !self.blocked.is_empty() && self.blocked_radius > 0.0 {
-            let r = self.blocked_radius / cell;
-            for b in &self.blocked {
-                let (bu, bv) = grid.to_cells(*b);
-                let (bi, bj) = (
-                    floor_i64(bu).saturating_sub(i0 as i64),
-                    floor_i64(bv).saturating_sub(j0 as i64),
-                );
-                for k in disc_cells((bi, bj), r, (w, h)) {
-                    let (x, y) = ((k % w) as i64, (k / w) as i64);
-                    let (di, dj) = ((x - bi) as f64, (y - bj) as f64);
-                    let (ds, dt) = ((x - si) as f64, (y - sj) as f64);
-                    if di * di + dj * dj <= r * r && ds * ds + dt * dt > r * r {
-                        self.factor[k] = u32::MAX;
-                    }
+        self.close_blocked(map, win, (si, sj));
+        let worst = (10.0 * (1.0 + params.clearance_cost.max(0.0))).min(MAX_FACTOR) as u32;
+        self.factor[start] = self.factor[start].min(worst);
+    }
+
+    /// Closes the cells within the blocked radius of each blocked spot, but never those
+    /// within it of the start cell `(si, sj)`.
+    fn close_blocked(&mut self, map: &RobotMap, win: &Window, (si, sj): (i64, i64)) {
+        if self.blocked.is_empty() || self.blocked_radius <= 0.0 {
+            return;
+        }
+        let grid = map.knowledge();
+        let r = self.blocked_radius / win.cell;
+        for b in &self.blocked {
+            let (bu, bv) = grid.to_cells(*b);
+            let (bi, bj) = (
+                floor_i64(bu).saturating_sub(win.i0 as i64),
+                floor_i64(bv).saturating_sub(win.j0 as i64),
+            );
+            for k in disc_cells((bi, bj), r, (win.w, win.h)) {
+                let (x, y) = ((k % win.w) as i64, (k / win.w) as i64);
+                let (di, dj) = ((x - bi) as f64, (y - bj) as f64);
+                let (ds, dt) = ((x - si) as f64, (y - sj) as f64);
+                if di * di + dj * dj <= r * r && ds * ds + dt * dt > r * r {
+                    self.factor[k] = u32::MAX;
                 }
             }
         }
-        let worst = (10.0 * (1.0 + params.clearance_cost.max(0.0))).min(MAX_FACTOR) as u32;
-        self.factor[start] = self.factor[start].min(worst);
-        let factor = &self.factor;
-        let is_frontier =
-            |k: usize| factor[k] != u32::MAX && unknown_around(k) >= params.min_unknown;
+    }
+
+    /// Dijkstra from `start` to the nearest frontier not avoided and within range (or to the
+    /// kept goal, within the hysteresis); the goal cell.
+    #[allow(clippy::too_many_arguments)]
+    fn search(
+        &mut self,
+        map: &RobotMap,
+        win: &Window,
+        start: usize,
+        avoid: &[Point2],
+        avoid_radius: f64,
+        keep: Option<(Point2, f64)>,
+        params: &PlannerParams,
+    ) -> Option<usize> {
+        let n = win.w * win.h;
+        let centre = |k: usize| win.centre(map, k);
         let avoided = |p: Point2| {
             avoid
                 .iter()
                 .any(|a| (a - p).norm_squared() < avoid_radius * avoid_radius)
         };
-        let centre = |k: usize| grid.centre(at(k % w, k / w));
-
-        // Dijkstra from the start.
         self.cost.clear();
         self.cost.resize(n, u32::MAX);
         self.parent.clear();
@@ -363,9 +401,7 @@ impl Planner {
         self.cost[start] = 0;
         self.heap.push(Reverse((0, start as u32)));
         let mut nearest: Option<(u32, usize)> = None;
-        let keep_cost_limit = keep.map(|(_, m)| units(m) * 10);
-        let mut kept: Option<usize> = None;
-        let wi = w as i64;
+        let keep_cost_limit = keep.map(|(_, m)| to_units(m, win.cell) * 10);
         while let Some(Reverse((c, k))) = self.heap.pop() {
             let k = k as usize;
             if c > self.cost[k] {
@@ -378,8 +414,10 @@ impl Planner {
                     _ => break,
                 }
             }
+            let frontier =
+                self.factor[k] != u32::MAX && self.unknown_around(win, k) >= params.min_unknown;
             if k != start
-                && is_frontier(k)
+                && frontier
                 && !avoided(centre(k))
                 && centre(k).coords.norm() <= params.max_range_m
             {
@@ -389,201 +427,121 @@ impl Planner {
                 if let Some((goal, _)) = keep
                     && (centre(k) - goal).norm() <= 0.3
                 {
-                    kept = Some(k);
-                    break;
+                    return Some(k);
                 }
                 if keep.is_none() {
                     break;
                 }
             }
-            let (i, j) = ((k % w) as i64, (k / w) as i64);
-            for (di, dj, weight) in [
-                (-1_i64, 0_i64, STRAIGHT),
-                (1, 0, STRAIGHT),
-                (0, -1, STRAIGHT),
-                (0, 1, STRAIGHT),
-                (-1, -1, DIAGONAL),
-                (1, -1, DIAGONAL),
-                (-1, 1, DIAGONAL),
-                (1, 1, DIAGONAL),
-            ] {
-                let (x, y) = (i + di, j + dj);
-                if x < 0 || y < 0 || x >= wi || y >= h as i64 {
-                    continue;
-                }
-                let m = (y * wi + x) as usize;
-                let f = factor[m];
-                if f == u32::MAX {
-                    continue;
-                }
-                let via = c.saturating_add((weight * f).max(1));
-                if via < self.cost[m] {
-                    self.cost[m] = via;
-                    self.parent[m] = k as u32;
-                    self.heap.push(Reverse((via, m as u32)));
-                }
+            self.relax_neighbours(win, k, c);
+        }
+        nearest.map(|(_, k)| k)
+    }
+
+    /// Dijkstra's step from cell `k` at cost `c` to its 8 neighbours.
+    fn relax_neighbours(&mut self, win: &Window, k: usize, c: u32) {
+        let (wi, hi) = (win.w as i64, win.h as i64);
+        let (i, j) = ((k % win.w) as i64, (k / win.w) as i64);
+        for (di, dj, weight) in [
+            (-1_i64, 0_i64, STRAIGHT),
+            (1, 0, STRAIGHT),
+            (0, -1, STRAIGHT),
+            (0, 1, STRAIGHT),
+            (-1, -1, DIAGONAL),
+            (1, -1, DIAGONAL),
+            (-1, 1, DIAGONAL),
+            (1, 1, DIAGONAL),
+        ] {
+            let (x, y) = (i + di, j + dj);
+            if x < 0 || y < 0 || x >= wi || y >= hi {
+                continue;
+            }
+            let m = (y * wi + x) as usize;
+            let f = self.factor[m];
+            if f == u32::MAX {
+                continue;
+            }
+            let via = c.saturating_add((weight * f).max(1));
+            if via < self.cost[m] {
+                self.cost[m] = via;
+                self.parent[m] = k as u32;
+                self.heap.push(Reverse((via, m as u32)));
             }
         }
-        let goal = kept.or(nearest.map(|(_, k)| k))?;
+    }
+
+    /// The plan from `start` to `goal` along the search's parents.
+    fn path_to(&self, map: &RobotMap, win: &Window, start: usize, goal: usize) -> Option<Plan> {
         let mut path = Vec::new();
         let mut k = goal;
-        path.push(centre(k));
+        path.push(win.centre(map, k));
         while k != start {
             let p = self.parent[k];
             if p == u32::MAX {
                 return None;
             }
             k = p as usize;
-            path.push(centre(k));
+            path.push(win.centre(map, k));
         }
         path.reverse();
         let length_m = path.windows(2).map(|s| (s[1] - s[0]).norm()).sum();
         Some(Plan {
-            goal: centre(goal),
+            goal: win.centre(map, goal),
             path,
             length_m,
         })
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use laserlines::math::{Isometry2, Vector2};
-    use laserlines_sim::{LaserModel, Rng, World, simulate};
+/// The window of the knowledge grid a plan runs over.
+#[derive(Debug, Clone, Copy)]
+struct Window {
+    /// First column and row in the grid.
+    i0: usize,
+    j0: usize,
+    /// Size in cells.
+    w: usize,
+    h: usize,
+    /// The grid's columns.
+    cols: usize,
+    /// The grid's cell side, m.
+    cell: f64,
+}
 
-    /// A 1.2 m corridor from x = -0.6 to 6, closed at the start, open at the far end,
-    /// with a side corridor at x = 3 going up.
-    fn corridor() -> World {
-        let mut w = World::new();
-        w.add_segment(Point2::new(-0.6, -0.6), Point2::new(-0.6, 0.6));
-        w.add_segment(Point2::new(-0.6, -0.6), Point2::new(6.0, -0.6));
-        w.add_segment(Point2::new(-0.6, 0.6), Point2::new(2.4, 0.6));
-        w.add_segment(Point2::new(3.6, 0.6), Point2::new(6.0, 0.6));
-        w.add_segment(Point2::new(2.4, 0.6), Point2::new(2.4, 4.0));
-        w.add_segment(Point2::new(3.6, 0.6), Point2::new(3.6, 4.0));
-        w
+impl Window {
+    /// The grid index of the window's cell `(i, j)`.
+    fn grid_index(&self, i: usize, j: usize) -> usize {
+        (self.j0 + j) * self.cols + self.i0 + i
     }
 
-    #[test]
-    fn the_nearest_frontier_and_a_path_through_the_middle() {
-        let map = corridor_map(&corridor());
-        let mut planner = Planner::new();
-        let params = PlannerParams::default();
-        let from = Point2::new(1.0, 0.0);
-        let plan = planner
-            .nearest_frontier(&map, from, &[], 0.5, None, &params)
-            .unwrap();
-        // The frontier is ahead, about 2.5 m from the laser's last position, in the
-        // corridor (the side corridor's mouth or straight on).
-        assert!(plan.goal.x > 2.4 && plan.goal.x < 4.2, "{plan:?}");
-        assert!(plan.path.len() > 10);
-        assert!((plan.path[0] - from).norm() < 0.1);
-        // The path keeps to the middle.
-        for p in &plan.path {
-            assert!(p.y.abs() < 0.35 || p.x > 2.5, "{p:?}");
+    /// The centre of the window's cell `k`, map frame.
+    fn centre(&self, map: &RobotMap, k: usize) -> Point2 {
+        map.knowledge()
+            .centre(self.grid_index(k % self.w, k / self.w))
+    }
+
+    /// The window's cell holding `p`, if any.
+    fn cell_of(&self, map: &RobotMap, p: Point2) -> Option<usize> {
+        let (u, v) = map.knowledge().to_cells(p);
+        if !(u.is_finite() && v.is_finite()) {
+            return None;
         }
-        // Avoiding that frontier, another one (or none).
-        if let Some(other) = planner.nearest_frontier(&map, from, &[plan.goal], 1.0, None, &params)
-        {
-            assert!((other.goal - plan.goal).norm() > 1.0);
+        let (si, sj) = (
+            floor_i64(u).saturating_sub(self.i0 as i64),
+            floor_i64(v).saturating_sub(self.j0 as i64),
+        );
+        if !(si >= 0 && sj >= 0 && (si as usize) < self.w && (sj as usize) < self.h) {
+            return None;
         }
-        // Keeping a goal a little farther than the nearest one.
-        let far = planner
-            .nearest_frontier(&map, from, &[plan.goal], 0.2, None, &params)
-            .unwrap();
-        let kept = planner
-            .nearest_frontier(&map, from, &[], 0.5, Some((far.goal, 5.0)), &params)
-            .unwrap();
-        assert!((kept.goal - far.goal).norm() <= 0.3, "{kept:?} vs {far:?}");
-        // Nothing is planned from outside the map, nor in an empty map.
-        assert!(
-            planner
-                .nearest_frontier(&map, Point2::new(50.0, 0.0), &[], 0.5, None, &params)
-                .is_none()
-        );
-        assert!(
-            planner
-                .nearest_frontier(&RobotMap::new(), from, &[], 0.5, None, &params)
-                .is_none()
-        );
-    }
-
-    /// The corridor's map seen from its closed end, as the robot would have it.
-    fn corridor_map(world: &World) -> RobotMap {
-        let mut rng = Rng::new(3);
-        let mut map = RobotMap::new();
-        let model = LaserModel {
-            range_max: 2.5,
-            ..LaserModel::urg04lx()
-        };
-        for (x, yaw) in [
-            (0.0, std::f64::consts::PI),
-            (0.0, 0.0),
-            (0.5, 0.0),
-            (1.0, 0.0),
-        ] {
-            let pose = Isometry2::new(Vector2::new(x, 0.0), yaw);
-            map.insert_scan(&pose, &simulate(world, pose, &model, &mut rng).scan);
-        }
-        map
-    }
-
-    #[test]
-    fn blocked_spots_close_the_way_but_never_around_the_robot() {
-        let map = corridor_map(&corridor());
-        let mut planner = Planner::new();
-        let params = PlannerParams::default();
-        let from = Point2::new(1.0, 0.0);
-        assert!(
-            planner
-                .nearest_frontier(&map, from, &[], 0.5, None, &params)
-                .is_some()
-        );
-        // The corridor closed at x = 1.8 (it is 1.2 m wide: a 0.6 m radius closes it):
-        // no frontier lies behind the robot, so none is left.
-        planner.set_blocked(&[Point2::new(1.8, 0.0)], 0.6);
-        assert!(
-            planner
-                .nearest_frontier(&map, from, &[], 0.5, None, &params)
-                .is_none()
-        );
-        // A spot on the robot itself does not shut it in.
-        planner.set_blocked(&[from], 0.3);
-        let plan = planner
-            .nearest_frontier(&map, from, &[], 0.5, None, &params)
-            .unwrap();
-        assert!(plan.goal.x > 2.4, "{plan:?}");
-        // Opened again.
-        planner.set_blocked(&[], 0.0);
-        assert!(
-            planner
-                .nearest_frontier(&map, from, &[], 0.5, None, &params)
-                .is_some()
-        );
-    }
-
-    #[test]
-    fn a_gap_too_narrow_for_the_usual_clearance_is_open_to_the_tight_one() {
-        // The corridor with a post in its middle at x = 1.8: gaps of 0.6 - 0.03 = 0.57 m
-        // on either side, passable at the explorer's tight clearance (0.2 m) but not at
-        // 0.3 m (the map's occupied cells stand up to half a cell into the gap on either
-        // side, so that the gap is about 0.47 m on the map).
-        let mut world = corridor();
-        world.add_disc(Point2::new(1.8, 0.0), 0.03);
-        let map = corridor_map(&world);
-        let mut planner = Planner::new();
-        let from = Point2::new(0.6, 0.0);
-        let usual = PlannerParams::default();
-        let tight = PlannerParams {
-            clearance_m: 0.2,
-            ..usual
-        };
-        let found = planner.nearest_frontier(&map, from, &[], 0.5, None, &usual);
-        assert!(found.as_ref().is_none_or(|p| p.goal.x < 1.8), "{found:?}");
-        let plan = planner
-            .nearest_frontier(&map, from, &[], 0.5, None, &tight)
-            .unwrap();
-        assert!(plan.goal.x > 1.8, "{plan:?}");
+        Some(sj as usize * self.w + si as usize)
     }
 }
+
+/// A distance in chamfer units (5 per cell of side `cell`).
+fn to_units(m: f64, cell: f64) -> u32 {
+    (m / cell * f64::from(STRAIGHT)).round().max(0.0) as u32
+}
+
+const UNKNOWN: u8 = CellState::Unknown as u8;
+const FREE: u8 = CellState::Free as u8;
+const OCCUPIED: u8 = CellState::Occupied as u8;

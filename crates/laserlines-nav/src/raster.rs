@@ -1,24 +1,25 @@
 //! Scan-line filling of a scan's fan: the cells whose centre lies inside a polygon.
 //!
-//! Shared by the ground-truth coverage grid and the robot's own map: a scan sweeps the fan
-//! from the laser through the end points of consecutive beams; its cells are found row by
-//! row from the polygon's crossings of the rows' centre lines, in time proportional to the
-//! polygon's edges plus the cells filled (where walking every beam through the grid costs
-//! its length in cells, beam after beam over the same cells near the laser).
+//! Shared by the robot's own map and the ground-truth coverage grid of `laserlines-harness`:
+//! a scan sweeps the fan from the laser through the end points of consecutive beams; its
+//! cells are found row by row from the polygon's crossings of the rows' centre lines, in
+//! time proportional to the polygon's edges plus the cells filled (where walking every beam
+//! through the grid costs its length in cells, beam after beam over the same cells near the
+//! laser).
 
 pub(crate) use laserlines::math::{ceil_i64, floor_i64};
 
 /// The unit directions of a scan's beams in the laser frame, kept while the scan's
 /// geometry stays the same: a loop over the beams then needs no chain of rotations.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub(crate) struct BeamTable {
+pub struct BeamTable {
     key: (u64, u64, usize),
     dirs: Vec<laserlines::math::Vector2>,
 }
 
 impl BeamTable {
     /// The directions of `n` beams from `angle_min` by `increment` (rad).
-    pub(crate) fn get(
+    pub fn get(
         &mut self,
         angle_min: f64,
         increment: f64,
@@ -39,7 +40,7 @@ impl BeamTable {
 
 /// Reusable scratch for [`FanRaster::fill`].
 #[derive(Debug, Clone, Default, PartialEq)]
-pub(crate) struct FanRaster {
+pub struct FanRaster {
     /// The polygon's crossings of the rows' centre lines, `(row - first row, x)`.
     crossings: Vec<(u32, f32)>,
     /// Where each row's crossings start in `xs` (a counting sort by row).
@@ -55,7 +56,7 @@ impl FanRaster {
     /// centre `(i + 0.5, j + 0.5)` lies inside the closed polygon `poly` (cell units,
     /// even-odd rule); `first..=last` are column indices of row `row`. Runs of one row come
     /// in increasing column order and never overlap.
-    pub(crate) fn fill(
+    pub fn fill(
         &mut self,
         poly: &[(f64, f64)],
         cols: usize,
@@ -79,50 +80,12 @@ impl FanRaster {
         if j0 > j1 {
             return;
         }
-        let crossings = &mut self.crossings;
-        crossings.clear();
-        let mut prev = poly[poly.len() - 1];
-        for &cur in poly {
-            let ((xa, ya), (xb, yb)) = (prev, cur);
-            prev = cur;
-            if ya == yb {
-                continue;
-            }
-            let (lo, hi) = if ya < yb { (ya, yb) } else { (yb, ya) };
-            // Half-open in y, so that a vertex on a centre line counts once.
-            let first = ceil_i64(lo - 0.5).max(j0);
-            let last = ceil_i64(hi - 0.5).saturating_sub(1).min(j1);
-            let slope = (xb - xa) / (yb - ya);
-            for j in first..=last {
-                let yc = j as f64 + 0.5;
-                crossings.push(((j - j0) as u32, (xa + (yc - ya) * slope) as f32));
-            }
-        }
-        // Counting sort by row, then each row's few crossings by x.
+        self.cross_rows(poly, j0, j1);
         let span = (j1 - j0 + 1) as usize;
-        let starts = &mut self.starts;
-        starts.clear();
-        starts.resize(span + 1, 0);
-        for &(row, _) in crossings.iter() {
-            starts[row as usize + 1] += 1;
-        }
-        for k in 0..span {
-            starts[k + 1] += starts[k];
-        }
-        let xs = &mut self.xs;
-        xs.clear();
-        xs.resize(crossings.len(), 0.0);
-        let next = &mut self.next;
-        next.clear();
-        next.extend_from_slice(&starts[..span]);
-        for &(row, x) in crossings.iter() {
-            let slot = &mut next[row as usize];
-            xs[*slot as usize] = x;
-            *slot += 1;
-        }
+        self.sort_by_row(span);
         let cols = cols as i64;
         for row in 0..span {
-            let run = &mut xs[starts[row] as usize..starts[row + 1] as usize];
+            let run = &mut self.xs[self.starts[row] as usize..self.starts[row + 1] as usize];
             // Insertion sort: a row of a fan has a handful of crossings.
             for k in 1..run.len() {
                 let mut m = k;
@@ -143,6 +106,54 @@ impl FanRaster {
                     span_fn((j0 + row as i64) as usize, i0 as usize, i1 as usize);
                 }
             }
+        }
+    }
+
+    /// The polygon's crossings of the centre lines of rows `j0..=j1`, as `(row - j0, x)`.
+    fn cross_rows(&mut self, poly: &[(f64, f64)], j0: i64, j1: i64) {
+        let crossings = &mut self.crossings;
+        crossings.clear();
+        let mut prev = poly[poly.len() - 1];
+        for &cur in poly {
+            let ((xa, ya), (xb, yb)) = (prev, cur);
+            prev = cur;
+            if ya == yb {
+                continue;
+            }
+            let (lo, hi) = if ya < yb { (ya, yb) } else { (yb, ya) };
+            // Half-open in y, so that a vertex on a centre line counts once.
+            let first = ceil_i64(lo - 0.5).max(j0);
+            let last = ceil_i64(hi - 0.5).saturating_sub(1).min(j1);
+            let slope = (xb - xa) / (yb - ya);
+            for j in first..=last {
+                let yc = j as f64 + 0.5;
+                crossings.push(((j - j0) as u32, (xa + (yc - ya) * slope) as f32));
+            }
+        }
+    }
+
+    /// The crossings' x row by row into `xs` (a counting sort over `span` rows; row `r`'s
+    /// are `xs[starts[r]..starts[r + 1]]`).
+    fn sort_by_row(&mut self, span: usize) {
+        let starts = &mut self.starts;
+        starts.clear();
+        starts.resize(span + 1, 0);
+        for &(row, _) in &self.crossings {
+            starts[row as usize + 1] += 1;
+        }
+        for k in 0..span {
+            starts[k + 1] += starts[k];
+        }
+        let xs = &mut self.xs;
+        xs.clear();
+        xs.resize(self.crossings.len(), 0.0);
+        let next = &mut self.next;
+        next.clear();
+        next.extend_from_slice(&starts[..span]);
+        for &(row, x) in &self.crossings {
+            let slot = &mut next[row as usize];
+            xs[*slot as usize] = x;
+            *slot += 1;
         }
     }
 }

@@ -29,7 +29,8 @@
 //! to the line that comes first.
 
 use laserlines::Line;
-use laserlines::math::{Isometry2, Point2, Vector2};
+pub use laserlines::geometry::{clip_to_wedge, nearest_on_segment};
+use laserlines::math::{Isometry2, Point2};
 
 /// One of the paper's three sectors.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -93,6 +94,11 @@ impl Sector {
 
 /// Parameters of the selection.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct SectorParams {
     /// Clipped pieces shorter than this are not objects, m. Default 0.05 m.
     pub min_width: f64,
@@ -147,62 +153,6 @@ impl SectorObjects {
     }
 }
 
-/// The part of the segment `a`-`b` (robot frame) whose bearing from the origin lies in
-/// `from..=to` (rad, counter-clockwise, `to - from` in `(0, pi)`), as `(start, end)` with
-/// `start` the clockwise end; `None` when no part does or the input is degenerate.
-#[must_use]
-pub fn clip_to_wedge(a: Point2, b: Point2, from: f64, to: f64) -> Option<(Point2, Point2)> {
-    if !(a.x.is_finite() && a.y.is_finite() && b.x.is_finite() && b.y.is_finite()) {
-        return None;
-    }
-    let span = to - from;
-    if !(span > 0.0 && span < std::f64::consts::PI) {
-        return None;
-    }
-    // The wedge is the intersection of two half-planes through the origin:
-    // cross(d_from, p) >= 0 and cross(p, d_to) >= 0.
-    let d_from = Vector2::new(from.cos(), from.sin());
-    let d_to = Vector2::new(to.cos(), to.sin());
-    let cross = |u: Vector2, v: Vector2| u.x * v.y - u.y * v.x;
-    let e = b - a;
-    let mut t0: f64 = 0.0;
-    let mut t1: f64 = 1.0;
-    // Each constraint f(t) = f0 + t * df >= 0.
-    for (f0, df) in [
-        (cross(d_from, a.coords), cross(d_from, e)),
-        (cross(a.coords, d_to), cross(e, d_to)),
-    ] {
-        if df == 0.0 {
-            if f0 < 0.0 {
-                return None;
-            }
-        } else {
-            let t = -f0 / df;
-            if df > 0.0 {
-                t0 = t0.max(t);
-            } else {
-                t1 = t1.min(t);
-            }
-        }
-    }
-    if t0 > t1 {
-        return None;
-    }
-    let p0 = a + e * t0;
-    let p1 = a + e * t1;
-    // Both half-planes also hold for points behind the origin only when the wedge is wider
-    // than pi, which it is not; but a piece through the origin itself has no bearing.
-    if p0.coords.norm() == 0.0 && p1.coords.norm() == 0.0 {
-        return None;
-    }
-    // Order by bearing: start is the clockwise end.
-    if cross(p0.coords, p1.coords) >= 0.0 {
-        Some((p0, p1))
-    } else {
-        Some((p1, p0))
-    }
-}
-
 /// Direction of the line through `a` and `b`, rad, in `(-pi/2, pi/2]`.
 #[must_use]
 pub fn line_direction(a: Point2, b: Point2) -> f64 {
@@ -247,18 +197,6 @@ pub fn describe(
         angle_rad: line_direction(a, b),
         score,
     })
-}
-
-/// The point of the segment `a`-`b` nearest to `p`.
-#[must_use]
-pub fn nearest_on_segment(p: Point2, a: Point2, b: Point2) -> Point2 {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    if len2 <= 0.0 {
-        return a;
-    }
-    let t = ((p - a).dot(&ab) / len2).clamp(0.0, 1.0);
-    a + ab * t
 }
 
 /// True when `x` should replace the current best `y`.

@@ -127,22 +127,8 @@ impl Canvas {
     /// The SVG document.
     #[must_use]
     pub fn to_svg(&self) -> String {
-        let cols = self.columns.min(self.panels.len()).max(1);
-        let rows = self.panels.len().div_ceil(cols);
-        // Per column: left margin, plot width, right margin; per row: top, plot height, bottom.
-        let mut col = vec![[0.0_f64; 3]; cols];
-        let mut row = vec![[0.0_f64; 3]; rows];
-        for (i, p) in self.panels.iter().enumerate() {
-            let [l, r, t, b] = p.margins();
-            let [w, h] = p.plot_size();
-            let c = &mut col[i % cols];
-            *c = [c[0].max(l), c[1].max(w), c[2].max(r)];
-            let rr = &mut row[i / cols];
-            *rr = [rr[0].max(t), rr[1].max(h), rr[2].max(b)];
-        }
-        let grid_w: f64 =
-            col.iter().map(|c| c[0] + c[1] + c[2]).sum::<f64>() + GAP * (cols as f64 - 1.0);
-        let width = (2.0 * PAD + grid_w).max(360.0);
+        let grid = self.grid();
+        let width = (2.0 * PAD + grid.width).max(360.0);
         let title_lines = match &self.title {
             Some(t) => wrap(t, TITLE_FONT, true, width - 2.0 * PAD),
             None => Vec::new(),
@@ -153,19 +139,58 @@ impl Canvas {
             title_lines.len() as f64 * (TITLE_FONT + 5.0) + 6.0
         };
         let grid_top = PAD + title_h;
-        let grid_h: f64 =
-            row.iter().map(|r| r[0] + r[1] + r[2]).sum::<f64>() + GAP * (rows as f64 - 1.0);
-        let grid_h = if self.panels.is_empty() { 0.0 } else { grid_h };
         let legend = self.layout_legend(width - 2.0 * PAD - 20.0);
-        let legend_top = grid_top + grid_h + if self.panels.is_empty() { 0.0 } else { 8.0 };
+        let legend_top = grid_top + grid.height + if self.panels.is_empty() { 0.0 } else { 8.0 };
         let legend_h = if legend.is_empty() {
             0.0
         } else {
             legend.len() as f64 * LEGEND_ROW + 12.0
         };
         let height = (legend_top + legend_h + PAD).max(2.0 * PAD + title_h + 40.0);
-
         let mut w = SvgWriter::new();
+        self.write_head(&mut w, [width, height], &title_lines);
+        let x0 = PAD + 0.5 * (width - 2.0 * PAD - grid.width);
+        for (i, p) in self.panels.iter().enumerate() {
+            p.write(&mut w, grid.origin(i, [x0, grid_top]), i);
+        }
+        if !legend.is_empty() {
+            self.write_legend(&mut w, &legend, [PAD, legend_top], width - 2.0 * PAD);
+        }
+        let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
+        out.push_str(&w.finish());
+        out
+    }
+
+    /// The grid of panels: per column the largest left margin, plot width and right
+    /// margin, per row the largest top margin, plot height and bottom margin.
+    fn grid(&self) -> Grid {
+        let cols = self.columns.min(self.panels.len()).max(1);
+        let rows = self.panels.len().div_ceil(cols);
+        let mut col = vec![[0.0_f64; 3]; cols];
+        let mut row = vec![[0.0_f64; 3]; rows];
+        for (i, p) in self.panels.iter().enumerate() {
+            let [l, r, t, b] = p.margins();
+            let [w, h] = p.plot_size();
+            let c = &mut col[i % cols];
+            *c = [c[0].max(l), c[1].max(w), c[2].max(r)];
+            let rr = &mut row[i / cols];
+            *rr = [rr[0].max(t), rr[1].max(h), rr[2].max(b)];
+        }
+        let width: f64 =
+            col.iter().map(|c| c[0] + c[1] + c[2]).sum::<f64>() + GAP * (cols as f64 - 1.0);
+        let height: f64 =
+            row.iter().map(|r| r[0] + r[1] + r[2]).sum::<f64>() + GAP * (rows as f64 - 1.0);
+        let height = if self.panels.is_empty() { 0.0 } else { height };
+        Grid {
+            col,
+            row,
+            width,
+            height,
+        }
+    }
+
+    /// The `<svg>` element, the background and the figure's title.
+    fn write_head(&self, w: &mut SvgWriter, [width, height]: [f64; 2], title_lines: &[String]) {
         w.open(
             "svg",
             Attrs::new()
@@ -193,7 +218,7 @@ impl Canvas {
         );
         for (i, line) in title_lines.iter().enumerate() {
             write_text(
-                &mut w,
+                w,
                 [
                     0.5 * width,
                     PAD + TITLE_FONT + i as f64 * (TITLE_FONT + 5.0),
@@ -205,29 +230,6 @@ impl Canvas {
                     .with_class("figure-title"),
             );
         }
-        let x0 = PAD + 0.5 * (width - 2.0 * PAD - grid_w);
-        for (i, p) in self.panels.iter().enumerate() {
-            let (c, r) = (i % cols, i / cols);
-            let x = x0
-                + col[..c]
-                    .iter()
-                    .map(|c| c[0] + c[1] + c[2] + GAP)
-                    .sum::<f64>()
-                + col[c][0];
-            let y = grid_top
-                + row[..r]
-                    .iter()
-                    .map(|r| r[0] + r[1] + r[2] + GAP)
-                    .sum::<f64>()
-                + row[r][0];
-            p.write(&mut w, [x, y], i);
-        }
-        if !legend.is_empty() {
-            self.write_legend(&mut w, &legend, [PAD, legend_top], width - 2.0 * PAD);
-        }
-        let mut out = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
-        out.push_str(&w.finish());
-        out
     }
 
     /// Flows the legend entries into rows no wider than `max_w`: row -> [(entry, x offset)].
@@ -282,6 +284,35 @@ impl Canvas {
             }
         }
         w.close();
+    }
+}
+
+/// The layout of a canvas's panels (see `Canvas::grid`).
+struct Grid {
+    col: Vec<[f64; 3]>,
+    row: Vec<[f64; 3]>,
+    width: f64,
+    height: f64,
+}
+
+impl Grid {
+    /// Where panel `i`'s plot starts, for the grid at `[x0, top]`.
+    fn origin(&self, i: usize, [x0, top]: [f64; 2]) -> [f64; 2] {
+        let cols = self.col.len();
+        let (c, r) = (i % cols, i / cols);
+        let x = x0
+            + self.col[..c]
+                .iter()
+                .map(|c| c[0] + c[1] + c[2] + GAP)
+                .sum::<f64>()
+            + self.col[c][0];
+        let y = top
+            + self.row[..r]
+                .iter()
+                .map(|r| r[0] + r[1] + r[2] + GAP)
+                .sum::<f64>()
+            + self.row[r][0];
+        [x, y]
     }
 }
 

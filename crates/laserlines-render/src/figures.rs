@@ -170,23 +170,46 @@ pub fn render_hough_split(
     lines: &[Line],
     opts: &RenderOptions,
 ) -> String {
-    let stages = hs.stages();
     let raw = scan.points(scan.range_window(None));
     let raw_pts = points_of(&raw);
-    let used_points = stages.points();
-    let used = &used_points[..];
     let view = view_for(opts, &raw_pts);
     let pw = plot_width(opts.width, 2);
     let mut canvas = Canvas::new(2);
     canvas.set_title(opts.title.clone().unwrap_or_else(|| {
         format!(
-            "Hough-split line extraction of one scan ({} beams, {} valid)",
+            "Hough-split line extraction of one scan ({} beams, {} valid; noise {}{})",
             scan.len(),
-            raw.len()
+            raw.len(),
+            hs.stages().noise(),
+            if hs.stages().noise_estimated() {
+                ", estimated"
+            } else {
+                ""
+            }
         )
     }));
+    let (a, unused) = raw_panel(scan, hs, &raw, view, pw);
+    canvas.add_panel(a);
+    let (b, values, rejected) = net_panel(scan, hs, view, pw);
+    canvas.add_panel(b);
+    let (c, removed) = grouping_panel(scan, hs, view, pw);
+    canvas.add_panel(c);
+    canvas.add_panel(lines_panel(lines, &raw_pts, view, pw));
+    hough_legend(&mut canvas, hs, values, unused, rejected, removed);
+    canvas.to_svg()
+}
 
-    // (a) The raw scan.
+/// (a) The raw scan: the points the extractor used and those it did not (out of the
+/// range limits); whether there were any of the latter.
+fn raw_panel(
+    scan: &Scan,
+    hs: &HoughSplit,
+    raw: &[ScanPoint],
+    view: Extent,
+    pw: f64,
+) -> (Panel, bool) {
+    let used_points = hs.stages().points();
+    let used = &used_points[..];
     let mut a = Panel::map(view, pw);
     a.set_title(format!(
         "(a) raw scan: {} of {}",
@@ -215,9 +238,13 @@ pub fn render_hough_split(
     if raw.is_empty() {
         a.note("no valid points");
     }
-    canvas.add_panel(a);
+    (a, !outside.is_empty())
+}
 
-    // (b) The spider net.
+/// (b) The spider net: the accumulator's cells as tangent lines, kept ones coloured by
+/// value; the range of the kept values, and whether any cell was rejected.
+fn net_panel(scan: &Scan, hs: &HoughSplit, view: Extent, pw: f64) -> (Panel, (f64, f64), bool) {
+    let stages = hs.stages();
     let mut b = Panel::map(view, pw);
     let cells = stages.cells();
     let mut kept: Vec<_> = cells.iter().filter(|c| c.kept).collect();
@@ -228,8 +255,7 @@ pub fn render_hough_split(
         plural(cells.len(), "cell", "cells"),
         cell_value_text(criterion, hs.params().weight)
     ));
-    let step = hs.params().sector_step;
-    let half = 0.5 * step;
+    let half = 0.5 * hs.params().sector_step;
     let tangent = |ring: u32, sector: u32| {
         let d = stages.ring_distance(ring);
         let gamma = stages.sector_angle(scan, sector);
@@ -264,9 +290,16 @@ pub fn render_hough_split(
             "no cell above the criterion"
         });
     }
-    canvas.add_panel(b);
+    (b, (vmin, vmax), cells.len() > kept.len())
+}
 
-    // (c) Grouping and segmentation.
+/// (c) Grouping and segmentation: radius groups, each data segment's points and chord,
+/// the removed points; whether any point was removed.
+fn grouping_panel(scan: &Scan, hs: &HoughSplit, view: Extent, pw: f64) -> (Panel, bool) {
+    let stages = hs.stages();
+    let used_points = stages.points();
+    let used = &used_points[..];
+    let half = 0.5 * hs.params().sector_step;
     let mut c = Panel::map(view, pw);
     let groups = stages.radius_groups();
     let segments: Vec<_> = stages.segments().collect();
@@ -323,9 +356,11 @@ pub fn render_hough_split(
     if segments.is_empty() {
         c.note("no data segment");
     }
-    canvas.add_panel(c);
+    (c, !removed_pts.is_empty())
+}
 
-    // (d) The extracted lines.
+/// (d) The extracted lines over the faint valid points.
+fn lines_panel(lines: &[Line], raw_pts: &[Point2], view: Extent, pw: f64) -> Panel {
     let mut d = Panel::map(view, pw);
     d.set_title(format!(
         "(d) extracted lines: {} from {}",
@@ -337,7 +372,7 @@ pub fn render_hough_split(
         )
     ));
     d.markers(
-        &raw_pts,
+        raw_pts,
         Marker::Dot,
         2.6,
         &Style::fill(FAINT).with_class("faint-point"),
@@ -347,17 +382,7 @@ pub fn render_hough_split(
     if lines.is_empty() {
         d.note("no lines");
     }
-    canvas.add_panel(d);
-
-    hough_legend(
-        &mut canvas,
-        hs,
-        (vmin, vmax),
-        !outside.is_empty(),
-        cells.len() > kept.len(),
-        !removed_pts.is_empty(),
-    );
-    canvas.to_svg()
+    d
 }
 
 fn hough_legend(

@@ -51,10 +51,12 @@ pub mod arena;
 pub mod index;
 pub mod laser;
 pub mod maze;
+mod noise;
 pub mod rng;
 pub mod robot;
 pub mod scenes;
 pub mod simulation;
+mod sweep;
 pub mod world;
 
 pub use laser::{LaserModel, MAX_BEAMS, ModelError, Noise, URG04LX_INCREMENT};

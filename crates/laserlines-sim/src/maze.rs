@@ -77,6 +77,35 @@ struct Edges {
 }
 
 impl Edges {
+    /// The walls: one 1.2 m segment per closed edge, horizontal edges first, row by row.
+    fn walls(&self) -> World {
+        let g = ARENA_GRID;
+        let mut world = World::new();
+        for j in 0..=self.rows {
+            for i in 0..self.cols {
+                if self.h[j][i] {
+                    let y = g * j as f64;
+                    world.add_segment(
+                        Point2::new(g * i as f64, y),
+                        Point2::new(g * (i + 1) as f64, y),
+                    );
+                }
+            }
+        }
+        for j in 0..self.rows {
+            for i in 0..=self.cols {
+                if self.v[j][i] {
+                    let x = g * i as f64;
+                    world.add_segment(
+                        Point2::new(x, g * j as f64),
+                        Point2::new(x, g * (j + 1) as f64),
+                    );
+                }
+            }
+        }
+        world
+    }
+
     fn full(cols: usize, rows: usize) -> Self {
         Self {
             cols,
@@ -145,8 +174,28 @@ pub fn generate(params: &MazeParams, seed: u64) -> Maze {
     let rows = params.rows.clamp(2, 64);
     let mut rng = Rng::new(seed);
     let mut e = Edges::full(cols, rows);
+    carve_perfect(&mut e, &mut rng);
+    let islands = if params.islands > 0 {
+        open_islands(&mut e, &mut rng, params.islands)
+    } else {
+        0
+    };
+    let mut world = e.walls();
+    add_obstacles(&mut world, &mut rng, params, cols, rows);
+    let g = ARENA_GRID;
+    Maze {
+        world,
+        start: Isometry2::new(Vector2::new(0.5 * g, 0.5 * g), 0.0),
+        cols,
+        rows,
+        islands,
+    }
+}
 
-    // Perfect maze: randomised depth-first search from cell (0, 0).
+/// A perfect maze: randomised depth-first search from cell (0, 0), opening the wall to each
+/// new cell.
+fn carve_perfect(e: &mut Edges, rng: &mut Rng) {
+    let (cols, rows) = (e.cols, e.rows);
     let mut visited = vec![false; cols * rows];
     let mut stack = vec![(0usize, 0usize)];
     visited[0] = true;
@@ -177,78 +226,59 @@ pub fn generate(params: &MazeParams, seed: u64) -> Maze {
         visited[nj * cols + ni] = true;
         stack.push((ni, nj));
     }
+}
 
-    // Islands: remove interior walls in random order until enough exist.
-    let mut islands = 0;
-    if params.islands > 0 {
-        let mut interior: Vec<(bool, usize, usize)> = Vec::new();
-        for j in 1..rows {
-            for i in 0..cols {
-                if e.h[j][i] {
-                    interior.push((true, i, j));
-                }
-            }
-        }
-        for j in 0..rows {
-            for i in 1..cols {
-                if e.v[j][i] {
-                    interior.push((false, i, j));
-                }
-            }
-        }
-        // Fisher-Yates.
-        for k in (1..interior.len()).rev() {
-            interior.swap(k, rng.below(k + 1));
-        }
-        for (horizontal, i, j) in interior {
-            if horizontal {
-                e.h[j][i] = false;
-            } else {
-                e.v[j][i] = false;
-            }
-            let now = e.islands();
-            if now < islands {
-                // Removing this wall dissolved an island: put it back.
-                if horizontal {
-                    e.h[j][i] = true;
-                } else {
-                    e.v[j][i] = true;
-                }
-                continue;
-            }
-            islands = now;
-            if islands >= params.islands {
-                break;
-            }
-        }
-    }
-
-    let g = ARENA_GRID;
-    let mut world = World::new();
-    for j in 0..=rows {
+/// Removes interior walls in random order (a wall whose removal dissolves an island is put
+/// back) until `wanted` islands exist; the islands made.
+fn open_islands(e: &mut Edges, rng: &mut Rng, wanted: usize) -> usize {
+    let (cols, rows) = (e.cols, e.rows);
+    let mut interior: Vec<(bool, usize, usize)> = Vec::new();
+    for j in 1..rows {
         for i in 0..cols {
             if e.h[j][i] {
-                let y = g * j as f64;
-                world.add_segment(
-                    Point2::new(g * i as f64, y),
-                    Point2::new(g * (i + 1) as f64, y),
-                );
+                interior.push((true, i, j));
             }
         }
     }
     for j in 0..rows {
-        for i in 0..=cols {
+        for i in 1..cols {
             if e.v[j][i] {
-                let x = g * i as f64;
-                world.add_segment(
-                    Point2::new(x, g * j as f64),
-                    Point2::new(x, g * (j + 1) as f64),
-                );
+                interior.push((false, i, j));
             }
         }
     }
+    // Fisher-Yates.
+    for k in (1..interior.len()).rev() {
+        interior.swap(k, rng.below(k + 1));
+    }
+    let mut islands = 0;
+    for (horizontal, i, j) in interior {
+        if horizontal {
+            e.h[j][i] = false;
+        } else {
+            e.v[j][i] = false;
+        }
+        let now = e.islands();
+        if now < islands {
+            // Removing this wall dissolved an island: put it back.
+            if horizontal {
+                e.h[j][i] = true;
+            } else {
+                e.v[j][i] = true;
+            }
+            continue;
+        }
+        islands = now;
+        if islands >= wanted {
+            break;
+        }
+    }
+    islands
+}
 
-    // Obstacles: off-centre in random cells (never the start cell), at most one per cell.
+/// Round obstacles off-centre in random cells (never the start cell), at most one per cell.
+fn add_obstacles(world: &mut World, rng: &mut Rng, params: &MazeParams, cols: usize, rows: usize) {
+    let g = ARENA_GRID;
     let (r_lo, r_hi) = params.obstacle_radius;
     let r_lo = if r_lo.is_finite() {
         r_lo.clamp(0.01, 0.15)
@@ -275,17 +305,9 @@ pub fn generate(params: &MazeParams, seed: u64) -> Maze {
         // 0.25..0.3 m off the centre along each axis: the far gap is at least
         // 0.6 + 0.25 - 0.15 = 0.7 m wide.
         let sign = |rng: &mut Rng| if rng.chance(0.5) { 1.0 } else { -1.0 };
-        let ox = sign(&mut rng) * rng.range(0.25, 0.3);
-        let oy = sign(&mut rng) * rng.range(0.25, 0.3);
+        let ox = sign(rng) * rng.range(0.25, 0.3);
+        let oy = sign(rng) * rng.range(0.25, 0.3);
         world.add_disc(centre + Vector2::new(ox, oy), radius);
-    }
-
-    Maze {
-        world,
-        start: Isometry2::new(Vector2::new(0.5 * g, 0.5 * g), 0.0),
-        cols,
-        rows,
-        islands,
     }
 }
 

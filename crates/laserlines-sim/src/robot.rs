@@ -40,10 +40,12 @@
 //! ```
 
 use laserlines::Scan;
-use laserlines::line::distance_to_segment;
-use laserlines::math::{Isometry2, Point2, Vector2, wrap_angle};
+use laserlines::geometry::distance_to_segment;
+use laserlines::math::{Isometry2, Point2, Vector2};
+use laserlines::params::{self, ParamsError};
+pub use laserlines::robot::{DriveLimits, Footprint, RobotDescription, VelocityCommand, arc};
 
-use crate::index::{WorldIndex, segment_touches_box};
+use crate::index::WorldIndex;
 use crate::laser::LaserModel;
 use crate::rng::{Rng, mix_seed};
 use crate::world::{Target, World};
@@ -56,144 +58,17 @@ pub const CLEARANCE_SEARCH: f64 = 0.5;
 /// as a new collision.
 pub const CONTACT_RELEASE: f64 = 0.01;
 
-/// The robot's outline: a rectangle centred on the robot frame's origin, axis-aligned in
-/// that frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Footprint {
-    /// Extent along x (forward), m. Default 0.50.
-    pub length: f64,
-    /// Extent along y (left), m. Default 0.40.
-    pub width: f64,
-}
-
-impl Footprint {
-    /// About the NAJI V rescue robot: 0.50 m long, 0.40 m wide.
-    #[must_use]
-    pub const fn naji_v() -> Self {
-        Self {
-            length: 0.5,
-            width: 0.4,
-        }
-    }
-
-    /// Radius of the circle around the origin that holds the whole footprint, m: the room
-    /// the robot needs to turn on the spot (0.32 m for NAJI V).
-    #[must_use]
-    pub fn circumradius(&self) -> f64 {
-        (0.5 * self.length).hypot(0.5 * self.width)
-    }
-
-    /// Half extents `(length / 2, width / 2)`, m.
-    #[must_use]
-    pub fn half(&self) -> Vector2 {
-        Vector2::new(0.5 * self.length, 0.5 * self.width)
-    }
-
-    /// The corners in the world frame, counter-clockwise starting at the front right.
-    #[must_use]
-    pub fn corners(&self, world_from_robot: &Isometry2) -> [Point2; 4] {
-        let h = self.half();
-        [
-            world_from_robot * Point2::new(h.x, -h.y),
-            world_from_robot * Point2::new(h.x, h.y),
-            world_from_robot * Point2::new(-h.x, h.y),
-            world_from_robot * Point2::new(-h.x, -h.y),
-        ]
-    }
-
-    /// Distance from the footprint at `world_from_robot` to the segment `a`-`b` (world
-    /// frame), m; 0 when they touch or overlap. Exact.
-    #[must_use]
-    pub fn distance_to_segment(&self, world_from_robot: &Isometry2, a: Point2, b: Point2) -> f64 {
-        let robot_from_world = world_from_robot.inverse();
-        self.distance_to_segment_local(robot_from_world * a, robot_from_world * b)
-    }
-
-    /// Like [`Footprint::distance_to_segment`] with the segment in the robot frame.
-    #[must_use]
-    pub fn distance_to_segment_local(&self, a: Point2, b: Point2) -> f64 {
-        let h = self.half();
-        let lo = Point2::new(-h.x, -h.y);
-        let hi = Point2::new(h.x, h.y);
-        if segment_touches_box(a, b, lo, hi) {
-            return 0.0;
-        }
-        // Disjoint convex shapes: the least distance is between a vertex of one and the
-        // other shape.
-        let to_box = |p: Point2| {
-            let dx = (p.x.abs() - h.x).max(0.0);
-            let dy = (p.y.abs() - h.y).max(0.0);
-            (dx * dx + dy * dy).sqrt()
-        };
-        let corners = [lo, Point2::new(h.x, -h.y), hi, Point2::new(-h.x, h.y)];
-        corners
-            .iter()
-            .map(|&c| distance_to_segment(c, a, b))
-            .fold(to_box(a).min(to_box(b)), f64::min)
-    }
-
-    /// Distance from the footprint at `world_from_robot` to a disc (world frame), m; 0 when
-    /// they touch or overlap. Exact.
-    #[must_use]
-    pub fn distance_to_disc(
-        &self,
-        world_from_robot: &Isometry2,
-        centre: Point2,
-        radius: f64,
-    ) -> f64 {
-        let c = world_from_robot.inverse() * centre;
-        (self.distance_to_point_local(c) - radius.max(0.0)).max(0.0)
-    }
-
-    /// Distance from the footprint to a point in the robot frame, m (0 inside).
-    #[must_use]
-    pub fn distance_to_point_local(&self, p: Point2) -> f64 {
-        let h = self.half();
-        let dx = (p.x.abs() - h.x).max(0.0);
-        let dy = (p.y.abs() - h.y).max(0.0);
-        (dx * dx + dy * dy).sqrt()
-    }
-}
-
-impl Default for Footprint {
-    fn default() -> Self {
-        Self::naji_v()
-    }
-}
-
-/// Speed and acceleration limits of the drive.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DriveLimits {
-    /// Top forward speed, m/s. Default 0.6.
-    pub max_speed: f64,
-    /// Top reverse speed, m/s (positive). Default 0.2.
-    pub max_reverse: f64,
-    /// Top turn rate, rad/s. Default 1.5.
-    pub max_turn_rate: f64,
-    /// Largest change of speed, m/s^2. Default 1.0.
-    pub max_accel: f64,
-    /// Largest change of turn rate, rad/s^2. Default 4.0.
-    pub max_angular_accel: f64,
-}
-
-impl Default for DriveLimits {
-    fn default() -> Self {
-        Self {
-            max_speed: 0.6,
-            max_reverse: 0.2,
-            max_turn_rate: 1.5,
-            max_accel: 1.0,
-            max_angular_accel: 4.0,
-        }
-    }
-}
-
 /// Noise of the wheel odometry.
 ///
 /// Each wheel's measured travel over a step is its true travel `d` plus gaussian noise of
 /// standard deviation `wheel_sigma * sqrt(|d|)`: the variance grows linearly with the
 /// distance rolled, whatever the step size.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct OdometryNoise {
     /// Noise of one wheel, m per square root of metre rolled. Default 0.01 (1 cm after 1 m
     /// of travel); 0 gives perfect odometry.
@@ -208,21 +83,25 @@ impl Default for OdometryNoise {
 
 /// Everything about the simulated robot. [`RobotParams::default`] is NAJI V with a
 /// URG-04LX at 10 Hz, physics at 50 Hz.
+///
+/// With the `serde` feature, the simulator's own settings (odometry noise, rates) are the
+/// `[simulator]` table of a params file; the robot's description ([`RobotDescription`]) is
+/// read apart, as `[robot]`, and the laser model is always the URG-04LX.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct RobotParams {
-    /// The outline checked for collisions.
-    pub footprint: Footprint,
-    /// Speed and acceleration limits.
-    pub limits: DriveLimits,
-    /// Distance between the wheels, m. Default 0.36.
-    pub wheel_base: f64,
+    /// The robot: footprint, drive limits, wheel base, the laser's mount.
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub robot: RobotDescription,
     /// Odometry noise.
     pub odometry: OdometryNoise,
     /// The laser (default [`LaserModel::urg04lx`]).
-    pub laser: LaserModel,
-    /// Where the laser sits on the robot. Default 0.15 m ahead of the origin, facing
-    /// forward.
-    pub robot_from_laser: Isometry2,
+    #[cfg_attr(feature = "serde", serde(skip))]
+    pub laser_model: LaserModel,
     /// Time between scans, s. Default 0.1 (the URG-04LX's 10 Hz).
     pub scan_period_s: f64,
     /// The physics time step, s. Default 0.02 (50 Hz).
@@ -232,12 +111,9 @@ pub struct RobotParams {
 impl Default for RobotParams {
     fn default() -> Self {
         Self {
-            footprint: Footprint::naji_v(),
-            limits: DriveLimits::default(),
-            wheel_base: 0.36,
+            robot: RobotDescription::default(),
             odometry: OdometryNoise::default(),
-            laser: LaserModel::urg04lx(),
-            robot_from_laser: Isometry2::new(Vector2::new(0.15, 0.0), 0.0),
+            laser_model: LaserModel::urg04lx(),
             scan_period_s: 0.1,
             physics_dt_s: 0.02,
         }
@@ -262,41 +138,11 @@ pub enum RobotError {
         what: String,
     },
     /// A parameter is out of its domain.
-    #[error("robot parameter {field} = {value} is out of range: {expected}")]
-    BadParameter {
-        /// the field
-        field: &'static str,
-        /// its value
-        value: f64,
-        /// what is allowed
-        expected: &'static str,
-    },
+    #[error("robot parameters: {0}")]
+    Params(#[from] ParamsError),
     /// The start pose is not finite.
     #[error("the start pose is not finite")]
     BadStart,
-}
-
-/// A velocity command: forward speed and turn rate in the robot frame.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct VelocityCommand {
-    /// Forward speed, m/s (negative: reverse).
-    pub linear_m_s: f64,
-    /// Turn rate, rad/s (positive: counter-clockwise, to the left).
-    pub angular_rad_s: f64,
-}
-
-impl VelocityCommand {
-    /// A command.
-    #[must_use]
-    pub const fn new(linear_m_s: f64, angular_rad_s: f64) -> Self {
-        Self {
-            linear_m_s,
-            angular_rad_s,
-        }
-    }
-
-    /// Stop.
-    pub const STOP: Self = Self::new(0.0, 0.0);
 }
 
 /// What one physics step did.
@@ -418,7 +264,7 @@ impl RobotSim {
     /// The true pose of the laser.
     #[must_use]
     pub fn world_from_laser(&self) -> Isometry2 {
-        self.world_from_robot * self.params.robot_from_laser
+        self.world_from_robot * self.params.robot.laser.robot_from_laser()
     }
 
     /// The pose estimated by the wheel odometry, in the odometry frame (the start pose).
@@ -480,7 +326,7 @@ impl RobotSim {
         let world_from_laser = self.world_from_laser();
         self.index.scan_into(
             &world_from_laser,
-            &self.params.laser,
+            &self.params.laser_model,
             &mut self.laser_rng,
             scan,
             true_ranges,
@@ -492,7 +338,7 @@ impl RobotSim {
     /// [`CLEARANCE_SEARCH`]; 0 when touching) and the nearest obstacle within that range.
     #[must_use]
     pub fn clearance_at(&self, world_from_robot: &Isometry2) -> (f64, Option<Target>) {
-        let fp = &self.params.footprint;
+        let fp = &self.params.robot.footprint;
         let c = Point2::from(world_from_robot.translation.vector);
         let reach = fp.circumradius() + CLEARANCE_SEARCH;
         let lo = c - Vector2::new(reach, reach);
@@ -545,7 +391,7 @@ impl RobotSim {
     /// Non-finite commands count as stop.
     pub fn step(&mut self, command: VelocityCommand) -> StepOutcome {
         let dt = self.params.physics_dt_s;
-        let lim = &self.params.limits;
+        let lim = &self.params.robot.limits;
         let finite_or_zero = |v: f64| if v.is_finite() { v } else { 0.0 };
         let v_cmd = finite_or_zero(command.linear_m_s).clamp(-lim.max_reverse, lim.max_speed);
         let w_cmd =
@@ -585,7 +431,7 @@ impl RobotSim {
         self.path_length += ds.abs();
 
         // Odometry: noisy wheel travel, integrated as an arc.
-        let half_base = 0.5 * self.params.wheel_base;
+        let half_base = 0.5 * self.params.robot.wheel_base;
         let left = ds - dtheta * half_base;
         let right = ds + dtheta * half_base;
         let sigma = self.params.odometry.wheel_sigma.max(0.0);
@@ -598,7 +444,7 @@ impl RobotSim {
             (left, right)
         };
         let ds_m = 0.5 * (left_m + right_m);
-        let dtheta_m = (right_m - left_m) / self.params.wheel_base;
+        let dtheta_m = (right_m - left_m) / self.params.robot.wheel_base;
         self.odom_from_robot *= arc(ds_m, dtheta_m);
         StepOutcome {
             blocked: false,
@@ -607,62 +453,33 @@ impl RobotSim {
     }
 }
 
-/// The motion along an arc of length `ds` (m) turning by `dtheta` (rad), in the frame of its
-/// start.
-#[must_use]
-pub fn arc(ds: f64, dtheta: f64) -> Isometry2 {
-    let (dx, dy) = if dtheta.abs() < 1e-9 {
-        (ds, ds * 0.5 * dtheta)
-    } else {
-        let r = ds / dtheta;
-        (r * dtheta.sin(), r * (1.0 - dtheta.cos()))
-    };
-    Isometry2::new(Vector2::new(dx, dy), wrap_angle(dtheta))
-}
-
 impl RobotParams {
-    /// Checks that every length, limit and period is positive and finite.
+    /// Checks the robot's description ([`RobotDescription::validate`]), that the rates are
+    /// positive and finite with the physics step no longer than the scan period, and that
+    /// the odometry noise is finite and not negative.
     ///
     /// # Errors
-    /// [`RobotError::BadParameter`] naming the first field out of range.
+    /// [`RobotError::Params`] naming the first field out of range.
     pub fn validate(&self) -> Result<(), RobotError> {
-        let positive = [
-            ("footprint.length", self.footprint.length),
-            ("footprint.width", self.footprint.width),
-            ("limits.max_speed", self.limits.max_speed),
-            ("limits.max_turn_rate", self.limits.max_turn_rate),
-            ("limits.max_accel", self.limits.max_accel),
-            ("limits.max_angular_accel", self.limits.max_angular_accel),
-            ("wheel_base", self.wheel_base),
-            ("scan_period_s", self.scan_period_s),
-            ("physics_dt_s", self.physics_dt_s),
-        ];
-        for (field, value) in positive {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(RobotError::BadParameter {
-                    field,
-                    value,
-                    expected: "positive and finite",
-                });
-            }
-        }
-        for (field, value) in [
-            ("limits.max_reverse", self.limits.max_reverse),
-            ("odometry.wheel_sigma", self.odometry.wheel_sigma),
-        ] {
-            if !(value.is_finite() && value >= 0.0) {
-                return Err(RobotError::BadParameter {
-                    field,
-                    value,
-                    expected: "finite and >= 0",
-                });
-            }
-        }
+        self.robot.validate()?;
+        Ok(self.validate_simulation()?)
+    }
+
+    /// The checks of [`RobotParams::validate`] but the robot's description's: the rates and
+    /// the odometry noise (the fields of the `[simulator]` table).
+    ///
+    /// # Errors
+    /// A [`ParamsError`] naming the first field out of range.
+    pub fn validate_simulation(&self) -> Result<(), ParamsError> {
+        params::non_negative("odometry.wheel_sigma", self.odometry.wheel_sigma)?;
+        params::positive("scan_period_s", self.scan_period_s)?;
+        params::positive("physics_dt_s", self.physics_dt_s)?;
         if self.physics_dt_s > self.scan_period_s {
-            return Err(RobotError::BadParameter {
+            return Err(ParamsError::AboveField {
                 field: "physics_dt_s",
                 value: self.physics_dt_s,
-                expected: "at most scan_period_s",
+                limit_field: "scan_period_s",
+                limit: self.scan_period_s,
             });
         }
         Ok(())
@@ -675,41 +492,6 @@ mod tests {
 
     fn p(x: f64, y: f64) -> Point2 {
         Point2::new(x, y)
-    }
-
-    #[test]
-    fn footprint_distances_by_hand() {
-        let fp = Footprint::naji_v();
-        let id = Isometry2::identity();
-        // A wall 0.1 m beyond the front face.
-        assert!((fp.distance_to_segment(&id, p(0.35, -1.0), p(0.35, 1.0)) - 0.1).abs() < 1e-12);
-        // A wall crossing the body.
-        assert_eq!(fp.distance_to_segment(&id, p(0.0, -1.0), p(0.0, 1.0)), 0.0);
-        // A wall wholly inside the body.
-        assert_eq!(fp.distance_to_segment(&id, p(0.0, 0.0), p(0.1, 0.1)), 0.0);
-        // A wall end pointing at the front-left corner (0.25, 0.2) from (0.55, 0.6): 0.5 m.
-        assert!((fp.distance_to_segment(&id, p(0.55, 0.6), p(2.0, 2.0)) - 0.5).abs() < 1e-12);
-        // A diagonal wall passing a corner: the line x + y = 1 is (1 - 0.45)/sqrt(2) from
-        // the corner (0.25, 0.2).
-        let d = fp.distance_to_segment(&id, p(1.0, 0.0), p(0.0, 1.0));
-        assert!((d - 0.55 / 2f64.sqrt()).abs() < 1e-12);
-        // Turned by 90 deg, the body spans 0.4 m along x.
-        let turned = Isometry2::new(Vector2::zeros(), std::f64::consts::FRAC_PI_2);
-        assert!((fp.distance_to_segment(&turned, p(0.3, -1.0), p(0.3, 1.0)) - 0.1).abs() < 1e-12);
-        // Discs.
-        assert!((fp.distance_to_disc(&id, p(0.0, 0.5), 0.1) - 0.2).abs() < 1e-12);
-        assert_eq!(fp.distance_to_disc(&id, p(0.3, 0.0), 0.1), 0.0);
-        assert!((fp.distance_to_disc(&id, p(0.55, 0.6), 0.1) - 0.4).abs() < 1e-12);
-        assert!((fp.circumradius() - 0.32015621187164245).abs() < 1e-12);
-    }
-
-    #[test]
-    fn arc_is_exact() {
-        let a = arc(std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2);
-        assert!((a.translation.vector.x - 1.0).abs() < 1e-12);
-        assert!((a.translation.vector.y - 1.0).abs() < 1e-12);
-        let s = arc(1.0, 0.0);
-        assert!((s.translation.vector.x - 1.0).abs() < 1e-12 && s.translation.vector.y == 0.0);
     }
 
     #[test]
@@ -772,11 +554,20 @@ mod tests {
         };
         assert!(matches!(
             RobotSim::new(&world, Isometry2::identity(), bad, 1),
-            Err(RobotError::BadParameter {
+            Err(RobotError::Params(ParamsError::NotPositive {
                 field: "physics_dt_s",
                 ..
-            })
+            }))
         ));
+        let slow = RobotParams {
+            physics_dt_s: 0.2,
+            ..RobotParams::default()
+        };
+        let e = RobotSim::new(&world, Isometry2::identity(), slow, 1).unwrap_err();
+        assert!(
+            e.to_string().contains("physics_dt_s must be at most 0.1"),
+            "{e}"
+        );
         let nan = Isometry2::new(Vector2::new(f64::NAN, 0.0), 0.0);
         assert_eq!(
             RobotSim::new(&world, nan, RobotParams::default(), 1).unwrap_err(),

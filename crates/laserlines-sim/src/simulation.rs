@@ -129,30 +129,13 @@ pub fn simulate(
     model: &LaserModel,
     rng: &mut Rng,
 ) -> SimScan {
-    let n = model.beams.min(MAX_BEAMS);
-    let origin = Point2::from(world_from_laser.translation.vector);
-    let yaw = world_from_laser.rotation.angle();
-    let laser_from_world = world_from_laser.inverse();
     let range_max = if model.range_max.is_nan() {
         -1.0
     } else {
         model.range_max
     };
-
-    let mut truth_ranges = vec![f64::NAN; n];
-    let mut beam_target = vec![None; n];
-    let mut no_hit = vec![false; n];
-    for i in 0..n {
-        match world.cast(origin, yaw + model.angle(i), range_max) {
-            Some(hit) if hit.range >= model.range_min && hit.range > 0.0 => {
-                truth_ranges[i] = hit.range;
-                beam_target[i] = Some(hit.target);
-            }
-            Some(_) => {}
-            None => no_hit[i] = true,
-        }
-    }
-
+    let (truth_ranges, beam_target, no_hit) =
+        cast_beams(world, &world_from_laser, model, range_max);
     // Noise.
     let mut ranges = truth_ranges.clone();
     for r in &mut ranges {
@@ -163,28 +146,9 @@ pub fn simulate(
             }
         }
     }
-
-    // Mixed pixels at depth edges.
-    let mut mixed = vec![false; n];
-    if model.mixed_pixels > 0.0 {
-        for i in 1..n {
-            let (ra, rb) = (truth_ranges[i - 1], truth_ranges[i]);
-            let edge = ra.is_finite()
-                && rb.is_finite()
-                && beam_target[i - 1] != beam_target[i]
-                && (ra - rb).abs() > MIXED_PIXEL_MIN_JUMP;
-            if !edge || mixed[i - 1] || !rng.chance(model.mixed_pixels) {
-                continue;
-            }
-            let j = if rng.chance(0.5) { i - 1 } else { i };
-            let (near, far) = if ra < rb { (ra, rb) } else { (rb, ra) };
-            ranges[j] = near + (far - near) * rng.range(0.05, 0.95);
-            mixed[j] = true;
-        }
-    }
-
+    let mixed = mixed_pixels(model, rng, &truth_ranges, &beam_target, &mut ranges);
     // Dropouts.
-    let mut dropped = vec![false; n];
+    let mut dropped = vec![false; ranges.len()];
     if model.dropout > 0.0 {
         for (i, r) in ranges.iter_mut().enumerate() {
             if r.is_finite() && rng.chance(model.dropout) {
@@ -193,7 +157,6 @@ pub fn simulate(
             }
         }
     }
-
     // Rounding, the measurable window, and beams without a hit.
     let step = model.round_to.filter(|q| q.is_finite() && *q > 0.0);
     for (i, r) in ranges.iter_mut().enumerate() {
@@ -208,7 +171,7 @@ pub fn simulate(
             *r = model.range_max;
         }
     }
-
+    let laser_from_world = world_from_laser.inverse();
     let pieces = visible_pieces(world, &laser_from_world, model, &beam_target, &truth_ranges);
     let truth = Truth {
         beam_target,
@@ -227,6 +190,62 @@ pub fn simulate(
         stamp: None,
     };
     SimScan { scan, truth }
+}
+
+/// The noise-free range of every beam (NaN for none), what it hit, and whether it hit
+/// nothing within `range_max` (an obstacle nearer than `range_min` is a hit, with no range).
+fn cast_beams(
+    world: &World,
+    world_from_laser: &Isometry2,
+    model: &LaserModel,
+    range_max: f64,
+) -> (Vec<f64>, Vec<Option<Target>>, Vec<bool>) {
+    let n = model.beams.min(MAX_BEAMS);
+    let origin = Point2::from(world_from_laser.translation.vector);
+    let yaw = world_from_laser.rotation.angle();
+    let mut truth_ranges = vec![f64::NAN; n];
+    let mut beam_target = vec![None; n];
+    let mut no_hit = vec![false; n];
+    for i in 0..n {
+        match world.cast(origin, yaw + model.angle(i), range_max) {
+            Some(hit) if hit.range >= model.range_min && hit.range > 0.0 => {
+                truth_ranges[i] = hit.range;
+                beam_target[i] = Some(hit.target);
+            }
+            Some(_) => {}
+            None => no_hit[i] = true,
+        }
+    }
+    (truth_ranges, beam_target, no_hit)
+}
+
+/// Mixed pixels at depth edges (see [`LaserModel::mixed_pixels`]); which beams became one.
+fn mixed_pixels(
+    model: &LaserModel,
+    rng: &mut Rng,
+    truth_ranges: &[f64],
+    beam_target: &[Option<Target>],
+    ranges: &mut [f64],
+) -> Vec<bool> {
+    let n = truth_ranges.len();
+    let mut mixed = vec![false; n];
+    if model.mixed_pixels > 0.0 {
+        for i in 1..n {
+            let (ra, rb) = (truth_ranges[i - 1], truth_ranges[i]);
+            let edge = ra.is_finite()
+                && rb.is_finite()
+                && beam_target[i - 1] != beam_target[i]
+                && (ra - rb).abs() > MIXED_PIXEL_MIN_JUMP;
+            if !edge || mixed[i - 1] || !rng.chance(model.mixed_pixels) {
+                continue;
+            }
+            let j = if rng.chance(0.5) { i - 1 } else { i };
+            let (near, far) = if ra < rb { (ra, rb) } else { (rb, ra) };
+            ranges[j] = near + (far - near) * rng.range(0.05, 0.95);
+            mixed[j] = true;
+        }
+    }
+    mixed
 }
 
 /// The maximal runs of consecutive beams on one wall.

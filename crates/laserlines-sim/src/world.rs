@@ -6,14 +6,9 @@
 
 use std::ops::Range;
 
-use laserlines::line::distance_to_segment;
+use laserlines::geometry::{circle_ray_hit, distance_to_segment, segment_ray_hit_prepared};
 use laserlines::math::{Isometry2, Point2, Vector2, wrap_angle};
 
-/// Parameters of a hit closer than this behind the origin (m) still count, at range 0, so
-/// that an origin lying on a wall is not lost to rounding.
-const BEHIND_TOLERANCE: f64 = 1e-9;
-/// Relative tolerance on the segment parameter at the ends of a wall.
-const END_TOLERANCE: f64 = 1e-12;
 /// Hits closer to each other than this (m) are a tie, won by the earlier obstacle.
 const TIE_TOLERANCE: f64 = 1e-12;
 
@@ -61,7 +56,7 @@ impl Wall {
         if !(len > 0.0 && len.is_finite()) {
             return None;
         }
-        segment_ray_hit(self.a, self.b, e, len, origin, dir)
+        segment_ray_hit_prepared(self.a, self.b, e, len, origin, dir)
     }
 }
 
@@ -104,80 +99,6 @@ impl Disc {
     fn ray_hit(&self, origin: Point2, dir: Vector2) -> Option<f64> {
         circle_ray_hit(self.centre, self.radius, origin, dir)
     }
-}
-
-/// The ray parameter at which the ray from `origin` along unit `dir` meets the segment
-/// `a`-`b` of direction `e = b - a` and length `len` (positive and finite), if it does: the
-/// conventions of [`World::cast`] (0 for an origin on the segment; a ray along the segment's
-/// own line meets it at its nearer end).
-#[inline]
-pub(crate) fn segment_ray_hit(
-    a: Point2,
-    b: Point2,
-    e: Vector2,
-    len: f64,
-    origin: Point2,
-    dir: Vector2,
-) -> Option<f64> {
-    let ao = a - origin;
-    let denom = cross(dir, e);
-    if denom.abs() <= 1e-12 * len {
-        // Parallel. Only a ray running along the wall's own line meets it, at the nearer
-        // end (or at 0 when the origin is on the wall).
-        let offset = cross(dir, ao).abs();
-        if offset > 1e-9 * (1.0 + ao.norm()) {
-            return None;
-        }
-        let ta = ao.dot(&dir);
-        let tb = (b - origin).dot(&dir);
-        let (near, far) = if ta <= tb { (ta, tb) } else { (tb, ta) };
-        if far < -BEHIND_TOLERANCE {
-            return None;
-        }
-        return Some(near.max(0.0));
-    }
-    let t = cross(ao, e) / denom;
-    let s = cross(ao, dir) / denom;
-    if t >= -BEHIND_TOLERANCE && (-END_TOLERANCE..=1.0 + END_TOLERANCE).contains(&s) {
-        Some(t.max(0.0))
-    } else {
-        None
-    }
-}
-
-/// The ray parameter at which the ray from `origin` along unit `dir` meets the circle of
-/// `radius` around `centre`, if it does (0 from inside or on the rim).
-pub(crate) fn circle_ray_hit(
-    centre: Point2,
-    radius: f64,
-    origin: Point2,
-    dir: Vector2,
-) -> Option<f64> {
-    let r = radius;
-    if !(r > 0.0 && r.is_finite()) {
-        return None;
-    }
-    let f = origin - centre;
-    let c = f.norm_squared() - r * r;
-    if !c.is_finite() {
-        return None;
-    }
-    if c <= 0.0 {
-        // The origin is inside the disc or on its rim.
-        return Some(0.0);
-    }
-    let b = f.dot(&dir);
-    if b >= 0.0 {
-        return None;
-    }
-    let perp = cross(f, dir);
-    let disc = r * r - perp * perp;
-    if disc < 0.0 {
-        return None;
-    }
-    // The nearer root -b - sqrt(disc), computed as c / (-b + sqrt(disc)) so that it stays
-    // accurate when the origin is close to the rim.
-    Some(c / (-b + disc.sqrt()))
 }
 
 /// What a ray hit: an index into [`World::walls`] or [`World::discs`].
@@ -359,11 +280,6 @@ pub fn box_corners(centre: Point2, size_x: f64, size_y: f64, yaw: f64) -> [Point
         centre + ux + uy,
         centre - ux + uy,
     ]
-}
-
-/// The z component of the cross product of two planar vectors.
-fn cross(u: Vector2, v: Vector2) -> f64 {
-    u.x * v.y - u.y * v.x
 }
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! The verb trait every line extractor implements.
 
 use crate::line::Line;
+use crate::noise::RangeNoise;
 use crate::scan::Scan;
 
 /// A line extraction algorithm.
@@ -16,6 +17,12 @@ pub trait LineExtractor {
 
     /// Extracts the lines of `scan` into `out` (cleared first), ordered by first beam.
     fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>);
+
+    /// The range noise the last extraction assumed, for extractors that model it
+    /// (`hough-split`: estimated from the scan, or its fixed model); `None` otherwise.
+    fn range_noise(&self) -> Option<RangeNoise> {
+        None
+    }
 
     /// Allocating convenience wrapper around [`LineExtractor::extract_into`].
     fn extract(&mut self, scan: &Scan) -> Vec<Line> {

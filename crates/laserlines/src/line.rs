@@ -65,14 +65,4 @@ impl Line {
     }
 }
 
-/// Distance from `p` to the segment `a`-`b`, m.
-#[must_use]
-pub fn distance_to_segment(p: Point2, a: Point2, b: Point2) -> f64 {
-    let ab = b - a;
-    let len2 = ab.norm_squared();
-    if len2 <= 0.0 {
-        return (p - a).norm();
-    }
-    let t = ((p - a).dot(&ab) / len2).clamp(0.0, 1.0);
-    (p - (a + ab * t)).norm()
-}
+pub use crate::geometry::distance_to_segment;

@@ -10,11 +10,11 @@
 //! ```
 //!
 //! [`NoiseModel::Auto`] (the default) estimates both numbers from the scan being processed,
-//! with no history: for every interior beam `i` whose neighbours `i - 1` and `i + 1` are
-//! valid, the range a straight surface through the two neighbours would give on beam `i` is
-//! `r_hat = 2 cos(dphi) r0 r2 / (r0 + r2)` (exact for any line: `1 / r` of a line is a
-//! sinusoid of the beam angle), and `e = r1 - r_hat` has the variance `1.5 sigma^2` on a
-//! smooth surface. Per range band (octaves from 0.5 m) the median of `|e|` gives a robust
+//! with no history: for every beam `i` whose beams `i - LAG` and `i + LAG` ([`LAG`] = 3) are
+//! valid, the range a straight surface through those two would give on beam `i` is
+//! `r_hat = 2 cos(dphi) r0 r2 / (r0 + r2)` with `dphi = LAG * angle_increment` (exact for
+//! any line: `1 / r` of a line is a sinusoid of the beam angle), and `e = r1 - r_hat` has
+//! the variance `1.5 sigma^2` on a smooth surface. Per range band (octaves from 0.5 m) the median of `|e|` gives a robust
 //! `sigma_b = median|e| / (0.6745 sqrt(1.5))`: corners, depth edges and mixed pixels are a
 //! minority and do not move a median. The model is the largest `max(sigma_min, fraction r)`
 //! below every band's estimate: clutter only ever adds dispersion, so the cleanest band
@@ -24,7 +24,11 @@ use crate::scan::{RangeWindow, Scan};
 
 /// A range-noise model `sigma(r) = max(sigma_min, fraction * r)`, metres.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(deny_unknown_fields)
+)]
 pub struct RangeNoise {
     /// Standard deviation at short range, m.
     pub sigma_min: f64,
@@ -149,15 +153,73 @@ impl std::fmt::Display for RangeNoise {
 }
 
 /// Where an extractor's range noise comes from.
+///
+/// In a params file (feature `serde`): `noise = "auto"`, a preset's name
+/// (`noise = "urg-04lx"`, see [`PRESETS`]) or a model (`noise = { sigma_min = 0.01,
+/// fraction = 0.01 }`).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum NoiseModel {
     /// Estimated from each scan by [`NoiseEstimator`] (the default).
     #[default]
     Auto,
     /// A fixed model, e.g. a [`PRESETS`] entry.
     Fixed(RangeNoise),
+}
+
+/// Beams between a point and each of the two it is predicted from. Real scanners' errors are
+/// correlated between neighbouring beams (the URG-04LX's residuals grow two to three times from
+/// one beam to three on real logs), so the noise that splitting and merging see over tens of
+/// beams is read three beams apart; for independent noise any lag reads the same.
+pub const LAG: usize = 3;
+
+#[cfg(feature = "serde")]
+mod serde_impl {
+    use super::{NoiseModel, PRESETS, RangeNoise};
+    use serde::de::{self, MapAccess, Visitor};
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    impl Serialize for NoiseModel {
+        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            match self {
+                Self::Auto => s.serialize_str("auto"),
+                Self::Fixed(n) => n.serialize(s),
+            }
+        }
+    }
+
+    struct ModelVisitor;
+
+    impl<'de> Visitor<'de> for ModelVisitor {
+        type Value = NoiseModel;
+
+        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str("\"auto\", a preset name or { sigma_min, fraction }")
+        }
+
+        fn visit_str<E: de::Error>(self, v: &str) -> Result<NoiseModel, E> {
+            if v == "auto" {
+                return Ok(NoiseModel::Auto);
+            }
+            RangeNoise::preset(v).map(NoiseModel::Fixed).ok_or_else(|| {
+                let names: Vec<&str> = PRESETS.iter().map(|p| p.name).collect();
+                E::custom(format!(
+                    "unknown noise {v:?}: expected \"auto\", one of {} or {{ sigma_min, fraction }}",
+                    names.join(", ")
+                ))
+            })
+        }
+
+        fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<NoiseModel, A::Error> {
+            RangeNoise::deserialize(de::value::MapAccessDeserializer::new(map))
+                .map(NoiseModel::Fixed)
+        }
+    }
+
+    impl<'de> Deserialize<'de> for NoiseModel {
+        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+            d.deserialize_any(ModelVisitor)
+        }
+    }
 }
 
 /// Range bands of the estimate: band 0 below 0.5 m, then octaves (0.5-1, 1-2, ... m), the
@@ -250,21 +312,23 @@ impl NoiseEstimator {
         let (lo, hi) = (window.min.max(f64::from_bits(1)), window.max.min(f64::MAX));
         let valid = |v: f64| (v >= lo) & (v <= hi);
         let r = &scan.ranges[..];
-        let two_cos = 2.0 * scan.angle_increment.cos();
-        // Neighbours of one smooth surface differ by `2 r dphi tan(incidence)` plus noise:
-        // up to 80 deg of incidence and 2 % noise. Farther apart, the triple spans a depth
-        // edge or a mixed pixel, which says nothing about the noise.
-        let spread = 12.0 * scan.angle_increment.abs() + 0.1;
-        // Every second beam on long scans: neighbouring samples share a reading.
+        let dphi = LAG as f64 * scan.angle_increment;
+        let two_cos = 2.0 * dphi.cos();
+        // Points of one smooth surface `LAG` beams apart differ by `2 r dphi tan(incidence)`
+        // plus noise: up to 80 deg of incidence and 2 % noise. Farther apart, the triple
+        // spans a depth edge or a mixed pixel, which says nothing about the noise.
+        let spread = 12.0 * dphi.abs() + 0.1;
+        // Every second beam on long scans: neighbouring samples share readings.
         let stride = if r.len() > 360 { 2 } else { 1 };
         for b in &mut self.abs {
             b.reserve(r.len() / stride + 1);
         }
-        let mut i = 1;
-        while i + 1 < r.len() {
-            let (r0, r1, r2) = (r[i - 1], r[i], r[i + 1]);
+        let mut i = LAG;
+        while i + LAG < r.len() {
+            let (r0, r1, r2) = (r[i - LAG], r[i], r[i + LAG]);
             i += stride;
-            // Computed for every triple, used for the valid ones (NaN fails every test).
+            // Computed for every triple, used for the valid ones (a NaN, from absurd ranges,
+            // fails every test, as does a gross residual).
             let e = (r1 - two_cos * r0 * r2 / (r0 + r2)).abs();
             let usable = valid(r0)
                 & valid(r1)

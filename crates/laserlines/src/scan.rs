@@ -199,9 +199,14 @@ impl Scan {
 }
 
 /// The one definition of a valid range, used by every algorithm: finite, strictly positive,
-/// and within `[min, max]` (inclusive, as in ROS).
+/// and within `[min, max]` (inclusive, as in ROS). With the `serde` feature it is written
+/// `[min, max]`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(from = "[f64; 2]", into = "[f64; 2]")
+)]
 pub struct RangeWindow {
     /// Smallest valid range, m.
     pub min: f64,
@@ -232,6 +237,18 @@ impl RangeWindow {
     #[must_use]
     pub fn intersect(self, other: Self) -> Self {
         Self::new(self.min.max(other.min), self.max.min(other.max))
+    }
+}
+
+impl From<[f64; 2]> for RangeWindow {
+    fn from([min, max]: [f64; 2]) -> Self {
+        Self::new(min, max)
+    }
+}
+
+impl From<RangeWindow> for [f64; 2] {
+    fn from(w: RangeWindow) -> Self {
+        [w.min, w.max]
     }
 }
 

@@ -7,18 +7,32 @@
 #![allow(unsafe_code, clippy::unwrap_used, clippy::expect_used)]
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
 use laserlines::Scan;
 
 struct Counting;
 
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    /// Allocations made by this thread: the test counts its own, not those of the test
+    /// harness's other threads. A `const` thread local of a type without `Drop` is never
+    /// lazily set up, so reading it does not allocate.
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
 
-// SAFETY: every call is forwarded unchanged to the system allocator; the counter is atomic.
+fn count() {
+    ALLOCATIONS.with(|a| a.set(a.get() + 1));
+}
+
+fn allocations() -> usize {
+    ALLOCATIONS.with(Cell::get)
+}
+
+// SAFETY: every call is forwarded unchanged to the system allocator; the counter is per
+// thread.
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        count();
         // SAFETY: same contract as the caller's.
         unsafe { System.alloc(layout) }
     }
@@ -27,7 +41,7 @@ unsafe impl GlobalAlloc for Counting {
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        count();
         // SAFETY: same contract as the caller's.
         unsafe { System.realloc(ptr, layout, new_size) }
     }
@@ -61,6 +75,10 @@ fn scan(seed: u64) -> Scan {
 
 #[test]
 fn steady_state_extraction_allocates_nothing() {
+    // The counter sees this thread's allocations.
+    let b = allocations();
+    let v = std::hint::black_box(vec![1_u8; 16]);
+    assert!(allocations() > b && v.len() == 16);
     let scans: Vec<Scan> = (0..5).map(scan).collect();
     let mut lines = Vec::with_capacity(256);
     for name in laserlines::extractors::ALGORITHMS {
@@ -69,11 +87,11 @@ fn steady_state_extraction_allocates_nothing() {
         for s in &scans {
             ex.extract_into(s, &mut lines);
         }
-        let before = ALLOCATIONS.load(Ordering::SeqCst);
+        let before = allocations();
         for s in &scans {
             ex.extract_into(s, &mut lines);
         }
-        let after = ALLOCATIONS.load(Ordering::SeqCst);
+        let after = allocations();
         assert!(!lines.is_empty(), "{name}: no lines");
         assert_eq!(
             after - before,

@@ -261,6 +261,20 @@ pub fn check_scan(
 /// its deviation has less than a 1 % chance as noise), and the simulated noise makes such
 /// chances happen.
 fn run_scenes(make: fn(&mut Rng) -> Scene, seeds: std::ops::Range<u64>) {
+    let (pieces, failures) = check_scenes(make, seeds.clone());
+    assert!(pieces >= seeds.count(), "scenes without pieces to find");
+    let near = failures.iter().filter(|f| f.contains(NEAR_MISS)).count();
+    assert!(
+        near == failures.len() && near <= 1 + pieces / 100,
+        "{} failures ({near} near misses, {} allowed):\n{}",
+        failures.len(),
+        1 + pieces / 100,
+        failures.join("\n")
+    );
+}
+
+/// Checks the scenes of `make` with `seeds`; prints and returns the pieces and the failures.
+fn check_scenes(make: fn(&mut Rng) -> Scene, seeds: std::ops::Range<u64>) -> (usize, Vec<String>) {
     let model = LaserModel::urg04lx();
     let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
     let mut failures = Vec::new();
@@ -282,15 +296,7 @@ fn run_scenes(make: fn(&mut Rng) -> Scene, seeds: std::ops::Range<u64>) {
     for f in &failures {
         println!("{f}");
     }
-    assert!(pieces >= seeds.count(), "scenes without pieces to find");
-    let near = failures.iter().filter(|f| f.contains(NEAR_MISS)).count();
-    assert!(
-        near == failures.len() && near <= 1 + pieces / 100,
-        "{} failures ({near} near misses, {} allowed):\n{}",
-        failures.len(),
-        1 + pieces / 100,
-        failures.join("\n")
-    );
+    (pieces, failures)
 }
 
 #[test]
@@ -328,4 +334,30 @@ fn bench_scan_gives_its_six_pieces() {
         .extract(&sim.scan);
     let (errors, _) = check_scan(&scene, &model, &sim, &lines);
     assert!(errors.is_empty(), "{}", errors.join("\n"));
+}
+
+/// The same check on 60 further seeds of every scene kind, seeds the defaults were never
+/// looked at on: at most 2 % of the pieces miss (the figure in the README); run with
+/// `cargo test --release -p laserlines --test roundtrip -- --ignored --nocapture`.
+#[test]
+#[ignore = "held-out measurement for the README: run in release with --ignored"]
+fn held_out_seeds() {
+    let (mut pieces, mut failures) = (0, Vec::new());
+    for make in [
+        scenes::rectangular_room,
+        scenes::corridor_with_door_gap,
+        scenes::corner,
+        scenes::boxes_in_room,
+        scenes::grazing_wall,
+    ] {
+        let (p, f) = check_scenes(make, 100..160);
+        pieces += p;
+        failures.extend(f);
+    }
+    let near = failures.iter().filter(|f| f.contains(NEAR_MISS)).count();
+    println!(
+        "held out: {} of {pieces} pieces miss ({near} by at most twice the tolerance)",
+        failures.len()
+    );
+    assert!(failures.len() * 50 <= pieces, "{}", failures.join("\n"));
 }

@@ -18,7 +18,7 @@ use laserlines_render::ScatterChart;
 use serde::Serialize;
 
 use super::ALGORITHMS;
-use crate::params::ParamsFile;
+use laserlines_io::params::ParamsFile;
 
 /// The extractor whose speed the paper claims, and the baseline it compares with.
 const FAST: &str = "hough-split";
@@ -56,8 +56,8 @@ pub struct BenchArgs {
     /// 3 deg, half of the line on the wall).
     #[arg(long, default_value = "strict", value_parser = ["strict", "field"])]
     criteria: String,
-    /// Timed extractions of each scan by each extractor; the fastest counts.
-    #[arg(long, default_value_t = 1)]
+    /// Timed extractions of each scan by each extractor (at least 1); the fastest counts.
+    #[arg(long, default_value_t = 1, value_parser = super::at_least_one, allow_negative_numbers = true)]
     repeat: usize,
     /// TOML file of parameters (one table per algorithm), as for `extract`.
     #[arg(long)]
@@ -86,26 +86,33 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         return tune(args, algorithm);
     }
     let names = selected(&args.algorithms)?;
-    let file = match &args.params {
-        Some(p) => ParamsFile::load(p)?,
-        None => ParamsFile::default(),
-    };
+    let file = ParamsFile::load_or_default(args.params.as_deref())?;
     if let Some(p) = &args.params {
         for name in names.iter().filter(|n| !file.has(n)) {
             eprintln!("{}: no [{name}] table, defaults used", p.display());
         }
+        let used: Vec<&str> = names.iter().map(String::as_str).collect();
+        super::note_unused_tables(Some(p), &used, "bench")?;
     }
+    // The classic extractors get the simulated sensor's noise: their noise thresholds are
+    // scaled from the noise their defaults were chosen for (hough-split estimates its own).
+    let scale = noise_scale(args)?;
     let mut extractors: Vec<Box<dyn LineExtractor + Send>> = names
         .iter()
-        .map(|n| file.extractor(n))
-        .collect::<Result<_>>()?;
+        .map(|n| file.extractor_for_noise(n, scale))
+        .collect::<Result<_, _>>()?;
     let (source, scans) = load_scans(args, args.seed.unwrap_or(TEST_SEED))?;
+    let source = if scale == 1.0 {
+        source
+    } else {
+        format!("{source}; noise thresholds of the other extractors scaled by {scale:.1}")
+    };
     if scans.is_empty() {
         bail!("no scans to run on ({source})");
     }
     let progress = progress_bar(scans.len() as u64);
     let options = BenchOptions {
-        repeat: args.repeat.max(1),
+        repeat: args.repeat,
         matching: matching(args),
         ..BenchOptions::default()
     };
@@ -162,16 +169,29 @@ fn selected(list: &str) -> Result<Vec<String>> {
 }
 
 /// The scans to run on and a description of them.
+/// The factor from the noise the classic extractors were tuned for to the simulated sensor's
+/// (1 on real logs, whose noise is the sensor's own).
+fn noise_scale(args: &BenchArgs) -> Result<f64> {
+    if !args.data.is_empty() {
+        return Ok(1.0);
+    }
+    Ok(simulated_sensor(args)?.noise_scale())
+}
+
+fn simulated_sensor(args: &BenchArgs) -> Result<laserlines_eval::workload::Sensor> {
+    sensor(&args.sensor).ok_or_else(|| {
+        anyhow!(
+            "unknown sensor {:?}: expected one of {}",
+            args.sensor,
+            SENSORS.join(", ")
+        )
+    })
+}
+
 fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
     if args.data.is_empty() {
         let suite = args.suite.as_deref().unwrap_or("all");
-        let model = sensor(&args.sensor).ok_or_else(|| {
-            anyhow!(
-                "unknown sensor {:?}: expected one of {}",
-                args.sensor,
-                SENSORS.join(", ")
-            )
-        })?;
+        let model = simulated_sensor(args)?;
         let count = args.scans.unwrap_or(DEFAULT_SCANS_PER_SUITE);
         let scans = suite_scans(suite, seed, count, &model)?;
         let source = format!(
@@ -183,7 +203,8 @@ fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
     let mut all = Vec::new();
     let mut parts = Vec::new();
     for path in &args.data {
-        let reader = laserlines_io::open(path, None)?;
+        // Any input `extract` reads: MCAP and ROS 2 bags too.
+        let reader = laserlines_foxglove::open_scans(path, &laserlines_io::ReadOptions::default())?;
         let limit = args.scans.unwrap_or(usize::MAX);
         let mut scans = Vec::new();
         for record in reader.take(limit) {
@@ -193,7 +214,10 @@ fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
             || path.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
         );
-        parts.push(format!("{group} ({} scans)", scans.len()));
+        parts.push(format!(
+            "{group} ({})",
+            super::count(scans.len() as u64, "scan")
+        ));
         all.extend(plain_scans(&group, scans));
     }
     Ok((format!("data: {}", parts.join(", ")), all))

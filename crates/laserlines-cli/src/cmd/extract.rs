@@ -24,8 +24,8 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use laserlines::{Line, LineExtractor};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
+use laserlines::{Line, LineExtractor, RangeNoise};
 use laserlines_foxglove::LinesOutput;
 use laserlines_io::{Pending, ReadError, ScanReader, ScanRecord, SkipCounts, encode_unnumbered};
 use rayon::Yield;
@@ -42,12 +42,12 @@ pub const IN_FLIGHT: usize = 4;
 pub struct ExtractArgs {
     #[command(flatten)]
     input: InputArgs,
-    /// Output: lines JSONL (`.gz` compresses; `-` for stdout), or `.mcap` for Foxglove (scan,
-    /// lines and pose).
+    /// Output: lines JSONL (`.jsonl`, `.jsonl.gz` compressed; `-` for stdout), or `.mcap` for
+    /// Foxglove (scan, lines and pose).
     #[arg(short, long, default_value = "-")]
     output: PathBuf,
     /// Line extraction algorithm.
-    #[arg(long, default_value = "hough-split")]
+    #[arg(long, default_value = "hough-split", value_parser = super::algorithm_parser())]
     algorithm: String,
     /// TOML file of parameters (one table per algorithm, e.g. `[hough-split]`).
     #[arg(long)]
@@ -75,6 +75,8 @@ struct Slot {
     item: Option<Item>,
     lines: Vec<Line>,
     encoded: Vec<u8>,
+    /// The noise the extractor assumed for this scan, if it models one.
+    noise: Option<RangeNoise>,
 }
 
 /// A batch on its way through the pipeline: its place in the input and its records.
@@ -90,6 +92,8 @@ struct Totals {
     lines: u64,
     /// Errors of records parsed by the pool, by reason.
     skipped: SkipCounts,
+    /// Sums of the assumed noise's `sigma_min` and `fraction`, and the scans they cover.
+    noise: (f64, f64, u64),
 }
 
 /// Runs the command.
@@ -104,6 +108,7 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
         .thread_name(|i| format!("extract-{i}"))
         .build()
         .context("cannot start the extraction threads")?;
+    super::note_unused_tables(args.params.as_deref(), &[&args.algorithm], "extract")?;
     let extractors: Extractors = (0..jobs)
         .map(|_| super::make_extractor(&args.algorithm, args.params.as_deref()).map(Mutex::new))
         .collect::<Result<_>>()?;
@@ -149,6 +154,9 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
         input_bytes,
         start.elapsed().as_secs_f64(),
     );
+    if totals.scans == 0 {
+        return Err(super::no_scans(&name, &skipped));
+    }
     Ok(())
 }
 
@@ -197,6 +205,7 @@ impl ReadLoop {
                     pending: Some(pending),
                     item: None,
                     lines: Vec::new(),
+                    noise: None,
                     encoded: Vec::new(),
                 })
                 .collect();
@@ -277,6 +286,7 @@ fn extract_batch(extractors: &Extractors, batch: &mut Batch, encode: bool) {
         let item = pending.parse();
         if let Ok(record) = &item {
             extractor.extract_into(&record.scan, &mut slot.lines);
+            slot.noise = extractor.range_noise();
             slot.encoded.clear();
             // Encoding into memory cannot fail; should it, the writer encodes again.
             if encode && encode_unnumbered(record, &slot.lines, &mut slot.encoded).is_err() {
@@ -321,6 +331,11 @@ fn write_batch(
         }
         totals.scans += 1;
         totals.lines += slot.lines.len() as u64;
+        if let Some(n) = slot.noise {
+            totals.noise.0 += n.sigma_min;
+            totals.noise.1 += n.fraction;
+            totals.noise.2 += 1;
+        }
     }
     progress.inc(count);
     Ok(())
@@ -330,7 +345,15 @@ fn progress_bar() -> ProgressBar {
     if io::stderr().is_terminal() {
         let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
         pb.set_style(
-            ProgressStyle::with_template("{spinner} {pos} scans {per_sec} {elapsed}")
+            ProgressStyle::with_template("{spinner} {pos} scans, {rate} scans/s, {elapsed}")
+                .map(|s| {
+                    s.with_key(
+                        "rate",
+                        |state: &ProgressState, w: &mut dyn std::fmt::Write| {
+                            let _ = w.write_str(&format!("{:.0}", state.per_sec()));
+                        },
+                    )
+                })
                 .unwrap_or_else(|_| ProgressStyle::default_spinner()),
         );
         pb
@@ -339,12 +362,24 @@ fn progress_bar() -> ProgressBar {
     }
 }
 
-/// Size of the input file, bytes (`None` for standard input).
-fn input_size(path: &Path) -> Option<u64> {
+/// Size of the input, bytes: of the file, or of the files of a directory (a ROS 2 bag);
+/// `None` for standard input.
+pub fn input_size(path: &Path) -> Option<u64> {
     if path == Path::new("-") {
         return None;
     }
-    std::fs::metadata(path).ok().map(|m| m.len())
+    let meta = std::fs::metadata(path).ok()?;
+    if !meta.is_dir() {
+        return Some(meta.len());
+    }
+    let files = std::fs::read_dir(path).ok()?;
+    Some(
+        files
+            .filter_map(|e| e.ok()?.metadata().ok())
+            .filter(std::fs::Metadata::is_file)
+            .map(|m| m.len())
+            .sum(),
+    )
 }
 
 /// The summary on stderr: scans, lines, skips with reasons, speed.
@@ -364,7 +399,34 @@ fn summary(name: &str, skipped: &SkipCounts, totals: &Totals, bytes: Option<u64>
         None => format!("{:.0} scans/s", per(totals.scans as f64)),
     };
     eprintln!(
-        "{name}: {} scans, {} lines ({per_scan:.1} per scan), skipped: {}, {secs:.2} s, {speed}",
-        totals.scans, totals.lines, skipped,
+        "{name}: {}, {} ({per_scan:.1} per scan), skipped: {}, {secs:.2} s, {speed}",
+        super::count(totals.scans, "scan"),
+        super::count(totals.lines, "line"),
+        skipped,
     );
+    let (s, f, n) = totals.noise;
+    if n > 0 {
+        let mean = RangeNoise::new(s / n as f64, f / n as f64);
+        eprintln!("{name}: range noise assumed, mean over the scans: {mean}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::input_size;
+
+    #[test]
+    fn the_size_of_a_directory_input_is_that_of_its_files() {
+        let dir = std::env::temp_dir().join(format!("laserlines-size-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        std::fs::write(dir.join("bag_0.db3"), vec![0u8; 3000]).unwrap();
+        std::fs::write(dir.join("metadata.yaml"), vec![0u8; 500]).unwrap();
+        std::fs::write(dir.join("sub/other"), vec![0u8; 7000]).unwrap();
+        assert_eq!(input_size(&dir), Some(3500));
+        assert_eq!(input_size(&dir.join("bag_0.db3")), Some(3000));
+        assert_eq!(input_size(std::path::Path::new("-")), None);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }

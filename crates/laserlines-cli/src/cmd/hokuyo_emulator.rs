@@ -96,7 +96,7 @@ fn feed(args: &HokuyoEmulatorArgs) -> Result<Box<dyn ScanFeed>> {
     }
     let arena = match &args.arena {
         Some(p) => load_raf(p, &ArenaOptions::default())?,
-        None => laserlines_nav::arenas::bundled("maze_10m_x_14m", &ArenaOptions::default())
+        None => laserlines_harness::arenas::bundled("maze_10m_x_14m", &ArenaOptions::default())
             .ok_or_else(|| anyhow!("the bundled arena is missing"))??,
     };
     let start = interior_start(&arena.world, 0.5)

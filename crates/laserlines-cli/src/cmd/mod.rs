@@ -6,24 +6,28 @@ pub mod demo;
 pub mod extract;
 pub mod hokuyo_emulator;
 pub mod live;
+pub mod map;
+pub mod map_outputs;
+pub mod relations;
 pub mod render;
 pub mod simulate;
-pub mod simulate_mcap;
 pub mod view;
 
 use std::path::Path;
 
 use anyhow::{Context, Result, anyhow};
-use laserlines::{HoughSplit, LineExtractor};
+use laserlines::HoughSplit;
+use laserlines::registry::{self, BoxedExtractor};
+use laserlines_io::params::ParamsFile;
 use laserlines_io::{Format, ScanReader};
 
 use crate::InputArgs;
-use crate::params::ParamsFile;
 
 /// The algorithms `--algorithm` accepts.
-pub use laserlines::extractors::ALGORITHMS;
+pub use laserlines::registry::ALGORITHMS;
 
-/// Opens the input of a command.
+/// Opens the input of a command (MCAP or any format of `laserlines-io`, chosen by
+/// `laserlines_foxglove::open_scans`).
 pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
     let format = match &input.format {
         Some(name) => Some(Format::from_name(name).ok_or_else(|| {
@@ -34,37 +38,86 @@ pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
         })?),
         None => None,
     };
-    // MCAP files, and directories (ROS 2 bags in MCAP storage), are read by laserlines-foxglove.
-    let mcap = match format {
-        Some(f) => f == Format::Mcap,
-        None => input.input.is_dir() || Format::from_path(&input.input) == Some(Format::Mcap),
-    };
-    if mcap {
-        let options = laserlines_foxglove::McapReadOptions::topic(input.topic.as_deref());
-        return Ok(laserlines_foxglove::read::open(&input.input, &options)?);
-    }
     let options = laserlines_io::ReadOptions::format(format).with_topic(input.topic.as_deref());
-    Ok(laserlines_io::open_with(&input.input, &options)?)
+    Ok(laserlines_foxglove::open_scans(&input.input, &options)?)
 }
 
 /// The extractor named `algorithm` (one of [`ALGORITHMS`]), with parameters from its table
 /// in `params` when given.
-pub fn make_extractor(
-    algorithm: &str,
-    params: Option<&Path>,
-) -> Result<Box<dyn LineExtractor + Send>> {
-    let file = match params {
-        Some(p) => ParamsFile::load(p)?,
-        None => ParamsFile::default(),
-    };
-    file.extractor(algorithm)
+pub fn make_extractor(algorithm: &str, params: Option<&Path>) -> Result<BoxedExtractor> {
+    Ok(ParamsFile::load_or_default(params)?.extractor(algorithm)?)
 }
 
 /// A HoughSplit extractor with parameters from `params` when given.
 pub fn make_hough_split(params: Option<&Path>) -> Result<HoughSplit> {
-    let file = match params {
-        Some(p) => ParamsFile::load(p)?,
-        None => ParamsFile::default(),
+    let file = ParamsFile::load_or_default(params)?;
+    let p = file.algorithm_params(&registry::HOUGH_SPLIT)?;
+    HoughSplit::new(p).context("hough-split parameters")
+}
+
+/// `n` and the noun, in the singular for one (`1 scan`, `2 scans`, `3 passes`).
+pub fn count(n: u64, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else if noun.ends_with('s') || noun.ends_with('x') {
+        format!("{n} {noun}es")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
+/// The values `--algorithm` accepts, listed by `--help` and in its errors.
+pub fn algorithm_parser() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(ALGORITHMS)
+}
+
+/// A value parser for counts of at least one (`--repeat`).
+pub fn at_least_one(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<i64>() {
+        Ok(n) if n >= 1 => usize::try_from(n).map_err(|e| e.to_string()),
+        Ok(n) => Err(format!("must be at least 1, got {n}")),
+        Err(_) => Err(format!("expected a whole number of at least 1, got {s:?}")),
+    }
+}
+
+/// A value parser for 0-based indices (`--scan`), with a plain message for negative ones.
+pub fn index(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<i64>() {
+        Ok(n) if n >= 0 => usize::try_from(n).map_err(|e| e.to_string()),
+        Ok(n) => Err(format!("indices count from 0, got {n}")),
+        Err(_) => Err(format!("expected a whole number from 0 up, got {s:?}")),
+    }
+}
+
+/// Says on stderr which tables of the params file `command` does not read (`used` are the
+/// tables it reads), so that a table meant for another command or algorithm is not ignored
+/// silently.
+pub fn note_unused_tables(params: Option<&Path>, used: &[&str], command: &str) -> Result<()> {
+    let Some(path) = params else {
+        return Ok(());
     };
-    HoughSplit::new(file.hough_split()?).context("hough-split parameters")
+    let file = ParamsFile::load(path)?;
+    for table in file.tables().filter(|t| !used.contains(t)) {
+        let reader = if laserlines_io::params::RUN_TABLES.contains(&table) {
+            "read by simulate".to_owned()
+        } else if used.len() == 1 {
+            format!("the algorithm is {}", used[0])
+        } else {
+            "not an algorithm this command runs".to_owned()
+        };
+        eprintln!(
+            "laserlines: {}: [{table}] is not used by {command} ({reader})",
+            file.name()
+        );
+    }
+    Ok(())
+}
+
+/// The error of an input that gave no scan: empty, or every record skipped.
+pub fn no_scans(name: &str, skipped: &laserlines_io::SkipCounts) -> anyhow::Error {
+    if skipped.is_empty() {
+        anyhow!("{name}: no scans to read (the input holds none)")
+    } else {
+        anyhow!("{name}: no scans read: every record was skipped ({skipped})")
+    }
 }

@@ -9,16 +9,17 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use laserlines::math::{Isometry2, Point2, Vector2};
-use laserlines_nav::{
-    RunConfig, RunObserver, RunRecord, ScanFrame, Sector, SectorObjects, arenas, run_observed,
-};
-use laserlines_render::{Canvas, Color, Extent, LegendEntry, Marker, Panel, Style, Swatch};
+use laserlines::robot::RobotDescription;
+use laserlines::{HoughSplitParams, registry};
+use laserlines_foxglove::{NavFrame, NavRecorder};
+use laserlines_harness::{RunConfig, RunObserver, RunRecord, ScanFrame, arenas, run_observed};
+use laserlines_io::params::ParamsFile;
+use laserlines_nav::ExplorerParams;
+use laserlines_render::{ExplorationMap, exploration_map_svg, sectors_svg};
 use laserlines_sim::World;
-use laserlines_sim::arena::{ArenaOptions, WallLength, interior_start, load_raf};
+use laserlines_sim::arena::{ArenaOptions, WallLength, interior_start};
 use laserlines_sim::maze::{MazeParams, generate};
 use laserlines_sim::robot::RobotParams;
-
-use super::simulate_mcap::McapRecorder;
 
 /// Arguments of `laserlines simulate`.
 #[derive(Debug, Args)]
@@ -34,7 +35,7 @@ pub struct SimulateArgs {
     #[arg(long, requires = "maze")]
     islands: bool,
     /// Simulated time limit, s.
-    #[arg(long, default_value_t = 900.0)]
+    #[arg(long, default_value_t = 900.0, allow_negative_numbers = true)]
     duration: f64,
     /// Seed of the laser and odometry noise.
     #[arg(long, default_value_t = 0)]
@@ -48,9 +49,10 @@ pub struct SimulateArgs {
     /// Arena walls 1.0 m long (the plate's mesh) instead of the whole 1.2 m cell edge.
     #[arg(long)]
     mesh_walls: bool,
-    /// Simulated time of the sector picture, s.
-    #[arg(long, default_value_t = 20.0)]
-    snapshot: f64,
+    /// Simulated time of the sector picture, s, within the run (default: 20 s, or half the
+    /// duration when that is shorter).
+    #[arg(long, allow_negative_numbers = true)]
+    snapshot: Option<f64>,
     /// Output folder.
     #[arg(short, long, default_value = "laserlines-simulate")]
     output: PathBuf,
@@ -68,18 +70,35 @@ pub struct SimulateArgs {
 /// What watches the run: the progress bar and, with `--mcap`, the recorder.
 struct Watch<'a> {
     progress: &'a ProgressBar,
-    mcap: Option<McapRecorder>,
+    mcap: Option<NavRecorder>,
 }
 
 impl RunObserver for Watch<'_> {
     fn on_scan(&mut self, frame: &ScanFrame<'_>) {
         if let Some(m) = &mut self.mcap {
-            m.on_scan(frame);
+            m.record(&NavFrame {
+                time_s: frame.time_s,
+                world_from_robot: frame.world_from_robot,
+                estimated_world_from_robot: frame.estimated_world_from_robot,
+                robot_from_laser: frame.robot_from_laser,
+                scan: frame.scan,
+                lines: frame.lines,
+                decision: frame.decision,
+                coverage: Some(frame.coverage),
+            });
         }
     }
     fn on_progress(&mut self, time_s: f64) {
         self.progress.set_position(time_s as u64);
     }
+}
+
+/// What a run is made of: the world, its name, the start and the settings.
+struct Setup {
+    name: String,
+    world: World,
+    start: Isometry2,
+    config: RunConfig,
 }
 
 /// Runs the command.
@@ -90,46 +109,94 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             args.duration
         );
     }
-    let file = match &args.params {
-        Some(p) => crate::params::ParamsFile::load(p)?,
-        None => crate::params::ParamsFile::default(),
-    };
-    let robot = file.robot()?;
+    if let Some(t) = args.snapshot
+        && !(t.is_finite() && (0.0..=args.duration).contains(&t))
+    {
+        bail!(
+            "--snapshot must lie within the run, from 0 to --duration ({} s), got {t}",
+            args.duration
+        );
+    }
+    let setup = setup(args)?;
+    fs::create_dir_all(&args.output)
+        .with_context(|| format!("cannot create {}", args.output.display()))?;
+    let (record, mcap_scans) = explore(args, &setup)?;
+    let written = write_outputs(args, &setup, &record)?;
+    print_summary(args, &setup, &record, &written);
+    if let (Some(path), Some(scans)) = (&args.mcap, mcap_scans) {
+        outln!(
+            "  wrote {} ({})",
+            path.display(),
+            super::count(scans, "scan")
+        );
+    }
+    Ok(())
+}
+
+/// The world, the start and the settings of the arguments and the params file.
+fn setup(args: &SimulateArgs) -> Result<Setup> {
+    let file = ParamsFile::load_or_default(args.params.as_deref())?;
+    let robot = robot_of(&file)?;
     let (name, world, default_start) = world_of(args, &robot)?;
     let start = match &args.start {
-        Some(s) => parse_start(s)?,
+        Some(s) => {
+            let start = parse_start(s)?;
+            check_start_inside(&name, &world, start)?;
+            start
+        }
         None => default_start,
     };
     let config = RunConfig {
         robot,
-        explorer: file.explorer()?,
-        extractor: file.hough_split()?,
+        explorer: file.read_valid(
+            "explorer",
+            ExplorerParams::default(),
+            ExplorerParams::validate,
+        )?,
+        extractor: file
+            .algorithm_params_over(&registry::HOUGH_SPLIT, HoughSplitParams::navigation())?,
         duration_s: args.duration,
         seed: args.seed,
-        snapshot_at_s: args.snapshot,
+        snapshot_at_s: snapshot_time(args),
         // The lines of one scan in 30 for the map picture (every 3 s).
         record_lines_every: 30,
     };
+    Ok(Setup {
+        name,
+        world,
+        start,
+        config,
+    })
+}
 
-    let progress = if io::stderr().is_terminal() {
-        let pb = ProgressBar::with_draw_target(
-            Some(args.duration.ceil() as u64),
-            ProgressDrawTarget::stderr(),
-        );
-        pb.set_style(
-            ProgressStyle::with_template("{bar:40} {pos}/{len} s simulated, {elapsed} {msg}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        pb
-    } else {
-        ProgressBar::hidden()
-    };
-    fs::create_dir_all(&args.output)
-        .with_context(|| format!("cannot create {}", args.output.display()))?;
+/// Simulated seconds as a progress bar on a terminal.
+fn progress_bar(duration_s: f64) -> ProgressBar {
+    if !io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let pb =
+        ProgressBar::with_draw_target(Some(duration_s.ceil() as u64), ProgressDrawTarget::stderr());
+    pb.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} s simulated, {elapsed} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    pb
+}
+
+/// The run, watched by the progress bar and, with `--mcap`, recorded; the number of scans
+/// recorded.
+fn explore(args: &SimulateArgs, setup: &Setup) -> Result<(RunRecord, Option<u64>)> {
+    let progress = progress_bar(args.duration);
     let mcap = match &args.mcap {
         Some(path) => Some(
-            McapRecorder::create(path, &world, config.robot.footprint, start)
-                .with_context(|| format!("cannot record the run to {}", path.display()))?,
+            NavRecorder::create(
+                path,
+                &walls_of(&setup.world),
+                &discs_of(&setup.world),
+                setup.config.robot.robot.footprint,
+                setup.start,
+            )
+            .with_context(|| format!("cannot record the run to {}", path.display()))?,
         ),
         None => None,
     };
@@ -137,44 +204,79 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         progress: &progress,
         mcap,
     };
-    let record = run_observed(&world, start, &config, &mut watch)
-        .with_context(|| format!("cannot run in {name}"))?;
+    let record = run_observed(&setup.world, setup.start, &setup.config, &mut watch)
+        .with_context(|| format!("cannot run in {}", setup.name))?;
     progress.finish_and_clear();
-    let mcap_scans = match (watch.mcap.take(), &args.mcap) {
-        (Some(recorder), Some(path)) => Some((
-            path,
+    let scans = match (watch.mcap.take(), &args.mcap) {
+        (Some(recorder), Some(path)) => Some(
             recorder
                 .finish()
                 .with_context(|| format!("cannot record the run to {}", path.display()))?,
-        )),
+        ),
         _ => None,
     };
-    let metrics = metrics_json(&name, args, start, &record);
-    let metrics_path = args.output.join("metrics.json");
-    fs::write(&metrics_path, format!("{metrics:#}\n"))
-        .with_context(|| format!("cannot write {}", metrics_path.display()))?;
-    let map_path = args.output.join("map.svg");
-    fs::write(&map_path, map_svg(&name, &world, start, &record))
-        .with_context(|| format!("cannot write {}", map_path.display()))?;
-    let sectors_path = args.output.join("sectors.svg");
-    if let Some(snap) = &record.snapshot {
-        let title = format!(
-            "{name}, t = {:.1} s: three sectors and the selected objects (robot frame)",
-            snap.time_s
-        );
-        fs::write(
-            &sectors_path,
-            sectors_svg(&title, &snap.points, &snap.lines, &snap.objects),
-        )
-        .with_context(|| format!("cannot write {}", sectors_path.display()))?;
-    }
+    Ok((record, scans))
+}
 
+/// The files written: the metrics, the map and (when the run lasted until the snapshot) the
+/// sector picture.
+struct Written {
+    metrics: PathBuf,
+    map: PathBuf,
+    sectors: Option<PathBuf>,
+}
+
+/// Writes `metrics.json`, `map.svg` (Fig. 8) and `sectors.svg` (Fig. 7).
+fn write_outputs(args: &SimulateArgs, setup: &Setup, record: &RunRecord) -> Result<Written> {
+    let write = |path: &PathBuf, text: String| {
+        fs::write(path, text).with_context(|| format!("cannot write {}", path.display()))
+    };
+    let name = &setup.name;
+    let metrics = args.output.join("metrics.json");
+    write(
+        &metrics,
+        format!("{:#}\n", metrics_json(name, args, setup.start, record)?),
+    )?;
+    let map = args.output.join("map.svg");
+    write(&map, map_figure(name, &setup.world, setup.start, record))?;
+    let sectors = match &record.snapshot {
+        Some(snap) => {
+            let path = args.output.join("sectors.svg");
+            let title = format!(
+                "{name}, t = {:.1} s: three sectors and the selected objects (robot frame)",
+                snap.time_s
+            );
+            let svg = sectors_svg(&title, &snap.points, &snap.lines, &snap.objects);
+            write(&path, svg)?;
+            Some(path)
+        }
+        None => {
+            eprintln!(
+                "laserlines: sectors.svg not written: the run ended at {:.1} s, before the \
+                 snapshot at {:.1} s (--snapshot)",
+                record.metrics.sim_time_s,
+                snapshot_time(args)
+            );
+            None
+        }
+    };
+    Ok(Written {
+        metrics,
+        map,
+        sectors,
+    })
+}
+
+/// The one-line summary and the files written, on standard output.
+fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written: &Written) {
     let m = &record.metrics;
+    let start = setup.start.translation.vector;
     outln!(
-        "laserlines simulate: {name}, seed {}, start ({:.2}, {:.2}): coverage {:.3}, collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage at {}, pose error at most {:.2} m, stop {}",
+        "laserlines simulate: {}, seed {}, start ({:.2}, {:.2}): coverage {:.3}, collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage {}, pose error at most {:.2} m, stop {}",
+        setup.name,
         args.seed,
-        start.translation.vector.x,
-        start.translation.vector.y,
+        start.x,
+        start.y,
         m.coverage,
         m.collisions,
         m.min_clearance_m,
@@ -183,24 +285,35 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         m.wall_time_s,
         m.sim_time_s / m.wall_time_s.max(1e-9),
         m.time_to_90_percent_s
-            .map_or_else(|| "never".to_owned(), |t| format!("{t:.0} s")),
+            .map_or_else(|| "not reached".to_owned(), |t| format!("at {t:.0} s")),
         m.max_pose_error_m,
         m.stop.name(),
     );
     outln!(
         "  wrote {}, {}{}",
-        metrics_path.display(),
-        map_path.display(),
-        if record.snapshot.is_some() {
-            format!(", {}", sectors_path.display())
-        } else {
-            String::new()
-        }
+        written.metrics.display(),
+        written.map.display(),
+        written
+            .sectors
+            .as_ref()
+            .map_or_else(String::new, |p| format!(", {}", p.display()))
     );
-    if let Some((path, scans)) = mcap_scans {
-        outln!("  wrote {} ({scans} scans)", path.display());
-    }
-    Ok(())
+}
+
+/// The simulated robot: its description from `[robot]`, the simulator's settings from
+/// `[simulator]`.
+fn robot_of(file: &ParamsFile) -> Result<RobotParams> {
+    let robot = file.read_valid(
+        "robot",
+        RobotDescription::default(),
+        RobotDescription::validate,
+    )?;
+    let simulated = file.read_valid(
+        "simulator",
+        RobotParams::default(),
+        RobotParams::validate_simulation,
+    )?;
+    Ok(RobotParams { robot, ..simulated })
 }
 
 /// The world to explore, its name and the default start.
@@ -229,21 +342,7 @@ fn world_of(args: &SimulateArgs, robot: &RobotParams) -> Result<(String, World, 
         },
     };
     let which = args.arena.as_deref().unwrap_or("maze_10m_x_14m");
-    let path = PathBuf::from(which);
-    let arena = if path.exists() {
-        load_raf(&path, &options)?
-    } else if let Some(a) = arenas::bundled(which, &options) {
-        a?
-    } else {
-        bail!(
-            "no arena file {which:?} (bundled arenas: {})",
-            arenas::BUNDLED
-                .iter()
-                .map(|(n, _)| *n)
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-    };
+    let arena = arenas::load(which, &options)?;
     let report = &arena.report;
     if report.ignored_count() > 0 {
         let list = report
@@ -266,9 +365,41 @@ fn world_of(args: &SimulateArgs, robot: &RobotParams) -> Result<(String, World, 
             );
         }
     }
-    let start = interior_start(&arena.world, robot.footprint.circumradius())
+    let start = interior_start(&arena.world, robot.robot.footprint.circumradius())
         .unwrap_or_else(|| Isometry2::new(Vector2::zeros(), 0.0));
     Ok((arena.name.clone(), arena.world, start))
+}
+
+/// The simulated time of the sector picture: `--snapshot`, or 20 s, or half the run when
+/// that is shorter.
+fn snapshot_time(args: &SimulateArgs) -> f64 {
+    args.snapshot.unwrap_or(20.0_f64.min(0.5 * args.duration))
+}
+
+/// A start given by hand must lie among the walls: within their bounding box.
+fn check_start_inside(name: &str, world: &World, start: Isometry2) -> Result<()> {
+    let ends = world.walls.iter().flat_map(|w| [w.a, w.b]);
+    let (lo, hi) = ends.fold(
+        (
+            Point2::new(f64::INFINITY, f64::INFINITY),
+            Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+        ),
+        |(lo, hi), p| (lo.inf(&p), hi.sup(&p)),
+    );
+    let p = start.translation.vector;
+    let inside = lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y;
+    if !inside {
+        bail!(
+            "--start ({}, {}): outside {name}, whose walls span x {:.2}..{:.2} m, y {:.2}..{:.2} m",
+            p.x,
+            p.y,
+            lo.x,
+            hi.x,
+            lo.y,
+            hi.y
+        );
+    }
+    Ok(())
 }
 
 fn parse_start(s: &str) -> Result<Isometry2> {
@@ -285,273 +416,67 @@ fn parse_start(s: &str) -> Result<Isometry2> {
     }
 }
 
+/// `metrics.json`: the run's settings and its [`laserlines_harness::Metrics`].
 fn metrics_json(
     name: &str,
     args: &SimulateArgs,
     start: Isometry2,
     record: &RunRecord,
-) -> serde_json::Value {
-    let m = &record.metrics;
+) -> Result<serde_json::Value> {
     let s = start.translation.vector;
-    serde_json::json!({
-        "world": name,
-        "seed": args.seed,
-        "params": args.params.as_ref().map(|p| p.display().to_string()),
-        "start": [s.x, s.y, start.rotation.angle().to_degrees()],
-        "duration_s": args.duration,
-        "coverage": m.coverage,
-        "collisions": m.collisions,
-        "min_clearance_m": m.min_clearance_m,
-        "path_length_m": m.path_length_m,
-        "sim_time_s": m.sim_time_s,
-        "wall_time_s": m.wall_time_s,
-        "time_to_90_percent_s": m.time_to_90_percent_s,
-        "reachable_area_m2": m.reachable_area_m2,
-        "scans": m.scans,
-        "lines": m.lines,
-        "loops": m.loops,
-        "frontiers": m.frontiers,
-        "max_pose_error_m": m.max_pose_error_m,
-        "max_heading_error_rad": m.max_heading_error_rad,
-        "unmatched_scans": m.unmatched_scans,
-        "stop": m.stop.name(),
-    })
+    let mut json = serde_json::to_value(record.metrics)?;
+    if let Some(map) = json.as_object_mut() {
+        let params = args.params.as_ref().map(|p| p.display().to_string());
+        map.insert("world".to_owned(), name.into());
+        map.insert("seed".to_owned(), args.seed.into());
+        map.insert("params".to_owned(), params.into());
+        map.insert(
+            "start".to_owned(),
+            serde_json::json!([s.x, s.y, start.rotation.angle().to_degrees()]),
+        );
+        map.insert("duration_s".to_owned(), args.duration.into());
+    }
+    Ok(json)
 }
 
-const WALL: Color = Color::INK;
-const PATH: Color = Color::rgb(0x1b, 0x9e, 0x3a);
-const ODOM: Color = Color::rgb(0x99, 0x99, 0x99);
-const SEEN: Color = Color::BLUE;
-const SELECTED: Color = Color::rgb(0x10, 0x3c, 0xd6);
-const ROBOT_MAP: Color = Color::rgb(0xf5, 0xa6, 0x23);
-const UNSEEN: Color = Color::rgb(0xe0, 0x40, 0x40);
-
-/// A path drawn with points at least 15 cm apart (and its last point): a third of the
-/// scans' points at full speed, no visible corner cut at the picture's scale.
-fn thin(path: &[Point2]) -> Vec<Point2> {
-    let mut out: Vec<Point2> = Vec::with_capacity(path.len() / 2 + 1);
-    for &p in path {
-        if out.last().is_none_or(|q| (p - q).norm() >= 0.15) {
-            out.push(p);
-        }
-    }
-    if let (Some(&last), Some(&kept)) = (path.last(), out.last())
-        && last != kept
-    {
-        out.push(last);
-    }
-    out
-}
-
-/// The paper's Fig. 8: the arena, the robot's path and the lines it saw.
-fn map_svg(name: &str, world: &World, start: Isometry2, record: &RunRecord) -> String {
-    let pts = world
-        .walls
-        .iter()
-        .flat_map(|w| [w.a, w.b])
-        .chain(record.path.iter().copied());
-    let view = Extent::fit_map(pts, 4.0).padded(0.5);
-    let mut panel = Panel::map(view, 820.0);
+/// The paper's Fig. 8 of the run.
+fn map_figure(name: &str, world: &World, start: Isometry2, record: &RunRecord) -> String {
     let m = &record.metrics;
-    panel.set_title(format!(
+    let title = format!(
         "{name}: coverage {:.1} %, {} collisions, {:.0} m in {:.0} s",
         100.0 * m.coverage,
         m.collisions,
         m.path_length_m,
         m.sim_time_s
-    ));
-    panel.set_labels("x [m]", "y [m]");
-    let seen = Style::stroke(SEEN, 1.0)
-        .with_opacity(0.35)
-        .with_class("line-seen");
-    for &(a, b) in &record.lines_seen {
-        panel.line(a, b, &seen);
-    }
-    // The robot's own map (occupied cells, placed by its start pose) and the reachable
-    // cells it never saw.
-    let cell_px = (0.1 * panel.px_per_unit()).max(1.0);
+    );
+    let (walls, discs) = (walls_of(world), discs_of(world));
+    // The robot's own map, placed by its start pose.
     let robot_map: Vec<Point2> = record
         .map
         .occupied_cells()
         .into_iter()
         .map(|p| start * p)
         .collect();
-    panel.markers(
-        &robot_map,
-        Marker::Square,
-        cell_px,
-        &Style::fill(ROBOT_MAP).with_class("robot-map"),
-    );
-    panel.markers(
-        &record.unseen,
-        Marker::Square,
-        cell_px,
-        &Style::fill(UNSEEN).with_opacity(0.6).with_class("unseen"),
-    );
-    let wall = Style::stroke(WALL, 2.2).with_class("wall");
-    for w in &world.walls {
-        panel.line(w.a, w.b, &wall);
-    }
-    let disc = Style::stroke(WALL, 1.5)
-        .with_fill(Color::LIGHT_GREY)
-        .with_class("disc");
-    for d in &world.discs {
-        panel.circle(d.centre, d.radius, &disc);
-    }
-    panel.polyline(
-        &thin(&record.odometry_path),
-        &Style::stroke(ODOM, 1.0)
-            .with_dash(4.0, 3.0)
-            .with_class("odometry"),
-    );
-    panel.polyline(
-        &thin(&record.estimated_path),
-        &Style::stroke(ROBOT_MAP, 1.0).with_class("estimated-path"),
-    );
-    panel.polyline(
-        &thin(&record.path),
-        &Style::stroke(PATH, 1.8).with_class("path"),
-    );
-    let s = Point2::from(start.translation.vector);
-    panel.circle(
-        s,
-        0.25,
-        &Style::stroke(PATH, 2.0)
-            .with_fill(Color::WHITE)
-            .with_class("start"),
-    );
-    if let Some(end) = record.path.last() {
-        panel.marker(*end, Marker::Circle, 8.0, &Style::fill(Color::RED));
-    }
-    let mut canvas = Canvas::new(1);
-    canvas.add_panel(panel);
-    canvas.add_legend(LegendEntry::new(
-        Swatch::Line(Style::stroke(WALL, 2.2)),
-        "wall",
-    ));
-    canvas.add_legend(LegendEntry::new(
-        Swatch::Line(Style::stroke(PATH, 1.8)),
-        "robot path (true)",
-    ));
-    canvas.add_legend(LegendEntry::new(
-        Swatch::Line(Style::stroke(ODOM, 1.0).with_dash(4.0, 3.0)),
-        "path by odometry",
-    ));
-    canvas.add_legend(LegendEntry::new(
-        Swatch::Line(Style::stroke(ROBOT_MAP, 1.0)),
-        "path by the robot's estimate (odometry and scan matching)",
-    ));
-    canvas.add_legend(LegendEntry::new(
-        Swatch::Line(Style::stroke(SEEN, 1.0).with_opacity(0.35)),
-        "extracted lines, placed by the robot's own pose estimate (1 scan in 3 s)",
-    ));
-    canvas.add_legend(LegendEntry::new(
-        Swatch::Marker(Marker::Square, 8.0, Style::fill(ROBOT_MAP)),
-        "the robot's own map: occupied cells (0.1 m), placed by its start",
-    ));
-    if !record.unseen.is_empty() {
-        canvas.add_legend(LegendEntry::new(
-            Swatch::Marker(Marker::Square, 8.0, Style::fill(UNSEEN)),
-            "reachable cells never seen",
-        ));
-    }
-    canvas.add_legend(LegendEntry::new(
-        Swatch::Marker(Marker::Circle, 10.0, Style::stroke(PATH, 2.0)),
-        "start",
-    ));
-    canvas.to_svg()
+    exploration_map_svg(&ExplorationMap {
+        title: &title,
+        walls: &walls,
+        discs: &discs,
+        start,
+        path: &record.path,
+        odometry_path: &record.odometry_path,
+        estimated_path: &record.estimated_path,
+        lines_seen: &record.lines_seen,
+        robot_map: &robot_map,
+        unseen: &record.unseen,
+    })
 }
 
-/// The paper's Fig. 7: the three sectors around the robot, the scan points, the extracted
-/// lines and the selected object of each sector with its figures, robot frame. The view
-/// reaches 3 m, or as far as the scan points when they are farther (at most 10 m).
-pub(crate) fn sectors_svg(
-    title: &str,
-    points: &[Point2],
-    lines: &[(Point2, Point2)],
-    objects: &SectorObjects,
-) -> String {
-    let reach = points
-        .iter()
-        .map(|p| p.coords.norm())
-        .filter(|r| r.is_finite())
-        .fold(2.5_f64, f64::max);
-    let half = (reach + 0.5).clamp(3.0, 10.0);
-    let view = Extent::new(-half, -half, half, half);
-    let mut panel = Panel::map(view, 560.0);
-    panel.set_title(title.to_owned());
-    let fills = [
-        Color::rgb(0xfd, 0xe0, 0xc0),
-        Color::rgb(0xd8, 0xec, 0xd8),
-        Color::rgb(0xd8, 0xe0, 0xf4),
-    ];
-    for sector in Sector::ALL {
-        let (from, to) = sector.bounds_rad();
-        let style = Style::fill(fills[sector.index()])
-            .with_opacity(0.7)
-            .with_class(format!("sector-{}", sector.name()));
-        panel.wedge(Point2::origin(), 0.0, half - 0.1, from, to, &style);
-    }
-    panel.markers(
-        points,
-        Marker::Dot,
-        2.5,
-        &Style::fill(Color::GREY).with_class("scan-point"),
-    );
-    let line = Style::stroke(Color::NAVY, 1.6).with_class("extracted-line");
-    for &(a, b) in lines {
-        panel.line(a, b, &line);
-    }
-    let selected = Style::stroke(SELECTED, 5.0)
-        .with_opacity(0.85)
-        .with_class("selected-object");
-    let row_step = 0.1 * half;
-    for obj in objects.objects.iter().flatten() {
-        panel.line(obj.start, obj.end, &selected);
-        panel.line(
-            Point2::origin(),
-            obj.nearest,
-            &Style::stroke(SELECTED, 1.0).with_dash(3.0, 3.0),
-        );
-        // The figures in the lower left corner, one row per sector (left, front, right), so
-        // that no label leaves the plot.
-        let row = obj.sector.index() as f64;
-        panel.text(
-            Point2::new(view.min_x + 0.1, view.min_y + (2.5 - row) * row_step),
-            &format!(
-                "{}: distance {:.2} m, width {:.2} m, angle {:.0} deg",
-                obj.sector.name(),
-                obj.distance_m,
-                obj.width_m,
-                obj.angle_rad.to_degrees()
-            ),
-            &laserlines_render::TextStyle::size(11.0)
-                .anchored(laserlines_render::Anchor::Start)
-                .with_halo(),
-        );
-    }
-    panel.robot(Point2::origin(), 0.0, 14.0, &Style::fill(Color::RED));
-    let mut canvas = Canvas::new(1);
-    canvas.add_panel(panel);
-    for sector in Sector::ALL {
-        let (from, to) = sector.bounds_rad();
-        canvas.add_legend(LegendEntry::new(
-            Swatch::Patch(Style::fill(fills[sector.index()])),
-            format!(
-                "{} sector {:.0}..{:.0} deg",
-                sector.name(),
-                from.to_degrees(),
-                to.to_degrees()
-            ),
-        ));
-    }
-    canvas.add_legend(LegendEntry::new(
-        Swatch::Line(Style::stroke(SELECTED, 5.0)),
-        "selected object (biggest and nearest: max width / distance)",
-    ));
-    canvas.add_legend(LegendEntry::new(
-        Swatch::Line(Style::stroke(Color::NAVY, 1.6)),
-        "extracted line",
-    ));
-    canvas.to_svg()
+/// The world's walls by their end points.
+fn walls_of(world: &World) -> Vec<(Point2, Point2)> {
+    world.walls.iter().map(|w| (w.a, w.b)).collect()
+}
+
+/// The world's discs by centre and radius.
+fn discs_of(world: &World) -> Vec<(Point2, f64)> {
+    world.discs.iter().map(|d| (d.centre, d.radius)).collect()
 }

@@ -15,7 +15,7 @@
 //!    whole wall.
 //! 5. Points with `w_i >= inlier_probability` are cut into runs of consecutive free beams
 //!    (broken at breakpoints and after more than `max_skipped` non-members); each run with at
-//!    least `min_line_points` members becomes a line and its beams are taken. A hypothesis that
+//!    least `filter.min_points` members becomes a line and its beams are taken. A hypothesis that
 //!    yields none is a failure.
 //!
 //! The loop ends after `max_trials` hypotheses, or `max_failures` failures in a row. Then the
@@ -23,11 +23,16 @@
 //! scan, so the same scan gives the same lines.
 
 use super::ParamsError;
-use super::common::{self, Breakpoints, Hypothesis, LineFilter, Run, SplitMix64};
+use super::breakpoints::Breakpoints;
+use super::finish::{LineFilter, finish};
+use super::model::Hypothesis;
+use super::rng::SplitMix64;
+use super::runs::{Run, for_each_run};
 use crate::extractor::LineExtractor;
 use crate::fit::FitSums;
 use crate::line::Line;
 use crate::math::Vector2;
+use crate::params;
 use crate::scan::{RangeWindow, Scan, ScanPoint};
 
 /// Parameters of [`Em`].
@@ -37,6 +42,11 @@ use crate::scan::{RangeWindow, Scan, ScanPoint};
 /// the training suite (seed 1, 100 simulated URG-04LX scans of each of the seven scene suites;
 /// see `laserlines_eval::tune`). Results are reported on the test suite, seed 2.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct EmParams {
     /// Seed of the generator, reset for every scan. Default `0x5EED`.
     pub seed: u64,
@@ -72,22 +82,11 @@ pub struct EmParams {
     /// Consecutive non-members tolerated inside a run (kept in its beam range, not used in its
     /// fit). Default 2. Sensible: 0..5.
     pub max_skipped: usize,
-    /// Smallest incidence angle between beam and surface that still joins two consecutive
-    /// members into one run, rad (`lambda` of Borges and Aldon). Default 10 deg.
-    /// Sensible: 5..20 deg.
-    pub breakpoint_incidence: f64,
-    /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
-    /// Sensible: 0..0.05.
-    pub breakpoint_noise: f64,
-    /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
-    /// may still join. Default 2. Sensible: 0..5.
-    pub breakpoint_max_gap: usize,
-    /// Lines with fewer supporting points are dropped, and runs with fewer members do not count
-    /// as found. Default 8 (tuned). At least 2 is enforced.
-    pub min_line_points: usize,
-    /// Lines shorter than this are dropped, m. Default 0.15 (tuned): legs and debris give
-    /// short lines; lower it when small features matter. Sensible: 0..0.5.
-    pub min_line_length: f64,
+    /// The breakpoint detector that cuts clusters and runs (Borges and Aldon). Default 10
+    /// deg, 0.01 m of noise, at most 2 missing beams.
+    pub breakpoints: Breakpoints,
+    /// The final filter. Default 8 (tuned) points, 0.15 m (tuned).
+    pub filter: LineFilter,
     /// Extra limits on valid ranges, on top of the scan's own `range_min..range_max`.
     /// Default none.
     pub range_limits: Option<RangeWindow>,
@@ -107,11 +106,8 @@ impl Default for EmParams {
             outlier_density: 1.0,
             inlier_probability: 0.3,
             max_skipped: 2,
-            breakpoint_incidence: 10.0_f64.to_radians(),
-            breakpoint_noise: 0.01,
-            breakpoint_max_gap: 2,
-            min_line_points: 8,
-            min_line_length: 0.15,
+            breakpoints: Breakpoints::default(),
+            filter: LineFilter::default(),
             range_limits: None,
         }
     }
@@ -123,10 +119,10 @@ impl EmParams {
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
     pub fn validate(&self) -> Result<(), ParamsError> {
-        common::at_least("max_trials", self.max_trials, 1)?;
-        common::at_least("max_failures", self.max_failures, 1)?;
-        common::at_least("init_points", self.init_points, 2)?;
-        common::at_least("iterations", self.iterations, 1)?;
+        params::at_least("max_trials", self.max_trials, 1)?;
+        params::at_least("max_failures", self.max_failures, 1)?;
+        params::at_least("init_points", self.init_points, 2)?;
+        params::at_least("iterations", self.iterations, 1)?;
         if !(self.anneal_sigma_scale.is_finite() && self.anneal_sigma_scale >= 1.0) {
             return Err(ParamsError::Below {
                 field: "anneal_sigma_scale",
@@ -134,14 +130,14 @@ impl EmParams {
                 min: 1.0,
             });
         }
-        common::check_scaled(
+        params::scaled(
             ("noise_sigma", self.noise_sigma),
             ("noise_sigma_per_metre", self.noise_sigma_per_metre),
         )?;
-        common::positive("outlier_density", self.outlier_density)?;
-        common::inside("inlier_probability", self.inlier_probability, 0.0, 1.0)?;
-        common::check_breakpoints(self.breakpoint_incidence, self.breakpoint_noise)?;
-        common::check_filter(self.min_line_length)
+        params::positive("outlier_density", self.outlier_density)?;
+        params::inside("inlier_probability", self.inlier_probability, 0.0, 1.0)?;
+        self.breakpoints.validate()?;
+        self.filter.validate()
     }
 }
 
@@ -290,11 +286,7 @@ impl LineExtractor for Em {
         let p = self.params.clone();
         scan.points_into(scan.range_window(p.range_limits), &mut self.points);
         let n = self.points.len();
-        let rule = Breakpoints {
-            incidence: p.breakpoint_incidence,
-            noise: p.breakpoint_noise,
-            max_gap: p.breakpoint_max_gap,
-        };
+        let rule = p.breakpoints;
         self.taken.clear();
         self.taken.resize(n, false);
         self.member.clear();
@@ -302,7 +294,7 @@ impl LineExtractor for Em {
         self.weight.clear();
         self.weight.resize(n, 0.0);
         self.runs.clear();
-        let min_members = p.min_line_points.max(2);
+        let min_members = p.filter.min_points.max(2);
         let mut rng = SplitMix64::new(p.seed);
         let mut failures = 0;
         for _ in 0..p.max_trials {
@@ -324,7 +316,7 @@ impl LineExtractor for Em {
             if line.is_some() {
                 let member = |i: usize| self.weight[i] >= p.inlier_probability;
                 let found = &mut self.found;
-                common::for_each_run(
+                for_each_run(
                     &self.points,
                     |i| !self.taken[i],
                     member,
@@ -353,11 +345,8 @@ impl LineExtractor for Em {
                 self.runs.push(r);
             }
         }
-        let filter = LineFilter {
-            min_points: p.min_line_points,
-            min_length: p.min_line_length,
-        };
-        common::finish(
+        let filter = p.filter;
+        finish(
             &self.points,
             &mut self.runs,
             &self.member,

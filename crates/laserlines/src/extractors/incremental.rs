@@ -13,10 +13,14 @@
 //!    least-squares fit, minimum points and length.
 
 use super::ParamsError;
-use super::common::{self, Breakpoints, LineFilter, Run, Scaled};
+use super::breakpoints::Breakpoints;
+use super::finish::{LineFilter, finish};
+use super::model::Scaled;
+use super::runs::Run;
 use crate::extractor::LineExtractor;
 use crate::fit::FitSums;
 use crate::line::Line;
+use crate::params;
 use crate::scan::{RangeWindow, Scan, ScanPoint};
 
 /// Parameters of [`Incremental`].
@@ -26,17 +30,15 @@ use crate::scan::{RangeWindow, Scan, ScanPoint};
 /// the training suite (seed 1, 100 simulated URG-04LX scans of each of the seven scene suites;
 /// see `laserlines_eval::tune`). Results are reported on the test suite, seed 2.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct IncrementalParams {
-    /// Smallest incidence angle between beam and surface that still joins two consecutive
-    /// points into one cluster, rad (`lambda` of Borges and Aldon). Default 10 deg.
-    /// Sensible: 5..20 deg.
-    pub breakpoint_incidence: f64,
-    /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
-    /// Sensible: 0..0.05.
-    pub breakpoint_noise: f64,
-    /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
-    /// may still join. Default 2. Sensible: 0..5.
-    pub breakpoint_max_gap: usize,
+    /// The breakpoint detector that cuts clusters and runs (Borges and Aldon). Default 10
+    /// deg, 0.01 m of noise, at most 2 missing beams.
+    pub breakpoints: Breakpoints,
     /// Consecutive points that start a line. Default 3 (tuned). At least 3. Sensible: 3..10.
     pub seed_points: usize,
     /// Tracking threshold at zero range, m: a point joins the line when its distance to the
@@ -48,12 +50,8 @@ pub struct IncrementalParams {
     pub track_distance_per_metre: f64,
     /// Consecutive failing points tolerated inside a line. Default 1. Sensible: 0..3.
     pub max_outliers: usize,
-    /// Lines with fewer supporting points are dropped. Default 8 (tuned). At least 2 is
-    /// enforced.
-    pub min_line_points: usize,
-    /// Lines shorter than this are dropped, m. Default 0.15 (tuned): legs and debris give
-    /// short lines; lower it when small features matter. Sensible: 0..0.5.
-    pub min_line_length: f64,
+    /// The final filter. Default 8 (tuned) points, 0.15 m (tuned).
+    pub filter: LineFilter,
     /// Extra limits on valid ranges, on top of the scan's own `range_min..range_max`.
     /// Default none.
     pub range_limits: Option<RangeWindow>,
@@ -62,15 +60,12 @@ pub struct IncrementalParams {
 impl Default for IncrementalParams {
     fn default() -> Self {
         Self {
-            breakpoint_incidence: 10.0_f64.to_radians(),
-            breakpoint_noise: 0.01,
-            breakpoint_max_gap: 2,
+            breakpoints: Breakpoints::default(),
             seed_points: 3,
             track_distance: 0.02,
             track_distance_per_metre: 0.01,
             max_outliers: 1,
-            min_line_points: 8,
-            min_line_length: 0.15,
+            filter: LineFilter::default(),
             range_limits: None,
         }
     }
@@ -82,13 +77,13 @@ impl IncrementalParams {
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
     pub fn validate(&self) -> Result<(), ParamsError> {
-        common::check_breakpoints(self.breakpoint_incidence, self.breakpoint_noise)?;
-        common::at_least("seed_points", self.seed_points, 3)?;
-        common::check_scaled(
+        self.breakpoints.validate()?;
+        params::at_least("seed_points", self.seed_points, 3)?;
+        params::scaled(
             ("track_distance", self.track_distance),
             ("track_distance_per_metre", self.track_distance_per_metre),
         )?;
-        common::check_filter(self.min_line_length)
+        self.filter.validate()
     }
 }
 
@@ -181,19 +176,12 @@ impl LineExtractor for Incremental {
         out.clear();
         let p = &self.params;
         scan.points_into(scan.range_window(p.range_limits), &mut self.points);
-        let rule = Breakpoints {
-            incidence: p.breakpoint_incidence,
-            noise: p.breakpoint_noise,
-            max_gap: p.breakpoint_max_gap,
-        };
+        let rule = p.breakpoints;
         let threshold = Scaled {
             base: p.track_distance,
             per_metre: p.track_distance_per_metre,
         };
-        let filter = LineFilter {
-            min_points: p.min_line_points,
-            min_length: p.min_line_length,
-        };
+        let filter = p.filter;
         rule.clusters(&self.points, p.seed_points, &mut self.clusters);
         self.member.clear();
         self.member.resize(self.points.len(), false);
@@ -202,7 +190,7 @@ impl LineExtractor for Incremental {
             let cluster = self.clusters[c];
             self.track(cluster, threshold);
         }
-        common::finish(
+        finish(
             &self.points,
             &mut self.runs,
             &self.member,

@@ -23,7 +23,7 @@
 //!   line.
 //! - Fit (7): the line is refined `refine_iterations` times by a least-squares fit of the
 //!   largest run's inliers and a new collection of inliers, which removes the quantisation of
-//!   the grid. Every run of at least `min_line_points` inliers is stored.
+//!   the grid. Every run of at least `filter.min_points` inliers is stored.
 //! - Remove (8): the inliers of the peak line and of the refined line leave the accumulator.
 //!   A removed point that ended in no stored run may still support a later line's run (so that
 //!   a wall crossed by another wall's strip is not cut in two), but never votes again.
@@ -31,12 +31,16 @@
 //! Then the common final step.
 
 use super::ParamsError;
-use super::common::{self, Breakpoints, Hypothesis, LineFilter, Run, Scaled};
+use super::breakpoints::Breakpoints;
+use super::finish::{LineFilter, finish};
+use super::model::{Hypothesis, Scaled};
+use super::runs::{Run, fit_where, for_each_run, largest_run};
 use crate::extractor::LineExtractor;
 use crate::hough::{HoughAccumulator, HoughGrid};
 use crate::hough_split::Weight;
 use crate::line::Line;
 use crate::math::Vector2;
+use crate::params;
 use crate::scan::{RangeWindow, Scan, ScanPoint};
 
 /// Parameters of [`IterativeHough`].
@@ -46,6 +50,11 @@ use crate::scan::{RangeWindow, Scan, ScanPoint};
 /// the training suite (seed 1, 100 simulated URG-04LX scans of each of the seven scene suites;
 /// see `laserlines_eval::tune`). Results are reported on the test suite, seed 2.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct IterativeHoughParams {
     /// Row step of the accumulator, m. Default 0.02. Sensible: 0.01..0.10.
     pub distance_step: f64,
@@ -76,24 +85,13 @@ pub struct IterativeHoughParams {
     /// Consecutive non-inliers tolerated inside a run (kept in its beam range, not used in its
     /// fit). Default 1 (tuned). Sensible: 0..5.
     pub max_skipped: usize,
-    /// Smallest incidence angle between beam and surface that still joins two consecutive
-    /// inliers into one run, rad (`lambda` of Borges and Aldon). Default 10 deg.
-    /// Sensible: 5..20 deg.
-    pub breakpoint_incidence: f64,
-    /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
-    /// Sensible: 0..0.05.
-    pub breakpoint_noise: f64,
-    /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
-    /// may still join. Default 2. Sensible: 0..5.
-    pub breakpoint_max_gap: usize,
+    /// The breakpoint detector that cuts clusters and runs (Borges and Aldon). Default 10
+    /// deg, 0.01 m of noise, at most 2 missing beams.
+    pub breakpoints: Breakpoints,
     /// Most rounds (accumulator builds) per scan. Default 100. At least 1. Sensible: 20..500.
     pub max_iterations: usize,
-    /// Lines with fewer supporting points are dropped, and runs with fewer inliers are not
-    /// stored. Default 8 (tuned). At least 2 is enforced.
-    pub min_line_points: usize,
-    /// Lines shorter than this are dropped, m. Default 0.15 (tuned): legs and debris give
-    /// short lines; lower it when small features matter. Sensible: 0..0.5.
-    pub min_line_length: f64,
+    /// The final filter. Default 8 (tuned) points, 0.15 m (tuned).
+    pub filter: LineFilter,
     /// Extra limits on valid ranges, on top of the scan's own `range_min..range_max`.
     /// Default none.
     pub range_limits: Option<RangeWindow>,
@@ -113,12 +111,9 @@ impl Default for IterativeHoughParams {
             inlier_distance_per_metre: 0.01,
             refine_iterations: 2,
             max_skipped: 1,
-            breakpoint_incidence: 10.0_f64.to_radians(),
-            breakpoint_noise: 0.01,
-            breakpoint_max_gap: 2,
+            breakpoints: Breakpoints::default(),
             max_iterations: 100,
-            min_line_points: 8,
-            min_line_length: 0.15,
+            filter: LineFilter::default(),
             range_limits: None,
         }
     }
@@ -142,14 +137,14 @@ impl IterativeHoughParams {
     /// A [`ParamsError`] naming the first bad field.
     pub fn validate(&self) -> Result<(), ParamsError> {
         self.grid().validate()?;
-        common::positive("min_votes", self.min_votes)?;
-        common::check_scaled(
+        params::positive("min_votes", self.min_votes)?;
+        params::scaled(
             ("inlier_distance", self.inlier_distance),
             ("inlier_distance_per_metre", self.inlier_distance_per_metre),
         )?;
-        common::check_breakpoints(self.breakpoint_incidence, self.breakpoint_noise)?;
-        common::at_least("max_iterations", self.max_iterations, 1)?;
-        common::check_filter(self.min_line_length)
+        self.breakpoints.validate()?;
+        params::at_least("max_iterations", self.max_iterations, 1)?;
+        self.filter.validate()
     }
 }
 
@@ -198,9 +193,66 @@ impl IterativeHough {
         &self.acc
     }
 
+    /// The hypothesis `h0` refined by least squares on its largest run of inliers, while
+    /// that run keeps `min_members` points.
+    fn refine(
+        &self,
+        h0: Hypothesis,
+        t: Scaled,
+        rule: &Breakpoints,
+        min_members: usize,
+    ) -> Hypothesis {
+        let mut h = h0;
+        if let Some((mut run, _)) = self.best_run(&h, t, rule) {
+            for _ in 0..self.params.refine_iterations {
+                let pts = &self.points;
+                let fit = fit_where(pts, run, |i| h.distance(pts[i].point) <= t.at(pts[i].range));
+                let Some(fit) = fit else { break };
+                let refined = Hypothesis::from_fit(&fit);
+                match self.best_run(&refined, t, rule) {
+                    Some((r, m)) if m >= min_members => {
+                        h = refined;
+                        run = r;
+                    }
+                    _ => break,
+                }
+            }
+        }
+        h
+    }
+
+    /// Takes every run of at least `min_members` inliers of `h` among the points not taken
+    /// yet: its inliers become members, its points leave the vote.
+    fn take_runs(&mut self, h: &Hypothesis, t: Scaled, rule: &Breakpoints, min_members: usize) {
+        self.found.clear();
+        let pts = &self.points;
+        let taken = &self.taken;
+        let found = &mut self.found;
+        for_each_run(
+            pts,
+            |i| !taken[i],
+            |i| h.distance(pts[i].point) <= t.at(pts[i].range),
+            rule,
+            self.params.max_skipped,
+            |r, m| {
+                if m >= min_members {
+                    found.push(r);
+                }
+            },
+        );
+        for &r in &self.found {
+            for i in r.start..r.end {
+                self.member[i] = h.distance(self.points[i].point) <= t.at(self.points[i].range);
+                self.taken[i] = true;
+                self.voting[i] = false;
+            }
+            self.runs.push(r);
+        }
+    }
+
     fn best_run(&self, h: &Hypothesis, t: Scaled, rule: &Breakpoints) -> Option<(Run, usize)> {
         let pts = &self.points;
-        common::largest_run(
+        largest_run(
             pts,
             |i| !self.taken[i],
             |i| h.distance(pts[i].point) <= t.at(pts[i].range),
@@ -220,16 +272,12 @@ impl LineExtractor for IterativeHough {
         let p = self.params.clone();
         scan.points_into(scan.range_window(p.range_limits), &mut self.points);
         let n = self.points.len();
-        let rule = Breakpoints {
-            incidence: p.breakpoint_incidence,
-            noise: p.breakpoint_noise,
-            max_gap: p.breakpoint_max_gap,
-        };
+        let rule = p.breakpoints;
         let t = Scaled {
             base: p.inlier_distance,
             per_metre: p.inlier_distance_per_metre,
         };
-        let min_members = p.min_line_points.max(2);
+        let min_members = p.filter.min_points.max(2);
         self.voting.clear();
         self.voting.resize(n, true);
         self.taken.clear();
@@ -259,47 +307,8 @@ impl LineExtractor for IterativeHough {
                 d: peak.distance,
             };
             // 6-7. Inliers, refined by least squares on the largest run.
-            let mut h = h0;
-            if let Some((mut run, _)) = self.best_run(&h, t, &rule) {
-                for _ in 0..p.refine_iterations {
-                    let pts = &self.points;
-                    let fit = common::fit_where(pts, run, |i| {
-                        h.distance(pts[i].point) <= t.at(pts[i].range)
-                    });
-                    let Some(fit) = fit else { break };
-                    let refined = Hypothesis::from_fit(&fit);
-                    match self.best_run(&refined, t, &rule) {
-                        Some((r, m)) if m >= min_members => {
-                            h = refined;
-                            run = r;
-                        }
-                        _ => break,
-                    }
-                }
-            }
-            self.found.clear();
-            let pts = &self.points;
-            let found = &mut self.found;
-            common::for_each_run(
-                pts,
-                |i| !self.taken[i],
-                |i| h.distance(pts[i].point) <= t.at(pts[i].range),
-                &rule,
-                p.max_skipped,
-                |r, m| {
-                    if m >= min_members {
-                        found.push(r);
-                    }
-                },
-            );
-            for &r in &self.found {
-                for i in r.start..r.end {
-                    self.member[i] = h.distance(self.points[i].point) <= t.at(self.points[i].range);
-                    self.taken[i] = true;
-                    self.voting[i] = false;
-                }
-                self.runs.push(r);
-            }
+            let h = self.refine(h0, t, &rule, min_members);
+            self.take_runs(&h, t, &rule, min_members);
             // 8. Remove the inliers (of the peak line, which include the peak's voters, and of
             // the refined line) from the set.
             let a = p.window * (1.0 + 1e-9) + 1e-12;
@@ -310,11 +319,8 @@ impl LineExtractor for IterativeHough {
                 }
             }
         }
-        let filter = LineFilter {
-            min_points: p.min_line_points,
-            min_length: p.min_line_length,
-        };
-        common::finish(
+        let filter = p.filter;
+        finish(
             &self.points,
             &mut self.runs,
             &self.member,

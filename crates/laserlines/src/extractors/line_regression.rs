@@ -16,11 +16,16 @@
 //!    the least-squares fit, minimum points and length.
 
 use super::ParamsError;
-use super::common::{self, Breakpoints, LineFilter, Run, Scaled};
+use super::breakpoints::Breakpoints;
+use super::finish::{LineFilter, finish};
+use super::merge;
+use super::model::Scaled;
+use super::runs::Run;
 use crate::extractor::LineExtractor;
 use crate::fit::{FitSums, PolarFit};
 use crate::line::Line;
 use crate::math::{Matrix2, Point2, angle_diff, wrap_angle};
+use crate::params;
 use crate::scan::{RangeWindow, Scan, ScanPoint};
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -31,17 +36,15 @@ use std::f64::consts::{FRAC_PI_2, PI};
 /// the training suite (seed 1, 100 simulated URG-04LX scans of each of the seven scene suites;
 /// see `laserlines_eval::tune`). Results are reported on the test suite, seed 2.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct LineRegressionParams {
-    /// Smallest incidence angle between beam and surface that still joins two consecutive
-    /// points into one cluster, rad (`lambda` of Borges and Aldon). Default 10 deg.
-    /// Sensible: 5..20 deg.
-    pub breakpoint_incidence: f64,
-    /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
-    /// Sensible: 0..0.05.
-    pub breakpoint_noise: f64,
-    /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
-    /// may still join. Default 2. Sensible: 0..5.
-    pub breakpoint_max_gap: usize,
+    /// The breakpoint detector that cuts clusters and runs (Borges and Aldon). Default 10
+    /// deg, 0.01 m of noise, at most 2 missing beams.
+    pub breakpoints: Breakpoints,
     /// Points per sliding window (`N_f`). Default 9. At least 3. Sensible: 5..15.
     pub window: usize,
     /// Range noise standard deviation at zero range, m, for the window covariances.
@@ -65,12 +68,8 @@ pub struct LineRegressionParams {
     /// Growth of the merge threshold with range, m per m. Default 0.02 (tuned).
     /// Sensible: 0..0.03.
     pub merge_distance_per_metre: f64,
-    /// Lines with fewer supporting points are dropped. Default 8 (tuned). At least 2 is
-    /// enforced.
-    pub min_line_points: usize,
-    /// Lines shorter than this are dropped, m. Default 0.15 (tuned): legs and debris give
-    /// short lines; lower it when small features matter. Sensible: 0..0.5.
-    pub min_line_length: f64,
+    /// The final filter. Default 8 (tuned) points, 0.15 m (tuned).
+    pub filter: LineFilter,
     /// Extra limits on valid ranges, on top of the scan's own `range_min..range_max`.
     /// Default none.
     pub range_limits: Option<RangeWindow>,
@@ -79,9 +78,7 @@ pub struct LineRegressionParams {
 impl Default for LineRegressionParams {
     fn default() -> Self {
         Self {
-            breakpoint_incidence: 10.0_f64.to_radians(),
-            breakpoint_noise: 0.01,
-            breakpoint_max_gap: 2,
+            breakpoints: Breakpoints::default(),
             window: 9,
             noise_sigma: 0.005,
             noise_sigma_per_metre: 0.0025,
@@ -90,8 +87,7 @@ impl Default for LineRegressionParams {
             merge_collinear: true,
             merge_distance: 0.02,
             merge_distance_per_metre: 0.02,
-            min_line_points: 8,
-            min_line_length: 0.15,
+            filter: LineFilter::default(),
             range_limits: None,
         }
     }
@@ -103,19 +99,19 @@ impl LineRegressionParams {
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
     pub fn validate(&self) -> Result<(), ParamsError> {
-        common::check_breakpoints(self.breakpoint_incidence, self.breakpoint_noise)?;
-        common::at_least("window", self.window, 3)?;
-        common::check_scaled(
+        self.breakpoints.validate()?;
+        params::at_least("window", self.window, 3)?;
+        params::scaled(
             ("noise_sigma", self.noise_sigma),
             ("noise_sigma_per_metre", self.noise_sigma_per_metre),
         )?;
-        common::positive("similarity", self.similarity)?;
-        common::at_least("min_windows", self.min_windows, 1)?;
-        common::check_scaled(
+        params::positive("similarity", self.similarity)?;
+        params::at_least("min_windows", self.min_windows, 1)?;
+        params::scaled(
             ("merge_distance", self.merge_distance),
             ("merge_distance_per_metre", self.merge_distance_per_metre),
         )?;
-        common::check_filter(self.min_line_length)
+        self.filter.validate()
     }
 }
 
@@ -292,19 +288,12 @@ impl LineExtractor for LineRegression {
         out.clear();
         let p = &self.params;
         scan.points_into(scan.range_window(p.range_limits), &mut self.points);
-        let rule = Breakpoints {
-            incidence: p.breakpoint_incidence,
-            noise: p.breakpoint_noise,
-            max_gap: p.breakpoint_max_gap,
-        };
+        let rule = p.breakpoints;
         let merge = Scaled {
             base: p.merge_distance,
             per_metre: p.merge_distance_per_metre,
         };
-        let filter = LineFilter {
-            min_points: p.min_line_points,
-            min_length: p.min_line_length,
-        };
+        let filter = p.filter;
         let merge_collinear = p.merge_collinear;
         rule.clusters(&self.points, p.window, &mut self.clusters);
         self.runs.clear();
@@ -313,13 +302,13 @@ impl LineExtractor for LineRegression {
             self.group_windows(self.clusters[c]);
             self.meet();
             if merge_collinear {
-                common::merge_collinear(&self.points, &mut self.groups, merge);
+                merge::merge_collinear(&self.points, &mut self.groups, merge);
             }
             self.runs.extend_from_slice(&self.groups);
         }
         self.member.clear();
         self.member.resize(self.points.len(), true);
-        common::finish(
+        finish(
             &self.points,
             &mut self.runs,
             &self.member,

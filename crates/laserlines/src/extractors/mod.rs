@@ -3,10 +3,10 @@
 //!
 //! - [`IterativeHough`] (`iterative-hough`): full Hough accumulator, take the peak, fit its
 //!   inliers, remove them, rebuild, repeat (the baseline the paper quotes).
-//! - [`SplitAndMerge`] (`split-and-merge`): breakpoint clusters, recursive split on the
-//!   least-squares line, merge of collinear neighbours.
-//! - [`Iepf`] (`iepf`): iterative end-point fit (split on the chord) on breakpoint clusters, the
-//!   paper's `Linseg` without its Hough segmentation.
+//! - [`SplitMerge`] with [`SplitLine::LeastSquares`] (`split-and-merge`): breakpoint
+//!   clusters, recursive split on the least-squares line, merge of collinear neighbours.
+//! - [`SplitMerge`] with [`SplitLine::Chord`] (`iepf`): iterative end-point fit (split on the
+//!   chord) on breakpoint clusters, the paper's `Linseg` without its Hough segmentation.
 //! - [`Incremental`] (`incremental`): line tracking, growing a line point by point while the
 //!   fit holds.
 //! - [`LineRegression`] (`line-regression`): sliding-window fits clustered in `(r, alpha)`
@@ -17,21 +17,25 @@
 //!   seeded.
 //!
 //! All of them take the scan's valid points ([`crate::Scan::points_into`] within
-//! [`crate::Scan::range_window`] of their `range_limits`), and end with the same step: each
-//! emitted run of consecutive beams is fitted by [`crate::FitSums::fit`] and turned into a
-//! [`crate::Line`] by [`crate::Line::from_fit`], then filtered by the same minimum number of points and
-//! minimum length. Before that fit, where two runs meet with no gap, the few points at the
-//! junction go to the side whose least-squares line explains them better. Differences between
-//! extractors therefore come from the algorithms, not from the fitting. Lines come out ordered
-//! by first beam, with disjoint beam ranges.
+//! [`crate::Scan::range_window`] of their `range_limits`), and end with the same step:
+//! each emitted run of consecutive beams is fitted by [`crate::FitSums::fit`]
+//! and turned into a [`crate::Line`] by [`crate::Line::from_fit`], then filtered by the same
+//! [`LineFilter`] (minimum number of points and length). Before that fit, where two runs meet
+//! with no gap, the few points at the junction go to the side whose least-squares line
+//! explains them better. Differences between extractors therefore come from the algorithms,
+//! not from the fitting. Lines come out ordered by first beam, with disjoint beam ranges.
+//!
+//! Their parameters nest what they share: [`Breakpoints`] (the adaptive breakpoint detector
+//! of Borges and Aldon, which cuts clusters and runs) and [`LineFilter`]. Every extractor is
+//! listed, with its defaults and tuning knobs, in [`crate::registry`].
 //!
 //! Random extractors take a `seed` in their parameters and reseed for every scan: the same
 //! scan always gives the same lines.
 //!
 //! Distance thresholds grow with range, as the noise of the sensor does (the URG-04LX is
 //! accurate to +-10 mm up to 1 m and +-1 % beyond): each is `base + per_metre * range`, with
-//! the range of the point being tested. The breakpoint detector of Borges and Aldon, used by
-//! all of them to cut clusters and runs, grows with range by construction.
+//! the range of the point being tested. The breakpoint detector grows with range by
+//! construction.
 //!
 //! ```
 //! use laserlines::extractors::{self, ALGORITHMS};
@@ -51,123 +55,34 @@
 //! }
 //! ```
 
-mod common;
+mod breakpoints;
 mod em;
-mod iepf;
+mod finish;
 mod incremental;
 mod iterative_hough;
 mod line_regression;
+mod merge;
+mod model;
 mod ransac;
-mod split_and_merge;
+mod rng;
+mod runs;
+mod split;
+mod split_merge;
+#[cfg(test)]
+mod test_support;
 
+pub use breakpoints::Breakpoints;
 pub use em::{Em, EmParams};
-pub use iepf::{Iepf, IepfParams};
+pub use finish::LineFilter;
 pub use incremental::{Incremental, IncrementalParams};
 pub use iterative_hough::{IterativeHough, IterativeHoughParams};
 pub use line_regression::{LineRegression, LineRegressionParams};
 pub use ransac::{Ransac, RansacParams};
-pub use split_and_merge::{SplitAndMerge, SplitAndMergeParams};
+pub use split::SplitLine;
+pub use split_merge::{SplitMerge, SplitMergeParams};
 
-use crate::extractor::LineExtractor;
-use crate::hough::HoughError;
-use crate::hough_split::{HoughSplit, HoughSplitParams};
+/// The names of every extractor and the extractor of a name, from [`crate::registry`].
+pub use crate::registry::{ALGORITHMS, by_name};
 
-/// Errors in the parameters of the extractors of this module.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ParamsError {
-    /// A field that must be finite and positive is not.
-    #[error("{field} must be finite and > 0, got {value}")]
-    NotPositive {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: f64,
-    },
-    /// A field that must be finite and non-negative is not.
-    #[error("{field} must be finite and >= 0, got {value}")]
-    Negative {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: f64,
-    },
-    /// A field outside its open interval.
-    #[error("{field} must lie in ({lo}, {hi}), got {value}")]
-    OutOfRange {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: f64,
-        /// lower bound (exclusive)
-        lo: f64,
-        /// upper bound (exclusive)
-        hi: f64,
-    },
-    /// A field below its minimum (or not finite).
-    #[error("{field} must be finite and >= {min}, got {value}")]
-    Below {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: f64,
-        /// smallest allowed value
-        min: f64,
-    },
-    /// A count below its minimum.
-    #[error("{field} must be at least {min}, got {value}")]
-    TooFew {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: usize,
-        /// smallest allowed value
-        min: usize,
-    },
-    /// The Hough grid is invalid.
-    #[error("Hough grid: {0}")]
-    Grid(#[from] HoughError),
-}
-
-/// The names of every extractor, as [`LineExtractor::name`] returns them and [`by_name`]
-/// accepts them; the paper's algorithm first.
-pub const ALGORITHMS: &[&str] = &[
-    "hough-split",
-    "iterative-hough",
-    "split-and-merge",
-    "iepf",
-    "incremental",
-    "line-regression",
-    "ransac",
-    "em",
-];
-
-/// The extractor called `name` (one of [`ALGORITHMS`]) with its default parameters, or `None`
-/// for an unknown name.
-#[must_use]
-pub fn by_name(name: &str) -> Option<Box<dyn LineExtractor + Send>> {
-    Some(match name {
-        "hough-split" => Box::new(HoughSplit::new(HoughSplitParams::default()).ok()?),
-        "iterative-hough" => Box::new(IterativeHough::new(IterativeHoughParams::default()).ok()?),
-        "split-and-merge" => Box::new(SplitAndMerge::new(SplitAndMergeParams::default()).ok()?),
-        "iepf" => Box::new(Iepf::new(IepfParams::default()).ok()?),
-        "incremental" => Box::new(Incremental::new(IncrementalParams::default()).ok()?),
-        "line-regression" => Box::new(LineRegression::new(LineRegressionParams::default()).ok()?),
-        "ransac" => Box::new(Ransac::new(RansacParams::default()).ok()?),
-        "em" => Box::new(Em::new(EmParams::default()).ok()?),
-        _ => return None,
-    })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn every_name_builds_and_reports_itself() {
-        for name in ALGORITHMS {
-            let e = by_name(name).unwrap();
-            assert_eq!(e.name(), *name);
-        }
-        assert!(by_name("no-such-algorithm").is_none());
-    }
-}
+/// Errors in the parameters of the extractors (the crate's one [`crate::ParamsError`]).
+pub use crate::params::ParamsError;

@@ -20,9 +20,14 @@
 //! every scan, so the same scan gives the same lines.
 
 use super::ParamsError;
-use super::common::{self, Breakpoints, Hypothesis, LineFilter, Run, Scaled, SplitMix64};
+use super::breakpoints::Breakpoints;
+use super::finish::{LineFilter, finish};
+use super::model::{Hypothesis, Scaled};
+use super::rng::SplitMix64;
+use super::runs::{Run, fit_where, for_each_run, largest_run};
 use crate::extractor::LineExtractor;
 use crate::line::Line;
+use crate::params;
 use crate::scan::{RangeWindow, Scan, ScanPoint};
 
 /// Parameters of [`Ransac`].
@@ -32,6 +37,11 @@ use crate::scan::{RangeWindow, Scan, ScanPoint};
 /// the training suite (seed 1, 100 simulated URG-04LX scans of each of the seven scene suites;
 /// see `laserlines_eval::tune`). Results are reported on the test suite, seed 2.
 #[derive(Debug, Clone, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct RansacParams {
     /// Seed of the generator, reset for every scan. Default `0x5EED`.
     pub seed: u64,
@@ -56,23 +66,13 @@ pub struct RansacParams {
     pub max_skipped: usize,
     /// Least-squares refinements of the best hypothesis. Default 2. Sensible: 0..5.
     pub refine_iterations: usize,
-    /// Smallest incidence angle between beam and surface that still joins two consecutive
-    /// inliers into one run, rad (`lambda` of Borges and Aldon). Default 10 deg.
-    /// Sensible: 5..20 deg.
-    pub breakpoint_incidence: f64,
-    /// Range noise allowance of the breakpoint detector, m (added three times). Default 0.01.
-    /// Sensible: 0..0.05.
-    pub breakpoint_noise: f64,
-    /// Most missing (invalid) beams between two consecutive points that the breakpoint detector
-    /// may still join. Default 2. Sensible: 0..5.
-    pub breakpoint_max_gap: usize,
+    /// The breakpoint detector that cuts clusters and runs (Borges and Aldon). Default 10
+    /// deg, 0.01 m of noise, at most 2 missing beams.
+    pub breakpoints: Breakpoints,
     /// Most rounds of sampling (lines) per scan. Default 64. At least 1. Sensible: 16..256.
     pub max_lines: usize,
-    /// Lines with fewer supporting points are dropped. Default 6. At least 2 is enforced.
-    pub min_line_points: usize,
-    /// Lines shorter than this are dropped, m. Default 0.15 (tuned): legs and debris give
-    /// short lines; lower it when small features matter. Sensible: 0..0.5.
-    pub min_line_length: f64,
+    /// The final filter. Default 6 points, 0.15 m (tuned).
+    pub filter: LineFilter,
     /// Extra limits on valid ranges, on top of the scan's own `range_min..range_max`.
     /// Default none.
     pub range_limits: Option<RangeWindow>,
@@ -89,12 +89,12 @@ impl Default for RansacParams {
             min_inliers: 10,
             max_skipped: 1,
             refine_iterations: 2,
-            breakpoint_incidence: 10.0_f64.to_radians(),
-            breakpoint_noise: 0.01,
-            breakpoint_max_gap: 2,
+            breakpoints: Breakpoints::default(),
             max_lines: 64,
-            min_line_points: 6,
-            min_line_length: 0.15,
+            filter: LineFilter {
+                min_points: 6,
+                ..LineFilter::default()
+            },
             range_limits: None,
         }
     }
@@ -106,15 +106,15 @@ impl RansacParams {
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
     pub fn validate(&self) -> Result<(), ParamsError> {
-        common::at_least("iterations", self.iterations, 1)?;
-        common::check_scaled(
+        params::at_least("iterations", self.iterations, 1)?;
+        params::scaled(
             ("inlier_distance", self.inlier_distance),
             ("inlier_distance_per_metre", self.inlier_distance_per_metre),
         )?;
-        common::at_least("min_inliers", self.min_inliers, 2)?;
-        common::check_breakpoints(self.breakpoint_incidence, self.breakpoint_noise)?;
-        common::at_least("max_lines", self.max_lines, 1)?;
-        common::check_filter(self.min_line_length)
+        params::at_least("min_inliers", self.min_inliers, 2)?;
+        self.breakpoints.validate()?;
+        params::at_least("max_lines", self.max_lines, 1)?;
+        self.filter.validate()
     }
 }
 
@@ -158,7 +158,7 @@ impl Ransac {
     /// Largest consistent run of hypothesis `h` among the free points.
     fn best_run(&self, h: &Hypothesis, t: Scaled, rule: &Breakpoints) -> Option<(Run, usize)> {
         let pts = &self.points;
-        common::largest_run(
+        largest_run(
             pts,
             |i| !self.taken[i],
             |i| h.distance(pts[i].point) <= t.at(pts[i].range),
@@ -191,6 +191,82 @@ impl Ransac {
     }
 }
 
+impl Ransac {
+    /// Of `iterations` sampled hypotheses, the one with the largest run of inliers, the run
+    /// and its member count.
+    fn best_hypothesis(
+        &self,
+        rng: &mut SplitMix64,
+        t: Scaled,
+        rule: &Breakpoints,
+    ) -> Option<(Hypothesis, Run, usize)> {
+        let mut best: Option<(Hypothesis, Run, usize)> = None;
+        for _ in 0..self.params.iterations {
+            let Some(h) = self.sample(rng) else {
+                continue;
+            };
+            if let Some((run, m)) = self.best_run(&h, t, rule)
+                && best.is_none_or(|(_, _, b)| m > b)
+            {
+                best = Some((h, run, m));
+            }
+        }
+        best
+    }
+
+    /// `h` refined by least squares on its largest run (starting at `run`), while that run
+    /// keeps `min_inliers` points.
+    fn refine(&self, mut h: Hypothesis, mut run: Run, t: Scaled, rule: &Breakpoints) -> Hypothesis {
+        for _ in 0..self.params.refine_iterations {
+            let pts = &self.points;
+            let fit = fit_where(pts, run, |i| h.distance(pts[i].point) <= t.at(pts[i].range));
+            let Some(fit) = fit else { break };
+            let refined = Hypothesis::from_fit(&fit);
+            match self.best_run(&refined, t, rule) {
+                Some((r, m)) if m >= self.params.min_inliers => {
+                    h = refined;
+                    run = r;
+                }
+                _ => break,
+            }
+        }
+        h
+    }
+
+    /// Takes every run of at least `min_inliers` inliers of `h` among the points not taken
+    /// yet; false when there is none.
+    fn take_runs(&mut self, h: &Hypothesis, t: Scaled, rule: &Breakpoints) -> bool {
+        let min = self.params.min_inliers;
+        self.found.clear();
+        let pts = &self.points;
+        let taken = &self.taken;
+        let found = &mut self.found;
+        for_each_run(
+            pts,
+            |i| !taken[i],
+            |i| h.distance(pts[i].point) <= t.at(pts[i].range),
+            rule,
+            self.params.max_skipped,
+            |r, m| {
+                if m >= min {
+                    found.push(r);
+                }
+            },
+        );
+        if self.found.is_empty() {
+            return false;
+        }
+        for &r in &self.found {
+            for i in r.start..r.end {
+                self.member[i] = h.distance(self.points[i].point) <= t.at(self.points[i].range);
+                self.taken[i] = true;
+            }
+            self.runs.push(r);
+        }
+        true
+    }
+}
+
 impl LineExtractor for Ransac {
     fn name(&self) -> &'static str {
         "ransac"
@@ -201,11 +277,7 @@ impl LineExtractor for Ransac {
         let p = self.params.clone();
         scan.points_into(scan.range_window(p.range_limits), &mut self.points);
         let n = self.points.len();
-        let rule = Breakpoints {
-            incidence: p.breakpoint_incidence,
-            noise: p.breakpoint_noise,
-            max_gap: p.breakpoint_max_gap,
-        };
+        let rule = p.breakpoints;
         let t = Scaled {
             base: p.inlier_distance,
             per_metre: p.inlier_distance_per_metre,
@@ -222,70 +294,19 @@ impl LineExtractor for Ransac {
             if self.free.len() < p.min_inliers {
                 break;
             }
-            let mut best: Option<(Hypothesis, Run, usize)> = None;
-            for _ in 0..p.iterations {
-                let Some(h) = self.sample(&mut rng) else {
-                    continue;
-                };
-                if let Some((run, m)) = self.best_run(&h, t, &rule)
-                    && best.is_none_or(|(_, _, b)| m > b)
-                {
-                    best = Some((h, run, m));
-                }
-            }
-            let Some((mut h, first_run, m)) = best else {
+            let Some((h, first_run, m)) = self.best_hypothesis(&mut rng, t, &rule) else {
                 break;
             };
             if m < p.min_inliers {
                 break;
             }
-            let mut run = first_run;
-            for _ in 0..p.refine_iterations {
-                let pts = &self.points;
-                let fit =
-                    common::fit_where(pts, run, |i| h.distance(pts[i].point) <= t.at(pts[i].range));
-                let Some(fit) = fit else { break };
-                let refined = Hypothesis::from_fit(&fit);
-                match self.best_run(&refined, t, &rule) {
-                    Some((r, m)) if m >= p.min_inliers => {
-                        h = refined;
-                        run = r;
-                    }
-                    _ => break,
-                }
-            }
-            self.found.clear();
-            let pts = &self.points;
-            let found = &mut self.found;
-            common::for_each_run(
-                pts,
-                |i| !self.taken[i],
-                |i| h.distance(pts[i].point) <= t.at(pts[i].range),
-                &rule,
-                p.max_skipped,
-                |r, m| {
-                    if m >= p.min_inliers {
-                        found.push(r);
-                    }
-                },
-            );
-            if self.found.is_empty() {
+            let h = self.refine(h, first_run, t, &rule);
+            if !self.take_runs(&h, t, &rule) {
                 self.taken[first_run.start..first_run.end].fill(true);
-                continue;
-            }
-            for &r in &self.found {
-                for i in r.start..r.end {
-                    self.member[i] = h.distance(self.points[i].point) <= t.at(self.points[i].range);
-                    self.taken[i] = true;
-                }
-                self.runs.push(r);
             }
         }
-        let filter = LineFilter {
-            min_points: p.min_line_points,
-            min_length: p.min_line_length,
-        };
-        common::finish(
+        let filter = p.filter;
+        finish(
             &self.points,
             &mut self.runs,
             &self.member,

@@ -7,8 +7,10 @@
 
 use std::ops::Range;
 
+use super::mixed;
 use super::params::{HoughSplitParams, Weight};
 use super::points::{BeamTable, Pt};
+use crate::noise::RangeNoise;
 use crate::scan::{RangeWindow, Scan};
 
 /// One cell of the accumulator that received votes.
@@ -105,6 +107,18 @@ impl Default for Accumulator {
     }
 }
 
+/// What makes a beam a point of step 0, and which points vote nowhere.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Valid {
+    /// Valid ranges of the scan.
+    pub(crate) window: RangeWindow,
+    /// Beams nearer than this, m, give no point (the robot's own body).
+    pub(crate) min_range: f64,
+    /// With `remove_mixed_pixels`, the scan's noise: points that lie on neither neighbouring
+    /// surface ([`mixed::isolated`]) vote in no cell and so are removed.
+    pub(crate) mixed: Option<RangeNoise>,
+}
+
 /// What the points vote with.
 #[derive(Clone, Copy)]
 struct Votes {
@@ -166,21 +180,19 @@ impl Accumulator {
         self.bins.len()
     }
 
-    /// Converts the valid beams of `scan` to `points` (step 0: range valid in `window` and
-    /// at least `min_range`, finite point), builds their accumulator, applies the criterion
-    /// and fills `cell_of` with the cell of each point that the later steps join: its first
-    /// cell when that is kept, else its last when that is kept, else any of its cells (not
-    /// kept: the point is removed as noise), or `VOID` when it voted in none.
+    /// Converts the valid beams of `scan` to `points` (step 0, see [`Valid`]), builds their
+    /// accumulator, applies the criterion and fills `cell_of` with the cell of each point
+    /// that the later steps join: its first cell when that is kept, else its last when that
+    /// is kept, else any of its cells (not kept: the point is removed as noise), or `VOID`
+    /// when it voted in none (an isolated point votes in none).
     ///
     /// A sector's points are consecutive, so its sums are kept in a table indexed by ring,
     /// summed in point order as the paper's sum over `i`, and turn into cells in ring order
     /// when the next sector begins.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn build(
         &mut self,
         scan: &Scan,
-        window: RangeWindow,
-        min_range: f64,
+        valid: &Valid,
         table: &BeamTable,
         p: &HoughSplitParams,
         points: &mut Vec<Pt>,
@@ -190,12 +202,22 @@ impl Accumulator {
         self.bins.push(Bin::default());
         self.sector_start.clear();
         self.top_ring = 0;
-        self.fill(scan, window, min_range, table, points);
+        self.fill(scan, valid, table, points);
         let n = points.len();
         self.rings.resize(n, (0, 0));
         let (inv, a) = (1.0 / p.ring_step, p.window);
         for (ring, &x) in self.rings[..n].iter_mut().zip(&self.along[..n]) {
             *ring = ring_span(x, a, inv);
+        }
+        if let Some(noise) = &valid.mixed {
+            // An isolated point votes nowhere: an empty span of rings (`first > last`), near
+            // its own rings so that its sector's table stays where its other points vote.
+            for (ring, pt) in self.rings[..n].iter_mut().zip(&points[..n]) {
+                if mixed::isolated(&scan.ranges, pt.idx, valid.window, noise) {
+                    let first = ring.0.max(1);
+                    *ring = (first, first - 1);
+                }
+            }
         }
         cell_of.resize(n, 0);
         self.vote(points, table, p, &mut cell_of[..n]);
@@ -205,14 +227,8 @@ impl Accumulator {
 
     /// Step 0: the valid beams of `scan` as points, and each point's distance along its
     /// sector's centre in `along`.
-    fn fill(
-        &mut self,
-        scan: &Scan,
-        window: RangeWindow,
-        min_range: f64,
-        table: &BeamTable,
-        points: &mut Vec<Pt>,
-    ) {
+    fn fill(&mut self, scan: &Scan, valid: &Valid, table: &BeamTable, points: &mut Vec<Pt>) {
+        let (window, min_range) = (valid.window, valid.min_range);
         let n = scan.ranges.len().min(table.beams.len());
         points.resize(n, Pt::default());
         self.along.resize(n, 0.0);

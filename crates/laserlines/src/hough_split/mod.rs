@@ -19,19 +19,21 @@ mod accumulator;
 mod components;
 mod lines;
 mod linseg;
+mod mixed;
 mod params;
 mod points;
 mod segment;
 
+pub use crate::params::ParamsError;
 pub use accumulator::Cell;
-pub use params::{HoughSplitParams, ParamsError, Weight};
+pub use params::{HoughSplitParams, Weight};
 
 use crate::extractor::LineExtractor;
 use crate::line::Line;
 use crate::math::Point2;
 use crate::noise::{BandEstimate, NOISE_BANDS, NoiseEstimator, NoiseModel, RangeNoise};
 use crate::scan::{Scan, ScanPoint};
-use accumulator::Accumulator;
+use accumulator::{Accumulator, Valid};
 use components::Components;
 use linseg::SplitScratch;
 use points::{BeamTable, Pt};
@@ -127,6 +129,10 @@ impl LineExtractor for HoughSplit {
         "hough-split"
     }
 
+    fn range_noise(&self) -> Option<RangeNoise> {
+        Some(self.noise)
+    }
+
     fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
         out.clear();
         self.split_points.clear();
@@ -143,10 +149,14 @@ impl LineExtractor for HoughSplit {
         self.noise_of(scan);
         self.breakpoints
             .prepare(&self.params, scan.angle_increment, self.noise);
+        let valid = Valid {
+            window: scan.range_window(self.params.range_limits),
+            min_range: self.params.min_range,
+            mixed: self.params.remove_mixed_pixels.then_some(self.noise),
+        };
         self.acc.build(
             scan,
-            scan.range_window(self.params.range_limits),
-            self.params.min_range,
+            &valid,
             &self.table,
             &self.params,
             &mut self.points,

@@ -1,12 +1,16 @@
 //! Parameters of [`super::HoughSplit`].
 
 use crate::noise::{NoiseModel, RangeNoise};
+use crate::params::ParamsError;
 use crate::scan::RangeWindow;
 
 /// The weight function `g` of the paper's eq. (1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(rename_all = "lowercase")
+)]
 pub enum Weight {
     /// `g = 1`: a cell's value counts its points.
     One,
@@ -14,30 +18,6 @@ pub enum Weight {
     /// paper: it compensates the density of points falling with range.
     #[default]
     Range,
-}
-
-/// Errors in [`HoughSplitParams`].
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ParamsError {
-    /// A field that must be finite and positive is not.
-    #[error("{field} must be finite and > 0, got {value}")]
-    NotPositive {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: f64,
-    },
-    /// A field that must be finite and non-negative is not.
-    #[error("{field} must be finite and >= 0, got {value}")]
-    Negative {
-        /// field name
-        field: &'static str,
-        /// offending value
-        value: f64,
-    },
-    /// A fixed noise model that is negative, not finite, or zero everywhere.
-    #[error("noise must have finite sigma_min >= 0 and fraction >= 0, not both 0, got {0}")]
-    BadNoise(RangeNoise),
 }
 
 /// Parameters of the paper's extractor, with the paper's grid as defaults (in SI units).
@@ -49,8 +29,11 @@ pub enum ParamsError {
 ///
 /// [`HoughSplitParams::paper`] turns every extension off: the paper's pipeline alone.
 #[derive(Debug, Clone, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-#[cfg_attr(feature = "serde", serde(default, deny_unknown_fields))]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
 pub struct HoughSplitParams {
     /// Ring step `dd` of the accumulator, m. Paper: 0.03 m. Sensible: 0.01..0.10.
     pub ring_step: f64,
@@ -84,7 +67,9 @@ pub struct HoughSplitParams {
     pub bridge_beams: bool,
     /// Smallest angle between beam and surface that `D` still joins, rad (the `lambda` of
     /// Borges & Aldon 2004): a corridor wall seen lengthwise stays one segment down to this
-    /// angle. Default 4 deg. Sensible: 3..15 deg.
+    /// angle. On coarse scanners it is raised to ten beam steps (10 deg for a 1 deg
+    /// scanner), where a shallower surface's points lie too far apart to tell it from a gap.
+    /// Default 4 deg. Sensible: 3..15 deg.
     pub bridge_incidence: f64,
     /// Noise allowance of `D`, in standard deviations of the distance between two points
     /// (`sqrt(2) sigma(r)`). Default 3. Sensible: 2..5.
@@ -127,6 +112,10 @@ pub struct HoughSplitParams {
     /// from their covariance), rad, are dropped: a short far piece under heavy noise gives a
     /// line whose direction says little. Default 5 deg. `inf` turns it off.
     pub max_alpha_sd: f64,
+    /// Leave out points that lie on neither neighbouring surface (mixed pixels at depth
+    /// edges, spikes): more than three standard deviations from the extrapolations of both
+    /// neighbouring pairs of beams. Not in the paper. Default `true`.
+    pub remove_mixed_pixels: bool,
     /// Points nearer than this never form lines, m: the robot's own body (a footprint radius
     /// around the laser). Default 0 (the scan's `range_min` only).
     pub min_range: f64,
@@ -159,6 +148,7 @@ impl Default for HoughSplitParams {
             min_line_length: 0.15,
             max_rms_sigmas: 2.5,
             max_alpha_sd: 5f64.to_radians(),
+            remove_mixed_pixels: true,
             min_range: 0.0,
             range_limits: None,
         }
@@ -186,7 +176,20 @@ impl HoughSplitParams {
             min_line_length: 0.0,
             max_rms_sigmas: f64::INFINITY,
             max_alpha_sd: f64::INFINITY,
+            remove_mixed_pixels: false,
             range_limits: Some(RangeWindow::PAPER),
+            ..Self::default()
+        }
+    }
+
+    /// The defaults for a robot driving among obstacles rather than for a map of walls: every
+    /// surface of 5 cm or more gives a line (`min_line_length = 0.05`), so that posts and
+    /// legs near the robot are objects of its sectors. The explorer of `laserlines simulate`
+    /// uses it.
+    #[must_use]
+    pub fn navigation() -> Self {
+        Self {
+            min_line_length: 0.05,
             ..Self::default()
         }
     }
@@ -230,7 +233,24 @@ impl HoughSplitParams {
         if let NoiseModel::Fixed(n) = self.noise
             && !n.is_valid()
         {
-            return Err(ParamsError::BadNoise(n));
+            let ok = |v: f64| v.is_finite() && v >= 0.0;
+            return Err(if !ok(n.sigma_min) {
+                ParamsError::Negative {
+                    field: "noise.sigma_min",
+                    value: n.sigma_min,
+                }
+            } else if !ok(n.fraction) {
+                ParamsError::Negative {
+                    field: "noise.fraction",
+                    value: n.fraction,
+                }
+            } else {
+                // Both zero: no noise at all.
+                ParamsError::NotPositive {
+                    field: "noise.sigma_min",
+                    value: n.sigma_min,
+                }
+            });
         }
         Ok(())
     }
@@ -238,13 +258,13 @@ impl HoughSplitParams {
     /// The breakpoint distance `D`, m: the farthest apart two consecutive points of one
     /// surface can lie when the first is at range `r` and the beams are `dphi` rad apart,
     /// `D = r sin(dphi) / sin(lambda - dphi) + bridge_sigmas * sqrt(2) * sigma` (Borges &
-    /// Aldon's adaptive breakpoint with `lambda = bridge_incidence` and the noise `sigma` at
-    /// `r`). `None` when `dphi` exceeds `lambda / 3`: points that far apart in angle are never
-    /// joined, so that `D` stays below `r / 2` plus the noise allowance and no gap in a sparse
-    /// scan is taken for a surface.
+    /// Aldon's adaptive breakpoint with `lambda = max(bridge_incidence, 10 * step)` for beams
+    /// `step` rad apart, and the noise `sigma` at `r`). `None` when `dphi` exceeds
+    /// `lambda / 3`: points that far apart in angle are never joined, so that `D` stays below
+    /// `r / 2` plus the noise allowance and no gap in a sparse scan is taken for a surface.
     #[must_use]
-    pub fn breakpoint_distance(&self, r: f64, dphi: f64, sigma: f64) -> Option<f64> {
-        let lambda = self.bridge_incidence;
+    pub fn breakpoint_distance(&self, r: f64, dphi: f64, step: f64, sigma: f64) -> Option<f64> {
+        let lambda = self.bridge_incidence.max(10.0 * step.abs());
         let denom = (lambda - dphi).sin();
         let reach = lambda / 3.0 + 1e-12;
         (dphi.is_finite() && dphi >= 0.0 && dphi <= reach && denom > 0.0)
@@ -279,30 +299,40 @@ mod tests {
             noise: NoiseModel::Fixed(RangeNoise::new(-1.0, 0.0)),
             ..HoughSplitParams::default()
         };
-        assert!(matches!(p.validate(), Err(ParamsError::BadNoise(_))));
+        assert!(matches!(
+            p.validate(),
+            Err(ParamsError::Negative {
+                field: "noise.sigma_min",
+                ..
+            })
+        ));
     }
 
     #[test]
     fn breakpoint_distance_grows_with_range_and_gap_and_stops_at_lambda() {
         let p = HoughSplitParams::default();
         let inc = 0.36f64.to_radians();
-        let d1 = p.breakpoint_distance(2.0, inc, 0.0).unwrap();
+        let d1 = p.breakpoint_distance(2.0, inc, inc, 0.0).unwrap();
         // A surface at exactly lambda to the beams: points r sin(dphi) / sin(lambda - dphi)
         // apart.
         assert!((d1 - 2.0 * inc.sin() / (4f64.to_radians() - inc).sin()).abs() < 1e-12);
-        assert!(p.breakpoint_distance(4.0, inc, 0.0).unwrap() > d1);
-        assert!(p.breakpoint_distance(2.0, 3.0 * inc, 0.0).unwrap() > d1);
-        let with_noise = p.breakpoint_distance(2.0, inc, 0.01).unwrap();
+        assert!(p.breakpoint_distance(4.0, inc, inc, 0.0).unwrap() > d1);
+        assert!(p.breakpoint_distance(2.0, 3.0 * inc, inc, 0.0).unwrap() > d1);
+        let with_noise = p.breakpoint_distance(2.0, inc, inc, 0.01).unwrap();
         assert!((with_noise - d1 - 3.0 * 2f64.sqrt() * 0.01).abs() < 1e-12);
         // Never beyond lambda / 3, where D would reach r / 2.
         let at_limit = p
-            .breakpoint_distance(2.0, 4f64.to_radians() / 3.0, 0.0)
+            .breakpoint_distance(2.0, 4f64.to_radians() / 3.0, inc, 0.0)
             .unwrap();
         assert!((at_limit - 1.0).abs() < 0.01, "{at_limit}");
         assert!(
-            p.breakpoint_distance(2.0, 1.5f64.to_radians(), 0.0)
+            p.breakpoint_distance(2.0, 1.5f64.to_radians(), inc, 0.0)
                 .is_none()
         );
-        assert!(p.breakpoint_distance(2.0, f64::NAN, 0.0).is_none());
+        assert!(p.breakpoint_distance(2.0, f64::NAN, inc, 0.0).is_none());
+        // A 1 deg scanner: lambda is raised to 10 deg.
+        let deg = 1f64.to_radians();
+        let coarse = p.breakpoint_distance(2.0, deg, deg, 0.0).unwrap();
+        assert!((coarse - 2.0 * deg.sin() / 9f64.to_radians().sin()).abs() < 1e-12);
     }
 }

@@ -45,7 +45,7 @@ impl Breakpoints {
             let step = increment.abs();
             self.factor.clear();
             for g in 1..=p.bridge_max_gap.saturating_add(1).min(64) {
-                let f = p.breakpoint_distance(1.0, step * g as f64, 0.0);
+                let f = p.breakpoint_distance(1.0, step * g as f64, step, 0.0);
                 self.factor.push(f.unwrap_or(f64::NAN));
             }
             self.spread = p.bridge_sigmas * std::f64::consts::SQRT_2;

@@ -1,0 +1,166 @@
+//! `laserlines map LOG -o DIR`: a map and a trajectory from a log of scans, with or without
+//! odometry (`laserlines-slam`), written as files (`map_outputs`).
+
+use std::io::{self, IsTerminal};
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use laserlines::LineExtractor;
+use laserlines_io::ScanRecord;
+use laserlines_slam::{Mapper, MapperParams, Se2};
+
+use super::map_outputs::{self, Outputs};
+use crate::InputArgs;
+
+/// A switch: the log's poses as odometry, loop closure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    /// On (odometry: every scan must have a pose).
+    On,
+    /// Off.
+    Off,
+}
+
+/// Arguments of `laserlines map`.
+#[derive(Debug, Args)]
+pub struct MapArgs {
+    #[command(flatten)]
+    pub input: InputArgs,
+    /// Output directory: trajectory.tum, map.pgm, map.yaml, map.png, lines.json, map.svg.
+    #[arg(short, long, default_value = "laserlines-map")]
+    pub output: PathBuf,
+    /// Use the log's poses as odometry (`on`), or map from the scans alone (`off`).
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub odometry: OnOff,
+    /// Search for loop closures (`off`: scan-to-submap matching alone).
+    #[arg(long, value_enum, default_value_t = OnOff::On)]
+    pub loop_closure: OnOff,
+    /// Also write the run for Foxglove: the map as foxglove.Grid, poses, scans and lines.
+    #[arg(long)]
+    pub mcap: Option<PathBuf>,
+    /// Parameter file for the line extractor (its [hough-split] table).
+    #[arg(long)]
+    pub params: Option<PathBuf>,
+    /// Side of an occupancy grid cell, m.
+    #[arg(long, default_value_t = 0.05)]
+    pub resolution: f64,
+}
+
+/// Runs `laserlines map`.
+pub fn run(args: &MapArgs) -> Result<()> {
+    let start = Instant::now();
+    let name = args.input.input.display().to_string();
+    if !(args.resolution.is_finite() && args.resolution >= 0.005) {
+        bail!(
+            "--resolution must be at least 0.005 m, got {}",
+            args.resolution
+        );
+    }
+    let mut reader = super::open_input(&args.input)?;
+    let mut extractor = super::make_hough_split(args.params.as_deref())?;
+    let mut params = MapperParams::default();
+    if args.loop_closure == OnOff::Off {
+        params.loops.every_scans = 0;
+    }
+    let mut mapper = Mapper::new(params);
+    let mut lines = Vec::new();
+    let mut stamps = Vec::new();
+    let mut log_poses = Vec::new();
+    let mut kept: Vec<(ScanRecord, Vec<laserlines::Line>)> = Vec::new();
+    let progress = progress_bar();
+    for item in reader.by_ref() {
+        let record = item?;
+        let k = stamps.len();
+        let odometry = match (args.odometry, record.pose) {
+            (OnOff::On, Some(p)) => Some(Se2::new(p.x, p.y, p.theta)),
+            (OnOff::On, None) => bail!(
+                "{name}: scan {k}{}: no odometry pose; map it with --odometry off",
+                record
+                    .line
+                    .map(|l| format!(" (line {l})"))
+                    .unwrap_or_default()
+            ),
+            (OnOff::Off, _) => None,
+        };
+        extractor.extract_into(&record.scan, &mut lines);
+        mapper
+            .add_scan(&record.scan, &lines, odometry)
+            .with_context(|| format!("{name}: scan {k}"))?;
+        stamps.push(record.scan.stamp.unwrap_or(k as f64 * 0.1));
+        log_poses.push(record.pose);
+        if args.mcap.is_some() {
+            kept.push((record, lines.clone()));
+        }
+        progress.inc(1);
+    }
+    if stamps.is_empty() {
+        bail!("{name}: no scans");
+    }
+    progress.set_message("optimising");
+    mapper
+        .optimize()
+        .with_context(|| format!("{name}: final optimisation"))?;
+    progress.finish_and_clear();
+    let mapped_s = start.elapsed().as_secs_f64();
+    let outputs = Outputs {
+        dir: &args.output,
+        name: &name,
+        mapper: &mapper,
+        stamps: &stamps,
+        log_poses: &log_poses,
+        resolution_m: args.resolution,
+    };
+    let files = map_outputs::write_all(&outputs)?;
+    if let Some(path) = &args.mcap {
+        map_outputs::write_mcap(path, &outputs, &kept)?;
+    }
+    summary(
+        &name,
+        &mapper,
+        mapped_s,
+        start.elapsed().as_secs_f64(),
+        &files,
+    );
+    Ok(())
+}
+
+fn progress_bar() -> ProgressBar {
+    if io::stderr().is_terminal() {
+        let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+        pb.set_style(
+            ProgressStyle::with_template("{spinner} {pos} scans mapped {per_sec} {elapsed} {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+        );
+        pb
+    } else {
+        ProgressBar::hidden()
+    }
+}
+
+/// The summary on stderr.
+fn summary(name: &str, mapper: &Mapper, mapped_s: f64, total_s: f64, files: &[PathBuf]) {
+    let s = mapper.stats();
+    let rate = if mapped_s > 0.0 {
+        s.scans as f64 / mapped_s
+    } else {
+        0.0
+    };
+    eprintln!(
+        "{name}: {} scans ({} not matched, kept at their prediction), {} submaps, loop closures: {} accepted, {} rejected; {} optimisations in {:.2} s; mapped in {:.2} s ({:.0} scans/s), {:.2} s with the outputs",
+        s.scans,
+        s.unmatched,
+        s.submaps,
+        s.closures_accepted,
+        s.closures_rejected,
+        s.optimizations,
+        s.optimization_s,
+        mapped_s,
+        rate,
+        total_s
+    );
+    let list: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+    eprintln!("wrote {}", list.join(", "));
+}

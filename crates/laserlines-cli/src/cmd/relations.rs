@@ -1,0 +1,113 @@
+//! `laserlines relations TRAJECTORY RELATIONS`: the relations metric of Kuemmerle et al.
+//! 2009 (`laserlines_slam::eval`) for a TUM trajectory against a relations file, or, with
+//! `--every N`, against relations taken between the poses of a reference TUM trajectory
+//! `N` poses apart (a consistency check against a trajectory that is not ground truth);
+//! two trajectories with the same time stamps pose for pose are then paired by order.
+
+use std::fs::File;
+use std::io::BufReader;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use laserlines_io::trajectory::{StampedPose, read_relations, read_tum};
+use laserlines_slam::Se2;
+use laserlines_slam::eval::{
+    MAX_TIME_GAP_S, Relation, Summary, relations_from_trajectory, score_relations,
+};
+
+/// Arguments of `laserlines relations`.
+#[derive(Debug, Args)]
+pub struct RelationsArgs {
+    /// The trajectory to score (TUM: `t x y z qx qy qz qw`).
+    pub trajectory: PathBuf,
+    /// The relations (`t1 t2 x y z roll pitch yaw`), or with --every a reference trajectory
+    /// (TUM).
+    pub relations: PathBuf,
+    /// Take relations between the poses of the reference trajectory this many poses apart
+    /// (trajectories with the same stamps pose for pose are paired by order).
+    #[arg(long)]
+    pub every: Option<usize>,
+}
+
+/// Runs `laserlines relations`.
+pub fn run(args: &RelationsArgs) -> Result<()> {
+    let mut traj = read_trajectory(&args.trajectory)?;
+    let rel_name = args.relations.display().to_string();
+    let relations: Vec<Relation> = match args.every {
+        Some(0) => bail!("--every must be at least 1"),
+        Some(n) => {
+            let mut reference = read_trajectory(&args.relations)?;
+            // Two trajectories of one log (as `laserlines map` writes them) pair pose by pose,
+            // so that logs whose time stamps repeat or are all zero can be checked too.
+            let same_stamps = reference.len() == traj.len()
+                && reference.iter().zip(&traj).all(|(a, b)| a.0 == b.0);
+            if same_stamps {
+                for (k, (r, t)) in reference.iter_mut().zip(traj.iter_mut()).enumerate() {
+                    (r.0, t.0) = (k as f64, k as f64);
+                }
+            }
+            relations_from_trajectory(&reference, n)
+        }
+        None => read_relations(&rel_name, open(&args.relations)?)?
+            .into_iter()
+            .map(|r| Relation {
+                t1: r.t1,
+                t2: r.t2,
+                delta: Se2::new(r.delta.x, r.delta.y, r.delta.theta),
+            })
+            .collect(),
+    };
+    if relations.is_empty() {
+        bail!("{rel_name}: no relations");
+    }
+    let score = score_relations(&traj, &relations).map_err(|e| {
+        anyhow::anyhow!(
+            "{rel_name}: relation {} (t = {}): no pose of {} within {MAX_TIME_GAP_S} s",
+            e.index + 1,
+            e.time,
+            args.trajectory.display()
+        )
+    })?;
+    outln!(
+        "{} relations of {rel_name}, {} poses of {}",
+        score.n,
+        traj.len(),
+        args.trajectory.display()
+    );
+    let row = |name: &str, unit: &str, s: &Summary| {
+        outln!(
+            "{name:<30} {:>10.6} +- {:>10.6} {unit:<6} (max {:.6})",
+            s.mean,
+            s.std,
+            s.max
+        );
+    };
+    row("translational error", "m", &score.translation_m);
+    row(
+        "squared translational error",
+        "m^2",
+        &score.translation_sq_m2,
+    );
+    row("rotational error", "deg", &score.rotation_deg);
+    row("squared rotational error", "deg^2", &score.rotation_sq_deg2);
+    Ok(())
+}
+
+fn open(path: &Path) -> Result<BufReader<File>> {
+    Ok(BufReader::new(File::open(path).with_context(|| {
+        format!("{}: cannot open", path.display())
+    })?))
+}
+
+fn read_trajectory(path: &Path) -> Result<Vec<(f64, Se2)>> {
+    let name = path.display().to_string();
+    let poses: Vec<StampedPose> = read_tum(&name, open(path)?)?;
+    if poses.is_empty() {
+        bail!("{name}: no poses");
+    }
+    Ok(poses
+        .iter()
+        .map(|p| (p.t, Se2::new(p.pose.x, p.pose.y, p.pose.theta)))
+        .collect())
+}

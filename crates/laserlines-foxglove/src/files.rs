@@ -1,0 +1,157 @@
+//! Scans in, lines and scans out: the one place that chooses between the formats of
+//! `laserlines-io` and MCAP, for input ([`open_scans`]) and output ([`LinesOutput`],
+//! [`ScanOutput`]) alike. MCAP is chosen by the format given, else by the `.mcap` extension;
+//! a directory is a ROS 2 bag (MCAP or sqlite3 storage), as is a `.db3` file.
+
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::Path;
+
+use laserlines::Line;
+use laserlines_io::{
+    Format, LinesWriter, Output, ReadError, ReadOptions, ScanReader, ScanRecord, ScanWriter,
+    WriteError,
+};
+
+use crate::McapReadOptions;
+use crate::write::McapSceneWriter;
+
+/// Opens the scans of `path` (`-` for standard input, with a format): an MCAP file, a ROS 2
+/// bag directory or a `.db3` file with [`crate::read`], any other format with
+/// [`laserlines_io::open_with`].
+/// `options.topic` picks the topic (MCAP, ROS bag) or the laser (CARMEN).
+///
+/// # Errors
+/// As the reader of the format: a [`ReadError`] naming the file.
+pub fn open_scans(path: &Path, options: &ReadOptions) -> Result<ScanReader, ReadError> {
+    let ours = |f: Format| matches!(f, Format::Mcap | Format::Db3);
+    let mcap = match options.format {
+        Some(f) => ours(f),
+        None => path.is_dir() || Format::from_path(path).is_some_and(ours),
+    };
+    if options.format == Some(Format::Db3) && path == Path::new("-") {
+        return Err(ReadError::Open {
+            file: "-".to_owned(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "a ROS 2 bag in sqlite3 storage is read from its file or directory (SQLite \
+                 cannot read a database from standard input)",
+            ),
+        });
+    }
+    if mcap {
+        let mcap_options = McapReadOptions::topic(options.topic.as_deref());
+        return crate::read::open(path, &mcap_options);
+    }
+    laserlines_io::open_with(path, options)
+}
+
+/// Where `laserlines extract` writes its lines: an MCAP scene ([`McapSceneWriter`]: scan,
+/// lines and pose) when the name ends in `.mcap`, else lines JSONL ([`LinesWriter`]).
+#[derive(Debug)]
+pub enum LinesOutput {
+    /// Lines JSONL (`-` = standard output, `.gz` = gzip).
+    Jsonl(Box<LinesWriter<Output>>),
+    /// An MCAP file that Foxglove plays.
+    Mcap(Box<McapSceneWriter<BufWriter<File>>>),
+}
+
+impl LinesOutput {
+    /// Creates the output named `path`, choosing the kind by its extension: `.mcap` for
+    /// MCAP, `.jsonl` or `.ndjson` (optionally `.gz`) or `-` (standard output) for lines JSONL.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when the file cannot be created, [`WriteError::Name`] for
+    /// any other extension (a lines file named `.txt` or `.json` would be mistaken for
+    /// something else) and for `.mcap.gz` (see [`McapSceneWriter::create`]).
+    pub fn create(path: &Path) -> Result<Self, WriteError> {
+        if path == Path::new("-") {
+            return Ok(Self::Jsonl(Box::new(LinesWriter::create(path)?)));
+        }
+        match Format::from_path(path) {
+            Some(Format::Mcap) => Ok(Self::Mcap(Box::new(McapSceneWriter::create(path)?))),
+            Some(Format::Jsonl) => Ok(Self::Jsonl(Box::new(LinesWriter::create(path)?))),
+            _ => Err(WriteError::Name {
+                file: path.display().to_string(),
+                expected: "lines JSONL (.jsonl, .jsonl.gz, or - for standard output) or MCAP \
+                           (.mcap)",
+            }),
+        }
+    }
+
+    /// Writes the lines of scan number `scan` (0-based, in input order) with its record.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails.
+    pub fn write_record(
+        &mut self,
+        scan: u64,
+        record: &ScanRecord,
+        lines: &[Line],
+    ) -> Result<(), WriteError> {
+        match self {
+            Self::Jsonl(w) => w.write_record(scan, record, lines),
+            Self::Mcap(w) => w.write_lines(record, lines),
+        }
+    }
+
+    /// Completes the output (MCAP summary, end of a gzip stream) and flushes it.
+    ///
+    /// # Errors
+    /// [`WriteError::Io`] when writing fails.
+    pub fn close(self) -> Result<(), WriteError> {
+        match self {
+            Self::Jsonl(w) => w.close(),
+            Self::Mcap(w) => w.finish().map(|_| ()),
+        }
+    }
+}
+
+/// Where `laserlines convert` writes scans: an MCAP scene ([`McapSceneWriter`]: `/scan` and
+/// `/tf`) for the format `mcap` or the `.mcap` extension, else a scan file of
+/// `laserlines-io` ([`ScanWriter`]: JSON, JSONL, CSV).
+#[derive(Debug)]
+pub enum ScanOutput {
+    /// A scan file (`-` = standard output, `.gz` = gzip).
+    Scans(Box<ScanWriter<Output>>),
+    /// An MCAP file that Foxglove plays.
+    Mcap(Box<McapSceneWriter<BufWriter<File>>>),
+}
+
+impl ScanOutput {
+    /// Creates the output named `path` in `format` (by its extension when `None`).
+    ///
+    /// # Errors
+    /// [`WriteError`] when the file cannot be created or the format cannot be written.
+    pub fn create(path: &Path, format: Option<Format>) -> Result<Self, WriteError> {
+        Ok(
+            if format.or_else(|| Format::from_path(path)) == Some(Format::Mcap) {
+                Self::Mcap(Box::new(McapSceneWriter::create(path)?))
+            } else {
+                Self::Scans(Box::new(ScanWriter::create(path, format)?))
+            },
+        )
+    }
+
+    /// Writes one scan.
+    ///
+    /// # Errors
+    /// [`WriteError`] when writing fails.
+    pub fn write(&mut self, record: &ScanRecord) -> Result<(), WriteError> {
+        match self {
+            Self::Mcap(w) => w.write_scan(record),
+            Self::Scans(w) => w.write(record),
+        }
+    }
+
+    /// Completes the output (MCAP summary, end of a gzip stream) and flushes it.
+    ///
+    /// # Errors
+    /// [`WriteError`] when writing fails.
+    pub fn close(self) -> Result<(), WriteError> {
+        match self {
+            Self::Mcap(w) => w.finish().map(|_| ()),
+            Self::Scans(w) => w.close(),
+        }
+    }
+}

@@ -1,0 +1,220 @@
+//! Schemas and channels: what each channel carries, and the decoding of its messages
+//! (LaserScans in three encodings, transforms for poses).
+
+use foxglove::messages::{FrameTransform, LaserScan};
+use laserlines::Scan;
+use laserlines_io::{DecodeError, ReadError, ScanRecord, SkipCounts};
+use prost::Message as _;
+
+use super::records::{Body, Loc};
+use super::{
+    McapScanSource, SKIP_BAD_TRANSFORM, SKIP_OTHER_TOPIC, SKIP_UNKNOWN_CHANNEL, ScanEncoding,
+};
+use crate::ROBOT_FRAME;
+use crate::proto::{self, RangeLimits};
+use crate::ros::{self, LaserScanMsg};
+
+/// What a channel carries, as far as this reader cares.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum Role {
+    /// LaserScans this reader decodes.
+    Scan(ScanEncoding, RangeLimits),
+    /// LaserScans in an encoding this reader does not decode.
+    UnsupportedScan,
+    /// `foxglove.FrameTransform`, for poses.
+    Transform,
+    /// Anything else.
+    Other,
+}
+
+pub(super) fn is_scan_schema(name: &str) -> bool {
+    matches!(
+        name,
+        "sensor_msgs/msg/LaserScan" | "sensor_msgs/LaserScan" | "foxglove.LaserScan"
+    )
+}
+
+pub(super) fn role_of(schema: &str, encoding: &str, limits: RangeLimits) -> Role {
+    match (schema, encoding) {
+        ("sensor_msgs/msg/LaserScan", "cdr") => Role::Scan(ScanEncoding::Ros2Cdr, limits),
+        ("sensor_msgs/LaserScan", "ros1") => Role::Scan(ScanEncoding::Ros1, limits),
+        ("foxglove.LaserScan", "protobuf") => Role::Scan(ScanEncoding::FoxgloveProtobuf, limits),
+        ("foxglove.FrameTransform", "protobuf") => Role::Transform,
+        (s, _) if is_scan_schema(s) => Role::UnsupportedScan,
+        _ => Role::Other,
+    }
+}
+
+#[derive(Debug)]
+pub(super) struct ChannelInfo {
+    pub(super) topic: String,
+    pub(super) schema: String,
+    pub(super) encoding: String,
+    pub(super) role: Role,
+}
+
+impl McapScanSource {
+    pub(super) fn handle_schema(&mut self, body: &[u8]) -> Result<(), String> {
+        let mut b = Body::new(body);
+        let id = b.u16("schema id")?;
+        let name = b.string("schema name")?;
+        let encoding = b.string("schema encoding")?;
+        let data_len = b.u32("schema data")?;
+        b.bytes(u64::from(data_len), "schema data")?;
+        self.schemas.insert(id, (name, encoding));
+        Ok(())
+    }
+
+    pub(super) fn handle_channel(&mut self, body: &[u8], loc: Loc) -> Result<(), String> {
+        let mut b = Body::new(body);
+        let id = b.u16("channel id")?;
+        let schema_id = b.u16("schema id")?;
+        let topic = b.string("topic")?;
+        let encoding = b.string("message encoding")?;
+        let metadata = b.map("metadata")?;
+        let schema = self
+            .schemas
+            .get(&schema_id)
+            .map(|(name, _)| name.clone())
+            .unwrap_or_default();
+        let limits = RangeLimits::from_metadata(|k| {
+            metadata
+                .iter()
+                .find(|(key, _)| key == k)
+                .map(|(_, v)| v.as_str())
+        });
+        let role = role_of(&schema, &encoding, limits);
+        let scan_like = matches!(role, Role::Scan(..) | Role::UnsupportedScan);
+        if self.topic.is_none() && scan_like {
+            self.topic = Some(topic.clone());
+        }
+        if self.topic.as_deref() == Some(topic.as_str()) && !matches!(role, Role::Scan(..)) {
+            let what = if schema.is_empty() {
+                "no schema".to_owned()
+            } else {
+                format!("{schema} messages")
+            };
+            let e = self.syntax(
+                loc.byte(),
+                format!(
+                    "topic {topic}{} to carry LaserScans (sensor_msgs/msg/LaserScan in cdr, \
+                     sensor_msgs/LaserScan in ros1 or foxglove.LaserScan in protobuf)",
+                    loc.context()
+                ),
+                format!("{what} in the {encoding:?} encoding"),
+            );
+            self.fail(e);
+        }
+        self.channels.insert(
+            id,
+            ChannelInfo {
+                topic,
+                schema,
+                encoding,
+                role,
+            },
+        );
+        Ok(())
+    }
+
+    pub(super) fn handle_message(
+        &mut self,
+        body: &[u8],
+        loc: Loc,
+        skipped: &mut SkipCounts,
+    ) -> Result<(), String> {
+        let mut b = Body::new(body);
+        let channel_id = b.u16("channel id")?;
+        let _sequence = b.u32("sequence")?;
+        let log_time = b.u64("log time")?;
+        let _publish_time = b.u64("publish time")?;
+        let data = b.rest();
+        let Some(channel) = self.channels.get(&channel_id) else {
+            skipped.add(SKIP_UNKNOWN_CHANNEL);
+            return Ok(());
+        };
+        match &channel.role {
+            Role::Transform => {
+                match FrameTransform::decode(data) {
+                    Ok(t) if t.child_frame_id == ROBOT_FRAME => {
+                        if let Some(p) = proto::pose_from_transform(&t) {
+                            self.pose = Some(p);
+                        }
+                    }
+                    Ok(_) => {}
+                    Err(_) => skipped.add(SKIP_BAD_TRANSFORM),
+                }
+                Ok(())
+            }
+            Role::Scan(encoding, limits) => {
+                if self.topic.as_deref() != Some(channel.topic.as_str()) {
+                    skipped.add(SKIP_OTHER_TOPIC);
+                    return Ok(());
+                }
+                let log_seconds =
+                    (log_time / 1_000_000_000) as f64 + (log_time % 1_000_000_000) as f64 * 1e-9;
+                let item = self.decode_scan(*encoding, *limits, data, log_seconds, loc, channel);
+                self.pending.push_back(item);
+                Ok(())
+            }
+            Role::UnsupportedScan => {
+                skipped.add(SKIP_OTHER_TOPIC);
+                Ok(())
+            }
+            Role::Other => Ok(()),
+        }
+    }
+
+    pub(super) fn decode_scan(
+        &self,
+        encoding: ScanEncoding,
+        limits: RangeLimits,
+        data: &[u8],
+        log_seconds: f64,
+        loc: Loc,
+        channel: &ChannelInfo,
+    ) -> Result<ScanRecord, ReadError> {
+        let field_error = |e: DecodeError| ReadError::Field {
+            pos: self.at(loc.byte()),
+            field: format!(
+                "{} message{}: {} (byte {} of the message)",
+                channel.topic,
+                loc.context(),
+                e.field,
+                e.offset
+            ),
+            expected: e.expected,
+            found: e.found,
+        };
+        let fallback = (log_seconds > 0.0).then_some(log_seconds);
+        let mut scan: Scan = match encoding {
+            ScanEncoding::Ros2Cdr => ros_scan(ros::decode_cdr(data).map_err(field_error)?),
+            ScanEncoding::Ros1 => ros_scan(ros::decode_ros1(data).map_err(field_error)?),
+            ScanEncoding::FoxgloveProtobuf => {
+                let msg = LaserScan::decode(data).map_err(|e| ReadError::Field {
+                    pos: self.at(loc.byte()),
+                    field: format!("{} message{}", channel.topic, loc.context()),
+                    expected: "a protobuf foxglove.LaserScan".to_owned(),
+                    found: format!("bytes that do not decode ({e})"),
+                })?;
+                proto::scan_from_foxglove(&msg, limits, log_seconds)
+            }
+        };
+        if scan.stamp.is_none() {
+            scan.stamp = fallback;
+        }
+        scan.validate().map_err(|source| ReadError::InvalidScan {
+            pos: self.at(loc.byte()),
+            source,
+        })?;
+        Ok(ScanRecord {
+            scan,
+            pose: self.pose,
+            line: None,
+        })
+    }
+}
+
+fn ros_scan(msg: LaserScanMsg) -> Scan {
+    msg.to_scan()
+}

@@ -1,0 +1,242 @@
+//! One simulated exploration run: the paper's loop, sense -> extract -> decide -> act.
+//!
+//! At every physics step (50 Hz by default) the robot acts on the latest command. When a
+//! scan is due (10 Hz):
+//!
+//! 1. **Sense**: the simulated laser scans the world at the robot's true pose, and the wheel
+//!    odometry gives its own pose;
+//! 2. **Extract**: [`HoughSplit`] extracts the scan's lines;
+//! 3. **Decide**: the [`Explorer`] turns the scan, the lines and the odometry into a
+//!    velocity command;
+//! 4. **Record**: the ground-truth coverage grid marks the cells the beams swept, and the
+//!    observers (the recorder of the [`RunRecord`] and the caller's
+//!    [`RunObserver`]) see the scan's [`ScanFrame`]. Nothing recorded flows back into the
+//!    robot.
+//!
+//! The run ends at the time limit, or when the explorer reports that it has seen all it can
+//! reach or nothing new for its idle timeout.
+
+mod observe;
+mod record;
+
+use laserlines::math::Isometry2;
+use laserlines::robot::VelocityCommand;
+use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, ParamsError, Scan};
+use laserlines_nav::{Decision, Explorer, ExplorerParams};
+use laserlines_sim::World;
+use laserlines_sim::robot::{RobotError, RobotParams, RobotSim};
+
+use observe::Progress;
+pub use observe::{RunObserver, ScanFrame};
+use record::Recorder;
+pub use record::{Metrics, RunRecord, Snapshot, StopReason};
+
+use crate::coverage::CoverageGrid;
+
+/// Errors of [`run`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RunError {
+    /// The robot cannot start there (e.g. the start pose is inside a wall).
+    #[error(transparent)]
+    Robot(#[from] RobotError),
+    /// The extractor's parameters are invalid.
+    #[error("extractor parameters: {0}")]
+    Extractor(ParamsError),
+    /// The explorer's parameters are invalid.
+    #[error("explorer parameters: {0}")]
+    Explorer(ParamsError),
+    /// The run's own settings are invalid.
+    #[error("run settings: {0}")]
+    Setting(ParamsError),
+}
+
+/// Settings of one run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunConfig {
+    /// Time limit, s of simulated time. Default 900 (15 minutes).
+    pub duration_s: f64,
+    /// Seed of the laser and odometry noise.
+    pub seed: u64,
+    /// The robot (footprint, drive, odometry, laser, rates).
+    pub robot: RobotParams,
+    /// The explorer.
+    pub explorer: ExplorerParams,
+    /// The line extractor. Default [`HoughSplitParams::navigation`]: posts and legs are
+    /// obstacles.
+    pub extractor: HoughSplitParams,
+    /// Record the lines of every this many scans for the map picture (0: none). Default 10.
+    pub record_lines_every: usize,
+    /// Time of the snapshot for the sector picture, s. Default 20.
+    pub snapshot_at_s: f64,
+}
+
+impl Default for RunConfig {
+    fn default() -> Self {
+        Self {
+            duration_s: 900.0,
+            seed: 0,
+            robot: RobotParams::default(),
+            explorer: ExplorerParams::default(),
+            extractor: HoughSplitParams::navigation(),
+            record_lines_every: 10,
+            snapshot_at_s: 20.0,
+        }
+    }
+}
+
+/// Runs an exploration of `world` from `start` (see the [module docs](self)).
+///
+/// # Errors
+/// [`RunError::Robot`] when the robot cannot start at `start` (inside a wall, bad
+/// parameters), [`RunError::Extractor`] and [`RunError::Explorer`] for invalid extractor and
+/// explorer parameters, [`RunError::Setting`] for a duration that is not positive and finite.
+pub fn run(world: &World, start: Isometry2, config: &RunConfig) -> Result<RunRecord, RunError> {
+    run_observed(world, start, config, &mut ())
+}
+
+/// [`run`], calling `progress` with the simulated time about once per simulated second.
+///
+/// # Errors
+/// As [`run`].
+pub fn run_with_progress(
+    world: &World,
+    start: Isometry2,
+    config: &RunConfig,
+    progress: &mut dyn FnMut(f64),
+) -> Result<RunRecord, RunError> {
+    run_observed(world, start, config, &mut Progress(progress))
+}
+
+/// [`run`], showing `observer` every scan and the simulated time as the run goes (e.g. to
+/// record the run as MCAP or draw a progress bar).
+///
+/// # Errors
+/// As [`run`].
+pub fn run_observed(
+    world: &World,
+    start: Isometry2,
+    config: &RunConfig,
+    observer: &mut dyn RunObserver,
+) -> Result<RunRecord, RunError> {
+    let mut run = Loop::new(world, start, config)?;
+    let steps = (config.duration_s / config.robot.physics_dt_s).round() as u64;
+    let mut command = VelocityCommand::STOP;
+    let mut next_report = 0.0;
+    let mut stop = StopReason::TimeLimit;
+    for _ in 0..steps {
+        if run.robot.scan_due() {
+            let t = run.robot.time_s();
+            let decision = run.sense_extract_decide(t);
+            command = decision.command;
+            run.record(&decision, t, observer);
+            if t >= next_report {
+                run.recorder.on_progress(t);
+                observer.on_progress(t);
+                next_report += 1.0;
+            }
+            if decision.done {
+                stop = if decision.explored {
+                    StopReason::Explored
+                } else {
+                    StopReason::NothingNew
+                };
+                break;
+            }
+        }
+        // Act.
+        run.robot.step(command);
+    }
+    let record = run
+        .recorder
+        .finish(&run.robot, &run.explorer, &run.coverage, stop);
+    observer.on_progress(run.robot.time_s());
+    Ok(record)
+}
+
+/// Everything in the loop: the simulated robot, the extractor and the explorer (the robot
+/// side), the ground truth and the recorder, and the scan's buffers.
+struct Loop {
+    start: Isometry2,
+    robot: RobotSim,
+    extractor: HoughSplit,
+    explorer: Explorer,
+    coverage: CoverageGrid,
+    recorder: Recorder,
+    robot_from_laser: Isometry2,
+    scan: Scan,
+    true_ranges: Vec<f64>,
+    lines: Vec<Line>,
+    odom_from_robot: Isometry2,
+}
+
+impl Loop {
+    fn new(world: &World, start: Isometry2, config: &RunConfig) -> Result<Self, RunError> {
+        laserlines::params::positive("duration_s", config.duration_s).map_err(RunError::Setting)?;
+        config.explorer.validate().map_err(RunError::Explorer)?;
+        let robot = RobotSim::new(world, start, config.robot, config.seed)?;
+        let extractor = HoughSplit::new(config.extractor.clone()).map_err(RunError::Extractor)?;
+        let coverage = CoverageGrid::new(
+            robot.index(),
+            laserlines::math::Point2::from(start.translation.vector),
+            config.robot.robot.footprint.circumradius(),
+        );
+        let recorder = Recorder::new(
+            start,
+            coverage.reachable_area_m2(),
+            config.record_lines_every,
+            config.snapshot_at_s,
+        );
+        Ok(Self {
+            start,
+            robot,
+            extractor,
+            explorer: Explorer::new(config.explorer, &config.robot.robot),
+            coverage,
+            recorder,
+            robot_from_laser: config.robot.robot.laser.robot_from_laser(),
+            scan: Scan::default(),
+            true_ranges: Vec::new(),
+            lines: Vec::new(),
+            odom_from_robot: Isometry2::identity(),
+        })
+    }
+
+    /// The robot side's turn at time `t`: the laser scans and the odometry reads, the
+    /// extractor extracts the lines, the explorer decides.
+    fn sense_extract_decide(&mut self, t: f64) -> Decision {
+        // Sense.
+        self.robot.scan_into(&mut self.scan, &mut self.true_ranges);
+        self.odom_from_robot = self.robot.odom_from_robot();
+        // Extract.
+        self.extractor.extract_into(&self.scan, &mut self.lines);
+        // Decide.
+        self.explorer
+            .on_scan(&self.scan, &self.lines, &self.odom_from_robot, t)
+    }
+
+    /// Records the scan: the ground-truth coverage, then the recorder and `observer` see
+    /// its frame. Nothing recorded flows back into the robot.
+    fn record(&mut self, decision: &Decision, t: f64, observer: &mut dyn RunObserver) {
+        let laser = self.robot.params().laser_model;
+        self.coverage.mark_scan(
+            &self.robot.world_from_laser(),
+            laser.angle_min,
+            laser.angle_increment,
+            &self.true_ranges,
+            laser.range_max,
+        );
+        let frame = ScanFrame {
+            time_s: t,
+            world_from_robot: self.robot.world_from_robot(),
+            odom_from_robot: self.odom_from_robot,
+            estimated_world_from_robot: self.start * decision.map_from_robot,
+            robot_from_laser: self.robot_from_laser,
+            scan: &self.scan,
+            lines: &self.lines,
+            decision,
+            coverage: self.coverage.coverage(),
+        };
+        self.recorder.on_scan(&frame);
+        observer.on_scan(&frame);
+    }
+}

@@ -1,0 +1,357 @@
+//! One JSON scan object (a line of JSONL, an element of a `.json` file) into a record, with
+//! errors at the line and column of the offending key.
+
+use serde::Deserialize;
+use serde_json::{Map, Value};
+
+use laserlines::{Scan, ScanError};
+
+use crate::error::{ReadError, SourcePos, json_kind};
+use crate::record::{Pose2, ScanRecord};
+
+/// A JSON text (one line of JSONL, or one element of a `.json` file) and where it starts.
+pub(crate) struct Element<'a> {
+    pub(crate) file: &'a str,
+    pub(crate) text: &'a str,
+    /// 1-based line of the text's first byte.
+    pub(crate) line: usize,
+    /// 1-based column of the text's first byte.
+    pub(crate) column: usize,
+}
+
+impl Element<'_> {
+    /// Position of a byte offset into `text`.
+    fn pos_of_offset(&self, offset: usize) -> SourcePos {
+        let before = &self.text.as_bytes()[..offset.min(self.text.len())];
+        let newlines = before.iter().filter(|b| **b == b'\n').count();
+        let column = match before.iter().rposition(|b| *b == b'\n') {
+            Some(nl) => offset - nl,
+            None => self.column + offset,
+        };
+        SourcePos::line_column(self.file, self.line + newlines, column)
+    }
+
+    /// Position of a (parser's 1-based) line and column inside `text`.
+    fn pos_of_line_column(&self, line: usize, column: usize) -> SourcePos {
+        let column = column.max(1);
+        if line <= 1 {
+            SourcePos::line_column(self.file, self.line, self.column + column - 1)
+        } else {
+            SourcePos::line_column(self.file, self.line + line - 1, column)
+        }
+    }
+
+    /// Byte offset of a (parser's 1-based) line and column inside `text`.
+    fn offset_of_line_column(&self, line: usize, column: usize) -> usize {
+        let mut start = 0;
+        for _ in 1..line {
+            match self.text[start..].find('\n') {
+                Some(i) => start += i + 1,
+                None => return self.text.len(),
+            }
+        }
+        (start + column.saturating_sub(1)).min(self.text.len())
+    }
+
+    /// The position of the object key `"key"` (its opening quote), or the element's start.
+    fn pos_of_key(&self, key: &str) -> SourcePos {
+        let pattern = format!("\"{key}\"");
+        let mut from = 0;
+        while let Some(i) = self.text[from..].find(&pattern) {
+            let at = from + i;
+            let rest = self.text[at + pattern.len()..].trim_start();
+            if rest.starts_with(':') {
+                return self.pos_of_offset(at);
+            }
+            from = at + pattern.len();
+        }
+        self.pos_of_offset(0)
+    }
+
+    /// Parses the text as one scan record.
+    pub(crate) fn parse_scan(&self) -> Result<ScanRecord, ReadError> {
+        // Fast path: straight into typed fields. Anything it rejects goes through the slow
+        // path, which accepts the same documents and explains what is wrong.
+        if let Ok(fast) = serde_json::from_str::<FastScan>(self.text) {
+            let scan = Scan {
+                angle_min: fast.angle_min,
+                angle_increment: fast.angle_increment,
+                range_min: fast.range_min,
+                range_max: fast.range_max,
+                ranges: fast.ranges.0,
+                intensities: fast.intensities.map(|i| i.0),
+                stamp: fast.stamp,
+            };
+            return self.checked(scan, fast.pose, fast.angle_max);
+        }
+        let value: Value = serde_json::from_str(self.text).map_err(|e| self.json_error(&e))?;
+        let Value::Object(obj) = value else {
+            return Err(ReadError::Syntax {
+                pos: self.pos_of_offset(0),
+                expected: "a scan object `{...}`".to_owned(),
+                found: json_kind(&value),
+            });
+        };
+        self.scan_from_object(&obj)
+    }
+
+    fn json_error(&self, e: &serde_json::Error) -> ReadError {
+        let full = e.to_string();
+        let mut message = match full.rfind(" at line ") {
+            Some(i) => full[..i].to_owned(),
+            None => full,
+        };
+        let offset = self.offset_of_line_column(e.line(), e.column());
+        // Bytes, not str: the parser's column need not fall on a character boundary.
+        let bytes = self.text.as_bytes();
+        let here = &bytes[offset.saturating_sub(1).min(bytes.len())..];
+        for word in ["NaN", "-Infinity", "Infinity", "nan", "inf"] {
+            let w = word.as_bytes();
+            let at_word = here.starts_with(w) || here.get(1..).is_some_and(|h| h.starts_with(w));
+            if at_word {
+                message.push_str(&format!(
+                    " (`{word}` is not JSON; write null for a beam without return)"
+                ));
+                break;
+            }
+        }
+        ReadError::Json {
+            pos: self.pos_of_line_column(e.line(), e.column()),
+            message,
+        }
+    }
+
+    fn field_error(&self, field: &str, key: &str, expected: &str, found: String) -> ReadError {
+        ReadError::Field {
+            pos: self.pos_of_key(key),
+            field: field.to_owned(),
+            expected: expected.to_owned(),
+            found,
+        }
+    }
+
+    /// A required number.
+    fn number(&self, obj: &Map<String, Value>, key: &str) -> Result<f64, ReadError> {
+        match obj.get(key) {
+            Some(Value::Number(n)) => n
+                .as_f64()
+                .ok_or_else(|| self.field_error(key, key, "a number", format!("`{n}`"))),
+            Some(other) => Err(self.field_error(key, key, "a number", json_kind(other))),
+            None => Err(ReadError::Field {
+                pos: self.pos_of_offset(0),
+                field: key.to_owned(),
+                expected: "a number".to_owned(),
+                found: "nothing (the field is missing)".to_owned(),
+            }),
+        }
+    }
+
+    /// An optional number (absent or `null` = `None`).
+    fn opt_number(&self, obj: &Map<String, Value>, key: &str) -> Result<Option<f64>, ReadError> {
+        match obj.get(key) {
+            None | Some(Value::Null) => Ok(None),
+            Some(_) => self.number(obj, key).map(Some),
+        }
+    }
+
+    /// An array of numbers or `null` (kept as NaN).
+    fn number_array(&self, value: &Value, key: &str) -> Result<Vec<f64>, ReadError> {
+        let expected = "an array of numbers or null";
+        let Value::Array(items) = value else {
+            return Err(self.field_error(key, key, expected, json_kind(value)));
+        };
+        let mut out = Vec::with_capacity(items.len());
+        for (i, item) in items.iter().enumerate() {
+            match item {
+                Value::Null => out.push(f64::NAN),
+                Value::Number(n) => match n.as_f64() {
+                    Some(x) => out.push(x),
+                    None => {
+                        return Err(self.field_error(
+                            &format!("{key}[{i}]"),
+                            key,
+                            "a number or null",
+                            format!("`{n}`"),
+                        ));
+                    }
+                },
+                other => {
+                    return Err(self.field_error(
+                        &format!("{key}[{i}]"),
+                        key,
+                        "a number or null",
+                        json_kind(other),
+                    ));
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    fn pose(&self, obj: &Map<String, Value>) -> Result<Option<Pose2>, ReadError> {
+        let expected = "an object {\"x\": m, \"y\": m, \"theta\": rad} or null";
+        match obj.get("pose") {
+            None | Some(Value::Null) => Ok(None),
+            Some(Value::Object(p)) => {
+                let mut parts = [0.0; 3];
+                for (part, name) in parts.iter_mut().zip(["x", "y", "theta"]) {
+                    match p.get(name).and_then(Value::as_f64) {
+                        Some(v) => *part = v,
+                        None => {
+                            let found = match p.get(name) {
+                                Some(v) => json_kind(v),
+                                None => "nothing (the field is missing)".to_owned(),
+                            };
+                            return Err(self.field_error(
+                                &format!("pose.{name}"),
+                                "pose",
+                                "a number",
+                                found,
+                            ));
+                        }
+                    }
+                }
+                Ok(Some(Pose2::new(parts[0], parts[1], parts[2])))
+            }
+            Some(other) => Err(self.field_error("pose", "pose", expected, json_kind(other))),
+        }
+    }
+
+    fn scan_from_object(&self, obj: &Map<String, Value>) -> Result<ScanRecord, ReadError> {
+        // The output of `laserlines extract` (crate::lines) given where scans are expected.
+        if !obj.contains_key("angle_min") && obj.contains_key("lines") && obj.contains_key("scan") {
+            return Err(ReadError::Syntax {
+                pos: self.pos_of_offset(0),
+                expected: "a scan (angle_min, angle_increment, range_min, range_max, ranges)"
+                    .to_owned(),
+                found: "a lines record (scan, lines): this is a lines file, as `laserlines \
+                        extract` writes, not a file of scans"
+                    .to_owned(),
+            });
+        }
+        let angle_min = self.number(obj, "angle_min")?;
+        let angle_increment = self.number(obj, "angle_increment")?;
+        let range_min = self.number(obj, "range_min")?;
+        let range_max = self.number(obj, "range_max")?;
+        let ranges = match obj.get("ranges") {
+            Some(v) => self.number_array(v, "ranges")?,
+            None => {
+                return Err(ReadError::Field {
+                    pos: self.pos_of_offset(0),
+                    field: "ranges".to_owned(),
+                    expected: "an array of numbers or null".to_owned(),
+                    found: "nothing (the field is missing)".to_owned(),
+                });
+            }
+        };
+        let intensities = match obj.get("intensities") {
+            None | Some(Value::Null) => None,
+            Some(v) => Some(self.number_array(v, "intensities")?),
+        };
+        let stamp = self.opt_number(obj, "stamp")?;
+        let pose = self.pose(obj)?;
+        let angle_max = self.opt_number(obj, "angle_max")?;
+        let scan = Scan {
+            angle_min,
+            angle_increment,
+            range_min,
+            range_max,
+            ranges,
+            intensities,
+            stamp,
+        };
+        self.checked(scan, pose, angle_max)
+    }
+
+    /// Validates a parsed scan and checks `angle_max` against its beams.
+    fn checked(
+        &self,
+        scan: Scan,
+        pose: Option<Pose2>,
+        angle_max: Option<f64>,
+    ) -> Result<ScanRecord, ReadError> {
+        let angle_increment = scan.angle_increment;
+        if let Err(source) = scan.validate() {
+            let key = match source {
+                ScanError::AngleMinNotFinite(_) => "angle_min",
+                ScanError::BadAngleIncrement(_) | ScanError::SpanTooLarge { .. } => {
+                    "angle_increment"
+                }
+                ScanError::BadRangeLimits { .. } => "range_min",
+                ScanError::IntensityLength { .. } => "intensities",
+            };
+            return Err(ReadError::InvalidScan {
+                pos: self.pos_of_key(key),
+                source,
+            });
+        }
+        if let Some(angle_max) = angle_max
+            && !scan.ranges.is_empty()
+        {
+            let want = scan.angle_max();
+            let tolerance = 0.5 * angle_increment.abs();
+            let off = (angle_max - want).abs();
+            if off.is_nan() || off > tolerance {
+                return Err(self.field_error(
+                    "angle_max",
+                    "angle_max",
+                    &format!(
+                        "angle_min + (n - 1) * angle_increment = {want} rad for n = {} \
+                         ranges (within {tolerance} rad)",
+                        scan.ranges.len()
+                    ),
+                    format!("{angle_max}"),
+                ));
+            }
+        }
+        Ok(ScanRecord {
+            scan,
+            pose,
+            line: Some(self.line),
+        })
+    }
+}
+
+/// The scan object as typed fields, for the fast path of [`Element::parse_scan`].
+#[derive(Deserialize)]
+struct FastScan {
+    angle_min: f64,
+    angle_increment: f64,
+    range_min: f64,
+    range_max: f64,
+    ranges: NanVec,
+    #[serde(default)]
+    intensities: Option<NanVec>,
+    #[serde(default)]
+    stamp: Option<f64>,
+    #[serde(default)]
+    pose: Option<Pose2>,
+    #[serde(default)]
+    angle_max: Option<f64>,
+}
+
+/// An array of numbers or `null`, with `null` read as NaN.
+struct NanVec(Vec<f64>);
+
+impl<'de> Deserialize<'de> for NanVec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = NanVec;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("an array of numbers or null")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<NanVec, A::Error> {
+                let mut out = Vec::with_capacity(seq.size_hint().unwrap_or(0).min(1 << 16));
+                while let Some(x) = seq.next_element::<Option<f64>>()? {
+                    out.push(x.unwrap_or(f64::NAN));
+                }
+                Ok(NanVec(out))
+            }
+        }
+        d.deserialize_seq(Visit)
+    }
+}

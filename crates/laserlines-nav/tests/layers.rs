@@ -1,0 +1,54 @@
+//! The robot side depends on the core crate alone: `laserlines-nav` never pulls in the
+//! simulator (nor any other laserlines crate), not even for its tests, so that everything in
+//! it runs on a real robot. Checked on the dependency graph cargo itself resolves.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::process::Command;
+
+/// The packages of `cargo tree -p PACKAGE` over the edges `edges`, one name a line.
+fn tree(package: &str, edges: &str) -> Vec<String> {
+    let out = Command::new(env!("CARGO"))
+        .args(["tree", "-p", package, "-e", edges, "--prefix", "none"])
+        .args([
+            "--manifest-path",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/Cargo.toml"),
+        ])
+        .output()
+        .expect("cargo runs");
+    assert!(
+        out.status.success(),
+        "cargo tree failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .filter_map(|l| l.split_whitespace().next().map(str::to_owned))
+        .collect()
+}
+
+#[test]
+fn nav_depends_on_the_core_alone() {
+    let names = tree("laserlines-nav", "normal,build,dev");
+    assert_eq!(names.first().map(String::as_str), Some("laserlines-nav"));
+    let ours: Vec<&String> = names[1..]
+        .iter()
+        .filter(|n| n.starts_with("laserlines"))
+        .collect();
+    assert!(!ours.is_empty(), "{names:?}");
+    assert!(ours.iter().all(|n| *n == "laserlines"), "{ours:?}");
+    assert!(!names.iter().any(|n| n == "laserlines-sim"));
+}
+
+#[test]
+fn the_core_has_no_laserlines_or_io_dependency() {
+    let names = tree("laserlines", "normal");
+    let ours: Vec<&String> = names[1..]
+        .iter()
+        .filter(|n| n.starts_with("laserlines"))
+        .collect();
+    assert!(ours.is_empty(), "{ours:?}");
+    for io in ["flate2", "serde_json", "toml", "mcap", "bzip2"] {
+        assert!(!names.iter().any(|n| n == io), "{io} in {names:?}");
+    }
+}

@@ -1,0 +1,201 @@
+//! Where a run starts in an arena: the grid cell centre nearest the origin in the largest
+//! free region the walls enclose.
+
+use laserlines::math::{Isometry2, Point2, Vector2};
+
+use super::{ARENA_GRID, cell_centre};
+use crate::index::WorldIndex;
+use crate::world::{Target, World};
+
+/// Side of the cells of [`interior_start`]'s search, m.
+pub const START_SEARCH_CELL: f64 = 0.1;
+
+/// A start pose inside the arena: the centre of the grid cell (a point `(1.2 i, 1.2 j)`)
+/// nearest to the origin within the largest *enclosed* free region, facing +x (yaw 0).
+///
+/// Free means at least `clearance` m (e.g. a robot's circumradius) from every wall and
+/// disc, on a [`START_SEARCH_CELL`] grid over the world's bounding box and 1 m around it;
+/// regions are 4-connected; a region touching the grid's edge is outside the arena and
+/// never chosen. Real arena files put their origin anywhere: inside the arena, in a small
+/// pocket closed by barrels, or outside the outer wall. `None` when no enclosed region
+/// holds a grid cell's centre with that clearance.
+///
+/// ```
+/// use laserlines_sim::World;
+/// use laserlines_sim::arena::interior_start;
+/// use laserlines::math::Point2;
+/// // A 6 m x 4 m room around (10, 10), and a 1 m pocket at the origin.
+/// let mut world = World::new();
+/// world.add_box(Point2::new(10.8, 10.8), 6.0, 4.0, 0.0);
+/// world.add_box(Point2::new(0.0, 0.0), 1.0, 1.0, 0.0);
+/// let start = interior_start(&world, 0.32).unwrap();
+/// let p = start.translation.vector;
+/// assert!((p.x - 8.4).abs() < 1e-9 && (p.y - 9.6).abs() < 1e-9, "{p:?}");
+/// ```
+#[must_use]
+pub fn interior_start(world: &World, clearance: f64) -> Option<Isometry2> {
+    let (lo, hi) = bounds(world)?;
+    if !clearance.is_finite() {
+        return None;
+    }
+    let grid = SearchGrid::new(world, lo, hi);
+    let free: Vec<bool> = (0..grid.cols * grid.rows)
+        .map(|c| grid.clear_at(grid.centre(c), clearance))
+        .collect();
+    let (region, regions) = grid.regions(&free);
+    let (best, _) = regions
+        .iter()
+        .enumerate()
+        .filter(|(_, (_, outside))| !outside)
+        .max_by_key(|(id, (size, _))| (*size, std::cmp::Reverse(*id)))?;
+    // The grid cell centre in that region nearest to the origin.
+    let (i0, i1) = (
+        (lo.x / ARENA_GRID).floor() as i64,
+        (hi.x / ARENA_GRID).ceil() as i64,
+    );
+    let (j0, j1) = (
+        (lo.y / ARENA_GRID).floor() as i64,
+        (hi.y / ARENA_GRID).ceil() as i64,
+    );
+    let mut pick: Option<Point2> = None;
+    for j in j0..=j1 {
+        for i in i0..=i1 {
+            let p = cell_centre(i, j);
+            if grid.cell_of(p).is_some_and(|c| region[c] == best)
+                && grid.clear_at(p, clearance)
+                && pick.is_none_or(|q| p.coords.norm() < q.coords.norm())
+            {
+                pick = Some(p);
+            }
+        }
+    }
+    pick.map(|p| Isometry2::new(p.coords, 0.0))
+}
+
+/// The bounding box of the world's walls and disc centres; `None` for an empty world.
+fn bounds(world: &World) -> Option<(Point2, Point2)> {
+    let mut lo = Point2::new(f64::INFINITY, f64::INFINITY);
+    let mut hi = Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
+    let mut grow = |p: Point2| {
+        if p.x.is_finite() && p.y.is_finite() {
+            lo = Point2::new(lo.x.min(p.x), lo.y.min(p.y));
+            hi = Point2::new(hi.x.max(p.x), hi.y.max(p.y));
+        }
+    };
+    for w in &world.walls {
+        grow(w.a);
+        grow(w.b);
+    }
+    for d in &world.discs {
+        grow(d.centre);
+    }
+    (lo.x.is_finite() && hi.x.is_finite()).then_some((lo, hi))
+}
+
+/// The search grid: [`START_SEARCH_CELL`] cells over the world's bounding box and 1 m
+/// around it.
+struct SearchGrid<'a> {
+    world: &'a World,
+    index: WorldIndex,
+    origin: Point2,
+    cols: usize,
+    rows: usize,
+}
+
+impl<'a> SearchGrid<'a> {
+    fn new(world: &'a World, lo: Point2, hi: Point2) -> Self {
+        let cell = START_SEARCH_CELL;
+        Self {
+            world,
+            index: WorldIndex::new(world, 0.6),
+            origin: Point2::new(lo.x - 1.0, lo.y - 1.0),
+            cols: (((hi.x - lo.x + 2.0) / cell).ceil() as usize).clamp(1, 4000),
+            rows: (((hi.y - lo.y + 2.0) / cell).ceil() as usize).clamp(1, 4000),
+        }
+    }
+
+    fn centre(&self, c: usize) -> Point2 {
+        let cell = START_SEARCH_CELL;
+        Point2::new(
+            self.origin.x + ((c % self.cols) as f64 + 0.5) * cell,
+            self.origin.y + ((c / self.cols) as f64 + 0.5) * cell,
+        )
+    }
+
+    /// The cell holding `p`, if any.
+    fn cell_of(&self, p: Point2) -> Option<usize> {
+        let cell = START_SEARCH_CELL;
+        let fx = ((p.x - self.origin.x) / cell).floor();
+        let fy = ((p.y - self.origin.y) / cell).floor();
+        if !(fx >= 0.0 && fy >= 0.0 && (fx as usize) < self.cols && (fy as usize) < self.rows) {
+            return None;
+        }
+        Some(fy as usize * self.cols + fx as usize)
+    }
+
+    /// True when `p` is at least `need` from every wall and disc.
+    fn clear_at(&self, p: Point2, need: f64) -> bool {
+        let r = Vector2::new(need, need);
+        let mut ok = true;
+        self.index.near_box(p - r, p + r, |t| {
+            let d = match t {
+                Target::Wall(i) => {
+                    let w = &self.world.walls[i];
+                    laserlines::geometry::distance_to_segment(p, w.a, w.b)
+                }
+                Target::Disc(i) => {
+                    let d = &self.world.discs[i];
+                    (p - d.centre).norm() - d.radius
+                }
+            };
+            if d < need {
+                ok = false;
+            }
+        });
+        ok
+    }
+
+    /// The 4-connected regions of the `free` cells by flood fill: each cell's region
+    /// (`usize::MAX` for none), and each region's size and whether it touches the grid's
+    /// edge.
+    fn regions(&self, free: &[bool]) -> (Vec<usize>, Vec<(usize, bool)>) {
+        let (cols, rows) = (self.cols, self.rows);
+        let mut region = vec![usize::MAX; cols * rows];
+        let mut regions: Vec<(usize, bool)> = Vec::new();
+        let mut stack = Vec::new();
+        for seed in 0..cols * rows {
+            if !free[seed] || region[seed] != usize::MAX {
+                continue;
+            }
+            let id = regions.len();
+            let (mut size, mut outside) = (0, false);
+            region[seed] = id;
+            stack.push(seed);
+            while let Some(c) = stack.pop() {
+                size += 1;
+                let (x, y) = (c % cols, c / cols);
+                outside |= x == 0 || y == 0 || x + 1 == cols || y + 1 == rows;
+                let mut visit = |n: usize| {
+                    if free[n] && region[n] == usize::MAX {
+                        region[n] = id;
+                        stack.push(n);
+                    }
+                };
+                if x > 0 {
+                    visit(c - 1);
+                }
+                if x + 1 < cols {
+                    visit(c + 1);
+                }
+                if y > 0 {
+                    visit(c - cols);
+                }
+                if y + 1 < rows {
+                    visit(c + cols);
+                }
+            }
+            regions.push((size, outside));
+        }
+        (region, regions)
+    }
+}

@@ -1,0 +1,68 @@
+//! Mixed pixels: a beam that grazes a depth edge returns a range between the two surfaces, a
+//! point on neither. Left in, it halves the jump and can join the near object to the far
+//! wall. Not in the paper.
+
+use crate::noise::RangeNoise;
+use crate::scan::RangeWindow;
+
+/// Standard deviations of an extrapolation's error beyond which a point is on neither side.
+const SIGMAS: f64 = 3.0;
+
+/// `sqrt(6)`: the standard deviation of `r_i - (2 r_(i-1) - r_(i-2))` in units of `sigma`.
+const EXTRAPOLATION: f64 = 2.449_489_742_783_178;
+
+/// True when beam `i` of `ranges` lies on neither neighbouring surface: its range is more than
+/// three standard deviations of an extrapolation (`sqrt(6) sigma(r)`) from both the line
+/// through beams `i - 2, i - 1` and the line through `i + 1, i + 2` (linear extrapolation of
+/// the ranges, exact enough over two beams). A corner's apex lies on both lines and a point at
+/// a depth edge on its own side's, so only isolated points (mixed pixels, spikes) are found.
+/// Points without two valid neighbours on each side are never isolated.
+pub(crate) fn isolated(ranges: &[f64], i: usize, window: RangeWindow, noise: &RangeNoise) -> bool {
+    if i < 2 || i + 2 >= ranges.len() {
+        return false;
+    }
+    let (a, b, r, c, d) = (
+        ranges[i - 2],
+        ranges[i - 1],
+        ranges[i],
+        ranges[i + 1],
+        ranges[i + 2],
+    );
+    if !(window.contains(a) && window.contains(b) && window.contains(c) && window.contains(d)) {
+        return false;
+    }
+    let limit = SIGMAS * EXTRAPOLATION * noise.sigma(r);
+    (r - (2.0 * b - a)).abs() > limit && (r - (2.0 * c - d)).abs() > limit
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const W: RangeWindow = RangeWindow::new(0.02, 10.0);
+    const NOISE: RangeNoise = RangeNoise::new(0.005, 0.0);
+
+    #[test]
+    fn a_point_between_two_surfaces_is_isolated() {
+        // A leg at 1.1 m, then a mixed pixel at 1.25 m, then the wall at 1.4 m.
+        let r = [1.1, 1.1, 1.1, 1.25, 1.4, 1.4, 1.4];
+        assert!(isolated(&r, 3, W, &NOISE));
+        assert!(!isolated(&r, 2, W, &NOISE) && !isolated(&r, 4, W, &NOISE));
+    }
+
+    #[test]
+    fn corners_grazing_walls_and_edges_are_not() {
+        // A corner's apex: on both lines.
+        let corner = [2.0, 1.9, 1.8, 1.7, 1.8, 1.9, 2.0];
+        assert!(!isolated(&corner, 3, W, &NOISE));
+        // A steep, straight run (a wall seen at a grazing angle).
+        let grazing = [1.0, 1.2, 1.4, 1.6, 1.8, 2.0, 2.2];
+        assert!((0..grazing.len()).all(|i| !isolated(&grazing, i, W, &NOISE)));
+        // A depth edge without a mixed pixel.
+        let edge = [1.1, 1.1, 1.1, 1.4, 1.4, 1.4];
+        assert!((0..edge.len()).all(|i| !isolated(&edge, i, W, &NOISE)));
+        // Too few valid neighbours.
+        let holes = [1.1, f64::NAN, 1.1, 1.25, 1.4, 1.4];
+        assert!(!isolated(&holes, 3, W, &NOISE));
+    }
+}

@@ -1,0 +1,41 @@
+//! What the extractor tests share: their own seeded noise and the URG-04LX's beams.
+
+#![allow(dead_code)]
+
+/// SplitMix64, for the test's own noise.
+pub struct Rng(pub u64);
+
+impl Rng {
+    pub fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    pub fn unit(&mut self) -> f64 {
+        ((self.next() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+
+    /// Standard normal (Box-Muller).
+    pub fn gauss(&mut self) -> f64 {
+        let (u, v) = (self.unit(), self.unit());
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
+}
+
+/// The URG-04LX: 682 beams of 360/1024 deg, centred on x.
+pub const BEAMS: usize = 682;
+pub fn increment() -> f64 {
+    (360.0f64 / 1024.0).to_radians()
+}
+pub fn angle_min() -> f64 {
+    -0.5 * (BEAMS - 1) as f64 * increment()
+}
+
+/// Range noise of the test scans, standard deviation: 2 mm up to 1 m, 0.2 % beyond (a fifth
+/// of the URG-04LX's accuracy, so that the corner beams, 2 cm apart, are told apart).
+pub fn sigma(r: f64) -> f64 {
+    0.002 * r.max(1.0)
+}

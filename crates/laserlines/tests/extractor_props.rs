@@ -1,0 +1,455 @@
+//! The classic extractors on arbitrary input: any scan (NaN, infinities, 0 and 1 beams, bad
+//! increments) and any parameters, valid or not, never panic and keep the invariants (indices
+//! in range, disjoint ordered beam ranges, finite lines, the same result on a second run).
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod common;
+
+use common::{Rng, increment, sigma};
+use laserlines::extractors::{self, *};
+use laserlines::registry::ALGORITHMS;
+use laserlines::{Line, LineExtractor, Scan, Weight};
+use proptest::prelude::*;
+
+// ---------------------------------------------------------------------------------------------
+// Invariants on arbitrary scans.
+
+fn any_range() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        6 => 0.02f64..6.0,
+        1 => Just(f64::NAN),
+        1 => Just(f64::INFINITY),
+        1 => Just(f64::NEG_INFINITY),
+        1 => Just(0.0),
+        1 => -10.0f64..0.0,
+        1 => Just(1e300),
+        1 => Just(f64::MIN_POSITIVE),
+    ]
+}
+
+fn any_increment() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        4 => 0.001f64..0.05,
+        2 => -0.05f64..-0.001,
+        1 => Just(0.0),
+        1 => Just(f64::NAN),
+        1 => Just(1e-300),
+    ]
+}
+
+/// Scans with arbitrary values in every public field, valid or not, with 0 and 1 beams often.
+fn any_scan() -> impl Strategy<Value = Scan> {
+    (
+        prop_oneof![4 => -3.2f64..3.2, 1 => Just(f64::NAN), 1 => Just(1e10)],
+        any_increment(),
+        prop_oneof![3 => Just(0.02), 1 => Just(0.0), 1 => Just(-1.0), 1 => Just(f64::NAN)],
+        prop_oneof![3 => Just(5.6), 1 => Just(1e308), 1 => Just(f64::INFINITY), 1 => Just(0.01)],
+        prop_oneof![
+            1 => prop::collection::vec(any_range(), 0..2),
+            4 => prop::collection::vec(any_range(), 0..700),
+        ],
+    )
+        .prop_map(
+            |(angle_min, angle_increment, range_min, range_max, ranges)| Scan {
+                angle_min,
+                angle_increment,
+                range_min,
+                range_max,
+                ranges,
+                intensities: None,
+                stamp: None,
+            },
+        )
+}
+
+/// Piecewise-smooth scans: runs of walls (the first one long: 40+ beams and 0.25+ m, more
+/// than the smallest surface any extractor keeps) seen at incidences of at least 30 deg, with
+/// noise and a few dropouts, forwards or reversed.
+fn wall_scan() -> impl Strategy<Value = Scan> {
+    (
+        (0.3f64..3.0, -1.0f64..1.0, 40usize..150),
+        prop::collection::vec((0.3f64..3.0, -1.0f64..1.0, 3usize..120), 0..7),
+        any::<u64>(),
+        prop::bool::ANY,
+    )
+        .prop_map(|(mut long, mut walls, seed, reversed)| {
+            let inc = increment();
+            long.2 = long.2.max((0.25 / (long.0 * inc)).ceil() as usize);
+            walls.insert(0, long);
+            let mut ranges = Vec::new();
+            let mut rng = Rng(seed);
+            let mut i = 0usize;
+            for (r, offset, n) in walls {
+                // The wall's normal, relative to the beam in the middle of its run.
+                let alpha = -2.0 + (i as f64 + 0.5 * n as f64) * inc + offset;
+                for _ in 0..n {
+                    let phi = -2.0 + i as f64 * inc;
+                    let c = (phi - alpha).cos();
+                    let dropout = rng.unit() < 0.02;
+                    ranges.push(if c > 0.05 && !dropout {
+                        let range = r / c;
+                        range + sigma(range) * rng.gauss()
+                    } else {
+                        f64::NAN
+                    });
+                    i += 1;
+                }
+            }
+            let (angle_min, angle_increment) = if reversed {
+                (-2.0 + (ranges.len().max(1) - 1) as f64 * inc, -inc)
+            } else {
+                (-2.0, inc)
+            };
+            if reversed {
+                ranges.reverse();
+            }
+            Scan {
+                angle_min,
+                angle_increment,
+                range_min: 0.02,
+                range_max: 5.6,
+                ranges,
+                intensities: None,
+                stamp: None,
+            }
+        })
+}
+
+fn check_invariants(name: &str, scan: &Scan, lines: &[Line]) {
+    let mut prev_last: Option<usize> = None;
+    let window = scan.range_window(None);
+    for l in lines {
+        assert!(l.first <= l.last, "{name}: first > last: {l:?}");
+        assert!(l.last < scan.len(), "{name}: index out of range: {l:?}");
+        assert!(
+            l.points >= 2 && l.points <= l.last - l.first + 1,
+            "{name}: {l:?}"
+        );
+        if let Some(p) = prev_last {
+            assert!(
+                l.first > p,
+                "{name}: lines share or reorder beams: {lines:?}"
+            );
+        }
+        prev_last = Some(l.last);
+        for v in [l.r, l.alpha, l.rms, l.start.x, l.start.y, l.end.x, l.end.y] {
+            assert!(v.is_finite(), "{name}: non-finite value in {l:?}");
+        }
+        for v in l.covariance.iter() {
+            assert!(!v.is_nan(), "{name}: NaN covariance in {l:?}");
+        }
+        assert!(l.r >= 0.0, "{name}: {l:?}");
+        // Both ends are valid measurements, and there are enough valid beams between them.
+        assert!(window.contains(scan.ranges[l.first]) && window.contains(scan.ranges[l.last]));
+        let valid = (l.first..=l.last)
+            .filter(|&i| window.contains(scan.ranges[i]))
+            .count();
+        assert!(valid >= l.points, "{name}: {l:?}");
+    }
+}
+
+fn all_extractors() -> Vec<Box<dyn LineExtractor + Send>> {
+    ALGORITHMS
+        .iter()
+        .filter_map(|n| extractors::by_name(n))
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn arbitrary_scans_never_break_invariants(scan in any_scan()) {
+        let all = all_extractors();
+        prop_assert_eq!(all.len(), ALGORITHMS.len());
+        for mut e in all {
+            let name = e.name();
+            let first = e.extract(&scan);
+            check_invariants(name, &scan, &first);
+            // The same scan gives the same lines, on a reused and on a fresh extractor.
+            let second = e.extract(&scan);
+            prop_assert_eq!(&first, &second, "{}", name);
+            let fresh = extractors::by_name(name).unwrap().extract(&scan);
+            prop_assert_eq!(&first, &fresh, "{}", name);
+        }
+    }
+
+    #[test]
+    fn wall_scans_give_lines(scan in wall_scan()) {
+        for mut e in all_extractors() {
+            let lines = e.extract(&scan);
+            check_invariants(e.name(), &scan, &lines);
+            prop_assert!(!lines.is_empty(), "{}: no line from a scan of walls", e.name());
+            prop_assert_eq!(&lines, &e.extract(&scan));
+        }
+    }
+
+    #[test]
+    fn seeded_extractors_are_deterministic_for_any_seed(scan in wall_scan(), seed in any::<u64>()) {
+        let mut r = extractors::Ransac::new(RansacParams { seed, ..RansacParams::default() }).unwrap();
+        let a = r.extract(&scan);
+        check_invariants("ransac", &scan, &a);
+        prop_assert_eq!(&a, &r.extract(&scan));
+        let mut m = extractors::Em::new(EmParams { seed, ..EmParams::default() }).unwrap();
+        let b = m.extract(&scan);
+        check_invariants("em", &scan, &b);
+        prop_assert_eq!(&b, &m.extract(&scan));
+    }
+}
+
+/// Any float, valid or not, for a parameter.
+fn any_param() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        6 => 0.0f64..0.3,
+        1 => 0.3f64..3.0,
+        1 => Just(0.0),
+        1 => Just(-1.0),
+        1 => Just(f64::NAN),
+        1 => Just(f64::INFINITY),
+        1 => Just(1e-12),
+    ]
+}
+
+/// Any count for a parameter (bounded where the count is a work budget).
+fn any_count() -> impl Strategy<Value = usize> {
+    prop_oneof![4 => 0usize..20, 1 => Just(1usize), 1 => 100usize..1000, 1 => Just(usize::MAX)]
+}
+
+/// A work budget capped so that the test stays fast.
+fn budget(x: usize) -> usize {
+    x.min(300)
+}
+
+/// An extractor of kind `kind` (1..=7, the order of [`ALGORITHMS`]) built from arbitrary
+/// parameters, or `None` when they are rejected. Work budgets are capped so the test stays fast.
+fn build(kind: usize, f: &[f64], c: &[usize], seed: u64) -> Option<Box<dyn LineExtractor>> {
+    match kind {
+        1 => build_iterative_hough(f, c, seed),
+        2 => build_split_and_merge(f, c, seed),
+        3 => build_iepf(f, c, seed),
+        4 => build_incremental(f, c, seed),
+        5 => build_line_regression(f, c, seed),
+        6 => build_ransac(f, c, seed),
+        _ => build_em(f, c, seed),
+    }
+}
+
+fn build_iterative_hough(f: &[f64], c: &[usize], seed: u64) -> Option<Box<dyn LineExtractor>> {
+    Some(Box::new(
+        IterativeHough::new(IterativeHoughParams {
+            distance_step: f[0].max(0.01),
+            max_distance: f[1] * 3.0,
+            angle_step: (f[2] * 10.0).max(0.5f64.to_radians()),
+            window: f[3],
+            weight: if seed.is_multiple_of(2) {
+                Weight::One
+            } else {
+                Weight::Range
+            },
+            min_votes: f[4] * 30.0,
+            inlier_distance: f[5],
+            inlier_distance_per_metre: f[6],
+            refine_iterations: budget(c[0]),
+            max_skipped: c[1],
+            breakpoints: Breakpoints {
+                incidence: f[7] * 5.0,
+                noise: f[8],
+                max_gap: c[2],
+            },
+            max_iterations: budget(c[3]),
+            filter: LineFilter {
+                min_points: c[4],
+                min_length: f[9],
+            },
+            range_limits: None,
+        })
+        .ok()?,
+    ))
+}
+
+fn build_split_and_merge(f: &[f64], c: &[usize], seed: u64) -> Option<Box<dyn LineExtractor>> {
+    Some(Box::new(
+        SplitMerge::new(
+            SplitLine::LeastSquares,
+            SplitMergeParams {
+                breakpoints: Breakpoints {
+                    incidence: f[0] * 5.0,
+                    noise: f[1],
+                    max_gap: c[0],
+                },
+                min_cluster_points: c[1],
+                split_distance: f[2],
+                split_distance_per_metre: f[3],
+                merge_collinear: seed.is_multiple_of(2),
+                filter: LineFilter {
+                    min_points: c[2],
+                    min_length: f[4],
+                },
+                range_limits: None,
+            },
+        )
+        .ok()?,
+    ))
+}
+
+fn build_iepf(f: &[f64], c: &[usize], seed: u64) -> Option<Box<dyn LineExtractor>> {
+    Some(Box::new(
+        SplitMerge::new(
+            SplitLine::Chord,
+            SplitMergeParams {
+                breakpoints: Breakpoints {
+                    incidence: f[0] * 5.0,
+                    noise: f[1],
+                    max_gap: c[0],
+                },
+                min_cluster_points: c[1],
+                split_distance: f[2],
+                split_distance_per_metre: f[3],
+                merge_collinear: seed.is_multiple_of(2),
+                filter: LineFilter {
+                    min_points: c[2],
+                    min_length: f[4],
+                },
+                range_limits: None,
+            },
+        )
+        .ok()?,
+    ))
+}
+
+fn build_incremental(f: &[f64], c: &[usize], _seed: u64) -> Option<Box<dyn LineExtractor>> {
+    Some(Box::new(
+        Incremental::new(IncrementalParams {
+            breakpoints: Breakpoints {
+                incidence: f[0] * 5.0,
+                noise: f[1],
+                max_gap: c[0],
+            },
+            seed_points: c[1],
+            track_distance: f[2],
+            track_distance_per_metre: f[3],
+            max_outliers: c[2],
+            filter: LineFilter {
+                min_points: c[3],
+                min_length: f[4],
+            },
+            range_limits: None,
+        })
+        .ok()?,
+    ))
+}
+
+fn build_line_regression(f: &[f64], c: &[usize], seed: u64) -> Option<Box<dyn LineExtractor>> {
+    Some(Box::new(
+        LineRegression::new(LineRegressionParams {
+            breakpoints: Breakpoints {
+                incidence: f[0] * 5.0,
+                noise: f[1],
+                max_gap: c[0],
+            },
+            window: c[1],
+            noise_sigma: f[2],
+            noise_sigma_per_metre: f[3],
+            similarity: f[4] * 30.0,
+            min_windows: c[2],
+            merge_collinear: seed.is_multiple_of(2),
+            merge_distance: f[5],
+            merge_distance_per_metre: f[6],
+            filter: LineFilter {
+                min_points: c[3],
+                min_length: f[7],
+            },
+            range_limits: None,
+        })
+        .ok()?,
+    ))
+}
+
+fn build_ransac(f: &[f64], c: &[usize], seed: u64) -> Option<Box<dyn LineExtractor>> {
+    Some(Box::new(
+        Ransac::new(RansacParams {
+            seed,
+            iterations: budget(c[0]),
+            sample_span: c[1],
+            inlier_distance: f[0],
+            inlier_distance_per_metre: f[1],
+            min_inliers: c[2],
+            max_skipped: c[3],
+            refine_iterations: budget(c[4]),
+            breakpoints: Breakpoints {
+                incidence: f[2] * 5.0,
+                noise: f[3],
+                max_gap: c[5],
+            },
+            max_lines: budget(c[6]),
+            filter: LineFilter {
+                min_points: c[7],
+                min_length: f[4],
+            },
+            range_limits: None,
+        })
+        .ok()?,
+    ))
+}
+
+fn build_em(f: &[f64], c: &[usize], seed: u64) -> Option<Box<dyn LineExtractor>> {
+    Some(Box::new(
+        Em::new(EmParams {
+            seed,
+            max_trials: budget(c[0]),
+            max_failures: c[1],
+            init_points: c[2],
+            iterations: budget(c[3]),
+            anneal_sigma_scale: 1.0 + f[0] * 10.0,
+            noise_sigma: f[1],
+            noise_sigma_per_metre: f[2],
+            outlier_density: f[3],
+            inlier_probability: f[4],
+            max_skipped: c[4],
+            breakpoints: Breakpoints {
+                incidence: f[5] * 5.0,
+                noise: f[6],
+                max_gap: c[5],
+            },
+            filter: LineFilter {
+                min_points: c[6],
+                min_length: f[7],
+            },
+            range_limits: None,
+        })
+        .ok()?,
+    ))
+}
+
+/// Scans of at most 200 beams: arbitrary, or walls.
+fn small_scan() -> impl Strategy<Value = Scan> {
+    prop_oneof![any_scan(), wall_scan()].prop_map(|mut s| {
+        s.ranges.truncate(200);
+        s
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    #[test]
+    fn arbitrary_params_never_break_invariants(
+        kind in 1usize..=7,
+        in_domain in prop::collection::vec(1e-4f64..0.3, 10),
+        anything in prop::collection::vec(any_param(), 10),
+        valid in prop::bool::weighted(0.8),
+        c in prop::collection::vec(any_count(), 8),
+        seed in any::<u64>(),
+        scan in small_scan(),
+    ) {
+        // Mostly parameters in their domains (so that extraction runs), sometimes anything.
+        let f = if valid { in_domain } else { anything };
+        if let Some(mut e) = build(kind, &f, &c, seed) {
+            prop_assert_eq!(e.name(), ALGORITHMS[kind]);
+            let first = e.extract(&scan);
+            check_invariants(e.name(), &scan, &first);
+            prop_assert_eq!(&first, &e.extract(&scan));
+        }
+    }
+}
