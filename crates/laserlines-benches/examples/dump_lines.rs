@@ -3,7 +3,8 @@
 //! the scene suites of every simulated sensor (`all`, seed 2, 30 scans per suite or
 //! `DUMP_SCANS`), the bundled real URG-04LX excerpt and, when it is there, the Intel Research
 //! Lab log from `../shared`, and any logs named as arguments. With `DUMP_STAGES=1` also each
-//! scan's data segments, removed beams, split points and noise estimate.
+//! scan's data segments, removed beams, split points and noise estimate; with
+//! `DUMP_PARAMS=paper` or `navigation` the extractor has that preset instead of the defaults.
 //!
 //! ```sh
 //! cargo run --release -p laserlines-benches --example dump_lines > before.txt
@@ -75,7 +76,13 @@ fn run(
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut hs = HoughSplit::new(HoughSplitParams::default())?;
+    let params = match std::env::var("DUMP_PARAMS").as_deref() {
+        Ok("paper") => HoughSplitParams::paper(),
+        Ok("navigation") => HoughSplitParams::navigation(),
+        Ok(other) => return Err(format!("DUMP_PARAMS: paper or navigation, not {other}").into()),
+        Err(_) => HoughSplitParams::default(),
+    };
+    let mut hs = HoughSplit::new(params)?;
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     let mut lines = Vec::new();
