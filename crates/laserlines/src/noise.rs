@@ -114,7 +114,13 @@ impl RangeNoise {
     #[inline]
     #[must_use]
     pub fn sigma(&self, r: f64) -> f64 {
-        self.sigma_min.max(self.fraction * r)
+        // `max` by one comparison (a NaN product gives `sigma_min`, as `f64::max` does).
+        let v = self.fraction * r;
+        if v > self.sigma_min {
+            v
+        } else {
+            self.sigma_min
+        }
     }
 
     /// The model scaled by `k` (both numbers).
@@ -245,7 +251,8 @@ pub struct BandEstimate {
 /// between scans.
 #[derive(Debug, Clone, Default)]
 pub struct NoiseEstimator {
-    abs: [Vec<f64>; NOISE_BANDS],
+    /// Per band: the bits of each sample's `|e|` (non-negative floats order as their bits).
+    abs: [Vec<u64>; NOISE_BANDS],
     range_sum: [f64; NOISE_BANDS],
     bands: [BandEstimate; NOISE_BANDS],
 }
@@ -278,33 +285,7 @@ impl NoiseEstimator {
             b.clear();
         }
         self.range_sum = [0.0; NOISE_BANDS];
-        let r = scan.ranges;
-        let dphi = LAG as f64 * scan.angle_increment;
-        let two_cos = 2.0 * dphi.cos();
-        // Points of one smooth surface `LAG` beams apart differ by `2 r dphi tan(incidence)`
-        // plus noise: up to 80 deg of incidence and 2 % noise. Farther apart, the triple
-        // spans a depth edge or a mixed pixel, which says nothing about the noise.
-        let spread = 12.0 * dphi.abs() + 0.1;
-        // Every second beam on long scans: neighbouring samples share readings.
-        let stride = if r.len() > 360 { 2 } else { 1 };
-        let mut i = LAG;
-        while i + LAG < r.len() {
-            let (r0, r1, r2) = (r[i - LAG], r[i], r[i + LAG]);
-            i += stride;
-            if !(window.contains(r0) && window.contains(r1) && window.contains(r2))
-                || (r2 - r0).abs() > spread * r1
-            {
-                continue;
-            }
-            let e = (r1 - two_cos * r0 * r2 / (r0 + r2)).abs();
-            // A NaN (absurd ranges) or a gross residual says nothing about the noise.
-            if e.is_nan() || e > 0.25 * r1 {
-                continue;
-            }
-            let b = band_of(r1);
-            self.abs[b].push(e);
-            self.range_sum[b] += r1;
-        }
+        self.sample(scan, window);
         for (b, out) in self.bands.iter_mut().enumerate() {
             let v = &mut self.abs[b];
             let n = v.len();
@@ -318,12 +299,54 @@ impl NoiseEstimator {
                 sigma: 0.0,
             };
             if n >= MIN_BAND_SAMPLES {
-                let mid = n / 2;
-                let (_, m, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
-                out.sigma = *m * MEDIAN_TO_SIGMA;
+                // The samples are the bits of non-negative floats, which order as the floats.
+                let (_, m, _) = v.select_nth_unstable(n / 2);
+                out.sigma = f64::from_bits(*m) * MEDIAN_TO_SIGMA;
             }
         }
         fit_lower_envelope(&self.bands, floor)
+    }
+
+    /// Collects the residuals `|e|` of `scan` (valid in `window`) per band (as the bits of
+    /// the floats) and the sums of their ranges.
+    fn sample(&mut self, scan: ScanView<'_>, window: RangeWindow) {
+        if window.min.is_nan() || window.max.is_nan() {
+            return;
+        }
+        // `RangeWindow::contains` as two comparisons: `v >= lo` implies `v > 0`, `v <= hi`
+        // implies a finite `v`, NaN fails both.
+        let (lo, hi) = (window.min.max(f64::from_bits(1)), window.max.min(f64::MAX));
+        let valid = |v: f64| (v >= lo) & (v <= hi);
+        let r = scan.ranges;
+        let dphi = LAG as f64 * scan.angle_increment;
+        let two_cos = 2.0 * dphi.cos();
+        // Points of one smooth surface `LAG` beams apart differ by `2 r dphi tan(incidence)`
+        // plus noise: up to 80 deg of incidence and 2 % noise. Farther apart, the triple
+        // spans a depth edge or a mixed pixel, which says nothing about the noise.
+        let spread = 12.0 * dphi.abs() + 0.1;
+        // Every second beam on long scans: neighbouring samples share readings.
+        let stride = if r.len() > 360 { 2 } else { 1 };
+        for b in &mut self.abs {
+            b.reserve(r.len() / stride + 1);
+        }
+        let mut i = LAG;
+        while i + LAG < r.len() {
+            let (r0, r1, r2) = (r[i - LAG], r[i], r[i + LAG]);
+            i += stride;
+            // Computed for every triple, used for the valid ones (a NaN, from absurd ranges,
+            // fails every test, as does a gross residual).
+            let e = (r1 - two_cos * r0 * r2 / (r0 + r2)).abs();
+            let usable = valid(r0)
+                & valid(r1)
+                & valid(r2)
+                & ((r2 - r0).abs() <= spread * r1)
+                & (e <= 0.25 * r1);
+            if usable {
+                let b = band_of(r1);
+                self.abs[b].push(e.to_bits());
+                self.range_sum[b] += r1;
+            }
+        }
     }
 }
 
