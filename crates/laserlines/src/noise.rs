@@ -10,9 +10,10 @@
 //! ```
 //!
 //! [`NoiseModel::Auto`] (the default) estimates both numbers from the scan being processed,
-//! with no history: for every beam `i` whose beams `i - LAG` and `i + LAG` ([`LAG`] = 3) are
-//! valid, the range a straight surface through those two would give on beam `i` is
-//! `r_hat = 2 cos(dphi) r0 r2 / (r0 + r2)` with `dphi = LAG * angle_increment` (exact for
+//! with no history: for every beam `i` whose beams `i - k` and `i + k` are valid (`k` =
+//! [`lag_for`]: [`LAG`] = 3 beams, fewer on scanners coarser than the URG-04LX), the range a
+//! straight surface through those two would give on beam `i` is
+//! `r_hat = 2 cos(dphi) r0 r2 / (r0 + r2)` with `dphi = k * angle_increment` (exact for
 //! any line: `1 / r` of a line is a sinusoid of the beam angle), and `e = r1 - r_hat` has
 //! the variance `1.5 sigma^2` on a smooth surface. Per range band (octaves from 0.5 m) the median of `|e|` gives a robust
 //! `sigma_b = median|e| / (0.6745 sqrt(1.5))`: corners, depth edges and mixed pixels are a
@@ -172,6 +173,20 @@ pub enum NoiseModel {
 /// beams is read three beams apart; for independent noise any lag reads the same.
 pub const LAG: usize = 3;
 
+/// The lag used on a scan with beams `increment` rad apart: [`LAG`] beams, but never a wider
+/// angle than [`LAG`] beams of the URG-04LX (1.05 deg), so that on coarse scanners (a SICK LMS
+/// at 1 deg: one beam) the triples see as little of the scene's own shape as on fine ones.
+#[must_use]
+pub fn lag_for(increment: f64) -> usize {
+    const SPAN: f64 = LAG as f64 * 0.006_135_923_151_542_565;
+    let beams = (SPAN / increment.abs()).round();
+    if beams.is_finite() && beams >= 1.0 {
+        (beams as usize).min(LAG)
+    } else {
+        1
+    }
+}
+
 #[cfg(feature = "serde")]
 mod serde_impl {
     use super::{NoiseModel, PRESETS, RangeNoise};
@@ -318,9 +333,10 @@ impl NoiseEstimator {
         let (lo, hi) = (window.min.max(f64::from_bits(1)), window.max.min(f64::MAX));
         let valid = |v: f64| (v >= lo) & (v <= hi);
         let r = scan.ranges;
-        let dphi = LAG as f64 * scan.angle_increment;
+        let lag = lag_for(scan.angle_increment);
+        let dphi = lag as f64 * scan.angle_increment;
         let two_cos = 2.0 * dphi.cos();
-        // Points of one smooth surface `LAG` beams apart differ by `2 r dphi tan(incidence)`
+        // Points of one smooth surface `lag` beams apart differ by `2 r dphi tan(incidence)`
         // plus noise: up to 80 deg of incidence and 2 % noise. Farther apart, the triple
         // spans a depth edge or a mixed pixel, which says nothing about the noise.
         let spread = 12.0 * dphi.abs() + 0.1;
@@ -329,9 +345,9 @@ impl NoiseEstimator {
         for b in &mut self.abs {
             b.reserve(r.len() / stride + 1);
         }
-        let mut i = LAG;
-        while i + LAG < r.len() {
-            let (r0, r1, r2) = (r[i - LAG], r[i], r[i + LAG]);
+        let mut i = lag;
+        while i + lag < r.len() {
+            let (r0, r1, r2) = (r[i - lag], r[i], r[i + lag]);
             i += stride;
             // Computed for every triple, used for the valid ones (a NaN, from absurd ranges,
             // fails every test, as does a gross residual).
@@ -382,6 +398,18 @@ fn fit_lower_envelope(bands: &[BandEstimate; NOISE_BANDS], floor: f64) -> Option
 mod tests {
     use super::*;
     use crate::scan::Scan;
+
+    #[test]
+    fn the_lag_spans_at_most_three_urg_beams() {
+        let deg = std::f64::consts::PI / 180.0;
+        // URG-04LX (0.3516 deg) and finer: three beams; 0.5 deg: two; 1 deg (SICK LMS): one.
+        for (step, lag) in [(0.351_562_5, 3), (0.25, 3), (0.5, 2), (1.0, 1), (-1.0, 1)] {
+            assert_eq!(lag_for(step * deg), lag, "{step} deg");
+        }
+        // Degenerate geometry (no valid scan has it): one beam.
+        assert_eq!(lag_for(0.0), 1);
+        assert_eq!(lag_for(f64::NAN), 1);
+    }
 
     #[test]
     fn bands_are_octaves_from_half_a_metre() {
