@@ -206,8 +206,11 @@ fn degenerate_scans_give_empty_panels_with_a_note() {
 
 #[test]
 fn far_points_and_bad_lines_stay_out_of_the_picture() {
-    // One point 1e300 m away, lines with NaN, and a view that is not valid.
-    let mut ranges = vec![2.0; 50];
+    // A wall 2 m ahead with one point 1e300 m away, lines with NaN, and a view that is not
+    // valid.
+    let mut ranges: Vec<f64> = (0..50)
+        .map(|i| 2.0 / (-0.5 + 0.02 * f64::from(i)).cos())
+        .collect();
     ranges[10] = 1e300;
     let scan = Scan::new(-0.5, 0.02, 0.0, f64::MAX, ranges).unwrap();
     let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
