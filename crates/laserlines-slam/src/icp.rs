@@ -15,9 +15,10 @@
 //!
 //! **Convergence basin.** With the defaults, guesses up to 0.3 m and 0.2 rad (11 deg) off
 //! converge to the true pose (within 2 cm and 0.3 deg on simulated SICK-like scans of a
-//! furnished room, `tests/icp.rs`); from farther off the matcher returns either the true
-//! pose or an error, never a wrong pose, in the same tests (offsets up to 1.5 m and
-//! 1.2 rad).
+//! furnished room, `tests/icp.rs`); from farther off (offsets up to 1.5 m and 1.2 rad) the
+//! matcher almost always returns the true pose or an error: in 300 seeded cases of the same
+//! tests, 294 errors, 5 true poses and 1 wrong pose (a room's parallel walls can pair more
+//! than half of the points in a wrong minimum, which no check here tells from the right one).
 
 use laserlines::math::{Point2, wrap_angle};
 use nalgebra::{Matrix3, Vector3};
