@@ -87,7 +87,11 @@ impl Bounce {
             },
             _ if ahead < 0.7 => {
                 self.turns += 1;
-                let dir = if self.turns.is_multiple_of(2) { 0.8 } else { -0.8 };
+                let dir = if self.turns.is_multiple_of(2) {
+                    0.8
+                } else {
+                    -0.8
+                };
                 self.turning = Some(dir);
                 VelocityCommand {
                     linear_m_s: 0.0,
