@@ -23,7 +23,13 @@ use clap::{Args, Parser, Subcommand};
 /// Line segments from 2D laser range scans: the g-weighted Hough transform, data segments and
 /// recursive split of the NAJI V rescue robot, and the classic extractors.
 #[derive(Debug, Parser)]
-#[command(name = "laserlines", version, about, long_about = None)]
+#[command(
+    name = "laserlines",
+    version,
+    about = "Line segments from 2D laser range scans: extract them from logs, bags and sensors, \
+             draw the paper's figures, compare extractors, simulate and view runs",
+    long_about = None
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -59,10 +65,12 @@ enum Command {
 /// Where scans come from: a path (or `-` for stdin) and an optional format override.
 #[derive(Debug, Clone, Args)]
 pub struct InputArgs {
-    /// Input file (.json, .jsonl, .csv, .dat, .mcap, .clf/.log for CARMEN, .bag; optionally
-    /// .gz), or `-` for stdin.
+    /// Input file (.json, .jsonl, .csv, .dat, .mcap, .clf/.log for CARMEN, .bag for ROS 1,
+    /// .db3; optionally .gz), a ROS 2 bag directory (MCAP or sqlite3 storage), or `-` for
+    /// stdin.
     pub input: PathBuf,
-    /// Input format, overriding the file extension (json, jsonl, csv, dat, mcap, carmen, bag).
+    /// Input format, overriding the file extension (json, jsonl, csv, dat, mcap, carmen, bag,
+    /// db3).
     #[arg(long)]
     pub format: Option<String>,
     /// Topic to read from an MCAP file or a ROS bag (default: the first LaserScan topic), or

@@ -231,15 +231,17 @@ fn view_serves_scans_and_lines_to_a_foxglove_client() {
             .arg("view")
             .arg(excerpt())
             .args(["--port", "0", "--rate", "20"])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
             .spawn()
             .unwrap(),
     );
+    // The status lines are on stderr: the first says where it serves.
+    let mut stderr = BufReader::new(child.0.stderr.take().unwrap());
     let mut first = String::new();
-    BufReader::new(child.0.stdout.take().unwrap())
-        .read_line(&mut first)
-        .unwrap();
+    stderr.read_line(&mut first).unwrap();
+    // The rest must be read, or the child blocks on a full pipe.
+    std::thread::spawn(move || std::io::copy(&mut stderr, &mut std::io::sink()));
     let port: u16 = first
         .split("ws://127.0.0.1:")
         .nth(1)
@@ -296,7 +298,22 @@ fn view_serves_scans_and_lines_to_a_foxglove_client() {
             _ => {}
         }
     }
-    let _ = ws.close(None);
+    // The server ends the replay with a close frame (after the last scan, at 20x in about
+    // 0.2 s, and half a second for the last messages to leave).
+    let mut closed = false;
+    while !closed {
+        assert!(start.elapsed() < DEADLINE, "no close frame in time");
+        match ws.read() {
+            Ok(Message::Close(_)) => closed = true,
+            Ok(_) => {}
+            Err(tungstenite::Error::Io(e))
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                ) => {}
+            Err(e) => panic!("the socket ended without a close frame: {e}"),
+        }
+    }
     let scan = scan.unwrap();
     assert_eq!(scan.ranges.len(), 682);
     assert_eq!(scan.frame_id, "laser");

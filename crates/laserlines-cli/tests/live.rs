@@ -1,44 +1,76 @@
 //! `laserlines live` against `laserlines hokuyo-emulator` over TCP, as a user runs them:
 //! the emulator's address from its first line, `live --scans N -o lines.jsonl`, one JSON
-//! object per scan, a summary naming the scans, no scan dropped, QT at the end.
+//! object per scan, a summary naming the scans, no scan dropped, QT at the end; with
+//! `--sectors`, the sector objects of every scan in the MCAP recording (read back) and in
+//! the live view (watched by a Foxglove WebSocket client).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers outside #[test] fns
 
+use std::collections::HashMap;
 use std::io::{BufRead, BufReader};
+use std::net::TcpStream;
+use std::path::PathBuf;
 use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
-#[test]
-fn live_reads_the_emulated_ust10lx_and_writes_lines_per_scan() {
-    let bin = env!("CARGO_BIN_EXE_laserlines");
-    let mut emulator = Command::new(bin)
-        .args([
-            "hokuyo-emulator",
-            "--model",
-            "ust-10lx",
-            "--tcp",
-            "127.0.0.1:0",
-            "--duration",
-            "60",
-        ])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+use foxglove::messages::SceneUpdate;
+use laserlines::math::Point2;
+use laserlines_nav::sectors::{Sector, SectorObjects, SectorParams, select_segments};
+use prost::Message as _;
+use tungstenite::Message;
+use tungstenite::client::IntoClientRequest;
+
+const DEADLINE: Duration = Duration::from_secs(60);
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_laserlines"))
+}
+
+/// A child process killed when the test ends, however it ends.
+struct Child(std::process::Child);
+
+impl Drop for Child {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// An emulated UST-10LX on a free local port, and its address from its first line.
+fn emulator() -> (Child, String) {
+    let mut child = Child(
+        bin()
+            .args(["hokuyo-emulator", "--model", "ust-10lx"])
+            .args(["--tcp", "127.0.0.1:0", "--duration", "120"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
     let mut first = String::new();
-    BufReader::new(emulator.stdout.take().unwrap())
+    BufReader::new(child.0.stdout.take().unwrap())
         .read_line(&mut first)
         .unwrap();
     let addr = first.trim().rsplit(" on ").next().unwrap().to_owned();
-    let dir = std::env::temp_dir().join(format!("laserlines-live-{}", std::process::id()));
+    (child, addr)
+}
+
+fn tmp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("laserlines-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn live_reads_the_emulated_ust10lx_and_writes_lines_per_scan() {
+    let (_emulator, addr) = emulator();
+    let dir = tmp_dir("live");
     let out = dir.join("lines.jsonl");
-    let run = Command::new(bin)
+    let run = bin()
         .args(["live", &addr, "--scans", "25", "-o"])
         .arg(&out)
         .output()
         .unwrap();
-    let _ = emulator.kill();
-    let _ = emulator.wait();
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "{stderr}");
     assert!(stderr.contains("UST-10LX"), "{stderr}");
@@ -61,4 +93,215 @@ fn live_reads_the_emulated_ust10lx_and_writes_lines_per_scan() {
             .all(|s| !s["lines"].as_array().unwrap().is_empty())
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The messages of each topic of an MCAP file, with their log times and schema names, read
+/// by the `mcap` crate's own reader.
+fn mcap_topics(bytes: &[u8]) -> HashMap<String, Vec<(u64, String, Vec<u8>)>> {
+    let mut out: HashMap<String, Vec<(u64, String, Vec<u8>)>> = HashMap::new();
+    for m in mcap::MessageStream::new(bytes).unwrap() {
+        let m = m.unwrap();
+        let schema = m.channel.schema.as_ref().unwrap().name.clone();
+        out.entry(m.channel.topic.clone()).or_default().push((
+            m.log_time,
+            schema,
+            m.data.into_owned(),
+        ));
+    }
+    out
+}
+
+/// The objects of the lines of a `/lines` scene update (one `LINE_LIST`, two points per
+/// line), selected afresh.
+fn objects_of(lines: &SceneUpdate) -> SectorObjects {
+    let points = &lines.entities[0].lines[0].points;
+    let segments: Vec<(Point2, Point2)> = points
+        .chunks(2)
+        .map(|p| (Point2::new(p[0].x, p[0].y), Point2::new(p[1].x, p[1].y)))
+        .collect();
+    select_segments(&segments, &SectorParams::default())
+}
+
+/// A `/sectors` update holds the objects given: frame `laser`, the bounds, then for each
+/// object in sector order its piece as a line, its nearest point as a sphere and its label.
+fn assert_scene_holds(update: &SceneUpdate, objects: &SectorObjects) {
+    let e = &update.entities[0];
+    assert_eq!((e.frame_id.as_str(), e.id.as_str()), ("laser", "sectors"));
+    assert_eq!(e.lines[0].points.len(), 12, "two rays per sector bound");
+    let present: Vec<Sector> = Sector::ALL
+        .into_iter()
+        .filter(|&s| objects.get(s).is_some())
+        .collect();
+    assert_eq!(e.lines.len(), 1 + present.len());
+    assert_eq!(e.spheres.len(), present.len());
+    for (k, s) in present.into_iter().enumerate() {
+        let o = objects.get(s).unwrap();
+        let piece = &e.lines[1 + k].points;
+        let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+        assert!(close(piece[0].x, o.start.x) && close(piece[0].y, o.start.y));
+        assert!(close(piece[1].x, o.end.x) && close(piece[1].y, o.end.y));
+        let label = &e.metadata[k];
+        assert_eq!(label.key, s.name());
+        assert!(
+            label
+                .value
+                .starts_with(&format!("{}: {:.2} m", s.name(), o.distance_m)),
+            "{}",
+            label.value
+        );
+    }
+}
+
+#[test]
+fn live_records_the_sector_objects_of_every_scan_to_mcap() {
+    let (_emulator, addr) = emulator();
+    let dir = tmp_dir("live-sectors");
+    let mcap_path = dir.join("run.mcap");
+    let run = bin()
+        .args(["live", &addr, "--scans", "25", "--sectors", "--record"])
+        .arg(&mcap_path)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    let stdout = String::from_utf8(run.stdout).unwrap();
+    let printed: Vec<&str> = stdout.lines().filter(|l| l.starts_with("scan ")).collect();
+    assert_eq!(printed.len(), 25, "{stdout}");
+
+    let topics = mcap_topics(&std::fs::read(&mcap_path).unwrap());
+    let (scans, lines, sectors) = (&topics["/scan"], &topics["/lines"], &topics["/sectors"]);
+    assert_eq!((scans.len(), lines.len(), sectors.len()), (25, 25, 25));
+    let mut objects_seen = 0;
+    for k in 0..25 {
+        assert_eq!(sectors[k].1, "foxglove.SceneUpdate");
+        // Each scan's sectors at the scan's own time.
+        assert_eq!(sectors[k].0, scans[k].0);
+        assert_eq!(lines[k].0, scans[k].0);
+        let objects = objects_of(&SceneUpdate::decode(lines[k].2.as_slice()).unwrap());
+        let update = SceneUpdate::decode(sectors[k].2.as_slice()).unwrap();
+        assert_scene_holds(&update, &objects);
+        // What is printed is what is recorded.
+        for s in Sector::ALL {
+            let text = match objects.get(s) {
+                Some(o) => format!("{}: distance {:.3} m", s.name(), o.distance_m),
+                None => format!("{}: none", s.name()),
+            };
+            assert!(printed[k].contains(&text), "{} lacks {text}", printed[k]);
+        }
+        objects_seen += Sector::ALL
+            .iter()
+            .filter(|&&s| objects.get(s).is_some())
+            .count();
+    }
+    // The maze's walls surround the sensor: most sectors hold an object.
+    assert!(objects_seen >= 25, "{objects_seen} objects in 25 scans");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn read_ws(ws: &mut tungstenite::WebSocket<TcpStream>) -> Option<Message> {
+    match ws.read() {
+        Ok(m) => Some(m),
+        Err(tungstenite::Error::Io(e))
+            if matches!(
+                e.kind(),
+                std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+            ) =>
+        {
+            None
+        }
+        Err(e) => panic!("websocket: {e}"),
+    }
+}
+
+/// Subscribes to every channel of the server on `port` and returns the schema and the first
+/// message of `/sectors` and of `/lines` that carry the same log time.
+fn watch_sectors(port: u16, start: Instant) -> (String, SceneUpdate, SceneUpdate) {
+    let stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    stream
+        .set_read_timeout(Some(Duration::from_millis(200)))
+        .unwrap();
+    let mut request = format!("ws://127.0.0.1:{port}")
+        .into_client_request()
+        .unwrap();
+    request
+        .headers_mut()
+        .insert("Sec-WebSocket-Protocol", "foxglove.sdk.v1".parse().unwrap());
+    let mut ws = tungstenite::client(request, stream).unwrap().0;
+    let mut subscriptions: HashMap<u32, (String, String)> = HashMap::new();
+    // Messages by topic and log time.
+    let mut got: HashMap<(String, u64), Vec<u8>> = HashMap::new();
+    loop {
+        assert!(start.elapsed() < DEADLINE, "no /sectors with its /lines");
+        match read_ws(&mut ws) {
+            Some(Message::Text(t)) => {
+                let v: serde_json::Value = serde_json::from_str(t.as_str()).unwrap();
+                if v["op"] != "advertise" {
+                    continue;
+                }
+                let mut subs = Vec::new();
+                for c in v["channels"].as_array().unwrap() {
+                    let sub = subscriptions.len() as u32 + 1;
+                    let topic = c["topic"].as_str().unwrap().to_owned();
+                    let schema = c["schemaName"].as_str().unwrap().to_owned();
+                    subscriptions.insert(sub, (topic, schema));
+                    subs.push(serde_json::json!({"id": sub, "channelId": c["id"]}));
+                }
+                let msg = serde_json::json!({"op": "subscribe", "subscriptions": subs});
+                ws.send(Message::Text(msg.to_string().into())).unwrap();
+            }
+            Some(Message::Binary(b)) if b.len() >= 13 && b[0] == 1 => {
+                let sub = u32::from_le_bytes(b[1..5].try_into().unwrap());
+                let time = u64::from_le_bytes(b[5..13].try_into().unwrap());
+                let Some((topic, _)) = subscriptions.get(&sub) else {
+                    continue;
+                };
+                got.insert((topic.clone(), time), b[13..].to_vec());
+                let (s, l) = (("/sectors".to_owned(), time), ("/lines".to_owned(), time));
+                if let (Some(s), Some(l)) = (got.get(&s), got.get(&l)) {
+                    let schema = subscriptions.values().find(|(t, _)| t == "/sectors");
+                    let _ = ws.close(None);
+                    return (
+                        schema.unwrap().1.clone(),
+                        SceneUpdate::decode(s.as_slice()).unwrap(),
+                        SceneUpdate::decode(l.as_slice()).unwrap(),
+                    );
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+#[test]
+fn live_serves_the_sector_objects_to_a_foxglove_viewer() {
+    let start = Instant::now();
+    let (_emulator, addr) = emulator();
+    let mut live = Child(
+        bin()
+            .args(["live", &addr, "--view", "--port", "0", "--sectors"])
+            .args(["--duration", "60"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
+    let mut out = BufReader::new(live.0.stdout.take().unwrap());
+    let mut first = String::new();
+    out.read_line(&mut first).unwrap();
+    // Keep reading what it prints (the sector lines), so that it never writes to a closed
+    // pipe.
+    std::thread::spawn(move || std::io::copy(&mut out, &mut std::io::sink()));
+    let port: u16 = first
+        .split("ws://127.0.0.1:")
+        .nth(1)
+        .and_then(|s| s.split_whitespace().next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no port in {first:?}"));
+    let (schema, sectors, lines) = watch_sectors(port, start);
+    assert_eq!(schema, "foxglove.SceneUpdate");
+    assert_scene_holds(&sectors, &objects_of(&lines));
+    assert_eq!(
+        sectors.entities[0].timestamp, lines.entities[0].timestamp,
+        "the sectors of the scan the lines came from"
+    );
 }

@@ -55,6 +55,65 @@ fn simulate_writes_metrics_and_pictures() {
     assert!(sectors.contains("sector-front") && sectors.contains("selected-object"));
 }
 
+/// Runs `laserlines simulate` with `args` into a fresh folder named after `tag`; its
+/// `metrics.json`.
+fn simulate_args(tag: &str, args: &[&str]) -> serde_json::Value {
+    let dir = std::env::temp_dir().join(format!("laserlines-{tag}-{}", std::process::id()));
+    let o = bin()
+        .arg("simulate")
+        .args(args)
+        .arg("-o")
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(dir.join("metrics.json")).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+#[test]
+fn simulate_reports_the_arena_and_a_robot_out_of_it() {
+    let m = simulate_args("go2011", &["--arena", "go2011_arena", "--duration", "3"]);
+    let arena = &m["arena"];
+    assert_eq!(arena["elements"], 178);
+    assert_eq!(arena["in_plane"]["wall_diag_120"], 6);
+    assert_eq!(arena["out_of_plane"]["half_ramp"], 40);
+    assert_eq!(arena["skipped_count"], 0);
+    assert_eq!(arena["laser_height_m"], 0.45);
+    assert_eq!(m["coverage_region"], "enclosed");
+    assert_eq!(m["left_arena"], false);
+    assert!(
+        m["wall_time_includes"]
+            .as_str()
+            .unwrap()
+            .contains("closed loop")
+    );
+    for key in [
+        "setup_time_s",
+        "load_time_s",
+        "arena_area_m2",
+        "reachable_coverage",
+    ] {
+        assert!(m[key].as_f64().is_some(), "{key}");
+    }
+    // A start in the corner of inner_explore_test's bounds, outside the walls that enclose
+    // it: the robot is in the arena's bounds (not left), but coverage is taken over the
+    // bounds, of which it sees little. A start beyond the bounds is refused (tests/edges.rs).
+    let out = simulate_args(
+        "outside",
+        &[
+            "--arena",
+            "inner_explore_test",
+            "--start=-4.1,-6.5,0",
+            "--duration",
+            "1",
+        ],
+    );
+    assert_eq!(out["left_arena"], false);
+    assert_eq!(out["coverage_region"], "bounds");
+    assert!(out["coverage"].as_f64().unwrap() < 0.25, "{out}");
+}
+
 #[test]
 fn simulate_rejects_bad_input() {
     let o = bin()

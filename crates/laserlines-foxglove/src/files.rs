@@ -1,7 +1,7 @@
 //! Scans in, lines and scans out: the one place that chooses between the formats of
 //! `laserlines-io` and MCAP, for input ([`open_scans`]) and output ([`LinesOutput`],
 //! [`ScanOutput`]) alike. MCAP is chosen by the format given, else by the `.mcap` extension;
-//! a directory is a ROS 2 bag in MCAP storage.
+//! a directory is a ROS 2 bag (MCAP or sqlite3 storage), as is a `.db3` file.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -16,17 +16,29 @@ use laserlines_io::{
 use crate::McapReadOptions;
 use crate::write::McapSceneWriter;
 
-/// Opens the scans of `path` (`-` for standard input, with a format): an MCAP file or a ROS 2
-/// bag directory with [`crate::read`], any other format with [`laserlines_io::open_with`].
+/// Opens the scans of `path` (`-` for standard input, with a format): an MCAP file, a ROS 2
+/// bag directory or a `.db3` file with [`crate::read`], any other format with
+/// [`laserlines_io::open_with`].
 /// `options.topic` picks the topic (MCAP, ROS bag) or the laser (CARMEN).
 ///
 /// # Errors
 /// As the reader of the format: a [`ReadError`] naming the file.
 pub fn open_scans(path: &Path, options: &ReadOptions) -> Result<ScanReader, ReadError> {
+    let ours = |f: Format| matches!(f, Format::Mcap | Format::Db3);
     let mcap = match options.format {
-        Some(f) => f == Format::Mcap,
-        None => path.is_dir() || Format::from_path(path) == Some(Format::Mcap),
+        Some(f) => ours(f),
+        None => path.is_dir() || Format::from_path(path).is_some_and(ours),
     };
+    if options.format == Some(Format::Db3) && path == Path::new("-") {
+        return Err(ReadError::Open {
+            file: "-".to_owned(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "a ROS 2 bag in sqlite3 storage is read from its file or directory (SQLite \
+                 cannot read a database from standard input)",
+            ),
+        });
+    }
     if mcap {
         let mcap_options = McapReadOptions::topic(options.topic.as_deref());
         return crate::read::open(path, &mcap_options);
@@ -45,20 +57,26 @@ pub enum LinesOutput {
 }
 
 impl LinesOutput {
-    /// Creates the output named `path`, choosing the kind by its extension.
+    /// Creates the output named `path`, choosing the kind by its extension: `.mcap` for
+    /// MCAP, `.jsonl` or `.ndjson` (optionally `.gz`) or `-` (standard output) for lines JSONL.
     ///
     /// # Errors
-    /// [`WriteError::Io`] when the file cannot be created.
+    /// [`WriteError::Io`] when the file cannot be created, [`WriteError::Name`] for
+    /// any other extension (a lines file named `.txt` or `.json` would be mistaken for
+    /// something else) and for `.mcap.gz` (see [`McapSceneWriter::create`]).
     pub fn create(path: &Path) -> Result<Self, WriteError> {
-        let is_mcap = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
-        Ok(if is_mcap {
-            Self::Mcap(Box::new(McapSceneWriter::create(path)?))
-        } else {
-            Self::Jsonl(Box::new(LinesWriter::create(path)?))
-        })
+        if path == Path::new("-") {
+            return Ok(Self::Jsonl(Box::new(LinesWriter::create(path)?)));
+        }
+        match Format::from_path(path) {
+            Some(Format::Mcap) => Ok(Self::Mcap(Box::new(McapSceneWriter::create(path)?))),
+            Some(Format::Jsonl) => Ok(Self::Jsonl(Box::new(LinesWriter::create(path)?))),
+            _ => Err(WriteError::Name {
+                file: path.display().to_string(),
+                expected: "lines JSONL (.jsonl, .jsonl.gz, or - for standard output) or MCAP \
+                           (.mcap)",
+            }),
+        }
     }
 
     /// Writes the lines of scan number `scan` (0-based, in input order) with its record.

@@ -14,6 +14,8 @@
 //!   explorer's goal) as MCAP scenes.
 //! - [`live`] (feature `live`, on by default): the same messages served on a Foxglove
 //!   WebSocket, paced to replay a log.
+//! - [`sectors`]: the paper's three sectors and their objects as a scene (`/sectors`), for
+//!   a navigation run and for a live sensor.
 //! - [`scene`]: the messages themselves; [`ros`] (from `laserlines-io`), [`proto`]: the
 //!   decoders.
 //!
@@ -55,6 +57,8 @@ pub mod navigation;
 pub mod proto;
 pub mod read;
 pub mod scene;
+pub mod sectors;
+mod shapes;
 pub mod write;
 
 pub use files::{LinesOutput, ScanOutput, open_scans};

@@ -1,5 +1,6 @@
 //! Live viewing: a Foxglove WebSocket server (the `foxglove` crate's) publishing scans, lines
-//! and poses on the channels of [`crate::scene`], and a [`Pacer`] that replays a log at a
+//! and poses on the channels of [`crate::scene`] and further scenes on channels of their own
+//! (the sectors of `laserlines live --sectors`), and a [`Pacer`] that replays a log at a
 //! chosen speed.
 
 use std::sync::Arc;
@@ -36,7 +37,8 @@ pub enum LiveError {
     },
 }
 
-/// A Foxglove WebSocket server publishing `/scan`, `/lines` and `/tf`.
+/// A Foxglove WebSocket server publishing `/scan`, `/lines` and `/tf`, and the scene topics
+/// it was started with ([`LiveServer::start_with_scenes`]).
 ///
 /// The server runs on its own threads (a tokio runtime the `foxglove` crate starts); stop it
 /// with [`LiveServer::stop`].
@@ -47,6 +49,7 @@ pub struct LiveServer {
     scan: Channel<LaserScan>,
     lines: Channel<SceneUpdate>,
     tf: Channel<FrameTransform>,
+    scenes: Vec<(String, Channel<SceneUpdate>)>,
 }
 
 impl std::fmt::Debug for LiveServer {
@@ -76,10 +79,37 @@ impl LiveServer {
     /// # Errors
     /// [`LiveError`] when the server cannot start.
     pub fn start(host: &str, port: u16) -> Result<Self, LiveError> {
+        Self::start_with_scenes(host, port, &[])
+    }
+
+    /// Starts a server as [`LiveServer::start`] does, with one more `foxglove.SceneUpdate`
+    /// channel for each of `scene_topics` (e.g. [`crate::sectors::SECTORS_TOPIC`]), for
+    /// [`LiveServer::publish_scene`].
+    ///
+    /// # Errors
+    /// [`LiveError`] when the server cannot start, or [`LiveError::Channel`] for a topic
+    /// given twice or one of the server's own (`/scan`, `/lines`, `/tf`).
+    pub fn start_with_scenes(
+        host: &str,
+        port: u16,
+        scene_topics: &[&str],
+    ) -> Result<Self, LiveError> {
         let context = Context::new();
         let scan = channel::<LaserScan>(&context, SCAN_TOPIC)?;
         let lines = channel::<SceneUpdate>(&context, LINES_TOPIC)?;
         let tf = channel::<FrameTransform>(&context, TF_TOPIC)?;
+        let mut scenes: Vec<(String, Channel<SceneUpdate>)> = Vec::new();
+        for &topic in scene_topics {
+            if [SCAN_TOPIC, LINES_TOPIC, TF_TOPIC].contains(&topic)
+                || scenes.iter().any(|(t, _)| t == topic)
+            {
+                return Err(LiveError::Channel {
+                    topic: topic.to_owned(),
+                    message: "the topic is already a channel of the server".to_owned(),
+                });
+            }
+            scenes.push((topic.to_owned(), channel::<SceneUpdate>(&context, topic)?));
+        }
         let handle = WebSocketServer::new()
             .name("laserlines")
             .context(&context)
@@ -96,6 +126,7 @@ impl LiveServer {
             scan,
             lines,
             tf,
+            scenes,
         })
     }
 
@@ -138,6 +169,29 @@ impl LiveServer {
         if let Some(l) = &m.lines {
             self.lines.log_with_time(l, ns);
         }
+    }
+
+    /// Publishes a scene update on `topic`, one of the scene topics the server was started
+    /// with, at `time` (s; the time of the scan it belongs to).
+    ///
+    /// # Errors
+    /// [`LiveError::Channel`] when the server has no such scene channel.
+    pub fn publish_scene(
+        &self,
+        topic: &str,
+        update: &SceneUpdate,
+        time: f64,
+    ) -> Result<(), LiveError> {
+        let (_, channel) = self
+            .scenes
+            .iter()
+            .find(|(t, _)| t == topic)
+            .ok_or_else(|| LiveError::Channel {
+                topic: topic.to_owned(),
+                message: "not a scene channel of this server".to_owned(),
+            })?;
+        channel.log_with_time(update, log_time_ns(time));
+        Ok(())
     }
 
     /// Stops the server and waits for its tasks to end.

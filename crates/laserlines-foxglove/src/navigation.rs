@@ -21,23 +21,24 @@ use std::io::BufWriter;
 use std::path::Path;
 
 use foxglove::messages::{
-    Color, CylinderPrimitive, KeyValuePair, LinePrimitive, Point3, Pose, SceneEntity, SceneUpdate,
-    SpherePrimitive, TextPrimitive, Vector3, line_primitive,
+    CylinderPrimitive, KeyValuePair, SceneEntity, SceneUpdate, SpherePrimitive, Vector3,
 };
 use laserlines::math::{Isometry2, Point2};
 use laserlines::robot::Footprint;
 use laserlines::{Line, Scan};
 use laserlines_io::{Pose2, WriteError};
-use laserlines_nav::{Decision, Sector, SectorObject};
+use laserlines_nav::Decision;
 
-use crate::proto::{timestamp, transform_from_pose, yaw_quaternion};
+use crate::proto::{timestamp, transform_from_pose};
+use crate::sectors::sectors_update;
+use crate::shapes::{color, line_list, point3, pose_at};
 use crate::write::McapSceneWriter;
 use crate::{LASER_FRAME, ROBOT_FRAME, WORLD_FRAME};
 
 /// Topic of the arena walls.
 pub const ARENA_TOPIC: &str = "/arena";
-/// Topic of the footprint, sectors and selected objects.
-pub const SECTORS_TOPIC: &str = "/sectors";
+/// Topic of the footprint, sectors and selected objects (see [`crate::sectors`]).
+pub use crate::sectors::SECTORS_TOPIC;
 /// Topic of the explorer's frontier goal.
 pub const EXPLORER_TOPIC: &str = "/explorer";
 /// Frame of the robot's own pose estimate.
@@ -72,90 +73,12 @@ pub struct NavRecorder {
     error: Option<WriteError>,
 }
 
-fn color(r: f64, g: f64, b: f64, a: f64) -> Color {
-    Color { r, g, b, a }
-}
-
-fn point3(p: Point2) -> Point3 {
-    Point3 {
-        x: p.x,
-        y: p.y,
-        z: 0.0,
-    }
-}
-
-fn pose_at(x: f64, y: f64, yaw: f64) -> Pose {
-    Pose {
-        position: Some(Vector3 { x, y, z: 0.0 }),
-        orientation: Some(yaw_quaternion(yaw)),
-    }
-}
-
-fn line_list(points: Vec<Point3>, c: Color, thickness_px: f64) -> LinePrimitive {
-    LinePrimitive {
-        r#type: line_primitive::Type::LineList as i32,
-        pose: Some(pose_at(0.0, 0.0, 0.0)),
-        thickness: thickness_px,
-        scale_invariant: true,
-        points,
-        color: Some(c),
-        colors: Vec::new(),
-        indices: Vec::new(),
-    }
-}
-
 fn pose2(iso: &Isometry2) -> Pose2 {
     Pose2::new(
         iso.translation.vector.x,
         iso.translation.vector.y,
         iso.rotation.angle(),
     )
-}
-
-/// The colour of a sector's object, as in the sector picture.
-fn sector_color(s: Sector) -> Color {
-    match s {
-        Sector::Left => color(0.12, 0.47, 0.71, 1.0),
-        Sector::Front => color(0.84, 0.15, 0.16, 1.0),
-        Sector::Right => color(0.17, 0.63, 0.17, 1.0),
-    }
-}
-
-/// A sector's object in the entity: the piece as a thick line, its nearest point as a sphere,
-/// its distance, width and angle as a label and as metadata.
-fn add_object(entity: &mut SceneEntity, s: Sector, o: &SectorObject) {
-    let c = sector_color(s);
-    entity
-        .lines
-        .push(line_list(vec![point3(o.start), point3(o.end)], c, 6.0));
-    entity.spheres.push(SpherePrimitive {
-        pose: Some(pose_at(o.nearest.x, o.nearest.y, 0.0)),
-        size: Some(Vector3 {
-            x: 0.08,
-            y: 0.08,
-            z: 0.08,
-        }),
-        color: Some(c),
-    });
-    let label = format!(
-        "{}: {:.2} m, width {:.2} m, {:.0} deg",
-        s.name(),
-        o.distance_m,
-        o.width_m,
-        o.angle_rad.to_degrees()
-    );
-    entity.texts.push(TextPrimitive {
-        pose: Some(pose_at(o.nearest.x, o.nearest.y, 0.0)),
-        billboard: true,
-        font_size: 12.0,
-        scale_invariant: true,
-        color: Some(c),
-        text: label.clone(),
-    });
-    entity.metadata.push(KeyValuePair {
-        key: s.name().to_owned(),
-        value: label,
-    });
 }
 
 /// The arena (walls by their end points, discs by centre and radius) as one scene update in
@@ -240,57 +163,22 @@ impl NavRecorder {
     }
 
     fn sectors_update(&self, frame: &NavFrame<'_>) -> SceneUpdate {
-        let mut entity = SceneEntity {
-            timestamp: Some(timestamp(frame.time_s)),
-            frame_id: ROBOT_FRAME.to_owned(),
-            id: "sectors".to_owned(),
-            lines: self.outline_and_bounds(),
-            ..SceneEntity::default()
-        };
-        for s in Sector::ALL {
-            if let Some(o) = frame.decision.objects.get(s) {
-                add_object(&mut entity, s, o);
-            }
-        }
-        entity.metadata.push(KeyValuePair {
+        let mut update = sectors_update(
+            &frame.decision.objects,
+            ROBOT_FRAME,
+            Some(&self.footprint),
+            frame.time_s,
+        );
+        let metadata = &mut update.entities[0].metadata;
+        metadata.push(KeyValuePair {
             key: "mode".to_owned(),
             value: format!("{:?}", frame.decision.mode),
         });
-        entity.metadata.push(KeyValuePair {
+        metadata.push(KeyValuePair {
             key: "side".to_owned(),
             value: format!("{:?}", frame.decision.side),
         });
-        SceneUpdate {
-            deletions: Vec::new(),
-            entities: vec![entity],
-        }
-    }
-
-    /// The footprint's outline and the sector bounds (1.5 m rays from the robot's origin,
-    /// where the sectors' bearings are measured from).
-    fn outline_and_bounds(&self) -> Vec<LinePrimitive> {
-        let (hl, hw) = (self.footprint.length / 2.0, self.footprint.width / 2.0);
-        let corners = [(hl, hw), (-hl, hw), (-hl, -hw), (hl, -hw)].map(|(x, y)| Point2::new(x, y));
-        let mut outline = Vec::new();
-        for k in 0..4 {
-            outline.push(point3(corners[k]));
-            outline.push(point3(corners[(k + 1) % 4]));
-        }
-        let origin = Point2::origin();
-        let mut bounds = Vec::new();
-        for s in Sector::ALL {
-            let (from, to) = s.bounds_rad();
-            for a in [from, to] {
-                bounds.push(point3(origin));
-                bounds.push(point3(
-                    origin + 1.5 * laserlines::math::Vector2::new(a.cos(), a.sin()),
-                ));
-            }
-        }
-        vec![
-            line_list(outline, color(0.0, 0.0, 0.0, 1.0), 2.0),
-            line_list(bounds, color(0.5, 0.5, 0.5, 0.6), 1.0),
-        ]
+        update
     }
 
     fn explorer_update(&self, frame: &NavFrame<'_>) -> SceneUpdate {

@@ -98,6 +98,42 @@ pub fn quaternion_yaw(q: &Quaternion) -> f64 {
     (2.0 * (q.w * q.z + q.x * q.y)).atan2(1.0 - 2.0 * (q.y * q.y + q.z * q.z))
 }
 
+/// The yaw of a rotation about z alone, as the writer wrote it: of the angles whose
+/// [`yaw_quaternion`] is this very quaternion, the one with the fewest decimal digits (so a
+/// pose written with theta 0.3 reads back 0.3, not 0.30000000000000004); [`quaternion_yaw`]
+/// for any other rotation, or when no nearby angle gives the same quaternion.
+#[must_use]
+pub fn yaw_of_written_quaternion(q: &Quaternion) -> f64 {
+    let yaw = quaternion_yaw(q);
+    if q.x != 0.0 || q.y != 0.0 || !yaw.is_finite() {
+        return yaw;
+    }
+    let same = |candidate: f64| {
+        let r = yaw_quaternion(candidate);
+        r.z.to_bits() == q.z.to_bits() && r.w.to_bits() == q.w.to_bits()
+    };
+    let shortest = (1..=17).find_map(|digits| {
+        let candidate: f64 = format!("{:.*e}", digits - 1, yaw).parse().ok()?;
+        same(candidate).then_some(candidate)
+    });
+    if let Some(y) = shortest {
+        return y;
+    }
+    // A few units in the last place either way.
+    let mut up = yaw;
+    let mut down = yaw;
+    for _ in 0..4 {
+        up = up.next_up();
+        down = down.next_down();
+        for candidate in [up, down] {
+            if same(candidate) {
+                return candidate;
+            }
+        }
+    }
+    yaw
+}
+
 /// A laserlines scan from a `foxglove.LaserScan` (see the module docs for the conversions).
 /// `fallback_stamp` (s) is used when the message has no timestamp. Not validated here.
 #[must_use]
@@ -177,7 +213,7 @@ pub fn foxglove_from_scan(scan: &Scan, frame_id: &str, stamp: f64) -> LaserScan 
 pub fn pose_from_transform(t: &FrameTransform) -> Option<Pose2> {
     let tr = t.translation.as_ref()?;
     let q = t.rotation.as_ref()?;
-    let pose = Pose2::new(tr.x, tr.y, quaternion_yaw(q));
+    let pose = Pose2::new(tr.x, tr.y, yaw_of_written_quaternion(q));
     pose.is_finite().then_some(pose)
 }
 
@@ -210,6 +246,40 @@ mod tests {
         assert_eq!(seconds(&timestamp(-3.0)), 0.0);
         assert_eq!(seconds(&timestamp(f64::NAN)), 0.0);
         assert_eq!(timestamp(1e12).sec(), u32::MAX);
+    }
+
+    #[test]
+    fn poses_read_back_the_theta_written() {
+        for k in 0..200 {
+            // Values as users write them, and sums that carry float noise of their own.
+            let decimal: f64 = format!("{:.2}", -3.1 + 0.031 * f64::from(k))
+                .parse()
+                .unwrap();
+            let noisy = 0.3 * f64::from(k % 11) - 0.5;
+            for theta in [decimal, noisy] {
+                let t = transform_from_pose("world", "base_link", Pose2::new(1.0, 2.0, theta), 0.0);
+                let back = pose_from_transform(&t).unwrap().theta;
+                assert!((back - theta).abs() <= 4.0 * f64::EPSILON * theta.abs().max(1.0));
+                // The same quaternion, so nothing a reader can tell apart.
+                let again = yaw_quaternion(back);
+                let q = t.rotation.as_ref().unwrap();
+                assert_eq!((again.z, again.w), (q.z, q.w), "{theta}");
+                if theta == decimal {
+                    assert_eq!(back, theta, "a decimal theta reads back exactly");
+                }
+            }
+        }
+        assert_eq!(
+            pose_from_transform(&transform_from_pose(
+                "w",
+                "b",
+                Pose2::new(0.0, 0.0, 0.3),
+                0.0
+            ))
+            .unwrap()
+            .theta,
+            0.3
+        );
     }
 
     #[test]

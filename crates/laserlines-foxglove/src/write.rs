@@ -65,12 +65,26 @@ fn mcap_error(name: &str, e: mcap::McapError) -> WriteError {
 }
 
 impl McapSceneWriter<BufWriter<File>> {
-    /// Creates an MCAP file at `path` (replacing any file there).
+    /// Creates an MCAP file at `path` (replacing any file there). A name ending in `.gz` is
+    /// refused: MCAP compresses its own chunks (zstd), and a gzipped MCAP (`.mcap.gz`, which
+    /// [`crate::read`] reads) would only be larger to seek in.
     ///
     /// # Errors
-    /// [`WriteError::Io`] when the file cannot be created or the header written.
+    /// [`WriteError::Io`] when the file cannot be created or the header written;
+    /// [`WriteError::Name`] for a `.gz` name.
     pub fn create(path: &Path) -> Result<Self, WriteError> {
         let name = path.display().to_string();
+        let gz = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+        if gz {
+            return Err(WriteError::Name {
+                file: name,
+                expected: "a name ending in .mcap: MCAP compresses its own chunks (zstd), so \
+                           .mcap.gz is read but not written",
+            });
+        }
         if path == Path::new("-") {
             return Err(WriteError::Io {
                 file: name,

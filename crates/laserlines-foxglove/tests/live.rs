@@ -1,5 +1,5 @@
 //! The live server on loopback: a WebSocket client speaking the Foxglove protocol subscribes
-//! to `/scan` and `/lines` and decodes what it gets. Bounded in time: every read has a
+//! to `/scan`, `/lines` and a scene channel (`/sectors`) and decodes what it gets. Bounded in time: every read has a
 //! timeout and the whole exchange a deadline.
 
 #![cfg(feature = "live")]
@@ -12,11 +12,14 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use foxglove::messages::{LaserScan, SceneUpdate};
+use laserlines::math::Isometry2;
 use laserlines::math::Matrix2;
 use laserlines::math::Point2;
 use laserlines::{Line, Scan};
 use laserlines_foxglove::live::LiveServer;
+use laserlines_foxglove::sectors::{SECTORS_TOPIC, sectors_update};
 use laserlines_io::{Pose2, ScanRecord};
+use laserlines_nav::{Sector, SectorParams, select_objects};
 use prost::Message as _;
 use tungstenite::client::IntoClientRequest;
 use tungstenite::{Message, WebSocket};
@@ -52,25 +55,21 @@ fn read(ws: &mut WebSocket<TcpStream>) -> Option<Message> {
     }
 }
 
-/// What a viewer got: one decoded scan and one decoded scene update.
-struct Seen {
-    /// The first `/scan` message.
-    scan: LaserScan,
-    /// The first `/lines` message.
-    lines: SceneUpdate,
-}
+/// What a viewer got: the schema and the first message of each topic watched.
+type Seen = HashMap<String, (String, Vec<u8>)>;
 
-/// Subscribes to `/scan` and `/lines` and decodes the first message of each.
-fn watch(port: u16) -> Seen {
+/// Subscribes to every channel advertised and keeps the first message of each of `wanted`.
+fn watch(port: u16, wanted: &[&str]) -> Seen {
     let start = Instant::now();
     let mut ws = connect(port);
-    let mut topics: HashMap<u64, String> = HashMap::new();
+    let mut schemas: HashMap<String, String> = HashMap::new();
     let mut subscribed: HashMap<u32, String> = HashMap::new();
-    let (mut scan, mut lines) = (None, None);
-    while scan.is_none() || lines.is_none() {
+    let mut seen = Seen::new();
+    while wanted.iter().any(|t| !seen.contains_key(*t)) {
         assert!(
             start.elapsed() < DEADLINE,
-            "no scan and scene update in time"
+            "not every one of {wanted:?} in time: {:?}",
+            seen.keys()
         );
         match read(&mut ws) {
             Some(Message::Text(t)) => {
@@ -81,15 +80,9 @@ fn watch(port: u16) -> Seen {
                         let id = c["id"].as_u64().unwrap();
                         let topic = c["topic"].as_str().unwrap().to_owned();
                         let sub = subscribed.len() as u32 + 1;
-                        if topic == "/scan" {
-                            assert_eq!(c["schemaName"], "foxglove.LaserScan");
-                        }
-                        if topic == "/lines" {
-                            assert_eq!(c["schemaName"], "foxglove.SceneUpdate");
-                        }
-                        subscribed.insert(sub, topic.clone());
+                        schemas.insert(topic.clone(), c["schemaName"].as_str().unwrap().into());
+                        subscribed.insert(sub, topic);
                         subs.push(serde_json::json!({"id": sub, "channelId": id}));
-                        topics.insert(id, topic);
                     }
                     let msg = serde_json::json!({"op": "subscribe", "subscriptions": subs});
                     ws.send(Message::Text(msg.to_string().into())).unwrap();
@@ -101,25 +94,16 @@ fn watch(port: u16) -> Seen {
                     continue;
                 }
                 let sub = u32::from_le_bytes(b[1..5].try_into().unwrap());
-                let payload = &b[13..];
-                match subscribed.get(&sub).map(String::as_str) {
-                    Some("/scan") if scan.is_none() => {
-                        scan = Some(LaserScan::decode(payload).unwrap());
-                    }
-                    Some("/lines") if lines.is_none() => {
-                        lines = Some(SceneUpdate::decode(payload).unwrap());
-                    }
-                    _ => {}
+                if let Some(topic) = subscribed.get(&sub) {
+                    seen.entry(topic.clone())
+                        .or_insert_with(|| (schemas[topic].clone(), b[13..].to_vec()));
                 }
             }
             _ => {}
         }
     }
     let _ = ws.close(None);
-    Seen {
-        scan: scan.unwrap(),
-        lines: lines.unwrap(),
-    }
+    seen
 }
 
 fn line(start: (f64, f64), end: (f64, f64)) -> Line {
@@ -166,17 +150,84 @@ fn a_viewer_on_loopback_receives_scans_and_lines() {
             server.stop();
         })
     };
-    let seen = watch(port);
+    let seen = watch(port, &["/scan", "/lines"]);
     stop.store(true, Ordering::Relaxed);
     publisher.join().unwrap();
 
-    assert_eq!(seen.scan.frame_id, "laser");
-    assert_eq!(seen.scan.ranges[1], 2.0);
-    assert!(seen.scan.ranges[2].is_nan(), "beyond range_max");
-    assert_eq!(seen.scan.start_angle, -0.5);
-    let e = &seen.lines.entities[0];
+    assert_eq!(seen["/scan"].0, "foxglove.LaserScan");
+    assert_eq!(seen["/lines"].0, "foxglove.SceneUpdate");
+    let scan = LaserScan::decode(seen["/scan"].1.as_slice()).unwrap();
+    let lines = SceneUpdate::decode(seen["/lines"].1.as_slice()).unwrap();
+    assert_eq!(scan.frame_id, "laser");
+    assert_eq!(scan.ranges[1], 2.0);
+    assert!(scan.ranges[2].is_nan(), "beyond range_max");
+    assert_eq!(scan.start_angle, -0.5);
+    let e = &lines.entities[0];
     assert_eq!((e.frame_id.as_str(), e.id.as_str()), ("laser", "lines"));
     let p = &e.lines[0].points;
     assert_eq!(p.len(), 2);
     assert_eq!((p[0].x, p[0].y, p[1].x, p[1].y), (1.0, -0.5, 1.0, 0.5));
+}
+
+#[test]
+fn a_viewer_on_loopback_receives_the_sector_scene() {
+    // Scene topics must be new ones.
+    for topics in [&["/lines"][..], &["/sectors", "/sectors"]] {
+        let e = LiveServer::start_with_scenes("127.0.0.1", 0, topics).unwrap_err();
+        assert!(e.to_string().contains(topics[0]), "{e}");
+    }
+    let server = LiveServer::start_with_scenes("127.0.0.1", 0, &[SECTORS_TOPIC]).unwrap();
+    let port = server.port();
+    // A wall 1.2 m ahead, across the front sector; a short one on the left.
+    let lines = [line((1.2, -0.4), (1.2, 0.6)), line((-0.3, 0.8), (0.4, 0.8))];
+    let objects = select_objects(&lines, &Isometry2::identity(), &SectorParams::default());
+    let update = sectors_update(&objects, "laser", None, 0.0);
+    let e = server
+        .publish_scene("/elsewhere", &update, 1.0)
+        .unwrap_err();
+    assert!(e.to_string().contains("/elsewhere"), "{e}");
+    let stop = Arc::new(AtomicBool::new(false));
+    let publisher = {
+        let stop = Arc::clone(&stop);
+        std::thread::spawn(move || {
+            let start = Instant::now();
+            assert!(server.wait_for_viewer(Some(DEADLINE)), "no viewer");
+            let record = ScanRecord::new(Scan::new(-0.5, 0.25, 0.1, 8.0, vec![1.0; 5]).unwrap());
+            let mut t = 50.0;
+            while !stop.load(Ordering::Relaxed) && start.elapsed() < DEADLINE {
+                server.publish(&record, &lines, t);
+                let update = sectors_update(&objects, "laser", None, t);
+                server.publish_scene(SECTORS_TOPIC, &update, t).unwrap();
+                t += 0.1;
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            server.stop();
+        })
+    };
+    let seen = watch(port, &["/sectors"]);
+    stop.store(true, Ordering::Relaxed);
+    publisher.join().unwrap();
+
+    assert_eq!(seen["/sectors"].0, "foxglove.SceneUpdate");
+    let got = SceneUpdate::decode(seen["/sectors"].1.as_slice()).unwrap();
+    let e = &got.entities[0];
+    assert_eq!((e.frame_id.as_str(), e.id.as_str()), ("laser", "sectors"));
+    // No footprint: the sector bounds only (two rays per sector), then one thick line per
+    // object.
+    assert_eq!(e.lines[0].points.len(), 12);
+    assert_eq!(e.lines.len(), 1 + 2);
+    let front = objects.get(Sector::Front).unwrap();
+    assert!((front.distance_m - 1.2).abs() < 1e-12);
+    assert!(objects.get(Sector::Left).is_some() && objects.get(Sector::Right).is_none());
+    let label = e.metadata.iter().find(|kv| kv.key == "front").unwrap();
+    assert!(label.value.starts_with("front: 1.20 m"), "{}", label.value);
+    let p = &e.spheres[1]
+        .pose
+        .as_ref()
+        .unwrap()
+        .position
+        .as_ref()
+        .unwrap();
+    assert_eq!((p.x, p.y), (front.nearest.x, front.nearest.y));
+    assert!(e.metadata.iter().all(|kv| kv.key != "right"));
 }

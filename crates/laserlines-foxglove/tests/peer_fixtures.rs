@@ -1,6 +1,7 @@
-//! MCAP files written by other tools (rosbags' rosbag2 writer, rosbags' ROS 1 serializer with
-//! the Python mcap writer, mcap-protobuf-support), read by our reader and compared value by
-//! value with what the script that wrote them put in (`expected.json`). The files and the
+//! MCAP files and a ROS 2 bag in sqlite3 storage written by other tools (rosbags' rosbag2
+//! writer, rosbags' ROS 1 serializer with the Python mcap writer, mcap-protobuf-support), read
+//! by our reader and compared value by value with what the script that wrote them put in
+//! (`expected.json`). The files and the
 //! values come from `scripts/peer_check.py fixtures crates/laserlines-foxglove/tests/fixtures`.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers outside #[test] fns
@@ -84,7 +85,7 @@ fn files_written_by_rosbags_and_the_python_mcap_writers_read_value_for_value() {
     let text = std::fs::read_to_string(fixtures().join("expected.json")).unwrap();
     let expected: Value = serde_json::from_str(&text).unwrap();
     let files = expected.as_object().unwrap();
-    assert_eq!(files.len(), 3);
+    assert_eq!(files.len(), 4);
     let mut compared = 0;
     for (name, topics) in files {
         compared += check_file(name, topics.as_object().unwrap());
@@ -157,6 +158,6 @@ fn a_ros2_bag_directory_reads_its_mcap_files_in_name_order() {
     std::fs::remove_file(dir.join("bag_0.mcap")).unwrap();
     std::fs::remove_file(dir.join("bag_1.mcap")).unwrap();
     let e = read::open(&dir, &McapReadOptions::default()).unwrap_err();
-    assert!(e.to_string().contains("holds no .mcap file"), "{e}");
+    assert!(e.to_string().contains("holds no .mcap or .db3 file"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

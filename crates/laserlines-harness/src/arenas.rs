@@ -1,8 +1,11 @@
-//! The two RoboCup Rescue arenas bundled with the project, so that runs and tests need no
-//! download: `maze_10m_x_14m.raf` (113 walls, about 12.0 m x 15.6 m) and
-//! `inner_explore_test.raf` (60 walls), copied byte for byte from the repository
+//! The RoboCup Rescue arenas bundled with the project, so that runs and tests need no
+//! download, copied byte for byte from the repository
 //! `tu-darmstadt-ros-pkg/hector_nist_arenas_gazebo` (folder `hector_nist_arena_worlds/arenas/`,
-//! commit `f4ce404`, BSD license). See `data/README.md`.
+//! BSD license; see `data/README.md`): two mazes of plain walls, `maze_10m_x_14m.raf` (113
+//! walls, about 12.0 m x 15.6 m) and `inner_explore_test.raf` (60 walls), and two
+//! competition arenas with diagonal pieces, barrels, ramps, step fields, stairs and
+//! victims, `go2011_arena.raf` (178 elements, GermanOpen 2011) and `rc_2015_arena_big.raf`
+//! (233 elements, RoboCup 2015).
 
 use std::path::Path;
 
@@ -14,10 +17,20 @@ pub const MAZE_10M_X_14M: &str = include_str!("../../../data/arenas/maze_10m_x_1
 /// `inner_explore_test.raf`: a maze-like test arena of 60 wall elements.
 pub const INNER_EXPLORE_TEST: &str = include_str!("../../../data/arenas/inner_explore_test.raf");
 
+/// `go2011_arena.raf`: the GermanOpen 2011 arena, 178 elements, diagonal walls and
+/// corners among them.
+pub const GO2011_ARENA: &str = include_str!("../../../data/arenas/go2011_arena.raf");
+
+/// `rc_2015_arena_big.raf`: the larger RoboCup 2015 arena, 233 elements, diagonal walls
+/// and corners among them.
+pub const RC_2015_ARENA_BIG: &str = include_str!("../../../data/arenas/rc_2015_arena_big.raf");
+
 /// The bundled arenas by name (the file name without `.raf`).
 pub const BUNDLED: &[(&str, &str)] = &[
     ("maze_10m_x_14m", MAZE_10M_X_14M),
     ("inner_explore_test", INNER_EXPLORE_TEST),
+    ("go2011_arena", GO2011_ARENA),
+    ("rc_2015_arena_big", RC_2015_ARENA_BIG),
 ];
 
 /// Loads a bundled arena by name (with or without `.raf`); `None` for an unknown name.

@@ -1,19 +1,29 @@
-//! Ground-truth coverage: how much of the reachable free area the laser has seen.
+//! Ground-truth coverage: how much of the arena the laser has seen.
 //!
 //! The world is laid on a grid of [`COVERAGE_CELL`] = 0.1 m cells (its bounding box and 1 m
 //! around it). A cell is *free for the robot* when its centre is at least the footprint's
 //! circumradius (0.32 m for NAJI V) from every wall and disc: there the robot fits in any
-//! heading. The *reachable free area* is the set of free cells connected to the start cell
-//! by a 4-neighbour flood fill. A cell is *seen* when its centre lies in the area one scan's
-//! beams swept: the fan from the laser through the end points of consecutive beams
-//! (noise-free ranges; the maximum range where a beam hit nothing). With the URG-04LX's
-//! 0.35 deg between beams, neighbouring beams end at most 3.4 cm apart at its 5.6 m range,
-//! so this is the area the beams crossed, filled by scan lines instead of walked beam by
-//! beam. Coverage is the fraction of the reachable cells that are seen.
+//! heading. The *arena* is what its walls enclose once gaps up to a wall element wide are
+//! closed ([`ArenaOutline`]); when that does not enclose the start
+//! ([`CoverageRegion::Bounds`]: an arena open at its edges, a start outside), the bounding
+//! box of the arena's largest group of walls and discs. Coverage is taken over the arena's
+//! *floor*: its largest connected group of free cells (the floor a robot explores, with the
+//! closed rooms no robot enters or sees left out), and the group of the start's cell when
+//! that is another one. A start in a small pocket therefore covers little of the arena
+//! however well the pocket is seen.
+//!
+//! A cell is *seen* when its centre lies in the area one scan's beams swept: the fan from
+//! the laser through the end points of consecutive beams (noise-free ranges; the maximum
+//! range where a beam hit nothing). With the URG-04LX's 0.35 deg between beams,
+//! neighbouring beams end at most 3.4 cm apart at its 5.6 m range, so this is the area the
+//! beams crossed, filled by scan lines instead of walked beam by beam. Coverage is the
+//! fraction of the arena's free cells that are seen; the same fraction of the cells the
+//! robot can reach from its start (free cells connected to it) is kept as well.
 //!
 //! This is the evaluation's ground truth: the explorer never reads it.
 
 use laserlines::math::{Isometry2, Point2, Vector2};
+use laserlines_sim::arena::ArenaOutline;
 use laserlines_sim::index::WorldIndex;
 use laserlines_sim::world::Target;
 
@@ -25,16 +35,47 @@ pub const COVERAGE_CELL: f64 = 0.1;
 /// Margin of the grid around the world's bounding box, m.
 const GRID_MARGIN: f64 = 1.0;
 
+/// What coverage is taken over (see the [module docs](self)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CoverageRegion {
+    /// The free area the arena's walls enclose, gaps up to a wall element closed (they
+    /// enclose the start).
+    Enclosed,
+    /// The free area inside the bounding box of the arena's largest group of walls and
+    /// discs (they do not enclose the start).
+    Bounds,
+}
+
+impl CoverageRegion {
+    /// `enclosed` or `bounds`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Enclosed => "enclosed",
+            Self::Bounds => "bounds",
+        }
+    }
+}
+
 /// The coverage grid of one run (see the [module docs](self)).
 #[derive(Debug, Clone)]
 pub struct CoverageGrid {
     origin: Point2,
     cols: usize,
     rows: usize,
+    region_kind: CoverageRegion,
+    /// Cells inside the arena (whatever their clearance).
+    inside: Vec<bool>,
+    /// Free cells inside the arena: what coverage is taken over.
+    region: Vec<bool>,
+    /// Free cells connected to the start.
     reachable: Vec<bool>,
     seen: Vec<bool>,
+    region_count: usize,
     reachable_count: usize,
     seen_count: usize,
+    reachable_seen: usize,
     /// Scratch: the fan polygon of the last scan, cell units.
     polygon: Vec<(f64, f64)>,
     /// Scratch of the fan filling.
@@ -44,46 +85,38 @@ pub struct CoverageGrid {
 }
 
 impl CoverageGrid {
-    /// The grid of `index`'s world with the reachable area flood-filled from `start` for a
-    /// robot of circumradius `radius` (m). When the start cell itself is not free, nothing
-    /// is reachable (and coverage stays 0).
+    /// The grid of `index`'s world for a robot of circumradius `radius` (m) starting at
+    /// `start`. When the start cell itself is not free, nothing is reachable from it.
     #[must_use]
     pub fn new(index: &WorldIndex, start: Point2, radius: f64) -> Self {
         let world = index.world();
-        let mut lo = Point2::new(f64::INFINITY, f64::INFINITY);
-        let mut hi = Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
-        let mut grow = |p: Point2| {
-            if p.x.is_finite() && p.y.is_finite() {
-                lo = Point2::new(lo.x.min(p.x), lo.y.min(p.y));
-                hi = Point2::new(hi.x.max(p.x), hi.y.max(p.y));
-            }
-        };
-        for w in &world.walls {
-            grow(w.a);
-            grow(w.b);
-        }
-        for d in &world.discs {
-            grow(d.centre);
-        }
-        grow(start);
-        if !(lo.x.is_finite() && hi.x.is_finite()) {
-            lo = Point2::origin();
-            hi = Point2::origin();
-        }
+        let obstacles = world
+            .walls
+            .iter()
+            .flat_map(|w| [w.a, w.b])
+            .chain(world.discs.iter().map(|d| d.centre));
+        let (lo, hi) =
+            extent(obstacles.chain([start])).unwrap_or((Point2::origin(), Point2::origin()));
         let origin = Point2::new(lo.x - GRID_MARGIN, lo.y - GRID_MARGIN);
         // At most 2000 x 2000 cells (200 m): larger worlds are clipped.
         let cols =
             (((hi.x - origin.x + GRID_MARGIN) / COVERAGE_CELL).ceil() as usize).clamp(1, 2000);
         let rows =
             (((hi.y - origin.y + GRID_MARGIN) / COVERAGE_CELL).ceil() as usize).clamp(1, 2000);
+        let n = cols * rows;
         let mut grid = Self {
             origin,
             cols,
             rows,
-            reachable: vec![false; cols * rows],
-            seen: vec![false; cols * rows],
+            region_kind: CoverageRegion::Bounds,
+            inside: vec![false; n],
+            region: vec![false; n],
+            reachable: vec![false; n],
+            seen: vec![false; n],
+            region_count: 0,
             reachable_count: 0,
             seen_count: 0,
+            reachable_seen: 0,
             polygon: Vec::new(),
             raster: FanRaster::default(),
             beams: BeamTable::default(),
@@ -93,40 +126,99 @@ impl CoverageGrid {
         } else {
             0.0
         };
-        let reachable = grid.flood_fill(index, start, radius);
-        grid.reachable_count = reachable.iter().filter(|r| **r).count();
-        grid.reachable = reachable;
+        let free: Vec<bool> = (0..n)
+            .map(|c| clear_of(index, grid.centre(c), radius))
+            .collect();
+        grid.reachable = grid.start_component(&free, start);
+        let outline = ArenaOutline::of_index(index);
+        if outline.encloses(start) {
+            grid.region_kind = CoverageRegion::Enclosed;
+            grid.inside = (0..n).map(|c| outline.encloses(grid.centre(c))).collect();
+        } else {
+            grid.inside = (0..n)
+                .map(|c| outline.within_bounds(grid.centre(c)))
+                .collect();
+        }
+        let floor: Vec<bool> = (0..n).map(|c| grid.inside[c] && free[c]).collect();
+        grid.region = grid.main_floor(&floor, start);
+        grid.region_count = grid.region.iter().filter(|r| **r).count();
+        grid.reachable_count = grid.reachable.iter().filter(|r| **r).count();
         grid
     }
 
-    /// The free cells (centre at least `radius` from every obstacle) connected to the cell
-    /// of `start` by a 4-neighbour flood fill; none when that cell is not free.
-    fn flood_fill(&self, index: &WorldIndex, start: Point2, radius: f64) -> Vec<bool> {
-        let (cols, rows) = (self.cols, self.rows);
-        let grid = self;
-        let free = |c: usize| {
-            let p = grid.centre(c);
-            clearance_at_least(index, p, radius)
-        };
-        let mut reachable = vec![false; cols * rows];
-        let Some(s) = grid.cell_of(start) else {
-            return reachable;
-        };
-        if !free(s) {
-            return reachable;
-        }
-        let mut stack = vec![s];
-        let mut visited = vec![false; cols * rows];
-        visited[s] = true;
-        while let Some(c) = stack.pop() {
-            reachable[c] = true;
-            let (x, y) = (c % cols, c / cols);
-            let mut push = |n: usize| {
-                if !visited[n] {
-                    visited[n] = true;
-                    if free(n) {
-                        stack.push(n);
+    /// The largest 4-connected group of `floor` cells together with the group of `start`'s
+    /// cell: the arena's floor without the closed rooms no robot enters.
+    fn main_floor(&self, floor: &[bool], start: Point2) -> Vec<bool> {
+        let mut group = vec![usize::MAX; floor.len()];
+        let (mut largest, mut largest_size) = (usize::MAX, 0);
+        let mut cells = Vec::new();
+        for seed in 0..floor.len() {
+            if !floor[seed] || group[seed] != usize::MAX {
+                continue;
+            }
+            cells.clear();
+            cells.push(seed);
+            group[seed] = seed;
+            let mut k = 0;
+            while k < cells.len() {
+                let c = cells[k];
+                k += 1;
+                let (x, y) = (c % self.cols, c / self.cols);
+                let mut visit = |m: usize| {
+                    if floor[m] && group[m] == usize::MAX {
+                        group[m] = seed;
+                        cells.push(m);
                     }
+                };
+                if x > 0 {
+                    visit(c - 1);
+                }
+                if x + 1 < self.cols {
+                    visit(c + 1);
+                }
+                if y > 0 {
+                    visit(c - self.cols);
+                }
+                if y + 1 < self.rows {
+                    visit(c + self.cols);
+                }
+            }
+            if cells.len() > largest_size {
+                (largest, largest_size) = (seed, cells.len());
+            }
+        }
+        let own = self
+            .cell_of(start)
+            .map_or(usize::MAX, |s| if floor[s] { group[s] } else { usize::MAX });
+        group
+            .iter()
+            .map(|&g| g != usize::MAX && (g == largest || g == own))
+            .collect()
+    }
+
+    /// The cells `ok` connected to the cell of `start` by a 4-neighbour flood fill; none
+    /// when that cell is not `ok`.
+    fn start_component(&self, ok: &[bool], start: Point2) -> Vec<bool> {
+        let mut reached = vec![false; ok.len()];
+        if let Some(s) = self.cell_of(start).filter(|&s| ok[s]) {
+            self.flood(ok, &[s], &mut reached);
+        }
+        reached
+    }
+
+    /// Marks in `reached` the cells `ok` connected to `seeds` (4-neighbours).
+    fn flood(&self, ok: &[bool], seeds: &[usize], reached: &mut [bool]) {
+        let cols = self.cols;
+        let mut stack: Vec<usize> = seeds.to_vec();
+        for &s in seeds {
+            reached[s] = true;
+        }
+        while let Some(c) = stack.pop() {
+            let (x, y) = (c % cols, c / cols);
+            let mut push = |m: usize| {
+                if ok[m] && !reached[m] {
+                    reached[m] = true;
+                    stack.push(m);
                 }
             };
             if x > 0 {
@@ -138,11 +230,10 @@ impl CoverageGrid {
             if y > 0 {
                 push(c - cols);
             }
-            if y + 1 < rows {
+            if y + 1 < self.rows {
                 push(c + cols);
             }
         }
-        reachable
     }
 
     fn centre(&self, c: usize) -> Point2 {
@@ -162,47 +253,88 @@ impl CoverageGrid {
         Some(fy as usize * self.cols + fx as usize)
     }
 
-    /// Number of reachable cells.
+    /// What coverage is taken over.
+    #[must_use]
+    pub fn region_kind(&self) -> CoverageRegion {
+        self.region_kind
+    }
+
+    /// Number of cells coverage is taken over (the arena's free cells).
+    #[must_use]
+    pub fn region_cells(&self) -> usize {
+        self.region_count
+    }
+
+    /// The arena's free area, m^2: what coverage is taken over.
+    #[must_use]
+    pub fn region_area_m2(&self) -> f64 {
+        self.region_count as f64 * COVERAGE_CELL * COVERAGE_CELL
+    }
+
+    /// Number of free cells connected to the start.
     #[must_use]
     pub fn reachable_cells(&self) -> usize {
         self.reachable_count
     }
 
-    /// Reachable free area, m^2.
+    /// The free area connected to the start, m^2.
     #[must_use]
     pub fn reachable_area_m2(&self) -> f64 {
         self.reachable_count as f64 * COVERAGE_CELL * COVERAGE_CELL
     }
 
-    /// Number of reachable cells seen so far.
+    /// Number of the arena's free cells seen so far.
     #[must_use]
     pub fn seen_cells(&self) -> usize {
         self.seen_count
     }
 
-    /// The fraction of the reachable cells seen so far, 0..1 (0 when nothing is reachable).
+    /// The fraction of the arena's free cells seen so far, 0..1 (0 when there are none).
     #[must_use]
     pub fn coverage(&self) -> f64 {
-        if self.reachable_count == 0 {
+        if self.region_count == 0 {
             0.0
         } else {
-            self.seen_count as f64 / self.reachable_count as f64
+            self.seen_count as f64 / self.region_count as f64
         }
     }
 
-    /// The centres of the reachable cells not seen so far.
+    /// The fraction of the free cells connected to the start seen so far, 0..1.
+    #[must_use]
+    pub fn reachable_coverage(&self) -> f64 {
+        if self.reachable_count == 0 {
+            0.0
+        } else {
+            self.reachable_seen as f64 / self.reachable_count as f64
+        }
+    }
+
+    /// The centres of the arena's free cells not seen so far.
     #[must_use]
     pub fn unseen(&self) -> Vec<Point2> {
         (0..self.cols * self.rows)
-            .filter(|&c| self.reachable[c] && !self.seen[c])
+            .filter(|&c| self.region[c] && !self.seen[c])
             .map(|c| self.centre(c))
             .collect()
     }
 
-    /// True when the cell holding `p` is reachable.
+    /// True when the cell holding `p` is free and connected to the start.
     #[must_use]
     pub fn is_reachable(&self, p: Point2) -> bool {
         self.cell_of(p).is_some_and(|c| self.reachable[c])
+    }
+
+    /// True when the cell holding `p` is one coverage is taken over.
+    #[must_use]
+    pub fn in_region(&self, p: Point2) -> bool {
+        self.cell_of(p).is_some_and(|c| self.region[c])
+    }
+
+    /// True when `p` lies in the arena (enclosed by its walls, or inside their bounds);
+    /// a robot whose centre is not has left the arena.
+    #[must_use]
+    pub fn in_arena(&self, p: Point2) -> bool {
+        self.cell_of(p).is_some_and(|c| self.inside[c])
     }
 
     /// True when the cell holding `p` has been seen.
@@ -249,14 +381,20 @@ impl CoverageGrid {
             poly.push(to_cells(o + dir * len));
         }
         let mut raster = std::mem::take(&mut self.raster);
-        let (seen, reachable, count) = (&mut self.seen, &self.reachable, &mut self.seen_count);
+        let (seen, region, reachable) = (&mut self.seen, &self.region, &self.reachable);
+        let (count, reachable_count) = (&mut self.seen_count, &mut self.reachable_seen);
         let cols = self.cols;
         raster.fill(&poly, cols, self.rows, |row, first, last| {
             let (from, to) = (row * cols + first, row * cols + last);
-            for (s, r) in seen[from..=to].iter_mut().zip(&reachable[from..=to]) {
+            for ((s, r), q) in seen[from..=to]
+                .iter_mut()
+                .zip(&region[from..=to])
+                .zip(&reachable[from..=to])
+            {
                 if !*s {
                     *s = true;
                     *count += usize::from(*r);
+                    *reachable_count += usize::from(*q);
                 }
             }
         });
@@ -265,8 +403,21 @@ impl CoverageGrid {
     }
 }
 
+/// The bounding box of the finite points, if any.
+fn extent(points: impl Iterator<Item = Point2>) -> Option<(Point2, Point2)> {
+    points
+        .filter(|p| p.x.is_finite() && p.y.is_finite())
+        .fold(None, |acc, p| match acc {
+            None => Some((p, p)),
+            Some((lo, hi)) => Some((
+                Point2::new(lo.x.min(p.x), lo.y.min(p.y)),
+                Point2::new(hi.x.max(p.x), hi.y.max(p.y)),
+            )),
+        })
+}
+
 /// True when `p` is at least `radius` from every wall and disc of the index's world.
-fn clearance_at_least(index: &WorldIndex, p: Point2, radius: f64) -> bool {
+fn clear_of(index: &WorldIndex, p: Point2, radius: f64) -> bool {
     let world = index.world();
     let r = Vector2::new(radius, radius);
     let mut ok = true;
@@ -308,16 +459,95 @@ mod tests {
         let g = CoverageGrid::new(&index, Point2::new(2.0, 1.0), 0.3);
         // Free centres: x in [0.3, 3.7], y in [0.3, 1.7]: 34 x 14 cells of 0.1 m.
         assert!((g.reachable_cells() as i64 - 34 * 14).abs() <= 2 * (34 + 14));
+        assert_eq!(g.region_kind(), CoverageRegion::Enclosed);
+        assert_eq!(g.region_cells(), g.reachable_cells());
         assert!(!g.is_reachable(Point2::new(5.0, 1.0)));
         assert!(!g.is_reachable(Point2::new(0.1, 1.0)));
+        assert!(g.in_arena(Point2::new(0.1, 1.0)) && !g.in_arena(Point2::new(-0.5, 1.0)));
         assert_eq!(g.coverage(), 0.0);
-        // From outside the room the inside is not reachable.
+        // From outside the room the inside is not reachable; the walls do not enclose the
+        // start, so coverage is over their bounds: the room.
         let out = CoverageGrid::new(&index, Point2::new(-0.5, 1.0), 0.3);
         assert!(!out.is_reachable(Point2::new(2.0, 1.0)));
+        assert_eq!(out.region_kind(), CoverageRegion::Bounds);
+        assert_eq!(out.region_cells(), g.region_cells());
         // A start on a wall reaches nothing.
         let none = CoverageGrid::new(&index, Point2::new(0.0, 1.0), 0.3);
         assert_eq!(none.reachable_cells(), 0);
         assert_eq!(none.coverage(), 0.0);
+    }
+
+    #[test]
+    fn coverage_is_over_the_whole_arena_not_the_start_pocket() {
+        // A 6 m x 4 m arena; a 1 m x 1 m pocket inside it, closed but for a gap of 0.3 m
+        // (narrower than the robot): a start in the pocket counts the whole arena, and a
+        // 1 m door in the outer wall does not open it.
+        let mut w = World::new();
+        w.add_polygon(&[
+            Point2::new(6.0, 4.0),
+            Point2::new(0.0, 4.0),
+            Point2::new(0.0, 0.0),
+            Point2::new(6.0, 0.0),
+            Point2::new(6.0, 1.5),
+        ]);
+        w.walls.pop();
+        w.add_segment(Point2::new(6.0, 2.5), Point2::new(6.0, 4.0));
+        w.add_segment(Point2::new(1.0, 1.0), Point2::new(2.0, 1.0));
+        w.add_segment(Point2::new(2.0, 1.0), Point2::new(2.0, 2.0));
+        w.add_segment(Point2::new(2.0, 2.0), Point2::new(1.0, 2.0));
+        w.add_segment(Point2::new(1.0, 2.0), Point2::new(1.0, 1.65));
+        w.add_segment(Point2::new(1.0, 1.35), Point2::new(1.0, 1.0));
+        let index = WorldIndex::new(&w, 0.5);
+        let pocket = CoverageGrid::new(&index, Point2::new(1.5, 1.5), 0.32);
+        assert_eq!(pocket.region_kind(), CoverageRegion::Enclosed);
+        assert!(
+            pocket.reachable_area_m2() < 0.2,
+            "{}",
+            pocket.reachable_area_m2()
+        );
+        assert!(
+            pocket.region_area_m2() > 10.0,
+            "{}",
+            pocket.region_area_m2()
+        );
+        // Seeing all of the pocket is a small part of the arena.
+        let mut p = pocket.clone();
+        let n = 720;
+        let ranges: Vec<f64> = (0..n)
+            .map(|i| {
+                let a = -std::f64::consts::PI + i as f64 * std::f64::consts::TAU / n as f64;
+                index
+                    .cast(Point2::new(1.5, 1.5), a, 10.0)
+                    .map_or(f64::NAN, |h| h.range)
+            })
+            .collect();
+        let at = Isometry2::new(Vector2::new(1.5, 1.5), 0.0);
+        p.mark_scan(
+            &at,
+            -std::f64::consts::PI,
+            std::f64::consts::TAU / n as f64,
+            &ranges,
+            5.6,
+        );
+        assert!((p.reachable_coverage() - 1.0).abs() < 1e-12);
+        assert!(p.coverage() < 0.1, "{}", p.coverage());
+        // Open the arena's outer wall by 3 m (wider than a wall element): a start inside is
+        // no longer enclosed, and coverage is over the walls' bounds.
+        let mut open = World::new();
+        open.add_polygon(&[
+            Point2::new(0.0, 0.0),
+            Point2::new(6.0, 0.0),
+            Point2::new(6.0, 4.0),
+            Point2::new(0.0, 4.0),
+        ]);
+        open.walls.remove(1);
+        open.add_segment(Point2::new(6.0, 0.0), Point2::new(6.0, 0.5));
+        open.add_segment(Point2::new(6.0, 3.5), Point2::new(6.0, 4.0));
+        let index = WorldIndex::new(&open, 0.5);
+        let g = CoverageGrid::new(&index, Point2::new(3.0, 2.0), 0.32);
+        assert_eq!(g.region_kind(), CoverageRegion::Bounds);
+        assert!(g.in_arena(Point2::new(5.9, 2.0)));
+        assert!(!g.in_arena(Point2::new(6.5, 2.0)));
     }
 
     #[test]

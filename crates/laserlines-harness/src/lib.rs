@@ -30,7 +30,7 @@ pub mod arenas;
 pub mod coverage;
 pub mod run;
 
-pub use coverage::{COVERAGE_CELL, CoverageGrid};
+pub use coverage::{COVERAGE_CELL, CoverageGrid, CoverageRegion};
 pub use run::{
     Metrics, RunConfig, RunError, RunObserver, RunRecord, ScanFrame, Snapshot, StopReason, run,
     run_observed, run_with_progress,

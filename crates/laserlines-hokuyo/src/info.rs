@@ -3,7 +3,7 @@
 
 use std::f64::consts::TAU;
 
-use crate::request::ScanRequest;
+use crate::request::{MAX_STEP, ScanRequest};
 
 /// A missing or malformed parameter in the sensor's description.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -81,7 +81,8 @@ impl SensorInfo {
     ///
     /// # Errors
     /// [`InfoError`] when a `PP` parameter the geometry needs is missing, not a number, or
-    /// inconsistent (`ARES` 0, `AMIN > AMAX`, `AMAX >= ARES`, `DMIN >= DMAX`, `SCAN` 0).
+    /// inconsistent (`ARES` 0, `AMIN > AMAX`, `AMAX >= ARES`, `AMAX` above [`MAX_STEP`]
+    /// (no command could ask for it), `DMIN >= DMAX`, `SCAN` 0).
     pub fn from_pairs(
         vv: &[(String, String)],
         pp: &[(String, String)],
@@ -108,6 +109,12 @@ impl SensorInfo {
             return Err(InfoError::Inconsistent(format!(
                 "steps AMIN {} .. AMAX {} of ARES {}",
                 info.amin, info.amax, info.ares
+            )));
+        }
+        if info.amax > MAX_STEP {
+            return Err(InfoError::Inconsistent(format!(
+                "AMAX {} is beyond step {MAX_STEP}, the last a command can name (4 digits)",
+                info.amax
             )));
         }
         if info.dmin_mm >= info.dmax_mm {

@@ -3,6 +3,10 @@
 
 use crate::codec::Encoding;
 
+/// The largest step a command can name: `MD`, `MS`, `GD` and `GS` carry the first and last
+/// step in 4 digits.
+pub const MAX_STEP: u32 = 9999;
+
 /// The steps, grouping and encoding of a scan request.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct ScanRequest {
@@ -61,8 +65,8 @@ impl ScanRequest {
         format!(
             "M{}{:04}{:04}{:02}{:01}{:02}",
             self.letter(),
-            self.first_step.min(9999),
-            self.last_step.min(9999),
+            self.first_step.min(MAX_STEP),
+            self.last_step.min(MAX_STEP),
             self.cluster.min(99),
             self.skip.min(9),
             scans.min(99)
@@ -75,8 +79,8 @@ impl ScanRequest {
         format!(
             "G{}{:04}{:04}{:02}",
             self.letter(),
-            self.first_step.min(9999),
-            self.last_step.min(9999),
+            self.first_step.min(MAX_STEP),
+            self.last_step.min(MAX_STEP),
             self.cluster.min(99)
         )
     }

@@ -18,6 +18,8 @@ pub enum At {
     },
     /// A 0-based byte offset into the (decompressed) input.
     Byte(u64),
+    /// A message of a database (a ROS 2 bag in sqlite3 storage), by its id.
+    Message(i64),
 }
 
 impl At {
@@ -26,13 +28,13 @@ impl At {
     pub fn line(self) -> Option<usize> {
         match self {
             Self::Line(line) | Self::LineColumn { line, .. } => Some(line),
-            Self::Byte(_) => None,
+            Self::Byte(_) | Self::Message(_) => None,
         }
     }
 }
 
-/// A file name and a place in it, shown as `exp1.dat:17`, `scan.json:3:15` or
-/// `log.bag: byte 1234`.
+/// A file name and a place in it, shown as `exp1.dat:17`, `scan.json:3:15`,
+/// `log.bag: byte 1234` or `bag_0.db3: message 17`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SourcePos {
     /// The input's name as the user gave it (a path, or `-` for standard input).
@@ -60,6 +62,15 @@ impl SourcePos {
         }
     }
 
+    /// A position at a message of a database, by its id.
+    #[must_use]
+    pub fn message(file: &str, id: i64) -> Self {
+        Self {
+            file: file.to_owned(),
+            at: At::Message(id),
+        }
+    }
+
     /// A position at a 0-based byte offset.
     #[must_use]
     pub fn byte(file: &str, offset: u64) -> Self {
@@ -76,6 +87,7 @@ impl fmt::Display for SourcePos {
             At::Line(line) => write!(f, "{}:{line}", self.file),
             At::LineColumn { line, column } => write!(f, "{}:{line}:{column}", self.file),
             At::Byte(offset) => write!(f, "{}: byte {offset}", self.file),
+            At::Message(id) => write!(f, "{}: message {id}", self.file),
         }
     }
 }
@@ -112,9 +124,9 @@ pub enum ReadError {
     /// No format was given and none could be told from the name.
     #[error(
         "{file}: cannot tell the scan format from the name (found {found}); expected a name \
-         ending in .json, .jsonl, .ndjson, .csv, .dat, .mcap, .clf, .log or .bag (optionally \
-         followed by .gz), or an explicit format (one of: json, jsonl, csv, dat, mcap, carmen, \
-         bag)"
+         ending in .json, .jsonl, .ndjson, .csv, .dat, .mcap, .clf, .log, .bag or .db3 \
+         (optionally followed by .gz), or an explicit format (one of: json, jsonl, csv, dat, \
+         mcap, carmen, bag, db3)"
     )]
     UnknownFormat {
         /// The input's name.
@@ -259,6 +271,14 @@ pub enum WriteError {
     UnknownFormat {
         /// The output's name.
         file: String,
+    },
+    /// The name does not say what to write in a way the writer accepts.
+    #[error("{file}: cannot write this name; expected {expected}")]
+    Name {
+        /// The output's name.
+        file: String,
+        /// The names accepted.
+        expected: &'static str,
     },
 }
 

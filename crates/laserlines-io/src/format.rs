@@ -22,13 +22,17 @@ pub enum Format {
     /// CARMEN log (`.clf`, `.log`): FLASER, RLASER, ROBOTLASER, RAWLASER lines; see
     /// [`crate::carmen`].
     Carmen,
-    /// ROS 1 bag, version 2.0 (`.bag`): `sensor_msgs/LaserScan` messages; see [`crate::bag`].
+    /// ROS 1 bag, version 2.0 or 1.2 (`.bag`): `sensor_msgs/LaserScan` messages; see
+    /// [`crate::bag`].
     Bag,
+    /// ROS 2 bag in sqlite3 storage (`.db3`, or a bag directory holding `.db3` files). Named
+    /// here so that paths and `--format` can choose it; `laserlines-foxglove` reads it.
+    Db3,
 }
 
 impl Format {
     /// Every format, in the order of [`Format::NAMES`].
-    pub const ALL: [Self; 7] = [
+    pub const ALL: [Self; 8] = [
         Self::Json,
         Self::Jsonl,
         Self::Csv,
@@ -36,14 +40,17 @@ impl Format {
         Self::Mcap,
         Self::Carmen,
         Self::Bag,
+        Self::Db3,
     ];
 
     /// The canonical names accepted by [`Format::from_name`] (e.g. for `--format`).
-    pub const NAMES: &'static [&'static str] =
-        &["json", "jsonl", "csv", "dat", "mcap", "carmen", "bag"];
+    pub const NAMES: &'static [&'static str] = &[
+        "json", "jsonl", "csv", "dat", "mcap", "carmen", "bag", "db3",
+    ];
 
     /// Tells the format from a path's extension, ignoring a trailing `.gz` (case-insensitive):
-    /// `.json`, `.jsonl` / `.ndjson`, `.csv`, `.dat`, `.mcap`, `.clf` / `.log` (CARMEN), `.bag`.
+    /// `.json`, `.jsonl` / `.ndjson`, `.csv`, `.dat`, `.mcap`, `.clf` / `.log` (CARMEN), `.bag`,
+    /// `.db3`.
     /// `None` for anything else.
     #[must_use]
     pub fn from_path(path: &Path) -> Option<Self> {
@@ -52,7 +59,7 @@ impl Format {
     }
 
     /// Chooses a format by name: a canonical name of [`Format::NAMES`] or an alias
-    /// (`ndjson`, `breezy`, `breezyslam`, `clf`, `log`, `rosbag`), case-insensitive.
+    /// (`ndjson`, `breezy`, `breezyslam`, `clf`, `log`, `rosbag`, `sqlite3`), case-insensitive.
     #[must_use]
     pub fn from_name(name: &str) -> Option<Self> {
         match name.to_ascii_lowercase().as_str() {
@@ -63,6 +70,7 @@ impl Format {
             "mcap" => Some(Self::Mcap),
             "carmen" | "clf" | "log" => Some(Self::Carmen),
             "bag" | "rosbag" => Some(Self::Bag),
+            "db3" | "sqlite3" => Some(Self::Db3),
             _ => None,
         }
     }
@@ -76,6 +84,7 @@ impl Format {
             "mcap" => Some(Self::Mcap),
             "clf" | "log" => Some(Self::Carmen),
             "bag" => Some(Self::Bag),
+            "db3" => Some(Self::Db3),
             _ => None,
         }
     }
@@ -91,6 +100,7 @@ impl Format {
             Self::Mcap => "mcap",
             Self::Carmen => "carmen",
             Self::Bag => "bag",
+            Self::Db3 => "db3",
         }
     }
 
@@ -107,7 +117,7 @@ impl Format {
     /// ([`crate::ReadOptions::topic`]): ROS bag topics, CARMEN laser messages, MCAP topics.
     #[must_use]
     pub fn has_topics(self) -> bool {
-        matches!(self, Self::Bag | Self::Carmen | Self::Mcap)
+        matches!(self, Self::Bag | Self::Carmen | Self::Mcap | Self::Db3)
     }
 
     /// True when [`crate::ScanWriter`] can write this format.
@@ -115,7 +125,7 @@ impl Format {
     pub fn is_writable(self) -> bool {
         !matches!(
             self,
-            Self::BreezyDat | Self::Mcap | Self::Carmen | Self::Bag
+            Self::BreezyDat | Self::Mcap | Self::Carmen | Self::Bag | Self::Db3
         )
     }
 }
@@ -128,7 +138,9 @@ impl fmt::Display for Format {
 
 /// The error of parsing a [`Format`] from an unknown name.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("unknown scan format `{0}`; expected one of: json, jsonl, csv, dat, mcap, carmen, bag")]
+#[error(
+    "unknown scan format `{0}`; expected one of: json, jsonl, csv, dat, mcap, carmen, bag, db3"
+)]
 pub struct UnknownFormatName(pub String);
 
 impl FromStr for Format {
@@ -185,6 +197,7 @@ mod tests {
             ("a.CLF", Some(Format::Carmen)),
             ("demo.bag", Some(Format::Bag)),
             ("demo.bag.gz", Some(Format::Bag)),
+            ("rosbag2_0.db3", Some(Format::Db3)),
             ("a.gz", None),
             ("a.txt", None),
             ("noext", None),

@@ -169,6 +169,11 @@ impl ParamsFile {
         &self.name
     }
 
+    /// The names of the file's tables, in name order.
+    pub fn tables(&self) -> impl Iterator<Item = &str> {
+        self.tables.keys().map(String::as_str)
+    }
+
     /// True when the file has the table `table`.
     #[must_use]
     pub fn has(&self, table: &str) -> bool {

@@ -320,7 +320,7 @@ fn reader_for(
         Format::BreezyDat => Box::new(crate::breezy::DatSource::new(name, input)),
         Format::Carmen => Box::new(crate::carmen::CarmenSource::new(name, input, topic)?),
         Format::Bag => Box::new(crate::bag::BagSource::new(name, input, topic)),
-        Format::Mcap => Box::new(ReadElsewhere::new(name, "laserlines-foxglove")),
+        Format::Mcap | Format::Db3 => Box::new(ReadElsewhere::new(name, "laserlines-foxglove")),
     };
     Ok(ScanReader::from_source(name, format, source))
 }

@@ -32,7 +32,7 @@ pub struct ExplorationMap<'a> {
     pub lines_seen: &'a [(Point2, Point2)],
     /// Centres of the occupied cells (0.1 m) of the robot's own map.
     pub robot_map: &'a [Point2],
-    /// Centres of the reachable coverage cells (0.1 m) never seen.
+    /// Centres of the arena's free coverage cells (0.1 m) never seen.
     pub unseen: &'a [Point2],
 }
 
@@ -169,7 +169,7 @@ fn exploration_legend(canvas: &mut Canvas, map: &ExplorationMap<'_>) {
     if !map.unseen.is_empty() {
         canvas.add_legend(LegendEntry::new(
             Swatch::Marker(Marker::Square, 8.0, Style::fill(UNSEEN)),
-            "reachable cells never seen",
+            "arena cells never seen",
         ));
     }
     canvas.add_legend(LegendEntry::new(

@@ -6,9 +6,12 @@
 //! randomised depth-first search, then, when islands are asked for, removes interior walls
 //! one by one, in random order, until at least that many *islands* exist: groups of walls
 //! connected to each other but not to the outer wall, which a robot that only follows walls
-//! would circle forever. Finally it drops small round obstacles (posts of 5-10 cm radius)
-//! off-centre in random cells other than the start cell, always leaving a gap of at least
-//! 0.7 m in the cell beside them.
+//! would circle forever. When asked for, it then cuts the corners of turning cells at 45
+//! degrees: a cell whose two closed walls meet in a corner gets a wall from the middle of
+//! one to the middle of the other (0.85 m long), so that the way through it turns by two
+//! 45-degree bends. Finally it drops small round obstacles (posts of 5-10 cm radius)
+//! off-centre in random cells other than the start cell and the cut ones, always leaving a
+//! gap of at least 0.7 m in the cell beside them.
 //!
 //! ```
 //! use laserlines_sim::maze::{MazeParams, generate};
@@ -34,6 +37,10 @@ pub struct MazeParams {
     /// perfect maze without islands. Default 0. A maze too small for the number asked
     /// gets as many as removing interior walls gives.
     pub islands: usize,
+    /// Number of turning cells (two closed walls meeting in a corner) whose corner is cut
+    /// by a 45-degree wall between the middles of the two walls, never the start cell;
+    /// fewer when the maze has fewer such cells. Default 0.
+    pub diagonals: usize,
     /// Number of small round obstacles. Default 4.
     pub obstacles: usize,
     /// Smallest and largest obstacle radius, m. Default 0.05..0.10.
@@ -46,6 +53,7 @@ impl Default for MazeParams {
             cols: 10,
             rows: 12,
             islands: 0,
+            diagonals: 0,
             obstacles: 4,
             obstacle_radius: (0.05, 0.10),
         }
@@ -65,6 +73,8 @@ pub struct Maze {
     pub rows: usize,
     /// Number of islands in the maze.
     pub islands: usize,
+    /// Number of turning cells whose corner is cut by a 45-degree wall.
+    pub diagonals: usize,
 }
 
 /// The walls of a grid maze: `h[j][i]` is the edge along x at `y = 1.2 j` over column `i`,
@@ -181,7 +191,10 @@ pub fn generate(params: &MazeParams, seed: u64) -> Maze {
         0
     };
     let mut world = e.walls();
-    add_obstacles(&mut world, &mut rng, params, cols, rows);
+    let mut used = vec![false; cols * rows];
+    used[0] = true;
+    let diagonals = add_diagonals(&e, &mut world, &mut rng, params.diagonals, &mut used);
+    add_obstacles(&mut world, &mut rng, params, cols, &mut used);
     let g = ARENA_GRID;
     Maze {
         world,
@@ -189,7 +202,66 @@ pub fn generate(params: &MazeParams, seed: u64) -> Maze {
         cols,
         rows,
         islands,
+        diagonals,
     }
+}
+
+/// Cuts the corner of up to `wanted` turning cells, chosen at random (never a `used` one,
+/// which they then are), by a wall between the middles of its two closed walls; the number
+/// cut. Draws nothing when none is wanted.
+fn add_diagonals(
+    e: &Edges,
+    world: &mut World,
+    rng: &mut Rng,
+    wanted: usize,
+    used: &mut [bool],
+) -> usize {
+    if wanted == 0 {
+        return 0;
+    }
+    // Turning cells with the corner their two closed walls meet in: 0 = (i, j), 1 =
+    // (i + 1, j), 2 = (i + 1, j + 1), 3 = (i, j + 1).
+    let mut turns: Vec<(usize, usize, usize)> = Vec::new();
+    for j in 0..e.rows {
+        for i in 0..e.cols {
+            let (south, north) = (e.h[j][i], e.h[j + 1][i]);
+            let (west, east) = (e.v[j][i], e.v[j][i + 1]);
+            if usize::from(south) + usize::from(north) + usize::from(west) + usize::from(east) != 2
+                || used[j * e.cols + i]
+            {
+                continue;
+            }
+            let corner = match (south, east, north, west) {
+                (true, _, _, true) => 0,
+                (true, true, _, _) => 1,
+                (_, true, true, _) => 2,
+                (_, _, true, true) => 3,
+                _ => continue,
+            };
+            turns.push((i, j, corner));
+        }
+    }
+    for k in (1..turns.len()).rev() {
+        turns.swap(k, rng.below(k + 1));
+    }
+    let g = ARENA_GRID;
+    let laid = wanted.min(turns.len());
+    for &(i, j, corner) in &turns[..laid] {
+        // The corner, and the directions of its two walls into the cell's edges.
+        let (ci, cj, dx, dy) = match corner {
+            0 => (i, j, 1.0, 1.0),
+            1 => (i + 1, j, -1.0, 1.0),
+            2 => (i + 1, j + 1, -1.0, -1.0),
+            _ => (i, j + 1, 1.0, -1.0),
+        };
+        let c = Point2::new(g * ci as f64, g * cj as f64);
+        world.add_segment(
+            c + Vector2::new(0.5 * g * dx, 0.0),
+            c + Vector2::new(0.0, 0.5 * g * dy),
+        );
+        used[j * e.cols + i] = true;
+    }
+    laid
 }
 
 /// A perfect maze: randomised depth-first search from cell (0, 0), opening the wall to each
@@ -276,8 +348,15 @@ fn open_islands(e: &mut Edges, rng: &mut Rng, wanted: usize) -> usize {
     islands
 }
 
-/// Round obstacles off-centre in random cells (never the start cell), at most one per cell.
-fn add_obstacles(world: &mut World, rng: &mut Rng, params: &MazeParams, cols: usize, rows: usize) {
+/// Round obstacles off-centre in random cells (never a `used` one: the start cell and the
+/// diagonal ones), at most one per cell.
+fn add_obstacles(
+    world: &mut World,
+    rng: &mut Rng,
+    params: &MazeParams,
+    cols: usize,
+    used: &mut [bool],
+) {
     let g = ARENA_GRID;
     let (r_lo, r_hi) = params.obstacle_radius;
     let r_lo = if r_lo.is_finite() {
@@ -290,13 +369,12 @@ fn add_obstacles(world: &mut World, rng: &mut Rng, params: &MazeParams, cols: us
     } else {
         r_lo
     };
-    let mut used = vec![false; cols * rows];
-    used[0] = true;
-    let free_cells = cols * rows - 1;
+    let n = used.len();
+    let free_cells = used.iter().filter(|u| !**u).count();
     for _ in 0..params.obstacles.min(free_cells) {
-        let mut c = rng.below(cols * rows);
+        let mut c = rng.below(n);
         while used[c] {
-            c = (c + 1) % (cols * rows);
+            c = (c + 1) % n;
         }
         used[c] = true;
         let (i, j) = (c % cols, c / cols);
@@ -360,6 +438,43 @@ mod tests {
                 .map(|w| laserlines::line::distance_to_segment(d.centre, w.a, w.b))
                 .fold(f64::INFINITY, f64::min);
             assert!(to_walls >= d.radius + 0.15 - 1e-9);
+        }
+    }
+
+    #[test]
+    fn diagonals_cross_turning_cells_and_keep_the_maze_as_it_was() {
+        let plain = generate(&MazeParams::default(), 5);
+        let diag = generate(
+            &MazeParams {
+                diagonals: 6,
+                ..MazeParams::default()
+            },
+            5,
+        );
+        assert_eq!(diag.diagonals, 6);
+        assert_eq!(plain.diagonals, 0);
+        // The same grid walls, then six cuts of 0.6 sqrt(2) m at 45 degrees.
+        let n = plain.world.walls.len();
+        assert_eq!(plain.world.walls[..], diag.world.walls[..n]);
+        assert_eq!(diag.world.walls.len(), n + 6);
+        for w in &diag.world.walls[n..] {
+            let d = w.b - w.a;
+            assert!((d.norm() - 0.6 * std::f64::consts::SQRT_2).abs() < 1e-9);
+            assert!((d.x.abs() - d.y.abs()).abs() < 1e-9);
+            // Both ends are the middles of grid walls.
+            for end in [w.a, w.b] {
+                let on_middle = plain.world.walls[..n]
+                    .iter()
+                    .any(|g| (Point2::from(0.5 * (g.a.coords + g.b.coords)) - end).norm() < 1e-9);
+                assert!(on_middle, "{w:?}");
+            }
+        }
+        // No post touches a diagonal.
+        for disc in &diag.world.discs {
+            for w in &diag.world.walls[n..] {
+                let d = laserlines::line::distance_to_segment(disc.centre, w.a, w.b);
+                assert!(d > disc.radius + 0.2, "{disc:?} {w:?}");
+            }
         }
     }
 

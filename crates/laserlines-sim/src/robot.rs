@@ -106,6 +106,9 @@ pub struct RobotParams {
     pub scan_period_s: f64,
     /// The physics time step, s. Default 0.02 (50 Hz).
     pub physics_dt_s: f64,
+    /// Height of the laser's scan plane above the floor, m: arenas are what that plane
+    /// cuts ([`crate::arena`]). Default [`crate::arena::DEFAULT_LASER_HEIGHT`] (0.45).
+    pub laser_height_m: f64,
 }
 
 impl Default for RobotParams {
@@ -116,6 +119,7 @@ impl Default for RobotParams {
             laser_model: LaserModel::urg04lx(),
             scan_period_s: 0.1,
             physics_dt_s: 0.02,
+            laser_height_m: crate::arena::DEFAULT_LASER_HEIGHT,
         }
     }
 }
@@ -474,6 +478,7 @@ impl RobotParams {
         params::non_negative("odometry.wheel_sigma", self.odometry.wheel_sigma)?;
         params::positive("scan_period_s", self.scan_period_s)?;
         params::positive("physics_dt_s", self.physics_dt_s)?;
+        params::positive("laser_height_m", self.laser_height_m)?;
         if self.physics_dt_s > self.scan_period_s {
             return Err(ParamsError::AboveField {
                 field: "physics_dt_s",

@@ -56,8 +56,8 @@ pub struct BenchArgs {
     /// 3 deg, half of the line on the wall).
     #[arg(long, default_value = "strict", value_parser = ["strict", "field"])]
     criteria: String,
-    /// Timed extractions of each scan by each extractor; the fastest counts.
-    #[arg(long, default_value_t = 1)]
+    /// Timed extractions of each scan by each extractor (at least 1); the fastest counts.
+    #[arg(long, default_value_t = 1, value_parser = super::at_least_one, allow_negative_numbers = true)]
     repeat: usize,
     /// TOML file of parameters (one table per algorithm), as for `extract`.
     #[arg(long)]
@@ -91,6 +91,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         for name in names.iter().filter(|n| !file.has(n)) {
             eprintln!("{}: no [{name}] table, defaults used", p.display());
         }
+        let used: Vec<&str> = names.iter().map(String::as_str).collect();
+        super::note_unused_tables(Some(p), &used, "bench")?;
     }
     // The classic extractors get the simulated sensor's noise: their noise thresholds are
     // scaled from the noise their defaults were chosen for (hough-split estimates its own).
@@ -110,7 +112,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     let progress = progress_bar(scans.len() as u64);
     let options = BenchOptions {
-        repeat: args.repeat.max(1),
+        repeat: args.repeat,
         matching: matching(args),
         ..BenchOptions::default()
     };
@@ -201,7 +203,8 @@ fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
     let mut all = Vec::new();
     let mut parts = Vec::new();
     for path in &args.data {
-        let reader = laserlines_io::open(path, None)?;
+        // Any input `extract` reads: MCAP and ROS 2 bags too.
+        let reader = laserlines_foxglove::open_scans(path, &laserlines_io::ReadOptions::default())?;
         let limit = args.scans.unwrap_or(usize::MAX);
         let mut scans = Vec::new();
         for record in reader.take(limit) {
@@ -211,7 +214,10 @@ fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
             || path.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
         );
-        parts.push(format!("{group} ({} scans)", scans.len()));
+        parts.push(format!(
+            "{group} ({})",
+            super::count(scans.len() as u64, "scan")
+        ));
         all.extend(plain_scans(&group, scans));
     }
     Ok((format!("data: {}", parts.join(", ")), all))

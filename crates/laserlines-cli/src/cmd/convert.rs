@@ -1,13 +1,16 @@
 //! `laserlines convert`: scans from one format into another, without extracting lines.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-use anyhow::{Result, anyhow};
+use anyhow::{Result, anyhow, bail};
 use clap::Args;
 use laserlines_foxglove::ScanOutput;
 use laserlines_io::Format;
 
 use crate::InputArgs;
+
+/// The formats `convert` writes.
+const WRITTEN: &str = "json, jsonl, csv, mcap";
 
 /// Arguments of `laserlines convert`.
 #[derive(Debug, Args)]
@@ -15,7 +18,8 @@ pub struct ConvertArgs {
     #[command(flatten)]
     input: InputArgs,
     /// Output file: .mcap (Foxglove: /scan, and /tf when the input has poses), .json, .jsonl
-    /// or .csv (optionally .gz); `-` for stdout with --to.
+    /// or .csv (one scan per file; optionally .gz, but not .mcap.gz); `-` for stdout with
+    /// --to.
     output: PathBuf,
     /// Output format, overriding the extension (json, jsonl, csv, mcap).
     #[arg(long)]
@@ -25,36 +29,76 @@ pub struct ConvertArgs {
     skip_bad: bool,
 }
 
-/// Runs the command.
+/// Runs the command. On an error, a file it was writing is removed: a partial conversion
+/// would pass for a whole one.
 pub fn run(args: &ConvertArgs) -> Result<()> {
-    let to = match &args.to {
-        Some(name) => Some(Format::from_name(name).ok_or_else(|| {
-            anyhow!("unknown output format {name:?}: expected one of json, jsonl, csv, mcap")
-        })?),
-        None => None,
-    };
+    let to = output_format(args)?;
     let mut reader = super::open_input(&args.input)?;
-    let mut sink = ScanOutput::create(&args.output, to)?;
+    let mut sink = ScanOutput::create(&args.output, Some(to))?;
     let mut scans = 0u64;
-    for item in reader.by_ref() {
-        let record = match item {
-            Ok(r) => r,
-            Err(e) if args.skip_bad => {
-                // The reader counts it under its reason for the summary.
-                eprintln!("laserlines: skipped: {e}");
-                continue;
-            }
-            Err(e) => return Err(e.into()),
-        };
-        sink.write(&record)?;
-        scans += 1;
+    let written = (|| -> Result<()> {
+        for item in reader.by_ref() {
+            let record = match item {
+                Ok(r) => r,
+                Err(e) if args.skip_bad => {
+                    // The reader counts it under its reason for the summary.
+                    eprintln!("laserlines: skipped: {e}");
+                    continue;
+                }
+                Err(e) => return Err(e.into()),
+            };
+            sink.write(&record)?;
+            scans += 1;
+        }
+        sink.close()?;
+        if scans == 0 {
+            return Err(super::no_scans(reader.name(), reader.skipped()));
+        }
+        Ok(())
+    })();
+    if let Err(e) = written {
+        remove_partial(&args.output);
+        return Err(e);
     }
-    sink.close()?;
     eprintln!(
-        "{}: {scans} scans written to {}, skipped: {}",
+        "{}: {} written to {}, skipped: {}",
         reader.name(),
+        super::count(scans, "scan"),
         args.output.display(),
         reader.skipped()
     );
     Ok(())
+}
+
+/// The output format: `--to`, or told from the output's name.
+fn output_format(args: &ConvertArgs) -> Result<Format> {
+    let format = match &args.to {
+        Some(name) => Format::from_name(name)
+            .ok_or_else(|| anyhow!("unknown output format {name:?}: expected one of {WRITTEN}"))?,
+        None => Format::from_path(&args.output).ok_or_else(|| {
+            anyhow!(
+                "{}: cannot tell the output format from the name; expected a name ending in \
+                 .mcap, .json, .jsonl, .ndjson or .csv (the last four optionally followed by \
+                 .gz), or --to FORMAT (one of {WRITTEN})",
+                args.output.display()
+            )
+        })?,
+    };
+    if !(format == Format::Mcap || format.is_writable()) {
+        bail!(
+            "{}: convert does not write the {format} format; it writes {WRITTEN}",
+            args.output.display()
+        );
+    }
+    Ok(format)
+}
+
+/// Removes the output of a failed conversion (not standard output).
+fn remove_partial(path: &Path) {
+    if path != Path::new("-") && std::fs::remove_file(path).is_ok() {
+        eprintln!(
+            "laserlines: removed the partial {} (the conversion failed)",
+            path.display()
+        );
+    }
 }

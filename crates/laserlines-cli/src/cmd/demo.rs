@@ -16,17 +16,24 @@ pub struct DemoArgs {
     /// Output folder.
     #[arg(short, long, default_value = "laserlines-demo")]
     output: PathBuf,
-    /// Scan to draw as the paper's figures.
-    #[arg(long, default_value_t = 20)]
+    /// Scan to draw as the paper's figures (0-based; the excerpt holds 40 scans).
+    #[arg(long, default_value_t = 20, value_parser = super::index, allow_negative_numbers = true)]
     figure_scan: usize,
-    /// Timing repetitions over the whole excerpt.
-    #[arg(long, default_value_t = 50)]
+    /// Timing passes over the whole excerpt (at least 1).
+    #[arg(long, default_value_t = 50, value_parser = super::at_least_one, allow_negative_numbers = true)]
     repeat: usize,
 }
 
 /// Runs the command.
 pub fn run(args: &DemoArgs) -> Result<()> {
     let records = laserlines_io::demo::urg04lx_excerpt()?;
+    if args.figure_scan >= records.len() {
+        anyhow::bail!(
+            "--figure-scan must be less than {} (the excerpt's scans count from 0), got {}",
+            records.len(),
+            args.figure_scan
+        );
+    }
     fs::create_dir_all(&args.output)
         .with_context(|| format!("cannot create {}", args.output.display()))?;
     let mut hs = HoughSplit::new(HoughSplitParams::default())?;
@@ -44,7 +51,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
     writer.close()?;
 
     // The paper's figures for one scan.
-    let k = args.figure_scan.min(records.len().saturating_sub(1));
+    let k = args.figure_scan;
     let figure = args.output.join(format!("hough-split-scan{k:02}.svg"));
     if let Some(rec) = records.get(k) {
         let lines = hs.extract(&rec.scan);
@@ -53,8 +60,8 @@ pub fn run(args: &DemoArgs) -> Result<()> {
     }
 
     // Speed: median time per scan over repeated passes (single thread, reused workspace).
-    let mut per_scan = Vec::with_capacity(args.repeat.max(1));
-    for _ in 0..args.repeat.max(1) {
+    let mut per_scan = Vec::with_capacity(args.repeat);
+    for _ in 0..args.repeat {
         let t = Instant::now();
         for rec in &records {
             hs.extract_into(std::hint::black_box(&rec.scan), &mut lines);
@@ -77,8 +84,8 @@ pub fn run(args: &DemoArgs) -> Result<()> {
         counts.iter().max().copied().unwrap_or(0)
     );
     outln!(
-        "  hough-split: {median_us:.1} us per scan (median of {} passes, one thread)",
-        per_scan.len()
+        "  hough-split: {median_us:.1} us per scan (median of {}, one thread)",
+        super::count(per_scan.len() as u64, "pass")
     );
     outln!("  wrote {}", jsonl.display());
     outln!("  wrote {}", figure.display());

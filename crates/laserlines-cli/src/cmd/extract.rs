@@ -24,7 +24,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
 use laserlines::{Line, LineExtractor, RangeNoise};
 use laserlines_foxglove::LinesOutput;
 use laserlines_io::{Pending, ReadError, ScanReader, ScanRecord, SkipCounts, encode_unnumbered};
@@ -42,12 +42,12 @@ pub const IN_FLIGHT: usize = 4;
 pub struct ExtractArgs {
     #[command(flatten)]
     input: InputArgs,
-    /// Output: lines JSONL (`.gz` compresses; `-` for stdout), or `.mcap` for Foxglove (scan,
-    /// lines and pose).
+    /// Output: lines JSONL (`.jsonl`, `.jsonl.gz` compressed; `-` for stdout), or `.mcap` for
+    /// Foxglove (scan, lines and pose).
     #[arg(short, long, default_value = "-")]
     output: PathBuf,
     /// Line extraction algorithm.
-    #[arg(long, default_value = "hough-split")]
+    #[arg(long, default_value = "hough-split", value_parser = super::algorithm_parser())]
     algorithm: String,
     /// TOML file of parameters (one table per algorithm, e.g. `[hough-split]`).
     #[arg(long)]
@@ -108,6 +108,7 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
         .thread_name(|i| format!("extract-{i}"))
         .build()
         .context("cannot start the extraction threads")?;
+    super::note_unused_tables(args.params.as_deref(), &[&args.algorithm], "extract")?;
     let extractors: Extractors = (0..jobs)
         .map(|_| super::make_extractor(&args.algorithm, args.params.as_deref()).map(Mutex::new))
         .collect::<Result<_>>()?;
@@ -153,6 +154,9 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
         input_bytes,
         start.elapsed().as_secs_f64(),
     );
+    if totals.scans == 0 {
+        return Err(super::no_scans(&name, &skipped));
+    }
     Ok(())
 }
 
@@ -341,7 +345,15 @@ fn progress_bar() -> ProgressBar {
     if io::stderr().is_terminal() {
         let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
         pb.set_style(
-            ProgressStyle::with_template("{spinner} {pos} scans {per_sec} {elapsed}")
+            ProgressStyle::with_template("{spinner} {pos} scans, {rate} scans/s, {elapsed}")
+                .map(|s| {
+                    s.with_key(
+                        "rate",
+                        |state: &ProgressState, w: &mut dyn std::fmt::Write| {
+                            let _ = w.write_str(&format!("{:.0}", state.per_sec()));
+                        },
+                    )
+                })
                 .unwrap_or_else(|_| ProgressStyle::default_spinner()),
         );
         pb
@@ -350,12 +362,24 @@ fn progress_bar() -> ProgressBar {
     }
 }
 
-/// Size of the input file, bytes (`None` for standard input).
-fn input_size(path: &Path) -> Option<u64> {
+/// Size of the input, bytes: of the file, or of the files of a directory (a ROS 2 bag);
+/// `None` for standard input.
+pub fn input_size(path: &Path) -> Option<u64> {
     if path == Path::new("-") {
         return None;
     }
-    std::fs::metadata(path).ok().map(|m| m.len())
+    let meta = std::fs::metadata(path).ok()?;
+    if !meta.is_dir() {
+        return Some(meta.len());
+    }
+    let files = std::fs::read_dir(path).ok()?;
+    Some(
+        files
+            .filter_map(|e| e.ok()?.metadata().ok())
+            .filter(std::fs::Metadata::is_file)
+            .map(|m| m.len())
+            .sum(),
+    )
 }
 
 /// The summary on stderr: scans, lines, skips with reasons, speed.
@@ -375,12 +399,34 @@ fn summary(name: &str, skipped: &SkipCounts, totals: &Totals, bytes: Option<u64>
         None => format!("{:.0} scans/s", per(totals.scans as f64)),
     };
     eprintln!(
-        "{name}: {} scans, {} lines ({per_scan:.1} per scan), skipped: {}, {secs:.2} s, {speed}",
-        totals.scans, totals.lines, skipped,
+        "{name}: {}, {} ({per_scan:.1} per scan), skipped: {}, {secs:.2} s, {speed}",
+        super::count(totals.scans, "scan"),
+        super::count(totals.lines, "line"),
+        skipped,
     );
     let (s, f, n) = totals.noise;
     if n > 0 {
         let mean = RangeNoise::new(s / n as f64, f / n as f64);
         eprintln!("{name}: range noise assumed, mean over the scans: {mean}");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use super::input_size;
+
+    #[test]
+    fn the_size_of_a_directory_input_is_that_of_its_files() {
+        let dir = std::env::temp_dir().join(format!("laserlines-size-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        std::fs::write(dir.join("bag_0.db3"), vec![0u8; 3000]).unwrap();
+        std::fs::write(dir.join("metadata.yaml"), vec![0u8; 500]).unwrap();
+        std::fs::write(dir.join("sub/other"), vec![0u8; 7000]).unwrap();
+        assert_eq!(input_size(&dir), Some(3500));
+        assert_eq!(input_size(&dir.join("bag_0.db3")), Some(3000));
+        assert_eq!(input_size(std::path::Path::new("-")), None);
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

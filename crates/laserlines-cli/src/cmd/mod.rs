@@ -54,3 +54,70 @@ pub fn make_hough_split(params: Option<&Path>) -> Result<HoughSplit> {
     let p = file.algorithm_params(&registry::HOUGH_SPLIT)?;
     HoughSplit::new(p).context("hough-split parameters")
 }
+
+/// `n` and the noun, in the singular for one (`1 scan`, `2 scans`, `3 passes`).
+pub fn count(n: u64, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else if noun.ends_with('s') || noun.ends_with('x') {
+        format!("{n} {noun}es")
+    } else {
+        format!("{n} {noun}s")
+    }
+}
+
+/// The values `--algorithm` accepts, listed by `--help` and in its errors.
+pub fn algorithm_parser() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(ALGORITHMS)
+}
+
+/// A value parser for counts of at least one (`--repeat`).
+pub fn at_least_one(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<i64>() {
+        Ok(n) if n >= 1 => usize::try_from(n).map_err(|e| e.to_string()),
+        Ok(n) => Err(format!("must be at least 1, got {n}")),
+        Err(_) => Err(format!("expected a whole number of at least 1, got {s:?}")),
+    }
+}
+
+/// A value parser for 0-based indices (`--scan`), with a plain message for negative ones.
+pub fn index(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<i64>() {
+        Ok(n) if n >= 0 => usize::try_from(n).map_err(|e| e.to_string()),
+        Ok(n) => Err(format!("indices count from 0, got {n}")),
+        Err(_) => Err(format!("expected a whole number from 0 up, got {s:?}")),
+    }
+}
+
+/// Says on stderr which tables of the params file `command` does not read (`used` are the
+/// tables it reads), so that a table meant for another command or algorithm is not ignored
+/// silently.
+pub fn note_unused_tables(params: Option<&Path>, used: &[&str], command: &str) -> Result<()> {
+    let Some(path) = params else {
+        return Ok(());
+    };
+    let file = ParamsFile::load(path)?;
+    for table in file.tables().filter(|t| !used.contains(t)) {
+        let reader = if laserlines_io::params::RUN_TABLES.contains(&table) {
+            "read by simulate".to_owned()
+        } else if used.len() == 1 {
+            format!("the algorithm is {}", used[0])
+        } else {
+            "not an algorithm this command runs".to_owned()
+        };
+        eprintln!(
+            "laserlines: {}: [{table}] is not used by {command} ({reader})",
+            file.name()
+        );
+    }
+    Ok(())
+}
+
+/// The error of an input that gave no scan: empty, or every record skipped.
+pub fn no_scans(name: &str, skipped: &laserlines_io::SkipCounts) -> anyhow::Error {
+    if skipped.is_empty() {
+        anyhow!("{name}: no scans to read (the input holds none)")
+    } else {
+        anyhow!("{name}: no scans read: every record was skipped ({skipped})")
+    }
+}

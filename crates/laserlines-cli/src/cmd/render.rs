@@ -1,6 +1,6 @@
 //! `laserlines render`: the paper's figures for one scan as one SVG.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow};
 use clap::Args;
@@ -17,21 +17,22 @@ pub struct RenderArgs {
     #[command(flatten)]
     input: InputArgs,
     /// Index of the scan to draw (0-based, in input order).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = super::index, allow_negative_numbers = true)]
     scan: usize,
-    /// Output SVG file.
+    /// Output SVG file (`.svg`), or `-` for standard output.
     #[arg(short, long)]
     output: PathBuf,
     /// Line extraction algorithm; `hough-split` draws all four stages of the paper, any
     /// other algorithm draws its lines over the scan.
-    #[arg(long, default_value = "hough-split")]
+    #[arg(long, default_value = "hough-split", value_parser = super::algorithm_parser())]
     algorithm: String,
     /// TOML file of parameters (one table per algorithm).
     #[arg(long)]
     params: Option<PathBuf>,
-    /// Width of the four-panel figure, pixels (the `--sectors` figure has a plot 560 px
-    /// wide).
-    #[arg(long, default_value_t = 1200.0)]
+    /// Width of the figure, pixels, from 400 to 8000: the panels are sized to it, and the
+    /// SVG comes out up to 5 % narrower, as wide as its axis labels need (the `--sectors`
+    /// figure has a plot 560 px wide).
+    #[arg(long, default_value_t = 1200.0, allow_negative_numbers = true)]
     width: f64,
     /// Draw the paper's Fig. 7 instead: the three sectors (left 50..120 deg, front -50..50,
     /// right -120..-50; the laser frame taken as the robot's, x forward) and the "biggest
@@ -43,13 +44,19 @@ pub struct RenderArgs {
 
 /// Runs the command.
 pub fn run(args: &RenderArgs) -> Result<()> {
+    check_output(&args.output)?;
+    if !(400.0..=8000.0).contains(&args.width) {
+        anyhow::bail!("--width must lie from 400 to 8000 px, got {}", args.width);
+    }
+    super::note_unused_tables(args.params.as_deref(), &[&args.algorithm], "render")?;
+    let to_stdout = args.output == Path::new("-");
     let mut reader = super::open_input(&args.input)?;
     let record = reader.by_ref().nth(args.scan).ok_or_else(|| {
         anyhow!(
-            "{}: has no scan {} (it holds {} scans)",
+            "{}: has no scan {} (it holds {})",
             args.input.input.display(),
             args.scan,
-            reader.records()
+            super::count(reader.records(), "scan")
         )
     })??;
     let opts = RenderOptions {
@@ -61,15 +68,21 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let lines = ex.extract(&record.scan);
         let objects = select_objects(&lines, &Isometry2::identity(), &SectorParams::default());
         for sector in Sector::ALL {
-            match objects.get(sector) {
-                Some(o) => outln!(
+            let text = match objects.get(sector) {
+                Some(o) => format!(
                     "{}: distance {:.3} m, width {:.3} m, angle {:.1} deg",
                     sector.name(),
                     o.distance_m,
                     o.width_m,
                     o.angle_rad.to_degrees()
                 ),
-                None => outln!("{}: none", sector.name()),
+                None => format!("{}: none", sector.name()),
+            };
+            // Standard output carries the SVG with `-o -`.
+            if to_stdout {
+                eprintln!("{text}");
+            } else {
+                outln!("{text}");
             }
         }
         let points: Vec<Point2> = record
@@ -79,9 +92,14 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             .map(|p| p.point)
             .collect();
         let segments: Vec<(Point2, Point2)> = lines.iter().map(|l| (l.start, l.end)).collect();
+        // The file's name, not its whole path: the title has one plot's width.
+        let input = &args.input.input;
+        let shown = input.file_name().map_or_else(
+            || input.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
         let title = format!(
-            "{}, scan {}: three sectors and the selected objects (laser frame)",
-            args.input.input.display(),
+            "{shown}, scan {}: three sectors and the selected objects (laser frame)",
             args.scan
         );
         laserlines_render::sectors_svg(&title, &points, &segments, &objects)
@@ -94,8 +112,33 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let lines = ex.extract(&record.scan);
         render_scan_lines(&record.scan, &lines, &opts)
     };
+    if to_stdout {
+        use std::io::Write as _;
+        let mut out = std::io::stdout().lock();
+        out.write_all(svg.as_bytes())
+            .and_then(|()| out.flush())
+            .context("cannot write the SVG to standard output")?;
+        return Ok(());
+    }
     std::fs::write(&args.output, svg)
         .with_context(|| format!("cannot write {}", args.output.display()))?;
     eprintln!("wrote {}", args.output.display());
     Ok(())
+}
+
+/// `render` writes SVG: to a `.svg` file or standard output (`-`); any other name (a `.png`
+/// would hold SVG text) is refused.
+fn check_output(path: &Path) -> Result<()> {
+    let is_svg = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+    if path == Path::new("-") || is_svg {
+        return Ok(());
+    }
+    anyhow::bail!(
+        "{}: render writes SVG; name the output .svg (or - for standard output) and convert it \
+         to another format with an SVG tool (rsvg-convert, inkscape, a browser)",
+        path.display()
+    )
 }

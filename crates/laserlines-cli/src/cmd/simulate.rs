@@ -17,7 +17,7 @@ use laserlines_io::params::ParamsFile;
 use laserlines_nav::ExplorerParams;
 use laserlines_render::{ExplorationMap, exploration_map_svg, sectors_svg};
 use laserlines_sim::World;
-use laserlines_sim::arena::{ArenaOptions, WallLength, interior_start};
+use laserlines_sim::arena::{ArenaOptions, ArenaReport, WallLength, interior_start};
 use laserlines_sim::maze::{MazeParams, generate};
 use laserlines_sim::robot::RobotParams;
 
@@ -25,7 +25,8 @@ use laserlines_sim::robot::RobotParams;
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
     /// A RoboCup Rescue arena: a `.raf` file, or the name of a bundled one
-    /// (maze_10m_x_14m, inner_explore_test). Default: maze_10m_x_14m.
+    /// (maze_10m_x_14m, inner_explore_test, go2011_arena, rc_2015_arena_big). Default:
+    /// maze_10m_x_14m.
     #[arg(long, conflicts_with = "maze")]
     arena: Option<String>,
     /// A seeded procedural maze on the 1.2 m grid instead of an arena.
@@ -34,24 +35,28 @@ pub struct SimulateArgs {
     /// Give the maze islands (wall groups not connected to the outer wall).
     #[arg(long, requires = "maze")]
     islands: bool,
+    /// Cut the corners of this many of the maze's turning cells by 45-degree walls.
+    #[arg(long, value_name = "N", requires = "maze")]
+    diagonals: Option<usize>,
     /// Simulated time limit, s.
-    #[arg(long, default_value_t = 900.0)]
+    #[arg(long, default_value_t = 900.0, allow_negative_numbers = true)]
     duration: f64,
     /// Seed of the laser and odometry noise.
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Start pose `x,y,yaw_deg` (m, m, deg) in the arena frame; default for arenas: the
-    /// grid cell centre nearest the origin in the largest free region the walls enclose
-    /// (cell (0, 0) in the bundled arenas; an arena file's origin may lie in a pocket
-    /// closed by barrels or outside the arena), facing +x; for mazes: the maze's start.
+    /// grid cell centre nearest the origin in the largest free region inside the arena's
+    /// outline (cell (0, 0) in the bundled arenas; an arena file's origin may lie in a
+    /// pocket or outside the arena), facing +x; for mazes: the maze's start.
     #[arg(long, value_name = "X,Y,YAW_DEG", allow_hyphen_values = true)]
     start: Option<String>,
     /// Arena walls 1.0 m long (the plate's mesh) instead of the whole 1.2 m cell edge.
     #[arg(long)]
     mesh_walls: bool,
-    /// Simulated time of the sector picture, s.
-    #[arg(long, default_value_t = 20.0)]
-    snapshot: f64,
+    /// Simulated time of the sector picture, s, within the run (default: 20 s, or half the
+    /// duration when that is shorter).
+    #[arg(long, allow_negative_numbers = true)]
+    snapshot: Option<f64>,
     /// Output folder.
     #[arg(short, long, default_value = "laserlines-simulate")]
     output: PathBuf,
@@ -98,6 +103,10 @@ struct Setup {
     world: World,
     start: Isometry2,
     config: RunConfig,
+    /// What the arena loader made of the elements (arenas only).
+    arena: Option<ArenaReport>,
+    /// Wall-clock time of reading the arena or generating the maze and finding the start.
+    load_time_s: f64,
 }
 
 /// Runs the command.
@@ -108,6 +117,14 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
             args.duration
         );
     }
+    if let Some(t) = args.snapshot
+        && !(t.is_finite() && (0.0..=args.duration).contains(&t))
+    {
+        bail!(
+            "--snapshot must lie within the run, from 0 to --duration ({} s), got {t}",
+            args.duration
+        );
+    }
     let setup = setup(args)?;
     fs::create_dir_all(&args.output)
         .with_context(|| format!("cannot create {}", args.output.display()))?;
@@ -115,7 +132,11 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     let written = write_outputs(args, &setup, &record)?;
     print_summary(args, &setup, &record, &written);
     if let (Some(path), Some(scans)) = (&args.mcap, mcap_scans) {
-        outln!("  wrote {} ({scans} scans)", path.display());
+        outln!(
+            "  wrote {} ({})",
+            path.display(),
+            super::count(scans, "scan")
+        );
     }
     Ok(())
 }
@@ -124,9 +145,15 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
 fn setup(args: &SimulateArgs) -> Result<Setup> {
     let file = ParamsFile::load_or_default(args.params.as_deref())?;
     let robot = robot_of(&file)?;
-    let (name, world, default_start) = world_of(args, &robot)?;
+    let loading = std::time::Instant::now();
+    let (name, world, default_start, arena) = world_of(args, &robot)?;
+    let load_time_s = loading.elapsed().as_secs_f64();
     let start = match &args.start {
-        Some(s) => parse_start(s)?,
+        Some(s) => {
+            let start = parse_start(s)?;
+            check_start_inside(&name, &world, start)?;
+            start
+        }
         None => default_start,
     };
     let config = RunConfig {
@@ -140,7 +167,7 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
             .algorithm_params_over(&registry::HOUGH_SPLIT, HoughSplitParams::navigation())?,
         duration_s: args.duration,
         seed: args.seed,
-        snapshot_at_s: args.snapshot,
+        snapshot_at_s: snapshot_time(args),
         // The lines of one scan in 30 for the map picture (every 3 s).
         record_lines_every: 30,
     };
@@ -149,6 +176,8 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
         world,
         start,
         config,
+        arena,
+        load_time_s,
     })
 }
 
@@ -218,7 +247,7 @@ fn write_outputs(args: &SimulateArgs, setup: &Setup, record: &RunRecord) -> Resu
     let metrics = args.output.join("metrics.json");
     write(
         &metrics,
-        format!("{:#}\n", metrics_json(name, args, setup.start, record)?),
+        format!("{:#}\n", metrics_json(name, args, setup, record)?),
     )?;
     let map = args.output.join("map.svg");
     write(&map, map_figure(name, &setup.world, setup.start, record))?;
@@ -233,7 +262,15 @@ fn write_outputs(args: &SimulateArgs, setup: &Setup, record: &RunRecord) -> Resu
             write(&path, svg)?;
             Some(path)
         }
-        None => None,
+        None => {
+            eprintln!(
+                "laserlines: sectors.svg not written: the run ended at {:.1} s, before the \
+                 snapshot at {:.1} s (--snapshot)",
+                record.metrics.sim_time_s,
+                snapshot_time(args)
+            );
+            None
+        }
     };
     Ok(Written {
         metrics,
@@ -247,12 +284,14 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
     let m = &record.metrics;
     let start = setup.start.translation.vector;
     outln!(
-        "laserlines simulate: {}, seed {}, start ({:.2}, {:.2}): coverage {:.3}, collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage at {}, pose error at most {:.2} m, stop {}",
+        "laserlines simulate: {}, seed {}, start ({:.2}, {:.2}): coverage {:.3} of {:.1} m^2 ({}), collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage {}, pose error at most {:.2} m, stop {}{}",
         setup.name,
         args.seed,
         start.x,
         start.y,
         m.coverage,
+        m.arena_area_m2,
+        m.coverage_region.name(),
         m.collisions,
         m.min_clearance_m,
         m.path_length_m,
@@ -260,9 +299,11 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
         m.wall_time_s,
         m.sim_time_s / m.wall_time_s.max(1e-9),
         m.time_to_90_percent_s
-            .map_or_else(|| "never".to_owned(), |t| format!("{t:.0} s")),
+            .map_or_else(|| "not reached".to_owned(), |t| format!("at {t:.0} s")),
         m.max_pose_error_m,
         m.stop.name(),
+        m.left_arena_at_s
+            .map_or_else(String::new, |t| format!(", LEFT THE ARENA at {t:.1} s")),
     );
     outln!(
         "  wrote {}, {}{}",
@@ -291,23 +332,27 @@ fn robot_of(file: &ParamsFile) -> Result<RobotParams> {
     Ok(RobotParams { robot, ..simulated })
 }
 
-/// The world to explore, its name and the default start.
-fn world_of(args: &SimulateArgs, robot: &RobotParams) -> Result<(String, World, Isometry2)> {
+/// The world to explore, its name, the default start and, for an arena, the loader's
+/// report.
+fn world_of(
+    args: &SimulateArgs,
+    robot: &RobotParams,
+) -> Result<(String, World, Isometry2, Option<ArenaReport>)> {
     if let Some(seed) = args.maze {
         let params = MazeParams {
             islands: if args.islands { 3 } else { 0 },
+            diagonals: args.diagonals.unwrap_or(0),
             ..MazeParams::default()
         };
         let maze = generate(&params, seed);
-        let name = format!(
-            "maze {seed}{}",
-            if args.islands {
-                format!(" with {} islands", maze.islands)
-            } else {
-                String::new()
-            }
-        );
-        return Ok((name, maze.world, maze.start));
+        let mut name = format!("maze {seed}");
+        if args.islands {
+            name.push_str(&format!(" with {} islands", maze.islands));
+        }
+        if maze.diagonals > 0 {
+            name.push_str(&format!(", {} corners cut at 45 degrees", maze.diagonals));
+        }
+        return Ok((name, maze.world, maze.start, None));
     }
     let options = ArenaOptions {
         wall_length: if args.mesh_walls {
@@ -315,34 +360,71 @@ fn world_of(args: &SimulateArgs, robot: &RobotParams) -> Result<(String, World, 
         } else {
             WallLength::Full
         },
+        laser_height: robot.laser_height_m,
     };
     let which = args.arena.as_deref().unwrap_or("maze_10m_x_14m");
     let arena = arenas::load(which, &options)?;
-    let report = &arena.report;
-    if report.ignored_count() > 0 {
-        let list = report
-            .ignored
-            .iter()
-            .map(|(t, n)| format!("{t} x {n}"))
-            .collect::<Vec<_>>()
-            .join(", ");
-        eprintln!(
-            "laserlines: {}: ignored {} elements that are not walls or barrels: {list}",
-            arena.name,
-            report.ignored_count()
-        );
-        let unknown = report.unknown_types();
-        if !unknown.is_empty() {
-            eprintln!(
-                "laserlines: {}: unknown element types (treated as not walls): {}",
-                arena.name,
-                unknown.join(", ")
-            );
-        }
-    }
+    report_skipped(&arena.name, &arena.report);
     let start = interior_start(&arena.world, robot.robot.footprint.circumradius())
         .unwrap_or_else(|| Isometry2::new(Vector2::zeros(), 0.0));
-    Ok((arena.name.clone(), arena.world, start))
+    Ok((arena.name.clone(), arena.world, start, Some(arena.report)))
+}
+
+/// Says on standard error which elements the arena loader skipped, by type and count.
+fn report_skipped(name: &str, report: &ArenaReport) {
+    if report.skipped_count() == 0 {
+        return;
+    }
+    let list = report
+        .skipped
+        .iter()
+        .map(|(t, n)| format!("{t} x {n}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    eprintln!(
+        "laserlines: {name}: skipped {} elements whose shape at the laser's height of {} m is not modelled: {list}",
+        report.skipped_count(),
+        report.laser_height_m
+    );
+    let unknown = report.unknown_types();
+    if !unknown.is_empty() {
+        eprintln!(
+            "laserlines: {name}: unknown element types: {}",
+            unknown.join(", ")
+        );
+    }
+}
+
+/// The simulated time of the sector picture: `--snapshot`, or 20 s, or half the run when
+/// that is shorter.
+fn snapshot_time(args: &SimulateArgs) -> f64 {
+    args.snapshot.unwrap_or(20.0_f64.min(0.5 * args.duration))
+}
+
+/// A start given by hand must lie among the walls: within their bounding box.
+fn check_start_inside(name: &str, world: &World, start: Isometry2) -> Result<()> {
+    let ends = world.walls.iter().flat_map(|w| [w.a, w.b]);
+    let (lo, hi) = ends.fold(
+        (
+            Point2::new(f64::INFINITY, f64::INFINITY),
+            Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+        ),
+        |(lo, hi), p| (lo.inf(&p), hi.sup(&p)),
+    );
+    let p = start.translation.vector;
+    let inside = lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y;
+    if !inside {
+        bail!(
+            "--start ({}, {}): outside {name}, whose walls span x {:.2}..{:.2} m, y {:.2}..{:.2} m",
+            p.x,
+            p.y,
+            lo.x,
+            hi.x,
+            lo.y,
+            hi.y
+        );
+    }
+    Ok(())
 }
 
 fn parse_start(s: &str) -> Result<Isometry2> {
@@ -359,13 +441,21 @@ fn parse_start(s: &str) -> Result<Isometry2> {
     }
 }
 
-/// `metrics.json`: the run's settings and its [`laserlines_harness::Metrics`].
+/// What `wall_time_s` of `metrics.json` includes, in words.
+const WALL_TIME_INCLUDES: &str = "the closed loop from the first scan to the last step: \
+    laser simulation, line extraction, explorer, physics, ground-truth coverage, progress \
+    bar and MCAP recording; not load_time_s (reading the arena, finding the start), \
+    setup_time_s (obstacle index, coverage grid), starting the process or writing the outputs";
+
+/// `metrics.json`: the run's settings, its [`laserlines_harness::Metrics`] and, for an
+/// arena, what the loader made of its elements.
 fn metrics_json(
     name: &str,
     args: &SimulateArgs,
-    start: Isometry2,
+    setup: &Setup,
     record: &RunRecord,
 ) -> Result<serde_json::Value> {
+    let start = setup.start;
     let s = start.translation.vector;
     let mut json = serde_json::to_value(record.metrics)?;
     if let Some(map) = json.as_object_mut() {
@@ -378,6 +468,21 @@ fn metrics_json(
             serde_json::json!([s.x, s.y, start.rotation.angle().to_degrees()]),
         );
         map.insert("duration_s".to_owned(), args.duration.into());
+        map.insert("wall_time_includes".to_owned(), WALL_TIME_INCLUDES.into());
+        map.insert("load_time_s".to_owned(), setup.load_time_s.into());
+        if let Some(report) = &setup.arena {
+            map.insert(
+                "arena".to_owned(),
+                serde_json::json!({
+                    "elements": report.elements,
+                    "laser_height_m": report.laser_height_m,
+                    "in_plane": report.in_plane,
+                    "out_of_plane": report.out_of_plane,
+                    "skipped": report.skipped,
+                    "skipped_count": report.skipped_count(),
+                }),
+            );
+        }
     }
     Ok(json)
 }

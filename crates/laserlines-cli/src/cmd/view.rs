@@ -1,6 +1,5 @@
 //! `laserlines view`: replay a log with its lines on a Foxglove WebSocket.
 
-use std::io::Write;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -18,14 +17,14 @@ pub struct ViewArgs {
     #[command(flatten)]
     input: InputArgs,
     /// Line extraction algorithm.
-    #[arg(long, default_value = "hough-split")]
+    #[arg(long, default_value = "hough-split", value_parser = super::algorithm_parser())]
     algorithm: String,
     /// TOML file of parameters (one table per algorithm, e.g. `[hough-split]`).
     #[arg(long)]
     params: Option<PathBuf>,
     /// Replay speed: 1.0 is real time (scan stamps, or 10 scans/s without), 2.0 twice as
     /// fast, 0 as fast as possible.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     rate: f64,
     /// Port to serve on, on 127.0.0.1 (0 picks a free one).
     #[arg(long, default_value_t = 8765)]
@@ -49,15 +48,16 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             args.rate
         );
     }
+    super::note_unused_tables(args.params.as_deref(), &[&args.algorithm], "view")?;
     let mut extractor = super::make_extractor(&args.algorithm, args.params.as_deref())?;
     // Open once before serving, so that a bad input fails at once.
     let mut reader = super::open_input(&args.input)?;
     let server = LiveServer::start("127.0.0.1", args.port)?;
-    outln!(
+    // Both status lines on stderr, like every other status line of laserlines.
+    eprintln!(
         "laserlines: serving ws://127.0.0.1:{} (in Foxglove: Open connection, Foxglove WebSocket)",
         server.port()
     );
-    std::io::stdout().flush()?;
     if !args.no_wait {
         eprintln!("laserlines: waiting for a viewer to subscribe to /scan");
         server.wait_for_viewer(None);
@@ -89,11 +89,17 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             total_lines += lines.len() as u64;
         }
         eprintln!(
-            "{}: {scans} scans, {total_lines} lines replayed in {:.1} s, skipped: {}",
+            "{}: {}, {} replayed in {:.1} s, skipped: {}",
             reader.name(),
+            super::count(scans, "scan"),
+            super::count(total_lines, "line"),
             start.elapsed().as_secs_f64(),
             reader.skipped()
         );
+        if scans == 0 {
+            server.stop();
+            return Err(super::no_scans(reader.name(), reader.skipped()));
+        }
         if !args.repeat {
             break;
         }

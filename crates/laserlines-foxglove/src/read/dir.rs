@@ -1,10 +1,12 @@
-//! A ROS 2 bag directory in MCAP storage: its `.mcap` files read in name order as one
-//! input.
+//! A ROS 2 bag directory: its `.mcap` files (MCAP storage) or its `.db3` files (sqlite3
+//! storage) read in order (`bag_0`, `bag_1`, ..., `bag_10`: numbers compared as numbers) as
+//! one input.
 
+use std::cmp::Ordering;
 use std::collections::VecDeque;
 use std::fs::File;
 use std::io::{self, BufReader};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use laserlines_io::{Input, ReadError, ScanRecord, ScanSource, SkipCounts};
 
@@ -25,38 +27,97 @@ pub(super) fn open_file(path: &Path) -> Result<(String, Input), ReadError> {
     Ok((name, input))
 }
 
-/// The `.mcap` files of a ROS 2 bag directory, in name order.
-pub(super) fn bag_files(dir: &Path) -> Result<Vec<std::path::PathBuf>, ReadError> {
+/// The storage of a ROS 2 bag directory.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Storage {
+    Mcap,
+    Sqlite,
+}
+
+/// The storage of a ROS 2 bag directory and its files, in order.
+pub(super) fn bag_files(dir: &Path) -> Result<(Storage, Vec<PathBuf>), ReadError> {
     let name = dir.display().to_string();
     let open_error = |source| ReadError::Open {
         file: name.clone(),
         source,
     };
-    let mut files = Vec::new();
+    let (mut mcap, mut db3, mut compressed) = (Vec::new(), Vec::new(), Vec::new());
     for entry in std::fs::read_dir(dir).map_err(open_error)? {
         let path = entry.map_err(open_error)?.path();
-        let is_mcap = path
+        if !path.is_file() {
+            continue;
+        }
+        let ext = path
             .extension()
             .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("mcap"));
-        if is_mcap && path.is_file() {
-            files.push(path);
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("mcap") => mcap.push(path),
+            Some("db3") => db3.push(path),
+            Some("zstd") => compressed.push(path),
+            _ => {}
         }
     }
-    files.sort();
-    if files.is_empty() {
-        return Err(open_error(io::Error::new(
-            io::ErrorKind::NotFound,
-            "a directory is read as a ROS 2 bag with MCAP storage, but this one holds no .mcap \
-             file (bags in sqlite3 storage can be converted with `ros2 bag convert`)",
-        )));
+    let (storage, mut files) = match (mcap.is_empty(), db3.is_empty()) {
+        (false, true) => (Storage::Mcap, mcap),
+        (true, false) => (Storage::Sqlite, db3),
+        (false, false) => {
+            return Err(open_error(io::Error::new(
+                io::ErrorKind::InvalidData,
+                "a ROS 2 bag holds .mcap or .db3 files, and this directory holds both: give \
+                 one of the files",
+            )));
+        }
+        (true, true) => {
+            let why = if compressed.is_empty() {
+                "a directory is read as a ROS 2 bag, but this one holds no .mcap or .db3 file"
+            } else {
+                "a directory is read as a ROS 2 bag, but its files are compressed (.zstd): \
+                 decompress them first (`ros2 bag decompress`, or `zstd -d` on each file)"
+            };
+            return Err(open_error(io::Error::new(io::ErrorKind::NotFound, why)));
+        }
+    };
+    files.sort_by(|a, b| natural_cmp(&a.to_string_lossy(), &b.to_string_lossy()));
+    Ok((storage, files))
+}
+
+/// Compares names with runs of digits compared as numbers (`bag_2` before `bag_10`).
+fn natural_cmp(a: &str, b: &str) -> Ordering {
+    let (mut a, mut b) = (a.as_bytes(), b.as_bytes());
+    loop {
+        match (a.first(), b.first()) {
+            (None, None) => return Ordering::Equal,
+            (None, Some(_)) => return Ordering::Less,
+            (Some(_), None) => return Ordering::Greater,
+            (Some(x), Some(y)) if x.is_ascii_digit() && y.is_ascii_digit() => {
+                let da = a.iter().take_while(|c| c.is_ascii_digit()).count();
+                let db = b.iter().take_while(|c| c.is_ascii_digit()).count();
+                let (na, nb) = (trim_zeros(&a[..da]), trim_zeros(&b[..db]));
+                let order = na.len().cmp(&nb.len()).then_with(|| na.cmp(nb));
+                if order != Ordering::Equal {
+                    return order;
+                }
+                (a, b) = (&a[da..], &b[db..]);
+            }
+            (Some(x), Some(y)) => {
+                if x != y {
+                    return x.cmp(y);
+                }
+                (a, b) = (&a[1..], &b[1..]);
+            }
+        }
     }
-    Ok(files)
+}
+
+fn trim_zeros(digits: &[u8]) -> &[u8] {
+    let zeros = digits.iter().take_while(|c| **c == b'0').count();
+    &digits[zeros.min(digits.len().saturating_sub(1))..]
 }
 
 /// The files of a ROS 2 bag, read one after the other.
 pub(super) struct McapFilesSource {
-    pub(super) files: VecDeque<std::path::PathBuf>,
+    pub(super) files: VecDeque<PathBuf>,
     pub(super) current: Option<McapScanSource>,
     pub(super) options: McapReadOptions,
 }
@@ -86,5 +147,35 @@ impl ScanSource for McapFilesSource {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::natural_cmp;
+    use std::cmp::Ordering;
+
+    #[test]
+    fn numbers_in_names_compare_as_numbers() {
+        let mut names = vec![
+            "bag_10.db3",
+            "bag_2.db3",
+            "bag_0.db3",
+            "bag_1.db3",
+            "bag_01.db3",
+        ];
+        names.sort_by(|a, b| natural_cmp(a, b));
+        assert_eq!(
+            names,
+            [
+                "bag_0.db3",
+                "bag_1.db3",
+                "bag_01.db3",
+                "bag_2.db3",
+                "bag_10.db3"
+            ]
+        );
+        assert_eq!(natural_cmp("a", "b"), Ordering::Less);
+        assert_eq!(natural_cmp("x9", "x9"), Ordering::Equal);
     }
 }

@@ -40,11 +40,13 @@ use mcap::records::op;
 
 mod channels;
 mod chunk;
+pub mod db3;
 mod dir;
 mod records;
 
 use channels::ChannelInfo;
-use dir::{McapFilesSource, bag_files, open_file};
+use db3::Db3FilesSource;
+use dir::{McapFilesSource, Storage, bag_files, open_file};
 use records::{Loc, hex, opcode_name, read_full};
 
 /// The eight bytes every MCAP file starts (and ends) with.
@@ -378,37 +380,51 @@ impl ScanSource for McapScanSource {
     }
 }
 
-/// Opens an MCAP file (gzipped or not; `-` reads standard input) as a streaming
-/// [`ScanReader`] of the LaserScans of one topic.
+/// Opens an MCAP file (gzipped or not; `-` reads standard input) or a ROS 2 bag as a
+/// streaming [`ScanReader`] of the LaserScans of one topic.
 ///
-/// A directory is read as a ROS 2 bag with MCAP storage: its `.mcap` files one after the
-/// other, in name order (`bag_0.mcap`, `bag_1.mcap`, ...), on the topic the first file
-/// settles.
+/// A directory is read as a ROS 2 bag: its `.mcap` files (MCAP storage) or its `.db3` files
+/// (sqlite3 storage, [`db3`]) one after the other, in name order (`bag_0`, `bag_1`, ...,
+/// `bag_10`), on the topic the first file settles. A file whose name ends in `.db3` is read
+/// as one file of a bag in sqlite3 storage.
 ///
 /// # Errors
 /// [`ReadError::Open`] when the file cannot be opened, or the directory cannot be listed or
-/// holds no `.mcap` file. Everything else (a bad magic, a missing topic, corrupt records)
-/// comes out of the reader as error items.
+/// holds no `.mcap` or `.db3` file. Everything else (a bad magic, a missing topic, corrupt
+/// records) comes out of the reader as error items.
 pub fn open(path: &Path, options: &McapReadOptions) -> Result<ScanReader, ReadError> {
     let name = path.display().to_string();
     if path == Path::new("-") {
         return from_reader(&name, BufReader::new(io::stdin()), options);
     }
-    if path.is_dir() {
-        let files = bag_files(path)?;
-        let source = McapFilesSource {
-            files: files.into(),
-            current: None,
-            options: options.clone(),
-        };
-        return Ok(ScanReader::from_source(
-            &name,
+    let is_db3 = |p: &Path| Format::from_path(p) == Some(Format::Db3);
+    let (storage, files) = if path.is_dir() {
+        bag_files(path)?
+    } else if is_db3(path) {
+        std::fs::metadata(path).map_err(|source| ReadError::Open {
+            file: name.clone(),
+            source,
+        })?;
+        (Storage::Sqlite, vec![path.to_path_buf()])
+    } else {
+        let (file_name, input) = open_file(path)?;
+        return Ok(reader_for(&file_name, input, options));
+    };
+    let (format, source): (Format, Box<dyn ScanSource>) = match storage {
+        Storage::Mcap => (
             Format::Mcap,
-            Box::new(source),
-        ));
-    }
-    let (file_name, input) = open_file(path)?;
-    Ok(reader_for(&file_name, input, options))
+            Box::new(McapFilesSource {
+                files: files.into(),
+                current: None,
+                options: options.clone(),
+            }),
+        ),
+        Storage::Sqlite => (
+            Format::Db3,
+            Box::new(Db3FilesSource::new(files, options.topic.as_deref())),
+        ),
+    };
+    Ok(ScanReader::from_source(&name, format, source))
 }
 
 /// Reads MCAP from any buffered reader; `name` is used in messages. Gzip input is

@@ -5,27 +5,33 @@
 //!
 //! 1. **Sense**: the simulated laser scans the world at the robot's true pose, and the wheel
 //!    odometry gives its own pose;
-//! 2. **Extract**: [`HoughSplit`] extracts the scan's lines;
-//! 3. **Decide**: the [`Explorer`] turns the scan, the lines and the odometry into a
-//!    velocity command;
-//! 4. **Record**: the ground-truth coverage grid marks the cells the beams swept, and the
-//!    observers (the recorder of the [`RunRecord`] and the caller's
+//! 2. **Extract**: [`HoughSplit`] extracts the scan's lines, on a second thread when the
+//!    machine has two cores, while the [`Explorer`] matches the scan onto its map
+//!    ([`Explorer::sense`]) and the ground-truth coverage grid marks the cells the beams
+//!    swept;
+//! 3. **Decide**: the explorer turns the lines into a velocity command
+//!    ([`Explorer::decide`]);
+//! 4. **Record**: the observers (the recorder of the [`RunRecord`] and the caller's
 //!    [`RunObserver`]) see the scan's [`ScanFrame`]. Nothing recorded flows back into the
 //!    robot.
+//!
+//! The run is the same, bit for bit, whether the lines come from the second thread or not.
 //!
 //! The run ends at the time limit, or when the explorer reports that it has seen all it can
 //! reach or nothing new for its idle timeout.
 
+mod extract;
 mod observe;
 mod record;
 
 use laserlines::math::Isometry2;
 use laserlines::robot::VelocityCommand;
-use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, ParamsError, Scan};
+use laserlines::{HoughSplit, HoughSplitParams, Line, ParamsError, Scan};
 use laserlines_nav::{Decision, Explorer, ExplorerParams};
 use laserlines_sim::World;
 use laserlines_sim::robot::{RobotError, RobotParams, RobotSim};
 
+use extract::{Extraction, Inline, Worker};
 use observe::Progress;
 pub use observe::{RunObserver, ScanFrame};
 use record::Recorder;
@@ -118,34 +124,18 @@ pub fn run_observed(
     config: &RunConfig,
     observer: &mut dyn RunObserver,
 ) -> Result<RunRecord, RunError> {
-    let mut run = Loop::new(world, start, config)?;
-    let steps = (config.duration_s / config.robot.physics_dt_s).round() as u64;
-    let mut command = VelocityCommand::STOP;
-    let mut next_report = 0.0;
-    let mut stop = StopReason::TimeLimit;
-    for _ in 0..steps {
-        if run.robot.scan_due() {
-            let t = run.robot.time_s();
-            let decision = run.sense_extract_decide(t);
-            command = decision.command;
-            run.record(&decision, t, observer);
-            if t >= next_report {
-                run.recorder.on_progress(t);
-                observer.on_progress(t);
-                next_report += 1.0;
-            }
-            if decision.done {
-                stop = if decision.explored {
-                    StopReason::Explored
-                } else {
-                    StopReason::NothingNew
-                };
-                break;
-            }
-        }
-        // Act.
-        run.robot.step(command);
-    }
+    let setup = std::time::Instant::now();
+    let (mut run, extractor) = Loop::new(world, start, config)?;
+    run.recorder.start_clock(setup.elapsed().as_secs_f64());
+    let two_cores = std::thread::available_parallelism().is_ok_and(|n| n.get() > 1);
+    let stop = if two_cores {
+        std::thread::scope(|scope| {
+            let mut worker = Worker::spawn(scope, extractor);
+            run.steps(config, observer, &mut worker)
+        })
+    } else {
+        run.steps(config, observer, &mut Inline::new(extractor))
+    };
     let record = run
         .recorder
         .finish(&run.robot, &run.explorer, &run.coverage, stop);
@@ -153,12 +143,11 @@ pub fn run_observed(
     Ok(record)
 }
 
-/// Everything in the loop: the simulated robot, the extractor and the explorer (the robot
-/// side), the ground truth and the recorder, and the scan's buffers.
+/// Everything in the loop: the simulated robot, the explorer (the robot side), the ground
+/// truth and the recorder, and the scan's buffers.
 struct Loop {
     start: Isometry2,
     robot: RobotSim,
-    extractor: HoughSplit,
     explorer: Explorer,
     coverage: CoverageGrid,
     recorder: Recorder,
@@ -170,7 +159,12 @@ struct Loop {
 }
 
 impl Loop {
-    fn new(world: &World, start: Isometry2, config: &RunConfig) -> Result<Self, RunError> {
+    /// The loop and its line extractor.
+    fn new(
+        world: &World,
+        start: Isometry2,
+        config: &RunConfig,
+    ) -> Result<(Self, HoughSplit), RunError> {
         laserlines::params::positive("duration_s", config.duration_s).map_err(RunError::Setting)?;
         config.explorer.validate().map_err(RunError::Explorer)?;
         let robot = RobotSim::new(world, start, config.robot, config.seed)?;
@@ -182,14 +176,13 @@ impl Loop {
         );
         let recorder = Recorder::new(
             start,
-            coverage.reachable_area_m2(),
+            &coverage,
             config.record_lines_every,
             config.snapshot_at_s,
         );
-        Ok(Self {
+        let run = Self {
             start,
             robot,
-            extractor,
             explorer: Explorer::new(config.explorer, &config.robot.robot),
             coverage,
             recorder,
@@ -198,25 +191,56 @@ impl Loop {
             true_ranges: Vec::new(),
             lines: Vec::new(),
             odom_from_robot: Isometry2::identity(),
-        })
+        };
+        Ok((run, extractor))
     }
 
-    /// The robot side's turn at time `t`: the laser scans and the odometry reads, the
-    /// extractor extracts the lines, the explorer decides.
-    fn sense_extract_decide(&mut self, t: f64) -> Decision {
+    /// The physics steps of the run, with a scan whenever one is due, until the time
+    /// limit or the explorer is done; why it ended.
+    fn steps(
+        &mut self,
+        config: &RunConfig,
+        observer: &mut dyn RunObserver,
+        extraction: &mut dyn Extraction,
+    ) -> StopReason {
+        let steps = (config.duration_s / config.robot.physics_dt_s).round() as u64;
+        let mut command = VelocityCommand::STOP;
+        let mut next_report = 0.0;
+        for _ in 0..steps {
+            if self.robot.scan_due() {
+                let t = self.robot.time_s();
+                let decision = self.sense_extract_decide(t, extraction);
+                command = decision.command;
+                self.record(&decision, t, observer);
+                if t >= next_report {
+                    self.recorder.on_progress(t);
+                    observer.on_progress(t);
+                    next_report += 1.0;
+                }
+                if decision.done {
+                    return if decision.explored {
+                        StopReason::Explored
+                    } else {
+                        StopReason::NothingNew
+                    };
+                }
+            }
+            // Act.
+            self.robot.step(command);
+        }
+        StopReason::TimeLimit
+    }
+
+    /// The robot side's turn at time `t`: the laser scans and the odometry reads; the lines
+    /// are extracted while the explorer matches the scan onto its map and the ground truth
+    /// marks it; the explorer decides.
+    fn sense_extract_decide(&mut self, t: f64, extraction: &mut dyn Extraction) -> Decision {
         // Sense.
         self.robot.scan_into(&mut self.scan, &mut self.true_ranges);
         self.odom_from_robot = self.robot.odom_from_robot();
-        // Extract.
-        self.extractor.extract_into(&self.scan, &mut self.lines);
-        // Decide.
-        self.explorer
-            .on_scan(&self.scan, &self.lines, &self.odom_from_robot, t)
-    }
-
-    /// Records the scan: the ground-truth coverage, then the recorder and `observer` see
-    /// its frame. Nothing recorded flows back into the robot.
-    fn record(&mut self, decision: &Decision, t: f64, observer: &mut dyn RunObserver) {
+        // Extract, meanwhile localise and map, and mark the ground truth.
+        extraction.start(&self.scan);
+        self.explorer.sense(&self.scan, &self.odom_from_robot, t);
         let laser = self.robot.params().laser_model;
         self.coverage.mark_scan(
             &self.robot.world_from_laser(),
@@ -225,9 +249,18 @@ impl Loop {
             &self.true_ranges,
             laser.range_max,
         );
+        extraction.finish(&self.scan, &mut self.lines);
+        // Decide.
+        self.explorer.decide(&self.lines, t)
+    }
+
+    /// Records the scan: the recorder and `observer` see its frame. Nothing recorded flows
+    /// back into the robot.
+    fn record(&mut self, decision: &Decision, t: f64, observer: &mut dyn RunObserver) {
+        let world_from_robot = self.robot.world_from_robot();
         let frame = ScanFrame {
             time_s: t,
-            world_from_robot: self.robot.world_from_robot(),
+            world_from_robot,
             odom_from_robot: self.odom_from_robot,
             estimated_world_from_robot: self.start * decision.map_from_robot,
             robot_from_laser: self.robot_from_laser,
@@ -235,6 +268,9 @@ impl Loop {
             lines: &self.lines,
             decision,
             coverage: self.coverage.coverage(),
+            in_arena: self.coverage.in_arena(laserlines::math::Point2::from(
+                world_from_robot.translation.vector,
+            )),
         };
         self.recorder.on_scan(&frame);
         observer.on_scan(&frame);

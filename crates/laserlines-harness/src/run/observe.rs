@@ -29,6 +29,9 @@ pub struct ScanFrame<'a> {
     pub decision: &'a Decision,
     /// Coverage so far (ground truth), 0..1.
     pub coverage: f64,
+    /// Whether the robot's centre is in the arena (ground truth, see
+    /// [`crate::CoverageGrid::in_arena`]).
+    pub in_arena: bool,
 }
 
 /// Sees a run as it goes: every scan and the simulated time about once per simulated

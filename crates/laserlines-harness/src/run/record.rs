@@ -8,7 +8,7 @@ use laserlines_nav::{Explorer, Mode, RobotMap, SectorObjects, WallSide};
 use laserlines_sim::robot::RobotSim;
 
 use super::observe::{RunObserver, ScanFrame};
-use crate::coverage::CoverageGrid;
+use crate::coverage::{CoverageGrid, CoverageRegion};
 
 /// Why a run ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -38,8 +38,18 @@ impl StopReason {
 /// simulate` has them).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Metrics {
-    /// Fraction of the reachable free area seen by the laser, 0..1 (see [`crate::coverage`]).
+    /// Fraction of the arena's free area seen by the laser, 0..1 (see [`crate::coverage`]).
     pub coverage: f64,
+    /// What coverage is taken over: the free area the arena's walls enclose, or (when they
+    /// do not enclose the start) the free area inside their bounding box.
+    pub coverage_region: CoverageRegion,
+    /// That free area, m^2.
+    pub arena_area_m2: f64,
+    /// Whether the robot's centre ever left the arena (the area its walls enclose, or their
+    /// bounding box).
+    pub left_arena: bool,
+    /// Simulated time at which it first did, s.
+    pub left_arena_at_s: Option<f64>,
     /// Collisions (see [`RobotSim::collisions`]).
     pub collisions: u64,
     /// Least distance between the footprint and any obstacle, m (capped at 1 m).
@@ -48,12 +58,22 @@ pub struct Metrics {
     pub path_length_m: f64,
     /// Simulated time, s.
     pub sim_time_s: f64,
-    /// Wall-clock time of the run, s (the only figure that differs between equal runs).
+    /// Wall-clock time of the closed loop, s: from the first scan to the last physics step,
+    /// all of sensing, extraction, the explorer, physics, the ground-truth coverage and
+    /// every observer's work on each scan (a progress bar, an MCAP recording). Not in it:
+    /// [`Metrics::setup_time_s`], loading the arena and writing the outputs. With the set-up
+    /// time, the only figures that differ between equal runs.
     pub wall_time_s: f64,
+    /// Wall-clock time of the run's set-up, s: the simulated robot's obstacle index, the
+    /// extractor, the explorer and the ground-truth coverage grid (its clearances and
+    /// flood fills).
+    pub setup_time_s: f64,
     /// Simulated time at which coverage reached 0.9, s; `None` if it never did.
     pub time_to_90_percent_s: Option<f64>,
-    /// The reachable free area, m^2.
+    /// The free area connected to the start (where the robot can drive from it), m^2.
     pub reachable_area_m2: f64,
+    /// Fraction of that area seen by the laser, 0..1.
+    pub reachable_coverage: f64,
     /// Scans taken (and lines extracted from).
     pub scans: u64,
     /// Lines extracted, over all scans.
@@ -132,10 +152,10 @@ pub(crate) struct Recorder {
 }
 
 impl Recorder {
-    /// A recorder for a run from `start` whose reachable area is `reachable_area_m2`.
+    /// A recorder for a run from `start` scored on `coverage`.
     pub(crate) fn new(
         start: Isometry2,
-        reachable_area_m2: f64,
+        coverage: &CoverageGrid,
         record_lines_every: usize,
         snapshot_at_s: f64,
     ) -> Self {
@@ -143,13 +163,19 @@ impl Recorder {
             record: RunRecord {
                 metrics: Metrics {
                     coverage: 0.0,
+                    coverage_region: coverage.region_kind(),
+                    arena_area_m2: coverage.region_area_m2(),
+                    left_arena: false,
+                    left_arena_at_s: None,
                     collisions: 0,
                     min_clearance_m: 0.0,
                     path_length_m: 0.0,
                     sim_time_s: 0.0,
                     wall_time_s: 0.0,
+                    setup_time_s: 0.0,
                     time_to_90_percent_s: None,
-                    reachable_area_m2,
+                    reachable_area_m2: coverage.reachable_area_m2(),
+                    reachable_coverage: 0.0,
                     scans: 0,
                     lines: 0,
                     loops: 0,
@@ -177,6 +203,12 @@ impl Recorder {
         }
     }
 
+    /// Records the set-up time and starts the loop's clock.
+    pub(crate) fn start_clock(&mut self, setup_time_s: f64) {
+        self.record.metrics.setup_time_s = setup_time_s;
+        self.wall_clock = Instant::now();
+    }
+
     /// The record, completed from the robot, the explorer and the coverage grid at the end.
     pub(crate) fn finish(
         mut self,
@@ -188,6 +220,7 @@ impl Recorder {
         let record = &mut self.record;
         let m = &mut record.metrics;
         m.coverage = coverage.coverage();
+        m.reachable_coverage = coverage.reachable_coverage();
         m.collisions = robot.collisions();
         m.min_clearance_m = robot.min_clearance();
         m.path_length_m = robot.path_length();
@@ -250,6 +283,10 @@ impl RunObserver for Recorder {
         let m = &mut self.record.metrics;
         m.scans += 1;
         m.lines += frame.lines.len() as u64;
+        if !frame.in_arena && !m.left_arena {
+            m.left_arena = true;
+            m.left_arena_at_s = Some(t);
+        }
         if m.time_to_90_percent_s.is_none() && frame.coverage >= 0.9 {
             m.time_to_90_percent_s = Some(t);
         }

@@ -1,4 +1,4 @@
-//! ROS 1 bags (`.bag`, format version 2.0, gzipped or not): `sensor_msgs/LaserScan`
+//! ROS 1 bags (`.bag`, format versions 2.0 and 1.2, gzipped or not): `sensor_msgs/LaserScan`
 //! messages.
 //!
 //! A bag is `#ROSBAG V2.0\n` and then records, each `header_len: u32, header, data_len: u32,
@@ -13,6 +13,12 @@
 //! | `0x02` | message data (`conn`, `time`) | decoded when its connection is the chosen LaserScan topic |
 //! | `0x04` | index data (`ver`, `conn`, `count`) | skipped: `min(12 * count, data_len)` bytes |
 //! | `0x06` | chunk info | skipped |
+//!
+//! Bags of the older version 1.2 (`#ROSRECORD V1.2`, ROS 0.5 to 1.0, 2009-2010) have the same
+//! framing without chunks or connection records; the reader takes their records: `0x01`
+//! message definition (`topic`, `type`, `md5`, `def`; no data), `0x02` message data (`topic`,
+//! `type`, `md5`, `sec`, `nsec`: the record time), `0x03` file header and `0x04` index data
+//! (skipped).
 //!
 //! **Streaming, without the index.** The reader walks the records front to back, one chunk in
 //! memory at a time (at most [`BagOptions::max_chunk_bytes`], by default [`MAX_CHUNK_BYTES`],
@@ -49,12 +55,13 @@
 //! the next message; a chunk that does not decompress, or whose records are broken, is an error
 //! and the reader goes on with the next chunk. A record that runs past the end of the file (a
 //! truncated bag), a top-level record header that does not parse, a missing or wrong
-//! `#ROSBAG V2.0` line and a read failure end the reader with an error, after every scan
-//! before them.
+//! `#ROSBAG V2.0` (or `#ROSRECORD V1.2`) line and a read failure end the reader with an
+//! error, after every scan before them.
 
 mod chunk;
 mod records;
 mod state;
+mod v12;
 
 use std::collections::HashMap;
 use std::io;
@@ -70,6 +77,8 @@ use state::State;
 
 /// The first line of every bag of format version 2.0.
 pub const MAGIC: &[u8; 13] = b"#ROSBAG V2.0\n";
+/// The first line of every bag of format version 1.2.
+pub const MAGIC_V12: &[u8; 16] = b"#ROSRECORD V1.2\n";
 /// The connection `type` of the messages read.
 pub const LASER_SCAN_TYPE: &str = "sensor_msgs/LaserScan";
 /// Default largest chunk read, compressed or decompressed, bytes (also the largest message
@@ -138,6 +147,9 @@ pub(crate) struct BagSource {
     done: bool,
     /// An error ended the reader (no end-of-file checks then).
     failed: bool,
+    /// A version 1.2 bag: the connection number given to each topic (version 2.0 bags
+    /// number their connections themselves).
+    v12: Option<HashMap<Vec<u8>, u32>>,
     finished: bool,
     /// Buffers kept between records: a record header, record data (compressed chunks,
     /// connection data, messages outside chunks), and decompressed chunk data.
@@ -170,6 +182,7 @@ impl BagSource {
             started: false,
             done: false,
             failed: false,
+            v12: None,
             finished: false,
             header: Vec::new(),
             raw: Vec::new(),
@@ -199,23 +212,34 @@ impl BagSource {
         }
     }
 
-    /// Checks the `#ROSBAG V2.0` line.
+    /// Checks the `#ROSBAG V2.0` (or `#ROSRECORD V1.2`) line.
     fn start(&mut self) -> Result<(), ReadError> {
-        let mut magic = [0u8; MAGIC.len()];
+        let mut magic = [0u8; MAGIC_V12.len()];
         let got = self
             .input
-            .read_full(&mut magic)
+            .read_full(&mut magic[..MAGIC.len()])
             .map_err(|e| self.io_error(e))?;
-        if got == MAGIC.len() && &magic == MAGIC {
+        if got == MAGIC.len() && magic[..got] == MAGIC[..] {
             return Ok(());
+        }
+        let mut got = got;
+        if magic[..got] == MAGIC_V12[..MAGIC.len()] {
+            got += self
+                .input
+                .read_full(&mut magic[MAGIC.len()..])
+                .map_err(|e| self.io_error(e))?;
+            if magic[..got] == MAGIC_V12[..] {
+                self.v12 = Some(HashMap::new());
+                return Ok(());
+            }
         }
         let head = &magic[..got];
         let found = if got == 0 {
             "an empty input".to_owned()
-        } else if head.starts_with(b"#ROSBAG V") {
+        } else if head.starts_with(b"#ROSBAG V") || head.starts_with(b"#ROSRECORD V") {
             let line = head.split(|b| *b == b'\n').next().unwrap_or(head);
             format!(
-                "`{}` (only version 2.0 is read)",
+                "`{}` (versions 2.0 and 1.2 are read)",
                 String::from_utf8_lossy(line)
             )
         } else {
@@ -223,7 +247,7 @@ impl BagSource {
         };
         Err(ReadError::Syntax {
             pos: SourcePos::byte(&self.name, 0),
-            expected: "`#ROSBAG V2.0` (a ROS 1 bag)".to_owned(),
+            expected: "`#ROSBAG V2.0` or `#ROSRECORD V1.2` (a ROS 1 bag)".to_owned(),
             found,
         })
     }
@@ -295,6 +319,9 @@ impl BagSource {
                 return Ok(Some(Err(loc.error(&self.name, bad))));
             }
         };
+        if self.v12.is_some() {
+            return self.handle_v12(start, &header, op, (data_start, data_len), skipped);
+        }
         match op {
             op::CHUNK => {
                 let compression = header.compression.map(<[u8]>::to_vec);
@@ -310,7 +337,11 @@ impl BagSource {
                 Ok(None)
             }
             op::CONNECTION => self.top_connection(start, &header, data_len),
-            op::MESSAGE_DATA => self.top_message(start, &header, (data_start, data_len), skipped),
+            op::MESSAGE_DATA => {
+                let conn = header.conn();
+                let time = header.time;
+                self.top_message(start, (conn, time), (data_start, data_len), skipped)
+            }
             op::BAG_HEADER | op::CHUNK_INFO => {
                 self.skip_data(start, data_len, "record data")?;
                 Ok(None)
@@ -352,12 +383,12 @@ impl BagSource {
         Ok(result.err().map(Err))
     }
 
-    /// A message record outside a chunk: its data read and decoded when it is a scan of
-    /// the chosen topic.
+    /// A message record outside a chunk, on connection `conn` at record time `time`: its
+    /// data read and decoded when it is a scan of the chosen topic.
     fn top_message(
         &mut self,
         start: u64,
-        header: &RecordHeader<'_>,
+        (conn, time): (Result<u32, Bad>, Option<(u32, u32)>),
         (data_start, data_len): (u64, u64),
         skipped: &mut SkipCounts,
     ) -> Result<Option<Result<ScanRecord, ReadError>>, ReadError> {
@@ -368,12 +399,11 @@ impl BagSource {
         }
         let mut data = std::mem::take(&mut self.raw);
         self.read_data(start, data_len, "message data", &mut data)?;
-        let result = header
-            .conn()
+        let result = conn
             .map_err(|bad| loc.error(&self.name, bad))
             .and_then(|conn| {
                 self.state
-                    .message(conn, header.time, &data, Loc::File(data_start), skipped)
+                    .message(conn, time, &data, Loc::File(data_start), skipped)
             })
             .transpose();
         self.raw = data;

@@ -8,6 +8,8 @@ use crate::reader::Input;
 
 /// Record op codes.
 pub(super) mod op {
+    /// Version 1.2 only: a topic's message definition.
+    pub(crate) const MESSAGE_DEFINITION: u8 = 0x01;
     pub(crate) const MESSAGE_DATA: u8 = 0x02;
     pub(crate) const BAG_HEADER: u8 = 0x03;
     pub(crate) const INDEX_DATA: u8 = 0x04;
@@ -76,6 +78,10 @@ pub(super) struct RecordHeader<'a> {
     pub(super) conn: Option<u32>,
     pub(super) time: Option<(u32, u32)>,
     pub(super) topic: Option<&'a [u8]>,
+    /// Version 1.2: the message type and the record time, in the record header.
+    pub(super) kind: Option<&'a [u8]>,
+    pub(super) sec: Option<u32>,
+    pub(super) nsec: Option<u32>,
     pub(super) compression: Option<&'a [u8]>,
     pub(super) size: Option<u32>,
     pub(super) ver: Option<u32>,
@@ -117,6 +123,9 @@ impl<'a> RecordHeader<'a> {
                     h.time = Some((secs, nsecs));
                 }
                 b"topic" => h.topic = Some(value),
+                b"type" => h.kind = Some(value),
+                b"sec" => h.sec = Some(u32_field(value)?),
+                b"nsec" => h.nsec = Some(u32_field(value)?),
                 b"compression" => h.compression = Some(value),
                 b"size" => h.size = Some(u32_field(value)?),
                 b"ver" => h.ver = Some(u32_field(value)?),

@@ -71,6 +71,13 @@ impl State {
             topic: String::from_utf8_lossy(topic).into_owned(),
             kind: String::from_utf8_lossy(kind).into_owned(),
         };
+        self.add(conn, connection);
+        Ok(())
+    }
+
+    /// Remembers a connection, choosing its topic when it is the first LaserScan topic
+    /// asked for.
+    pub(super) fn add(&mut self, conn: u32, connection: Connection) {
         if connection.is_laser_scan()
             && self.chosen.is_none()
             && self
@@ -81,7 +88,6 @@ impl State {
             self.chosen = Some(connection.topic.clone());
         }
         self.connections.insert(conn, connection);
-        Ok(())
     }
 
     /// Handles a message record: a scan record, a counted skip (`None`), or an error.

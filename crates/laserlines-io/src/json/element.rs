@@ -219,6 +219,17 @@ impl Element<'_> {
     }
 
     fn scan_from_object(&self, obj: &Map<String, Value>) -> Result<ScanRecord, ReadError> {
+        // The output of `laserlines extract` (crate::lines) given where scans are expected.
+        if !obj.contains_key("angle_min") && obj.contains_key("lines") && obj.contains_key("scan") {
+            return Err(ReadError::Syntax {
+                pos: self.pos_of_offset(0),
+                expected: "a scan (angle_min, angle_increment, range_min, range_max, ranges)"
+                    .to_owned(),
+                found: "a lines record (scan, lines): this is a lines file, as `laserlines \
+                        extract` writes, not a file of scans"
+                    .to_owned(),
+            });
+        }
         let angle_min = self.number(obj, "angle_min")?;
         let angle_increment = self.number(obj, "angle_increment")?;
         let range_min = self.number(obj, "range_min")?;

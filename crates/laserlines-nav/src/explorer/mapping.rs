@@ -36,5 +36,6 @@ impl Explorer {
         if newly > 0 {
             self.last_gain = time_s;
         }
+        self.known += newly as u64;
     }
 }

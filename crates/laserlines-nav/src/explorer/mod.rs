@@ -70,7 +70,10 @@
 //! the path follower alike.
 //!
 //! **Stopping.** The explorer reports that it is done when no frontier is left (the whole
-//! reachable area has been seen), or when its map has gained nothing for `idle_timeout_s`.
+//! reachable area has been seen), when it has given up `travel.fruitless_give_ups`
+//! different frontiers while its map grew by less than `travel.fruitless_gain_m2` (the
+//! rest lies beyond gaps it cannot pass), or when its map has gained nothing for
+//! `idle_timeout_s`.
 //!
 //! **On a real robot** the loop is the simulator's without the simulator: for each scan of
 //! the laser, the odometry pose at its time, the lines, one decision, one velocity command
@@ -232,6 +235,11 @@ pub struct Explorer {
     last_new: f64,
     /// Time the map last gained any cell (the idle timeout).
     last_gain: f64,
+    /// Cells the map has made known so far.
+    known: u64,
+    /// The different frontiers given up since the map last grew by
+    /// `travel.fruitless_gain_m2`, and the cells it knew then.
+    fruitless: (Vec<Point2>, u64),
     /// Time the robot began seeking a wall (or now when it is not seeking).
     seek_since: f64,
     travel: Option<Travel>,
@@ -286,6 +294,8 @@ impl Explorer {
             map_from_robot: Isometry2::identity(),
             last_new: 0.0,
             last_gain: 0.0,
+            known: 0,
+            fruitless: (Vec::new(), 0),
             seek_since: 0.0,
             travel: None,
             avoid: Vec::new(),
@@ -353,7 +363,8 @@ impl Explorer {
     }
 
     /// Decides the velocity command for one scan: `lines` were extracted from `scan`,
-    /// `odom_from_robot` is the odometry pose at the scan, `time_s` its time.
+    /// `odom_from_robot` is the odometry pose at the scan, `time_s` its time. The same as
+    /// [`Explorer::sense`] then [`Explorer::decide`].
     pub fn on_scan(
         &mut self,
         scan: &Scan,
@@ -361,13 +372,28 @@ impl Explorer {
         odom_from_robot: &Isometry2,
         time_s: f64,
     ) -> Decision {
+        self.sense(scan, odom_from_robot, time_s);
+        self.decide(lines, time_s)
+    }
+
+    /// The first half of [`Explorer::on_scan`], which needs no lines: the odometry, the
+    /// scan matched onto the map and added to it, the near points remembered. A robot can
+    /// run it while the lines of the same scan are being extracted.
+    pub fn sense(&mut self, scan: &Scan, odom_from_robot: &Isometry2, time_s: f64) {
         self.track_odometry(odom_from_robot);
         self.note_field_of_view(scan);
         self.localise_and_map(scan, odom_from_robot, time_s);
+        let map_from_robot = self.map_from_robot;
+        self.remember(scan, &map_from_robot);
+    }
+
+    /// The second half of [`Explorer::on_scan`], after [`Explorer::sense`] of the scan
+    /// `lines` were extracted from: the sector objects, the wall follower or the way to a
+    /// frontier, the safety layer.
+    pub fn decide(&mut self, lines: &[Line], time_s: f64) -> Decision {
         // From here on the robot works in its map frame: the scan-matched pose is true to
         // the millimetre where the odometry slips by centimetres (turning on the spot).
         let map_from_robot = self.map_from_robot;
-        self.remember(scan, &map_from_robot);
         let objects = select_objects(lines, &self.robot_from_laser, &self.params.sectors);
         let robot_lines: Vec<(Point2, Point2)> = lines
             .iter()

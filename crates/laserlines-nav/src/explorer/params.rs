@@ -220,6 +220,15 @@ pub struct TravelParams {
     pub blocked_radius_m: f64,
     /// How long a blocked spot stays closed, s. Default 90.
     pub blocked_s: f64,
+    /// Once this many different frontiers (farther than `avoid_radius_m` apart) have been
+    /// given up while the map grew by less than [`TravelParams::fruitless_gain_m2`], the
+    /// exploration is complete: what is left lies beyond gaps the robot sees through but
+    /// cannot pass, and the few cells each scan through them adds would keep it trying for
+    /// ever. Default 6; 0 never.
+    pub fruitless_give_ups: usize,
+    /// Growth of the map's known area that starts the count of fruitless give-ups afresh,
+    /// m^2. Default 1.
+    pub fruitless_gain_m2: f64,
     /// When no frontier can be reached with the planner's clearance, the planner tries
     /// again with this one, m, before the exploration is called complete: a gap that the
     /// 0.4 m wide robot passes driving straight but where it cannot turn (a post beside a
@@ -242,6 +251,8 @@ impl Default for TravelParams {
             retries: 2,
             blocked_radius_m: 0.3,
             blocked_s: 90.0,
+            fruitless_give_ups: 6,
+            fruitless_gain_m2: 1.0,
             tight_clearance_m: 0.2,
         }
     }
@@ -394,6 +405,7 @@ impl ExplorerParams {
         }
         for (field, v) in [
             ("follow.front_turn_corner", f.front_turn_corner),
+            ("travel.fruitless_gain_m2", self.travel.fruitless_gain_m2),
             ("follow.front_band_margin", f.front_band_margin),
             ("safety.margin", self.safety.margin),
             ("loops.min_path_m", self.loops.min_path_m),

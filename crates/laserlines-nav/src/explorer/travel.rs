@@ -6,7 +6,7 @@ use laserlines::math::Point2;
 use laserlines::robot::VelocityCommand;
 
 use super::{Explorer, Mode};
-use crate::map::CellState;
+use crate::map::{CellState, MAP_CELL};
 use crate::planner::{Plan, PlannerParams};
 
 /// The way to a frontier.
@@ -133,6 +133,9 @@ impl Explorer {
             return None;
         }
         let give_up = self.track_progress(&mut travel, from, time_s);
+        if self.explored {
+            return None;
+        }
         if give_up || time_s - travel.planned_at >= p.travel.replan_s {
             self.replan(&mut travel, from, give_up, time_s)?;
         }
@@ -154,10 +157,32 @@ impl Explorer {
         if (from - goal).norm() < 0.3 {
             // There, and still unknown around it: the robot cannot see it from where it
             // can stand (behind a post, in a wall's shadow). Not a frontier to come back to.
-            self.avoid.push(goal);
+            self.give_up(goal);
             return false;
         }
         true
+    }
+
+    /// Gives the frontier at `goal` up; once `travel.fruitless_give_ups` different ones
+    /// (farther than `travel.avoid_radius_m` apart) have been given up while the map grew by
+    /// less than `travel.fruitless_gain_m2`, the exploration is complete.
+    fn give_up(&mut self, goal: Point2) {
+        self.avoid.push(goal);
+        let p = self.params.travel;
+        let fruitful = (p.fruitless_gain_m2 / (MAP_CELL * MAP_CELL))
+            .ceil()
+            .max(1.0) as u64;
+        let (goals, since) = &mut self.fruitless;
+        if self.known.saturating_sub(*since) >= fruitful {
+            goals.clear();
+            *since = self.known;
+        }
+        if goals.iter().all(|g| (g - goal).norm() > p.avoid_radius_m) {
+            goals.push(goal);
+        }
+        if p.fruitless_give_ups > 0 && goals.len() >= p.fruitless_give_ups {
+            self.explored = true;
+        }
     }
 
     /// Measures progress along the path; true when the frontier is given up (no progress
@@ -177,7 +202,7 @@ impl Explorer {
         }
         let give_up = time_s - travel.best_at > self.params.travel.give_up_s;
         if give_up {
-            self.avoid.push(travel.plan.goal);
+            self.give_up(travel.plan.goal);
             // Stuck where the map shows a way: close the spot the path led to next.
             if (from - travel.best_from).norm() < 0.5 {
                 let ahead = travel

@@ -44,7 +44,10 @@ pub(crate) fn arc_points(center: Point2, radius: f64, from: f64, to: f64) -> Vec
 pub(crate) fn wrap(text: &str, size: f64, bold: bool, max_px: f64) -> Vec<String> {
     let mut lines: Vec<String> = Vec::new();
     let mut cur = String::new();
-    for word in text.split_whitespace() {
+    let words = text
+        .split_whitespace()
+        .flat_map(|word| split_long(word, size, bold, max_px));
+    for word in words {
         let candidate = if cur.is_empty() {
             word.to_owned()
         } else {
@@ -61,6 +64,34 @@ pub(crate) fn wrap(text: &str, size: f64, bold: bool, max_px: f64) -> Vec<String
         lines.push(cur);
     }
     lines
+}
+
+/// A word wider than `max_px` (a long file path) cut into pieces that fit, each ending after
+/// a `/`, `\\`, `_`, `-` or `.` where there is one; any other word as it is.
+fn split_long(word: &str, size: f64, bold: bool, max_px: f64) -> Vec<String> {
+    if text_width(word, size, bold) <= max_px {
+        return vec![word.to_owned()];
+    }
+    let mut pieces = Vec::new();
+    let mut cur = String::new();
+    // The length of `cur` up to its last break character.
+    let mut last_break = None;
+    for c in word.chars() {
+        cur.push(c);
+        if text_width(&cur, size, bold) > max_px && cur.chars().count() > 1 {
+            let cut = last_break.unwrap_or(cur.len() - c.len_utf8());
+            let rest = cur.split_off(cut);
+            pieces.push(std::mem::replace(&mut cur, rest));
+            last_break = None;
+        }
+        if matches!(c, '/' | '\\' | '_' | '-' | '.') {
+            last_break = Some(cur.len());
+        }
+    }
+    if !cur.is_empty() {
+        pieces.push(cur);
+    }
+    pieces
 }
 
 /// Writes a `<text>` element at pixel `p`.

@@ -622,4 +622,22 @@ mod tests {
         assert!(lines.len() > 1);
         assert_eq!(lines.join(" "), "one two three four five six");
     }
+
+    #[test]
+    fn wrap_cuts_a_path_longer_than_the_line_after_its_separators() {
+        use crate::style::text_width;
+        let path = "/home/someone/data/a-rather-long-folder-name/another_one/exp1.dat.gz,";
+        let lines = wrap(&format!("{path} scan 3"), 12.0, true, 120.0);
+        assert!(lines.len() > 2, "{lines:?}");
+        for line in &lines {
+            assert!(
+                text_width(line, 12.0, true) <= 120.0,
+                "{line:?} in {lines:?}"
+            );
+        }
+        // Nothing lost: the pieces hold the text's characters but its spaces.
+        let text = format!("{path} scan 3").replace(' ', "");
+        assert_eq!(lines.concat().replace(' ', ""), text);
+        assert!(lines[0].ends_with('/'), "{lines:?}");
+    }
 }

@@ -1,89 +1,101 @@
-//! RoboCup Rescue arena layouts (`.raf` files) as simulator worlds.
+//! RoboCup Rescue arena layouts (`.raf` files) as simulator worlds, cut at the laser's
+//! height.
 //!
-//! A `.raf` file is XML: `<elements>` holding `<element type="T" rotation="R" x="X" y="Y"/>`.
-//! Elements stand on a grid of [`ARENA_GRID`] = 1.2 m cells: the centre of element `(X, Y)`
-//! is at `(1.2 X, 1.2 Y)` metres in the arena frame, and the element is turned by
-//! `yaw = -R` degrees about that centre. A wall element is a thin vertical plate on one edge
-//! of its cell: at `R = 0` on the `+y` edge, at `R = 90` on the `+x` edge, at `R = 180` on
-//! the `-y` edge, at `R = 270` on the `-x` edge. For a horizontal 2D laser it is one
-//! segment on that edge, [`WallLength::Full`] (1.2 m, closing the corners; the default) or
-//! [`WallLength::Mesh`] (1.0 m centred on the edge, as the plate's mesh).
+//! A `.raf` file is XML: `<elements>` holding `<element type="T" rotation="R" x="X" y="Y"/>`
+//! (optionally `offset-x`, `offset-y` in grid units and a `mount-point` index). Elements
+//! stand on a grid of [`ARENA_GRID`] = 1.2 m cells: the centre of element `(X, Y)` is at
+//! `(1.2 X, 1.2 Y)` metres in the arena frame (plus `1.2` times the offsets), and the
+//! element is turned by `yaw = -R` degrees about that centre, as the arena designer of
+//! `hector_nist_arenas_gazebo` places its models.
 //!
-//! Barrels become [`crate::Disc`]s at their cell centre. Every other element (floor
-//! features such as ramps and step fields, victims and hazmat markers, the diagonal wall
-//! pieces whose geometry the format does not give, and any type this loader does not know)
-//! is ignored, and counted by type in [`ArenaReport::ignored`]: nothing is dropped silently.
+//! Every element type of that set that stands in the arena is modelled with the geometry of
+//! its public model (the facts are in the source, `elements.rs`), and what a horizontal
+//! laser sees of it is its cut at the laser's height [`ArenaOptions::laser_height`]
+//! (default [`DEFAULT_LASER_HEIGHT`] = 0.45 m):
+//!
+//! - walls are thin plates on one edge of their cell: at `R = 0` on the `+y` edge, at
+//!   `R = 90` on the `+x` edge, at `R = 180` on the `-y` edge, at `R = 270` on the `-x`
+//!   edge, [`WallLength::Full`] (1.2 m, closing the corners; the default) or
+//!   [`WallLength::Mesh`] (1.0 m centred on the edge); the holes of `wall_holes1` and
+//!   `small_wall_triple_holes` open them where the plane crosses a hole;
+//! - `wall_diag_120` is a plate along its cell's diagonal, `corner_diag_120` two plates
+//!   from the cell centre to the corners of one edge; `veil_wall` nine hanging strips;
+//! - barrels are half barrels on a cell edge (0.29 m radius, from 0.30 m up; two back to
+//!   back make one disc); `fiducial_barrel_high` stands on an elevated floor, above the
+//!   plane;
+//! - ramps are solid wedges (`half_ramp` up to 0.17 m, `full_ramp` to 0.34 m) seen where
+//!   their surface meets the plane, `simple_elev_ramp` a board up to 1.18 m, cut where it
+//!   crosses the plane; `stairs_120` five open treads (0.2 m to 1.0 m); `elevated_floor_120`
+//!   a table top at 1.08-1.2 m on four corner legs; `manip_storage` two shelves (0.5 m,
+//!   1.0 m); `spectator_120` a box from 1.07 m to 1.7 m; `victim_with_box1` a box 0.4 m high
+//!   on the wall of its cell at the mount point, or on the floor;
+//! - step fields and small items lying on the floor are known by their height only: below
+//!   the plane they leave nothing, and a laser lower than them skips them.
+//!
+//! The report ([`ArenaReport`]) counts, by type, the elements that left something in the
+//! plane, those that did not (wholly above or below it), and those skipped: unknown types
+//! and known ones whose shape at that height the loader does not have. Nothing is dropped
+//! silently.
+//!
+//! The simulated robot collides with what the plane holds and nothing else: it drives over
+//! ramps and step fields lower than its laser as over flat floor, and through the open
+//! treads of stairs between the laser's height and the floor.
 //!
 //! ```
 //! use laserlines_sim::arena::{ArenaOptions, parse_raf};
 //! let text = r#"<?xml version="1.0"?>
 //! <elements>
 //!   <element type="small_wall" rotation="0" x="0" y="0"/>
+//!   <element type="wall_diag_120" rotation="0" x="1" y="0"/>
 //!   <element type="half_ramp" rotation="90" x="1" y="0"/>
+//!   <element type="mystery" rotation="0" x="2" y="0"/>
 //! </elements>"#;
 //! let arena = parse_raf(text, "doc", &ArenaOptions::default()).unwrap();
-//! // One wall on the +y edge of cell (0, 0): from (-0.6, 0.6) to (0.6, 0.6).
-//! assert_eq!(arena.world.walls.len(), 1);
+//! // One wall on the +y edge of cell (0, 0): from (-0.6, 0.6) to (0.6, 0.6), and the
+//! // diagonal of cell (1, 0) from (0.6, -0.6) to (1.8, 0.6).
+//! assert_eq!(arena.world.walls.len(), 2);
 //! assert!((arena.world.walls[0].a.y - 0.6).abs() < 1e-12);
-//! assert_eq!(arena.report.ignored.get("half_ramp"), Some(&1));
+//! assert!((arena.world.walls[1].b.x - 1.8).abs() < 1e-12);
+//! // The ramp (at most 0.17 m high) is below the laser at 0.45 m; the unknown type is
+//! // skipped, and said so.
+//! assert_eq!(arena.report.out_of_plane.get("half_ramp"), Some(&1));
+//! assert_eq!(arena.report.skipped.get("mystery"), Some(&1));
 //! ```
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use laserlines::math::{Point2, Vector2};
+use laserlines::math::{Isometry2, Point2, Vector2};
 
+mod cut;
+mod element;
+mod elements;
+mod outline;
 mod start;
 mod tags;
 
+use cut::{Builder, Piece, cut_solid, cut_wall};
+use element::Element;
+use elements::{Kind, element_type};
+pub use outline::{ArenaOutline, OUTLINE_CELL, SEAL_GAP};
 pub use start::{START_SEARCH_CELL, interior_start};
-use tags::{Tag, Tags};
+use tags::Tags;
 
 use crate::world::World;
 
 /// The arena grid, m: one element cell is 1.2 m x 1.2 m.
 pub const ARENA_GRID: f64 = 1.2;
 
-/// Element types that stand up as walls for a horizontal 2D laser.
-pub const WALL_TYPES: &[&str] = &[
-    "small_wall",
-    "small_wall_no_tex",
-    "small_wall_qr",
-    "small_wall_triple_holes",
-    "small_wall_gap_no_tex",
-    "small_wall_start_check",
-    "wall_holes1",
-    "tall_wall",
-    "veil_wall",
-];
+/// The laser's height above the floor the arenas are cut at by default, m: a URG-04LX on
+/// top of a rescue robot of NAJI V's size, above the ramps (0.17 m and 0.34 m) and step
+/// fields (0.40 m) it drives over.
+pub const DEFAULT_LASER_HEIGHT: f64 = 0.45;
 
-/// Barrel element types and their radius, m (round obstacles standing at the cell centre).
-pub const BARREL_TYPES: &[(&str, f64)] = &[
-    ("fiducial_barrel", 0.15),
-    ("fiducial_barrel_high", 0.15),
-    ("red_barrel", 0.3),
-];
-
-/// Element types this loader knows and deliberately ignores: floor features, markers, and
-/// the diagonal pieces whose geometry the format does not give. They are still counted in
-/// [`ArenaReport::ignored`]; types in neither list are counted there too and listed by
-/// [`ArenaReport::unknown_types`].
-pub const KNOWN_IGNORED_TYPES: &[&str] = &[
-    "half_ramp",
-    "full_ramp",
-    "simple_elev_ramp",
-    "elevated_floor_120",
-    "stairs_120",
-    "stepfield",
-    "stepfield_red",
-    "stepfield_red_diagonal",
-    "floor_tile",
-    "victim_1",
-    "victim_with_box1",
-    "hazmat",
-    "wall_diag_120",
-    "corner_diag_120",
-];
+/// The element types the loader models (the others are skipped and reported).
+#[must_use]
+pub fn known_types() -> Vec<&'static str> {
+    elements::TYPES.iter().map(|t| t.name).collect()
+}
 
 /// How long a wall element's segment is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -108,10 +120,33 @@ impl WallLength {
 }
 
 /// Options of the loader.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ArenaOptions {
     /// Length of a wall element's segment (default [`WallLength::Full`]).
     pub wall_length: WallLength,
+    /// Height of the laser's scan plane above the floor, m (default
+    /// [`DEFAULT_LASER_HEIGHT`]); the arena is what that plane cuts. Not finite or not
+    /// above 0: the default.
+    pub laser_height: f64,
+}
+
+impl Default for ArenaOptions {
+    fn default() -> Self {
+        Self {
+            wall_length: WallLength::Full,
+            laser_height: DEFAULT_LASER_HEIGHT,
+        }
+    }
+}
+
+impl ArenaOptions {
+    fn height(&self) -> f64 {
+        if self.laser_height.is_finite() && self.laser_height > 0.0 {
+            self.laser_height
+        } else {
+            DEFAULT_LASER_HEIGHT
+        }
+    }
 }
 
 /// What the loader made of the elements of one arena.
@@ -119,32 +154,41 @@ pub struct ArenaOptions {
 pub struct ArenaReport {
     /// Number of `<element>`s read.
     pub elements: usize,
-    /// Wall elements read (before merging duplicates).
+    /// The height the arena was cut at, m.
+    pub laser_height_m: f64,
+    /// Elements that left something in the laser's plane (walls, diagonal pieces, barrels,
+    /// legs, ramps crossing it, ...), by type.
+    pub in_plane: BTreeMap<String, usize>,
+    /// Elements modelled that leave nothing at the laser's height (wholly below or above
+    /// it), by type.
+    pub out_of_plane: BTreeMap<String, usize>,
+    /// Elements not modelled, by type: types the loader does not know, and known ones
+    /// whose shape at the laser's height it does not have (a step field taller than the
+    /// laser's height).
+    pub skipped: BTreeMap<String, usize>,
+    /// Wall elements read (plates on a cell edge).
     pub wall_elements: usize,
-    /// Wall elements that repeated a wall already placed (the same cell edge written twice,
-    /// e.g. by both cells it separates); each edge becomes one wall.
+    /// Segments that repeated one already placed (the same cell edge written twice, e.g.
+    /// by both cells it separates); each becomes one wall.
     pub duplicate_walls: usize,
-    /// Barrel elements (become discs).
+    /// Whole barrels: two half barrels back to back, made one disc.
     pub barrels: usize,
-    /// Ignored elements, by type: every element that is neither a wall nor a barrel.
-    pub ignored: BTreeMap<String, usize>,
 }
 
 impl ArenaReport {
-    /// Total number of ignored elements.
+    /// Total number of skipped elements.
     #[must_use]
-    pub fn ignored_count(&self) -> usize {
-        self.ignored.values().sum()
+    pub fn skipped_count(&self) -> usize {
+        self.skipped.values().sum()
     }
 
-    /// The ignored types that are in none of the loader's lists ([`WALL_TYPES`],
-    /// [`BARREL_TYPES`], [`KNOWN_IGNORED_TYPES`]): perhaps walls the loader does not know.
+    /// The skipped types the loader does not know at all (see [`known_types`]).
     #[must_use]
     pub fn unknown_types(&self) -> Vec<&str> {
-        self.ignored
+        self.skipped
             .keys()
             .map(String::as_str)
-            .filter(|t| !KNOWN_IGNORED_TYPES.contains(t))
+            .filter(|t| element_type(t).is_none())
             .collect()
     }
 }
@@ -154,9 +198,9 @@ impl ArenaReport {
 pub struct Arena {
     /// Name (the file name for [`load_raf`]).
     pub name: String,
-    /// Walls and barrels, metres, arena frame.
+    /// What the laser's plane cuts: walls and discs, metres, arena frame.
     pub world: World,
-    /// What the loader read, made and ignored.
+    /// What the loader read, made and skipped.
     pub report: ArenaReport,
 }
 
@@ -205,17 +249,21 @@ pub enum ArenaError {
         /// what was expected
         expected: &'static str,
     },
-    /// The arena has no wall and no barrel: nothing a laser could see.
+    /// Nothing of the arena is in the laser's plane.
     #[error(
-        "arena {name} is empty: no walls or barrels among its {elements} elements (ignored: {ignored})"
+        "arena {name} is empty at the laser's height of {height} m: nothing among its {elements} elements is there (below or above it: {out_of_plane}; skipped: {skipped})"
     )]
     Empty {
         /// arena name (file)
         name: String,
         /// elements read
         elements: usize,
-        /// the ignored types with counts, `type x count, ...`
-        ignored: String,
+        /// the laser's height, m
+        height: f64,
+        /// the types out of the plane with counts, `type x count, ...`
+        out_of_plane: String,
+        /// the skipped types with counts, `type x count, ...`
+        skipped: String,
     },
 }
 
@@ -242,56 +290,80 @@ pub fn load_raf(path: &Path, options: &ArenaOptions) -> Result<Arena, ArenaError
 /// # Errors
 /// [`ArenaError::Xml`] for malformed markup (an unclosed tag or comment, a bad attribute),
 /// [`ArenaError::MissingAttribute`] or [`ArenaError::BadAttribute`] for an element without
-/// `type`, `rotation`, `x` or `y`, or with a rotation other than 0, 90, 180, 270 or a
-/// coordinate that is not an integer grid index, and [`ArenaError::Empty`] when no element
-/// is a wall or a barrel.
+/// `type`, `rotation`, `x` or `y`, or with a rotation other than a multiple of 90, a
+/// coordinate that is not an integer grid index, an offset that is not a number or a
+/// mount point that is not an integer, and [`ArenaError::Empty`] when nothing is in the
+/// laser's plane.
 pub fn parse_raf(text: &str, name: &str, options: &ArenaOptions) -> Result<Arena, ArenaError> {
-    let mut world = World::new();
-    let mut report = ArenaReport::default();
-    let mut placed: std::collections::HashSet<[i64; 4]> = std::collections::HashSet::new();
+    let mut elements = Vec::new();
     for tag in Tags::new(text) {
         let tag = tag.map_err(|(line, message)| ArenaError::Xml {
             name: name.to_owned(),
             line,
             message,
         })?;
-        if tag.name != "element" {
-            continue;
-        }
-        report.elements += 1;
-        let el = Element::from_tag(&tag, name)?;
-        if WALL_TYPES.contains(&el.kind.as_str()) {
-            report.wall_elements += 1;
-            let (a, b) = wall_segment(el.x, el.y, el.rotation, options.wall_length);
-            // Key: both ends rounded to the millimetre, in a fixed order.
-            let key = segment_key(a, b);
-            if placed.insert(key) {
-                world.add_segment(a, b);
-            } else {
-                report.duplicate_walls += 1;
-            }
-        } else if let Some(&(_, radius)) = BARREL_TYPES.iter().find(|(t, _)| *t == el.kind) {
-            report.barrels += 1;
-            world.add_disc(cell_centre(el.x, el.y), radius);
-        } else {
-            *report.ignored.entry(el.kind).or_insert(0) += 1;
+        if tag.name == "element" {
+            elements.push(Element::from_tag(&tag, name)?);
         }
     }
+    let height = options.height();
+    let mut report = ArenaReport {
+        elements: elements.len(),
+        laser_height_m: height,
+        ..ArenaReport::default()
+    };
+    let mut builder = Builder::default();
+    let mut pieces = Vec::new();
+    for el in &elements {
+        pieces.clear();
+        let tally = match element_type(&el.kind) {
+            None => &mut report.skipped,
+            Some(t) => {
+                if matches!(t.kind, Kind::Wall { .. }) {
+                    report.wall_elements += 1;
+                }
+                match place(
+                    el,
+                    t.kind,
+                    &elements,
+                    options.wall_length,
+                    height,
+                    &mut pieces,
+                ) {
+                    None => &mut report.skipped,
+                    Some(pose) => {
+                        builder.add(&pose, &pieces);
+                        if pieces.is_empty() {
+                            &mut report.out_of_plane
+                        } else {
+                            &mut report.in_plane
+                        }
+                    }
+                }
+            }
+        };
+        *tally.entry(el.kind.clone()).or_insert(0) += 1;
+    }
+    report.duplicate_walls = builder.duplicates;
+    let (world, barrels) = builder.finish();
+    report.barrels = barrels;
     if world.walls.is_empty() && world.discs.is_empty() {
-        let ignored = report
-            .ignored
-            .iter()
-            .map(|(t, n)| format!("{t} x {n}"))
-            .collect::<Vec<_>>()
-            .join(", ");
+        let list = |m: &BTreeMap<String, usize>| {
+            if m.is_empty() {
+                "none".to_owned()
+            } else {
+                m.iter()
+                    .map(|(t, n)| format!("{t} x {n}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            }
+        };
         return Err(ArenaError::Empty {
             name: name.to_owned(),
             elements: report.elements,
-            ignored: if ignored.is_empty() {
-                "none".to_owned()
-            } else {
-                ignored
-            },
+            height,
+            out_of_plane: list(&report.out_of_plane),
+            skipped: list(&report.skipped),
         });
     }
     Ok(Arena {
@@ -299,6 +371,75 @@ pub fn parse_raf(text: &str, name: &str, options: &ArenaOptions) -> Result<Arena
         world,
         report,
     })
+}
+
+/// Cuts element `el` of kind `kind` at height `h` into `pieces` (element frame) and
+/// returns where the element stands; `None` when its shape at that height is not known.
+fn place(
+    el: &Element,
+    kind: Kind,
+    all: &[Element],
+    wall_length: WallLength,
+    h: f64,
+    pieces: &mut Vec<Piece>,
+) -> Option<Isometry2> {
+    let turn = turn(el.rotation);
+    let mut centre = cell_centre(el.x, el.y) + el.offset * ARENA_GRID;
+    match kind {
+        Kind::Wall { holes, .. } => cut_wall(wall_length.metres(), holes, h, pieces),
+        Kind::Solids(solids) => solids.iter().for_each(|s| cut_solid(s, 0.0, h, pieces)),
+        Kind::Mountable(solids) => {
+            // On the first wall of the cell with the same rotation, at its mount point
+            // (the first when none is given); on the floor at the cell centre without one.
+            let mount = all
+                .iter()
+                .find(|w| {
+                    w.x == el.x
+                        && w.y == el.y
+                        && w.rotation == el.rotation
+                        && element_type(&w.kind)
+                            .is_some_and(|t| matches!(t.kind, Kind::Wall { .. }))
+                })
+                .and_then(|w| match element_type(&w.kind).map(|t| t.kind) {
+                    Some(Kind::Wall { mounts, .. }) => {
+                        usize::try_from(el.mount_point.unwrap_or(0).max(0))
+                            .ok()
+                            .and_then(|k| mounts.get(k))
+                    }
+                    _ => None,
+                });
+            let dz = match mount {
+                Some(m) => {
+                    let along = m.along - 0.5 * ARENA_GRID;
+                    centre += turn * Vector2::new(along, 0.0);
+                    m.z
+                }
+                None => 0.0,
+            };
+            solids.iter().for_each(|s| cut_solid(s, dz, h, pieces));
+        }
+        Kind::Low { top } => {
+            if h <= top {
+                return None;
+            }
+        }
+    }
+    Some(Isometry2::from_parts(
+        nalgebra::Translation2::from(centre.coords),
+        turn,
+    ))
+}
+
+/// The turn of an element at `rotation_deg` (a multiple of 90): by `-rotation_deg`, with
+/// exact sines and cosines.
+fn turn(rotation_deg: u16) -> nalgebra::UnitComplex<f64> {
+    let (c, s) = match rotation_deg % 360 {
+        0 => (1.0, 0.0),
+        90 => (0.0, -1.0),
+        180 => (-1.0, 0.0),
+        _ => (0.0, 1.0),
+    };
+    nalgebra::UnitComplex::from_cos_sin_unchecked(c, s)
 }
 
 /// The centre of grid cell `(x, y)`, m.
@@ -326,185 +467,5 @@ pub fn wall_segment(x: i64, y: i64, rotation_deg: u16, length: WallLength) -> (P
     (mid - along * half_len, mid + along * half_len)
 }
 
-fn segment_key(a: Point2, b: Point2) -> [i64; 4] {
-    let q = |v: f64| (v * 1000.0).round() as i64;
-    let (ka, kb) = ([q(a.x), q(a.y)], [q(b.x), q(b.y)]);
-    let (lo, hi) = if ka <= kb { (ka, kb) } else { (kb, ka) };
-    [lo[0], lo[1], hi[0], hi[1]]
-}
-
-/// One `<element>` of a `.raf` file.
-#[derive(Debug, Clone, PartialEq, Eq)]
-struct Element {
-    kind: String,
-    rotation: u16,
-    x: i64,
-    y: i64,
-}
-
-impl Element {
-    fn from_tag(tag: &Tag<'_>, name: &str) -> Result<Self, ArenaError> {
-        let get = |attribute: &'static str| {
-            tag.attribute(attribute)
-                .ok_or_else(|| ArenaError::MissingAttribute {
-                    name: name.to_owned(),
-                    line: tag.line,
-                    attribute,
-                })
-        };
-        let bad = |attribute: &'static str, value: &str, expected: &'static str| {
-            ArenaError::BadAttribute {
-                name: name.to_owned(),
-                line: tag.line,
-                attribute,
-                value: value.to_owned(),
-                expected,
-            }
-        };
-        let kind = get("type")?;
-        if kind.trim().is_empty() {
-            return Err(bad("type", &kind, "a non-empty element type"));
-        }
-        let rot_text = get("rotation")?;
-        let rotation = match rot_text.trim().parse::<i64>() {
-            Ok(r) if r.rem_euclid(90) == 0 => r.rem_euclid(360) as u16,
-            _ => {
-                return Err(bad(
-                    "rotation",
-                    &rot_text,
-                    "one of 0, 90, 180, 270 (degrees)",
-                ));
-            }
-        };
-        let coord = |attribute: &'static str| -> Result<i64, ArenaError> {
-            let v = get(attribute)?;
-            v.trim()
-                .parse::<i64>()
-                .ok()
-                .filter(|i| i.abs() <= 1_000_000)
-                .ok_or_else(|| bad(attribute, &v, "an integer grid index"))
-        };
-        Ok(Self {
-            kind: kind.trim().to_owned(),
-            rotation,
-            x: coord("x")?,
-            y: coord("y")?,
-        })
-    }
-}
-
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use tags::decode_entities;
-
-    fn parse(text: &str) -> Result<Arena, ArenaError> {
-        parse_raf(text, "test.raf", &ArenaOptions::default())
-    }
-
-    fn close(a: Point2, x: f64, y: f64) -> bool {
-        (a.x - x).abs() < 1e-12 && (a.y - y).abs() < 1e-12
-    }
-
-    #[test]
-    fn rotations_put_the_wall_on_the_documented_edge() {
-        let (a, b) = wall_segment(0, 0, 0, WallLength::Full);
-        assert!(close(a, -0.6, 0.6) && close(b, 0.6, 0.6));
-        let (a, b) = wall_segment(0, 0, 90, WallLength::Full);
-        assert!(close(a, 0.6, 0.6) && close(b, 0.6, -0.6));
-        let (a, b) = wall_segment(0, 0, 180, WallLength::Full);
-        assert!(close(a, 0.6, -0.6) && close(b, -0.6, -0.6));
-        let (a, b) = wall_segment(0, 0, 270, WallLength::Full);
-        assert!(close(a, -0.6, -0.6) && close(b, -0.6, 0.6));
-        let (a, b) = wall_segment(2, -1, 90, WallLength::Mesh);
-        assert!(close(a, 3.0, -0.7) && close(b, 3.0, -1.7));
-    }
-
-    #[test]
-    fn duplicate_edges_become_one_wall() {
-        // The +x edge of (0, 0) is the -x edge of (1, 0).
-        let a = parse(
-            r#"<elements><element type="small_wall" rotation="90" x="0" y="0"/>
-            <element type="tall_wall" rotation="270" x="1" y="0"/></elements>"#,
-        )
-        .unwrap();
-        assert_eq!(a.world.walls.len(), 1);
-        assert_eq!(a.report.wall_elements, 2);
-        assert_eq!(a.report.duplicate_walls, 1);
-    }
-
-    #[test]
-    fn barrels_are_discs_and_the_rest_is_reported() {
-        let a = parse(
-            "<?xml version='1.0'?>\n<!-- a comment with <element> inside -->\n<elements>\n\
-             <element type='fiducial_barrel' rotation='0' x='1' y='2'/>\n\
-             <element type=\"victim_1\" rotation=\"0\" x=\"-14\" y=\"-4\" offset-x=\"-0.04\"/>\n\
-             <element type=\"mystery_box\" rotation=\"0\" x=\"0\" y=\"0\"/>\n</elements>",
-        )
-        .unwrap();
-        assert_eq!(a.world.discs.len(), 1);
-        assert!(close(a.world.discs[0].centre, 1.2, 2.4));
-        assert_eq!(a.report.ignored.get("victim_1"), Some(&1));
-        assert_eq!(a.report.ignored.get("mystery_box"), Some(&1));
-        assert_eq!(a.report.unknown_types(), vec!["mystery_box"]);
-        assert_eq!(a.report.elements, 3);
-    }
-
-    #[test]
-    fn bad_input_is_an_error_naming_the_line() {
-        let e = parse("<elements>\n<element type=\"small_wall\" rotation=\"45\" x=\"0\" y=\"0\"/>")
-            .unwrap_err();
-        assert!(
-            matches!(
-                e,
-                ArenaError::BadAttribute {
-                    line: 2,
-                    attribute: "rotation",
-                    ..
-                }
-            ),
-            "{e}"
-        );
-        let e =
-            parse("<element type=\"small_wall\" rotation=\"0\" x=\"1.5\" y=\"0\"/>").unwrap_err();
-        assert!(
-            matches!(e, ArenaError::BadAttribute { attribute: "x", .. }),
-            "{e}"
-        );
-        let e = parse("<element type=\"small_wall\" rotation=\"0\" x=\"1\"/>").unwrap_err();
-        assert!(
-            matches!(e, ArenaError::MissingAttribute { attribute: "y", .. }),
-            "{e}"
-        );
-        let e = parse("<elements>\n<element type=\"small_wall").unwrap_err();
-        assert!(matches!(e, ArenaError::Xml { line: 2, .. }), "{e}");
-        let e = parse("<!-- never closed").unwrap_err();
-        assert!(matches!(e, ArenaError::Xml { .. }), "{e}");
-        let e = parse("<element type=small_wall/>").unwrap_err();
-        assert!(matches!(e, ArenaError::Xml { .. }), "{e}");
-        let e = parse("<element type=\"a&bogus;\" rotation=\"0\" x=\"0\" y=\"0\"/>").unwrap_err();
-        assert!(matches!(e, ArenaError::Xml { .. }), "{e}");
-    }
-
-    #[test]
-    fn an_arena_without_walls_is_empty() {
-        let e = parse("<elements></elements>").unwrap_err();
-        assert!(matches!(e, ArenaError::Empty { elements: 0, .. }), "{e}");
-        let e = parse(
-            "<elements><element type=\"half_ramp\" rotation=\"0\" x=\"0\" y=\"0\"/></elements>",
-        )
-        .unwrap_err();
-        assert!(e.to_string().contains("half_ramp x 1"), "{e}");
-        let e = parse("").unwrap_err();
-        assert!(matches!(e, ArenaError::Empty { .. }));
-    }
-
-    #[test]
-    fn entities_are_decoded() {
-        assert_eq!(
-            decode_entities("a&amp;b&#65;&#x42;").as_deref(),
-            Some("a&bAB")
-        );
-        assert_eq!(decode_entities("a&b"), None);
-    }
-}
+mod tests;

@@ -1,8 +1,9 @@
 //! Where a run starts in an arena: the grid cell centre nearest the origin in the largest
-//! free region the walls enclose.
+//! free region within the arena's outline.
 
 use laserlines::math::{Isometry2, Point2, Vector2};
 
+use super::outline::ArenaOutline;
 use super::{ARENA_GRID, cell_centre};
 use crate::index::WorldIndex;
 use crate::world::{Target, World};
@@ -11,14 +12,15 @@ use crate::world::{Target, World};
 pub const START_SEARCH_CELL: f64 = 0.1;
 
 /// A start pose inside the arena: the centre of the grid cell (a point `(1.2 i, 1.2 j)`)
-/// nearest to the origin within the largest *enclosed* free region, facing +x (yaw 0).
+/// nearest to the origin within the largest free region of the arena, facing +x (yaw 0).
 ///
 /// Free means at least `clearance` m (e.g. a robot's circumradius) from every wall and
 /// disc, on a [`START_SEARCH_CELL`] grid over the world's bounding box and 1 m around it;
-/// regions are 4-connected; a region touching the grid's edge is outside the arena and
-/// never chosen. Real arena files put their origin anywhere: inside the arena, in a small
-/// pocket closed by barrels, or outside the outer wall. `None` when no enclosed region
-/// holds a grid cell's centre with that clearance.
+/// regions are 4-connected and made of free cells within the arena's [`ArenaOutline`] (its
+/// walls with gaps up to 1.3 m closed), or, when the outline encloses no free cell, within
+/// the bounding box of its largest group of walls. Real arena files put their origin
+/// anywhere: inside the arena, in a small pocket closed by barrels, or outside the outer
+/// wall. `None` when no such region holds a grid cell's centre with that clearance.
 ///
 /// ```
 /// use laserlines_sim::World;
@@ -39,15 +41,26 @@ pub fn interior_start(world: &World, clearance: f64) -> Option<Isometry2> {
         return None;
     }
     let grid = SearchGrid::new(world, lo, hi);
-    let free: Vec<bool> = (0..grid.cols * grid.rows)
+    let outline = ArenaOutline::of_index(&grid.index);
+    let clear: Vec<bool> = (0..grid.cols * grid.rows)
         .map(|c| grid.clear_at(grid.centre(c), clearance))
         .collect();
+    let within = |test: &dyn Fn(Point2) -> bool| -> Vec<bool> {
+        (0..grid.cols * grid.rows)
+            .map(|c| clear[c] && test(grid.centre(c)))
+            .collect()
+    };
+    let enclosed = within(&|p| outline.encloses(p));
+    let free = if enclosed.iter().any(|f| *f) {
+        enclosed
+    } else {
+        within(&|p| outline.within_bounds(p))
+    };
     let (region, regions) = grid.regions(&free);
     let (best, _) = regions
         .iter()
         .enumerate()
-        .filter(|(_, (_, outside))| !outside)
-        .max_by_key(|(id, (size, _))| (*size, std::cmp::Reverse(*id)))?;
+        .max_by_key(|(id, size)| (**size, std::cmp::Reverse(*id)))?;
     // The grid cell centre in that region nearest to the origin.
     let (i0, i1) = (
         (lo.x / ARENA_GRID).floor() as i64,
@@ -156,25 +169,23 @@ impl<'a> SearchGrid<'a> {
     }
 
     /// The 4-connected regions of the `free` cells by flood fill: each cell's region
-    /// (`usize::MAX` for none), and each region's size and whether it touches the grid's
-    /// edge.
-    fn regions(&self, free: &[bool]) -> (Vec<usize>, Vec<(usize, bool)>) {
+    /// (`usize::MAX` for none), and each region's size.
+    fn regions(&self, free: &[bool]) -> (Vec<usize>, Vec<usize>) {
         let (cols, rows) = (self.cols, self.rows);
         let mut region = vec![usize::MAX; cols * rows];
-        let mut regions: Vec<(usize, bool)> = Vec::new();
+        let mut regions: Vec<usize> = Vec::new();
         let mut stack = Vec::new();
         for seed in 0..cols * rows {
             if !free[seed] || region[seed] != usize::MAX {
                 continue;
             }
             let id = regions.len();
-            let (mut size, mut outside) = (0, false);
+            let mut size = 0;
             region[seed] = id;
             stack.push(seed);
             while let Some(c) = stack.pop() {
                 size += 1;
                 let (x, y) = (c % cols, c / cols);
-                outside |= x == 0 || y == 0 || x + 1 == cols || y + 1 == rows;
                 let mut visit = |n: usize| {
                     if free[n] && region[n] == usize::MAX {
                         region[n] = id;
@@ -194,7 +205,7 @@ impl<'a> SearchGrid<'a> {
                     visit(c + cols);
                 }
             }
-            regions.push((size, outside));
+            regions.push(size);
         }
         (region, regions)
     }

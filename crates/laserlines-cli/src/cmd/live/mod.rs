@@ -1,0 +1,206 @@
+//! `laserlines live`: a Hokuyo sensor (USB serial or Ethernet), its scans to lines as they
+//! come, to a Foxglove live view, an MCAP recording and/or lines JSONL (`outputs`), with a
+//! status line (`status`).
+
+mod outputs;
+mod status;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, anyhow, bail};
+use clap::Args;
+use laserlines::Line;
+use laserlines::registry::BoxedExtractor;
+use laserlines_hokuyo::codec::Encoding;
+use laserlines_hokuyo::{Endpoint, Scanner, ScannerOptions};
+use laserlines_io::ScanRecord;
+
+use outputs::Outputs;
+use status::Tally;
+
+/// Arguments of `laserlines live`.
+#[derive(Debug, Args)]
+pub struct LiveArgs {
+    /// The sensor: a serial device (/dev/ttyACM0, COM3) or HOST:PORT (192.168.0.10:10940).
+    device: String,
+    /// Fix the serial bit rate (default: try 115200, 19200, 38400).
+    #[arg(long)]
+    baud: Option<u32>,
+    /// Line extraction algorithm.
+    #[arg(long, default_value = "hough-split")]
+    algorithm: String,
+    /// TOML file of parameters (one table per algorithm, e.g. `[hough-split]`).
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// Serve the scans and lines live to Foxglove on ws://127.0.0.1:PORT.
+    #[arg(long)]
+    view: bool,
+    /// Port of the live view (0 picks a free one).
+    #[arg(long, default_value_t = 8765)]
+    port: u16,
+    /// Record scans and lines to this MCAP file.
+    #[arg(long)]
+    record: Option<PathBuf>,
+    /// Write the lines of every scan to this JSONL file (`-` for stdout).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// The three sector objects (left, front, right) of every scan: printed, and on
+    /// `/sectors` in the live view and the recording.
+    #[arg(long)]
+    sectors: bool,
+    /// Stop after this many scans.
+    #[arg(long)]
+    scans: Option<u64>,
+    /// Stop after this many seconds.
+    #[arg(long)]
+    duration: Option<f64>,
+    /// Cluster count: so many neighbouring steps per beam (1..=99).
+    #[arg(long, default_value_t = 1)]
+    cluster: u32,
+    /// Scans to skip between two sent (0..=9).
+    #[arg(long, default_value_t = 0)]
+    skip: u32,
+    /// Use MS (2-character ranges, up to 4095 mm) instead of MD.
+    #[arg(long)]
+    ms: bool,
+    /// Treat the link as lost after this many seconds without data (default: 10 scan
+    /// periods, at least 1 s).
+    #[arg(long)]
+    silence: Option<f64>,
+}
+
+/// Seconds given to `flag` as a duration.
+fn seconds(value: Option<f64>, flag: &str) -> Result<Option<Duration>> {
+    value
+        .map(|s| Duration::try_from_secs_f64(s).map_err(|_| anyhow!("{flag} must be seconds >= 0")))
+        .transpose()
+}
+
+/// Opens the sensor with the request the options ask for (the whole measurement area, as
+/// the sensor describes it, with the cluster count, skip and encoding chosen), and says
+/// what it is on stderr.
+fn open_sensor(args: &LiveArgs, endpoint: &Endpoint, silence: Option<Duration>) -> Result<Scanner> {
+    let probe = ScannerOptions {
+        silence,
+        ..ScannerOptions::default()
+    };
+    let mut scanner = Scanner::open(endpoint, probe).context("cannot start the sensor")?;
+    let mut request = scanner.info().full_request();
+    request.cluster = args.cluster;
+    request.skip = args.skip;
+    if args.ms {
+        request.encoding = Encoding::Two;
+    }
+    if request != *scanner.request() {
+        scanner.close()?;
+        let options = ScannerOptions {
+            request: Some(request),
+            silence,
+            ..ScannerOptions::default()
+        };
+        scanner = Scanner::open(endpoint, options).context("cannot start the sensor")?;
+    }
+    let info = scanner.info();
+    eprintln!(
+        "laserlines: {} ({}, serial {}, firmware {}) on {endpoint}: {} beams, {:.2} scans/s{}",
+        info.model,
+        info.protocol,
+        info.serial,
+        info.firmware,
+        request.values(),
+        1.0 / (info.scan_period_s() * f64::from(request.skip + 1)),
+        if scanner.stats().switched_from_scip11 {
+            ", switched from SCIP 1.1"
+        } else {
+            ""
+        }
+    );
+    Ok(scanner)
+}
+
+/// Scans to lines to the outputs until the scan count or duration is reached, the sensor is
+/// given up on, or `stop` is set (Ctrl-C).
+fn stream(
+    args: &LiveArgs,
+    duration: Option<Duration>,
+    scanner: &mut Scanner,
+    extractor: &mut BoxedExtractor,
+    outputs: &mut Outputs,
+    tally: &mut Tally,
+    stop: &AtomicBool,
+) -> Result<()> {
+    let start = Instant::now();
+    let mut lines: Vec<Line> = Vec::new();
+    let tty = std::io::IsTerminal::is_terminal(&std::io::stderr());
+    while args.scans.is_none_or(|n| tally.scans < n) && duration.is_none_or(|d| start.elapsed() < d)
+    {
+        let Some(scan) = scanner.next_scan(stop) else {
+            break;
+        };
+        let t0 = Instant::now();
+        extractor.extract_into(&scan.scan, &mut lines);
+        let done = Instant::now();
+        let extract_us = (done - t0).as_secs_f64() * 1e6;
+        let latency_us = done.saturating_duration_since(scan.received).as_secs_f64() * 1e6;
+        outputs.publish(tally.scans, &ScanRecord::new(scan.scan), &lines)?;
+        tally.add(lines.len(), extract_us, latency_us, done);
+        tally.report(scanner.stats(), done, tty);
+    }
+    if tty {
+        eprintln!();
+    }
+    Ok(())
+}
+
+/// Runs the command.
+pub fn run(args: &LiveArgs) -> Result<()> {
+    let mut endpoint: Endpoint = args.device.parse().map_err(|e| anyhow!("{e}"))?;
+    if let (Endpoint::Serial { baud, .. }, Some(b)) = (&mut endpoint, args.baud) {
+        *baud = Some(b);
+    }
+    if !(1..=99).contains(&args.cluster) || args.skip > 9 {
+        bail!("--cluster must be 1..=99 and --skip 0..=9");
+    }
+    let silence = args
+        .silence
+        .map(|s| {
+            Duration::try_from_secs_f64(s).map_err(|_| anyhow!("--silence must be seconds > 0"))
+        })
+        .transpose()?;
+    let duration = seconds(args.duration, "--duration")?;
+    let mut extractor = super::make_extractor(&args.algorithm, args.params.as_deref())?;
+    let stop = Arc::new(AtomicBool::new(false));
+    let s = stop.clone();
+    ctrlc::set_handler(move || s.store(true, Ordering::Relaxed)).context("cannot catch Ctrl-C")?;
+
+    let mut scanner = open_sensor(args, &endpoint, silence)?;
+    let mut outputs = Outputs::open(args)?;
+    let start = Instant::now();
+    let mut tally = Tally::start();
+    let result = stream(
+        args,
+        duration,
+        &mut scanner,
+        &mut extractor,
+        &mut outputs,
+        &mut tally,
+        &stop,
+    );
+    // QT on every way out: the end of the run, Ctrl-C, an output error.
+    let stats = scanner.stats().clone();
+    let quit = scanner.close();
+    outputs.close()?;
+    eprintln!(
+        "laserlines: {} scans, {} lines in {:.1} s; {}",
+        tally.scans,
+        tally.lines,
+        start.elapsed().as_secs_f64(),
+        tally.status_line(&stats)
+    );
+    result?;
+    quit.context("the sensor did not confirm QT")?;
+    Ok(())
+}

@@ -1,0 +1,91 @@
+//! The figures of a `live` run: scans, lines, extraction time and the time from a scan's
+//! last byte to its lines, shown in a status line every second and in the summary.
+
+use std::time::{Duration, Instant};
+
+use laserlines_hokuyo::ScannerStats;
+
+/// Figures of the run shown in the status line.
+#[derive(Default)]
+pub struct Tally {
+    /// Scans extracted.
+    pub scans: u64,
+    /// Lines extracted.
+    pub lines: u64,
+    window_start: Option<Instant>,
+    window_scans: u64,
+    extract_us_max: f64,
+    latency_us_max: f64,
+    extract_us_sum: f64,
+    latency_us_sum: f64,
+    /// Scans per second over the last window.
+    pub rate: f64,
+    last_status: Option<Instant>,
+}
+
+impl Tally {
+    /// A tally starting now (the first status line comes a second from now).
+    pub fn start() -> Self {
+        Self {
+            last_status: Some(Instant::now()),
+            ..Self::default()
+        }
+    }
+
+    /// Counts a scan whose `lines` lines took `extract_us` to extract, `latency_us` after
+    /// its last byte, the extraction done at `done`.
+    pub fn add(&mut self, lines: usize, extract_us: f64, latency_us: f64, done: Instant) {
+        self.extract_us_sum += extract_us;
+        self.latency_us_sum += latency_us;
+        self.extract_us_max = self.extract_us_max.max(extract_us);
+        self.latency_us_max = self.latency_us_max.max(latency_us);
+        self.scans += 1;
+        self.lines += lines as u64;
+        self.window_scans += 1;
+        self.window_start.get_or_insert(done);
+    }
+
+    /// Every second: the rate over the window, and the status line on stderr (one line
+    /// rewritten on a terminal, one line per second otherwise).
+    pub fn report(&mut self, stats: &ScannerStats, done: Instant, tty: bool) {
+        let (Some(w0), Some(last)) = (self.window_start, self.last_status) else {
+            return;
+        };
+        if last.elapsed() < Duration::from_secs(1) {
+            return;
+        }
+        let secs = done.duration_since(w0).as_secs_f64();
+        if secs > 0.0 {
+            self.rate = (self.window_scans - 1) as f64 / secs;
+        }
+        self.window_start = Some(done);
+        self.window_scans = 1;
+        let line = self.status_line(stats);
+        if tty {
+            eprint!("\r{line}\x1b[K");
+        } else {
+            eprintln!("laserlines: {line}");
+        }
+        self.last_status = Some(Instant::now());
+    }
+
+    /// The status line.
+    pub fn status_line(&self, stats: &ScannerStats) -> String {
+        let n = self.scans.max(1) as f64;
+        format!(
+            "{:.1} scans/s, {} scans, dropped: {}, reconnects {}, clock offset {}, drift {:.1} ppm, extraction {:.0} us (max {:.0}), last byte to lines {:.0} us (max {:.0})",
+            self.rate,
+            self.scans,
+            stats.dropped,
+            stats.reconnects,
+            stats
+                .clock_offset_s
+                .map_or_else(|| "-".to_owned(), |o| format!("{o:.3} s")),
+            stats.drift * 1e6,
+            self.extract_us_sum / n,
+            self.extract_us_max,
+            self.latency_us_sum / n,
+            self.latency_us_max,
+        )
+    }
+}

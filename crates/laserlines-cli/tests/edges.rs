@@ -1,0 +1,355 @@
+//! What a new user runs into, end to end: empty inputs, names the command cannot write,
+//! values out of range (negative ones too), files given to the wrong command, the formats of
+//! old ROS bags and ROS 2 bags in sqlite3 storage. Each error must exit with code 2 and say
+//! what was wrong, never panic nor clamp silently.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_laserlines"))
+}
+
+fn repo(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(rel)
+}
+
+fn excerpt() -> PathBuf {
+    repo("data/urg04lx-exp1-excerpt.dat.gz")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("laserlines-edges-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn run(cmd: &mut Command) -> Output {
+    cmd.output().expect("the laserlines binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Exit code 2, `needle` in the message, no panic.
+fn fails_with(o: &Output, needle: &str) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
+    assert!(
+        err.contains(needle),
+        "stderr does not say {needle:?}: {err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn an_input_without_scans_fails_whatever_its_format() {
+    for name in ["empty.jsonl", "empty.dat", "empty.json", "empty.csv"] {
+        let path = tmp(name);
+        std::fs::write(&path, b"").unwrap();
+        let o = run(bin().arg("extract").arg(&path).args(["-o", "-"]));
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
+        let o = run(bin().arg("convert").arg(&path).arg(tmp("out.jsonl")));
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
+    }
+    let o = run(bin().arg("extract").arg(tmp("empty.jsonl")));
+    fails_with(&o, "no scans to read");
+}
+
+#[test]
+fn skip_bad_with_every_record_bad_fails() {
+    let path = tmp("all_bad.jsonl");
+    std::fs::write(&path, b"{\"angle_min\": 1}\nnot json\n").unwrap();
+    let o = run(bin().arg("extract").arg(&path).arg("--skip-bad"));
+    fails_with(&o, "no scans read: every record was skipped");
+}
+
+#[test]
+fn a_lines_file_given_as_scans_is_named_as_such() {
+    let lines = tmp("lines.jsonl");
+    let o = run(bin().arg("extract").arg(excerpt()).arg("-o").arg(&lines));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(bin().arg("extract").arg(&lines));
+    fails_with(&o, "this is a lines file");
+}
+
+#[test]
+fn outputs_are_what_their_names_say() {
+    // render: SVG to a .svg file or to standard output, nothing else.
+    let png = tmp("fig.png");
+    let o = run(bin().arg("render").arg(excerpt()).arg("-o").arg(&png));
+    fails_with(&o, "render writes SVG");
+    assert!(!png.exists());
+    let o = run(bin().arg("render").arg(excerpt()).args(["-o", "-"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(o.stdout.starts_with(b"<?xml"));
+    assert!(o.stdout.ends_with(b"</svg>\n"));
+    assert!(!Path::new("-").exists());
+    // extract: lines JSONL or MCAP.
+    let o = run(bin()
+        .arg("extract")
+        .arg(excerpt())
+        .arg("-o")
+        .arg(tmp("lines.txt")));
+    fails_with(
+        &o,
+        "expected lines JSONL (.jsonl, .jsonl.gz, or - for standard output)",
+    );
+    // .mcap.gz is read, never written.
+    for cmd in ["extract", "convert"] {
+        let mut c = bin();
+        c.arg(cmd).arg(excerpt());
+        if cmd == "extract" {
+            c.arg("-o");
+        }
+        let o = run(c.arg(tmp(&format!("{cmd}.mcap.gz"))));
+        fails_with(&o, "MCAP compresses its own chunks");
+    }
+}
+
+#[test]
+fn a_gzipped_mcap_reads_back() {
+    let mcap = tmp("round.mcap");
+    let o = run(bin().arg("convert").arg(excerpt()).arg(&mcap));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let gz = tmp("round.mcap.gz");
+    let mut enc = flate2::write::GzEncoder::new(
+        std::fs::File::create(&gz).unwrap(),
+        flate2::Compression::fast(),
+    );
+    enc.write_all(&std::fs::read(&mcap).unwrap()).unwrap();
+    enc.finish().unwrap();
+    let plain = run(bin().arg("extract").arg(&mcap));
+    let zipped = run(bin().arg("extract").arg(&gz));
+    assert!(zipped.status.success(), "{}", stderr(&zipped));
+    assert_eq!(plain.stdout, zipped.stdout);
+    assert_eq!(String::from_utf8_lossy(&zipped.stdout).lines().count(), 40);
+}
+
+#[test]
+fn convert_names_what_it_writes_and_leaves_no_partial_file() {
+    let o = run(bin().arg("convert").arg(excerpt()).arg(tmp("out.txt")));
+    fails_with(&o, ".mcap");
+    fails_with(&o, "--to FORMAT");
+    let csv = tmp("many.csv");
+    let o = run(bin().arg("convert").arg(excerpt()).arg(&csv));
+    fails_with(&o, "one scan per file");
+    assert!(!csv.exists(), "the partial CSV is left behind");
+}
+
+#[test]
+fn values_out_of_range_are_errors_not_clamped() {
+    for (args, needle) in [
+        (
+            &["demo", "--figure-scan", "40"][..],
+            "--figure-scan must be less than 40",
+        ),
+        (&["demo", "--repeat", "0"][..], "must be at least 1, got 0"),
+        (&["bench", "--repeat", "0"][..], "must be at least 1, got 0"),
+        (
+            &["simulate", "--duration", "-5"][..],
+            "--duration must be a positive number",
+        ),
+        (
+            &["simulate", "--snapshot", "-1"][..],
+            "--snapshot must lie within the run",
+        ),
+    ] {
+        let mut c = bin();
+        c.args(args).arg("-o").arg(tmp("out-dir"));
+        let o = run(&mut c);
+        fails_with(&o, needle);
+    }
+    for (args, needle) in [
+        (&["--width", "10"][..], "--width must lie from 400 to 8000"),
+        (&["--width", "-3"][..], "--width must lie from 400 to 8000"),
+        (&["--scan", "-1"][..], "indices count from 0, got -1"),
+    ] {
+        let o = run(bin()
+            .arg("render")
+            .arg(excerpt())
+            .args(args)
+            .arg("-o")
+            .arg(tmp("w.svg")));
+        fails_with(&o, needle);
+    }
+    let o = run(bin().arg("view").arg(excerpt()).args(["--rate", "-1"]));
+    fails_with(&o, "--rate must be a number >= 0");
+}
+
+#[test]
+fn simulate_refuses_a_start_outside_the_arena_and_a_short_run_still_draws_its_sectors() {
+    let dir = tmp("sim-outside");
+    let o = run(bin()
+        .args([
+            "simulate",
+            "--arena",
+            "inner_explore_test",
+            "--start",
+            "100,100,0",
+        ])
+        .arg("-o")
+        .arg(&dir));
+    fails_with(&o, "--start (100, 100): outside inner_explore_test");
+    let dir = tmp("sim-short");
+    let o = run(bin()
+        .args([
+            "simulate",
+            "--arena",
+            "inner_explore_test",
+            "--duration",
+            "3",
+        ])
+        .arg("-o")
+        .arg(&dir));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.join("sectors.svg").is_file(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(!out.contains("at never"), "{out}");
+}
+
+#[test]
+fn help_lists_the_algorithms_and_summaries_count_in_the_singular() {
+    let o = run(bin().args(["extract", "--help"]));
+    let help = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        help.contains("[possible values: hough-split, iterative-hough"),
+        "{help}"
+    );
+    let one = repo("crates/laserlines-io/tests/fixtures/three_beams.json");
+    let o = run(bin().arg("extract").arg(&one));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains(": 1 scan, "), "{err}");
+    let o = run(bin()
+        .args(["demo", "--repeat", "1"])
+        .arg("-o")
+        .arg(tmp("demo1")));
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(out.contains("(median of 1 pass, one thread)"), "{out}");
+}
+
+#[test]
+fn params_tables_the_command_does_not_read_are_named() {
+    let params = tmp("other.toml");
+    std::fs::write(&params, "[ransac]\nseed = 3\n[robot]\nwheel_base = 0.3\n").unwrap();
+    let o = run(bin()
+        .arg("extract")
+        .arg(excerpt())
+        .arg("--params")
+        .arg(&params)
+        .args(["-o", "-"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("[ransac] is not used by extract (the algorithm is hough-split)"),
+        "{err}"
+    );
+    assert!(
+        err.contains("[robot] is not used by extract (read by simulate)"),
+        "{err}"
+    );
+}
+
+#[test]
+fn old_ros_bags_and_ros2_sqlite_bags_extract() {
+    let v12 = repo("crates/laserlines-io/tests/fixtures/bags/laserscans_v12.bag");
+    let o = run(bin().arg("extract").arg(&v12));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(String::from_utf8_lossy(&o.stdout).lines().count(), 6);
+    let db3 = repo("crates/laserlines-foxglove/tests/fixtures/ros2_laserscan_sqlite3");
+    for topic in ["/scan", "/scan_rear"] {
+        let o = run(bin().arg("extract").arg(&db3).args(["--topic", topic]));
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert_eq!(String::from_utf8_lossy(&o.stdout).lines().count(), 3);
+    }
+}
+
+/// The options a subcommand's `--help` lists (but `--help`): each as its names (`-o`,
+/// `--output`).
+fn options_of(command: &str) -> Vec<Vec<String>> {
+    let o = run(bin().args([command, "--help"]));
+    let help = String::from_utf8_lossy(&o.stdout).into_owned();
+    help.lines()
+        .filter_map(|l| {
+            let l = l.trim_start();
+            if !l.starts_with('-') {
+                return None;
+            }
+            let names: Vec<String> = l
+                .split_whitespace()
+                .take_while(|w| w.starts_with('-'))
+                .map(|w| w.trim_end_matches(',').to_owned())
+                .collect();
+            (!names.iter().any(|n| n == "--help")).then_some(names)
+        })
+        .collect()
+}
+
+#[test]
+fn the_readme_synopses_name_every_option_of_the_help() {
+    let readme = std::fs::read_to_string(repo("README.md")).unwrap();
+    let section = readme
+        .split("## Command line")
+        .nth(1)
+        .and_then(|s| s.split("```sh").nth(1))
+        .and_then(|s| s.split("```").next())
+        .unwrap();
+    for command in [
+        "extract", "render", "demo", "bench", "convert", "view", "simulate",
+    ] {
+        let synopsis: String = section
+            .lines()
+            .filter(|l| l.starts_with(&format!("laserlines {command} ")))
+            .collect();
+        assert!(!synopsis.is_empty(), "no synopsis of {command}");
+        let options = options_of(command);
+        assert!(options.len() >= 3, "{command}: {options:?}");
+        for names in options {
+            let named = names.iter().any(|option| {
+                [" ", "]", "|"]
+                    .iter()
+                    .any(|end| synopsis.contains(&format!("{option}{end}")))
+            });
+            assert!(
+                named,
+                "README's synopsis of {command} lacks {names:?}: {synopsis}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_long_input_name_wraps_in_the_sectors_title() {
+    let long = tmp(&format!(
+        "{}_scans.dat.gz",
+        "a_very_long_log_name".repeat(8)
+    ));
+    std::fs::copy(excerpt(), &long).unwrap();
+    let o = run(bin()
+        .arg("render")
+        .arg(&long)
+        .args(["--sectors", "-o", "-"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = String::from_utf8_lossy(&o.stdout);
+    let title: Vec<&str> = svg
+        .split("class=\"panel-title\"")
+        .skip(1)
+        .filter_map(|t| t.split_once('>').and_then(|(_, r)| r.split('<').next()))
+        .collect();
+    assert!(title.len() >= 3, "{title:?}");
+    // The plot is 560 px wide; 13.5 px bold letters are about 8 px wide.
+    for line in &title {
+        assert!(line.chars().count() <= 75, "{line:?} in {title:?}");
+    }
+    assert!(
+        !svg.contains(&std::env::temp_dir().display().to_string()),
+        "the whole path"
+    );
+}

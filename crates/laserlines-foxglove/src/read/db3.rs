@@ -1,0 +1,273 @@
+//! ROS 2 bags in sqlite3 storage (`.db3`, the default storage before ROS 2 Iron): the
+//! `sensor_msgs/msg/LaserScan` messages (CDR) of one topic, read from the `topics` and
+//! `messages` tables that every version of the storage has (`topics`: `id`, `name`, `type`,
+//! `serialization_format`; `messages`: `id`, `topic_id`, `timestamp`, `data`).
+//!
+//! The database is opened read-only through SQLite itself (the `rusqlite` crate with its
+//! bundled SQLite). Messages come out in the order they were written (their `id`), a page of
+//! [`PAGE`] messages at a time, so memory stays flat on long bags. The topic read is the one
+//! asked for (with or without its leading `/`), or else the first LaserScan topic of the
+//! file; the other LaserScan topics' messages are counted as skipped. The stamp is the
+//! header's, or the message's `timestamp` (receive time) when the header stamp is zero. A
+//! message that does not decode is an error naming the file and the message id, and reading
+//! goes on.
+
+use std::collections::VecDeque;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use laserlines_io::{ReadError, ScanRecord, ScanSource, SkipCounts, SourcePos};
+use rusqlite::{Connection, OpenFlags, params};
+
+use super::SKIP_OTHER_TOPIC;
+
+/// The first 16 bytes of every SQLite 3 database.
+pub const SQLITE_MAGIC: &[u8; 16] = b"SQLite format 3\0";
+/// The message type read.
+pub const LASER_SCAN_TYPE: &str = "sensor_msgs/msg/LaserScan";
+/// Messages read from the database at a time.
+pub const PAGE: i64 = 64;
+
+/// True when the file starts like an SQLite 3 database.
+pub(super) fn is_sqlite(path: &Path) -> bool {
+    let mut head = [0u8; 16];
+    std::fs::File::open(path)
+        .and_then(|mut f| f.read_exact(&mut head))
+        .is_ok_and(|()| &head == SQLITE_MAGIC)
+}
+
+/// A topic of the bag: id, name, type, serialization format.
+struct Topic {
+    id: i64,
+    name: String,
+    kind: String,
+    format: String,
+}
+
+/// One `.db3` file being read.
+struct Db3File {
+    name: String,
+    db: Connection,
+    topic_id: i64,
+    topic: String,
+    /// The id of the last message read.
+    after: i64,
+    page: VecDeque<(i64, i64, Vec<u8>)>,
+    done: bool,
+}
+
+fn db_error(name: &str, e: &rusqlite::Error) -> ReadError {
+    ReadError::Syntax {
+        pos: SourcePos::byte(name, 0),
+        expected: "a ROS 2 bag in sqlite3 storage (tables topics and messages)".to_owned(),
+        found: format!("a database SQLite cannot read that way ({e})"),
+    }
+}
+
+fn same_topic(given: &str, topic: &str) -> bool {
+    given.trim_start_matches('/') == topic.trim_start_matches('/')
+}
+
+impl Db3File {
+    /// Opens a file and chooses its topic: `topic`, or the first LaserScan topic. Counts the
+    /// messages of the other LaserScan topics in `skipped`.
+    fn open(path: &Path, topic: Option<&str>, skipped: &mut SkipCounts) -> Result<Self, ReadError> {
+        let name = path.display().to_string();
+        if !is_sqlite(path) {
+            return Err(ReadError::Syntax {
+                pos: SourcePos::byte(&name, 0),
+                expected: "an SQLite 3 database (`SQLite format 3`), as ROS 2 bags in sqlite3 \
+                           storage are"
+                    .to_owned(),
+                found: "other bytes".to_owned(),
+            });
+        }
+        let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+        let db = Connection::open_with_flags(path, flags).map_err(|e| db_error(&name, &e))?;
+        let topics = read_topics(&db).map_err(|e| db_error(&name, &e))?;
+        let chosen = topics.iter().find(|t| {
+            t.kind == LASER_SCAN_TYPE && topic.is_none_or(|given| same_topic(given, &t.name))
+        });
+        let Some(chosen) = chosen else {
+            return Err(no_topic(&name, topic, &topics));
+        };
+        if chosen.format != "cdr" {
+            return Err(ReadError::Syntax {
+                pos: SourcePos::byte(&name, 0),
+                expected: format!("topic {} serialized as cdr", chosen.name),
+                found: format!("serialization format {:?}", chosen.format),
+            });
+        }
+        let others: Vec<i64> = topics
+            .iter()
+            .filter(|t| t.kind == LASER_SCAN_TYPE && t.id != chosen.id)
+            .map(|t| t.id)
+            .collect();
+        for id in others {
+            let n: i64 = db
+                .query_row(
+                    "SELECT COUNT(*) FROM messages WHERE topic_id = ?1",
+                    params![id],
+                    |row| row.get(0),
+                )
+                .map_err(|e| db_error(&name, &e))?;
+            skipped.add_n(SKIP_OTHER_TOPIC, u64::try_from(n).unwrap_or(0));
+        }
+        Ok(Self {
+            topic_id: chosen.id,
+            topic: chosen.name.clone(),
+            name,
+            db,
+            after: i64::MIN,
+            page: VecDeque::new(),
+            done: false,
+        })
+    }
+
+    /// Reads the next page of messages of the topic.
+    fn fetch(&mut self) -> Result<(), rusqlite::Error> {
+        let mut stmt = self.db.prepare(
+            "SELECT id, timestamp, data FROM messages WHERE topic_id = ?1 AND id > ?2 \
+             ORDER BY id LIMIT ?3",
+        )?;
+        let rows = stmt.query_map(params![self.topic_id, self.after, PAGE], |row| {
+            Ok((row.get(0)?, row.get(1)?, row.get(2)?))
+        })?;
+        for row in rows {
+            self.page.push_back(row?);
+        }
+        if let Some((id, _, _)) = self.page.back() {
+            self.after = *id;
+        }
+        if self.page.len() < PAGE as usize {
+            self.done = true;
+        }
+        Ok(())
+    }
+
+    fn next(&mut self) -> Option<Result<ScanRecord, ReadError>> {
+        if self.page.is_empty()
+            && !self.done
+            && let Err(e) = self.fetch()
+        {
+            self.done = true;
+            self.page.clear();
+            return Some(Err(ReadError::Syntax {
+                pos: SourcePos::message(&self.name, self.after),
+                expected: "the next messages of the bag".to_owned(),
+                found: format!("a database error ({e})"),
+            }));
+        }
+        let (id, timestamp, data) = self.page.pop_front()?;
+        Some(self.decode(id, timestamp, &data))
+    }
+
+    fn decode(&self, id: i64, timestamp: i64, data: &[u8]) -> Result<ScanRecord, ReadError> {
+        let pos = || SourcePos::message(&self.name, id);
+        let msg = laserlines_io::ros::decode_cdr(data).map_err(|e| ReadError::Field {
+            pos: pos(),
+            field: format!(
+                "{} message: {} (byte {} of the message)",
+                self.topic, e.field, e.offset
+            ),
+            expected: e.expected,
+            found: e.found,
+        })?;
+        let mut scan = msg.to_scan();
+        if scan.stamp.is_none() && timestamp > 0 {
+            scan.stamp = Some(
+                (timestamp / 1_000_000_000) as f64 + (timestamp % 1_000_000_000) as f64 * 1e-9,
+            );
+        }
+        scan.validate()
+            .map_err(|source| ReadError::InvalidScan { pos: pos(), source })?;
+        Ok(ScanRecord {
+            scan,
+            pose: None,
+            odometry: None,
+            line: None,
+        })
+    }
+}
+
+fn read_topics(db: &Connection) -> Result<Vec<Topic>, rusqlite::Error> {
+    let mut stmt =
+        db.prepare("SELECT id, name, type, serialization_format FROM topics ORDER BY id")?;
+    let rows = stmt.query_map([], |row| {
+        Ok(Topic {
+            id: row.get(0)?,
+            name: row.get(1)?,
+            kind: row.get(2)?,
+            format: row.get(3)?,
+        })
+    })?;
+    rows.collect()
+}
+
+/// The error of a bag without the topic asked for (or without any LaserScan topic).
+fn no_topic(name: &str, topic: Option<&str>, topics: &[Topic]) -> ReadError {
+    let mut seen: Vec<String> = topics
+        .iter()
+        .map(|t| format!("{} ({})", t.name, t.kind))
+        .collect();
+    let total = seen.len();
+    seen.truncate(10);
+    let mut found = if seen.is_empty() {
+        "no topics".to_owned()
+    } else {
+        format!("topics {}", seen.join(", "))
+    };
+    if total > seen.len() {
+        found.push_str(&format!(" ({total} in all)"));
+    }
+    let expected = match topic {
+        Some(t) => format!("a {LASER_SCAN_TYPE} topic {t}"),
+        None => format!("a {LASER_SCAN_TYPE} topic"),
+    };
+    ReadError::Syntax {
+        pos: SourcePos::byte(name, 0),
+        expected,
+        found,
+    }
+}
+
+/// The `.db3` files of a ROS 2 bag, read one after the other on the topic the first one
+/// settles.
+pub(super) struct Db3FilesSource {
+    pub(super) files: VecDeque<PathBuf>,
+    current: Option<Db3File>,
+    topic: Option<String>,
+}
+
+impl Db3FilesSource {
+    pub(super) fn new(files: Vec<PathBuf>, topic: Option<&str>) -> Self {
+        Self {
+            files: files.into(),
+            current: None,
+            topic: topic.map(str::to_owned),
+        }
+    }
+}
+
+impl ScanSource for Db3FilesSource {
+    fn next_record(&mut self, skipped: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
+        loop {
+            if self.current.is_none() {
+                let path = self.files.pop_front()?;
+                match Db3File::open(&path, self.topic.as_deref(), skipped) {
+                    Ok(file) => {
+                        // Later files read the topic this one settled.
+                        self.topic = Some(file.topic.clone());
+                        self.current = Some(file);
+                    }
+                    Err(e) => return Some(Err(e)),
+                }
+            }
+            let current = self.current.as_mut()?;
+            match current.next() {
+                Some(item) => return Some(item),
+                None => self.current = None,
+            }
+        }
+    }
+}

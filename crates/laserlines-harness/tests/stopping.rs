@@ -1,0 +1,62 @@
+//! The run stops once the robot can learn nothing more, even when it still sees ground
+//! it cannot reach.
+//!
+//! `rc_2015_arena_big.raf` as the arena loader saw it before it modelled every element
+//! (walls on their cell edges, barrels as discs of 0.15 m radius at the cell centres,
+//! nothing else) closes the region around (2.4 m, 2.4 m) with barrels whose gaps the
+//! robot sees through but cannot pass. Its run from there covered that region by 74 s and
+//! then went on to the time limit: every frontier it tried beyond the barrels was given up
+//! after 12 s and the next one chosen, and the few cells each scan through the gaps added
+//! to its map (about 80 in the last 500 s) kept resetting the idle timeout, which any
+//! single new cell did; and with a frontier always left to try, none of the plans came back
+//! empty. Now six different frontiers given up while the map grows by less than 1 m^2
+//! (`TravelParams::fruitless_give_ups`, `fruitless_gain_m2`) complete the exploration: the
+//! same run stops at 497 s, explored.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use laserlines::math::{Isometry2, Vector2};
+use laserlines_harness::{RunConfig, StopReason, arenas, run};
+use laserlines_sim::World;
+use laserlines_sim::arena::{WallLength, cell_centre, wall_segment};
+
+/// The attribute `name="..."` of one `<element .../>` line.
+fn attribute<'a>(line: &'a str, name: &str) -> Option<&'a str> {
+    let key = format!(" {name}=\"");
+    let from = line.find(&key)? + key.len();
+    let to = line[from..].find('"')? + from;
+    Some(&line[from..to])
+}
+
+/// The arena as walls and whole barrels at the cell centres only.
+fn walls_and_barrels(text: &str) -> World {
+    let mut world = World::new();
+    for line in text.lines().filter(|l| l.contains("<element ")) {
+        let kind = attribute(line, "type").unwrap();
+        let num = |n| attribute(line, n).unwrap().parse::<i64>().unwrap();
+        let (x, y, r) = (num("x"), num("y"), num("rotation"));
+        if kind.contains("wall") && !kind.contains("diag") {
+            let (a, b) = wall_segment(x, y, r as u16, WallLength::Full);
+            world.add_segment(a, b);
+        } else if kind.contains("barrel") {
+            world.add_disc(cell_centre(x, y), 0.15);
+        }
+    }
+    world
+}
+
+#[test]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "slow without optimisations: run with --release"
+)]
+fn a_region_seen_whole_ends_the_run_though_more_lies_beyond_gaps() {
+    let world = walls_and_barrels(arenas::RC_2015_ARENA_BIG);
+    let start = Isometry2::new(Vector2::new(2.4, 2.4), 0.0);
+    let record = run(&world, start, &RunConfig::default()).unwrap();
+    let m = record.metrics;
+    assert_eq!(m.collisions, 0, "{m:?}");
+    assert!(m.reachable_coverage > 0.99, "{m:?}");
+    assert_eq!(m.stop, StopReason::Explored, "{m:?}");
+    assert!(m.sim_time_s < 700.0, "{m:?}");
+}

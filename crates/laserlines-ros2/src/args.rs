@@ -1,0 +1,166 @@
+//! The command line of `laserlines-ros2`: the extractor as the `laserlines` CLI chooses it
+//! (`--algorithm`, `--params FILE.toml`), the topics, the frame, the DDS domain and network.
+
+use std::net::{IpAddr, Ipv4Addr};
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::{Context as _, Result, bail};
+use clap::Parser;
+use laserlines::registry::BoxedExtractor;
+use laserlines_io::params::ParamsFile;
+
+use crate::msg::LINE_PACKAGE;
+use crate::node::{Limits, NodeConfig};
+
+/// A ROS 2 node that extracts line segments from laser scans: `sensor_msgs/msg/LaserScan`
+/// in, laser_line_extraction's `LineSegmentList` and an RViz marker out. No ROS install
+/// needed.
+#[derive(Debug, Clone, Parser)]
+#[command(name = "laserlines-ros2", version, about, long_about = None)]
+pub struct Ros2Args {
+    /// Line extraction algorithm (hough-split, iterative-hough, split-and-merge, iepf,
+    /// incremental, line-regression, ransac, em).
+    #[arg(long, default_value = "hough-split")]
+    pub algorithm: String,
+    /// TOML file of parameters (one table per algorithm, e.g. `[hough-split]`), as
+    /// `laserlines extract --params`.
+    #[arg(long)]
+    pub params: Option<PathBuf>,
+    /// Topic of the `sensor_msgs/msg/LaserScan` input.
+    #[arg(long, default_value = "/scan")]
+    pub scan_topic: String,
+    /// Topic of the `LineSegmentList` output.
+    #[arg(long, default_value = "/line_segments")]
+    pub lines_topic: String,
+    /// Topic of the `visualization_msgs/msg/Marker` output (`LINE_LIST`).
+    #[arg(long, default_value = "/line_markers")]
+    pub markers_topic: String,
+    /// Also publish the paper's three sector objects (left, front, right) as a
+    /// `visualization_msgs/msg/MarkerArray`.
+    #[arg(long)]
+    pub sectors: bool,
+    /// Topic of the sector objects (with `--sectors`).
+    #[arg(long, default_value = "/line_sectors")]
+    pub sectors_topic: String,
+    /// Frame of the outputs, as laser_line_extraction's `frame_id` parameter (default: the
+    /// scan's own frame). The stamp is always the scan's.
+    #[arg(long)]
+    pub frame_id: Option<String>,
+    /// Package of the `LineSegmentList` type: `laser_line_extraction` (ROS 1 names and the
+    /// message name laser_line_extraction's users subscribe to) or the package a port of it
+    /// uses (e.g. `laser_line_extraction_interfaces`).
+    #[arg(long, default_value = LINE_PACKAGE)]
+    pub message_package: String,
+    /// Node name.
+    #[arg(long, default_value = "laserlines")]
+    pub node_name: String,
+    /// Node namespace.
+    #[arg(long, default_value = "/")]
+    pub namespace: String,
+    /// DDS domain (default: `ROS_DOMAIN_ID`, else 0).
+    #[arg(long)]
+    pub domain_id: Option<u16>,
+    /// Talk to this host only (loopback); also set by `ROS_LOCALHOST_ONLY=1` or
+    /// `ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`.
+    #[arg(long)]
+    pub localhost_only: bool,
+    /// Use only the network interface with this address (repeatable).
+    #[arg(long = "interface", value_name = "ADDR")]
+    pub interfaces: Vec<IpAddr>,
+    /// Scans kept while the node is busy (subscription history depth, sensor data: 5).
+    #[arg(long, default_value_t = 5)]
+    pub scan_depth: usize,
+    /// Stop after this many scans.
+    #[arg(long)]
+    pub scans: Option<u64>,
+    /// Stop after this many seconds.
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Log the counts (scans, lines per scan, extraction us) every this many seconds
+    /// (0: only at the end).
+    #[arg(long, default_value_t = 10.0)]
+    pub status_every: f64,
+}
+
+/// The largest DDS domain whose ports fit in UDP's (7400 + 250 * domain + ...).
+pub const MAX_DOMAIN_ID: u16 = 232;
+
+/// True when an environment variable asks ROS 2 nodes to stay on this host.
+fn env_localhost_only() -> bool {
+    let var = |k: &str| std::env::var(k).unwrap_or_default();
+    var("ROS_LOCALHOST_ONLY") == "1" || var("ROS_AUTOMATIC_DISCOVERY_RANGE") == "LOCALHOST"
+}
+
+fn seconds(name: &str, s: f64) -> Result<Duration> {
+    Duration::try_from_secs_f64(s).map_err(|_| anyhow::anyhow!("{name} must be seconds >= 0"))
+}
+
+impl Ros2Args {
+    /// The node's configuration.
+    ///
+    /// # Errors
+    /// A bad `ROS_DOMAIN_ID`, or `--localhost-only` with `--interface`.
+    pub fn node_config(&self) -> Result<NodeConfig> {
+        let domain_id = match self.domain_id {
+            Some(d) => d,
+            None => match std::env::var("ROS_DOMAIN_ID") {
+                Ok(s) if !s.trim().is_empty() => s
+                    .trim()
+                    .parse()
+                    .with_context(|| format!("ROS_DOMAIN_ID must be 0..=232, got {s:?}"))?,
+                _ => 0,
+            },
+        };
+        if domain_id > MAX_DOMAIN_ID {
+            bail!("the DDS domain must be 0..={MAX_DOMAIN_ID} (its UDP ports), got {domain_id}");
+        }
+        let localhost = self.localhost_only || env_localhost_only();
+        if localhost && !self.interfaces.is_empty() {
+            bail!("--interface and localhost-only (flag or environment) exclude each other");
+        }
+        let only_networks = if localhost {
+            Some(vec![IpAddr::V4(Ipv4Addr::LOCALHOST)])
+        } else if self.interfaces.is_empty() {
+            None
+        } else {
+            Some(self.interfaces.clone())
+        };
+        Ok(NodeConfig {
+            node_name: self.node_name.clone(),
+            namespace: self.namespace.clone(),
+            scan_topic: self.scan_topic.clone(),
+            lines_topic: self.lines_topic.clone(),
+            markers_topic: self.markers_topic.clone(),
+            sectors_topic: self.sectors.then(|| self.sectors_topic.clone()),
+            line_package: self.message_package.clone(),
+            scan_depth: self.scan_depth,
+            domain_id,
+            only_networks,
+        })
+    }
+
+    /// When the node stops by itself, and how often it logs.
+    ///
+    /// # Errors
+    /// A negative or non-finite time.
+    pub fn limits(&self) -> Result<Limits> {
+        Ok(Limits {
+            scans: self.scans,
+            duration: self
+                .duration
+                .map(|s| seconds("--duration", s))
+                .transpose()?,
+            status_every: Some(seconds("--status-every", self.status_every)?)
+                .filter(|d| !d.is_zero()),
+        })
+    }
+
+    /// The extractor, with the parameters file read exactly as `laserlines extract` reads it.
+    ///
+    /// # Errors
+    /// An unknown algorithm or a bad params file (naming file, table and key).
+    pub fn extractor(&self) -> Result<BoxedExtractor> {
+        Ok(ParamsFile::load_or_default(self.params.as_deref())?.extractor(&self.algorithm)?)
+    }
+}
