@@ -39,8 +39,9 @@ pub struct TrackerParams {
     pub min_range_m: f64,
     /// Points farther than this are not matched, m (default 5).
     pub max_range_m: f64,
-    /// Points farther than this do not enter the map, m (default 3: where the URG-04LX's
-    /// noise stays under 1.5 cm).
+    /// Points farther than this do not enter the map, m (default 4.5: the URG-04LX's noise
+    /// is 2.2 cm there, and such points enter with a twentieth of a near point's weight; far
+    /// walls hold the map's heading where the near ones are short).
     pub insert_range_m: f64,
     /// Points either side used to estimate a point's normal (default 2).
     pub normal_half_window: usize,
@@ -74,7 +75,7 @@ impl Default for TrackerParams {
             beam_stride: 4,
             min_range_m: 0.1,
             max_range_m: 5.0,
-            insert_range_m: 3.0,
+            insert_range_m: 4.5,
             normal_half_window: 2,
             insert_every: 2,
             voxel_m: 0.05,

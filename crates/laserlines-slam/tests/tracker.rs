@@ -198,7 +198,7 @@ fn a_run_in_a_bundled_arena_stays_near_the_truth() {
         odo_worst > 0.5,
         "the odometry should drift: {odo_worst:.3} m"
     );
-    // Measured: 0.022 m on average, 0.045 m at worst (the mapper on the same run, with its
+    // Measured: 0.019 m on average, 0.043 m at worst (the mapper on the same run, with its
     // pose graph: 0.018 m and 0.33 m, see mapping.rs); odometry 2.85 m.
     assert!(mean < 0.04, "tracker {mean:.3} m from the truth on average");
     assert!(worst < 0.1, "tracker {worst:.3} m from the truth at worst");

@@ -271,7 +271,7 @@ pub struct MatchParams {
     /// Every this many beams give a point to the matching. Default 4 (about 170 points of
     /// a URG-04LX scan).
     pub beam_stride: usize,
-    /// Most rounds of pairing and Gauss-Newton step per scan. Default 8.
+    /// Most rounds of pairing and Gauss-Newton step per scan. Default 5.
     pub iterations: usize,
     /// A point pairs only with a mapped surface point within this distance, m. Default 0.1.
     pub gate_m: f64,
