@@ -1,22 +1,31 @@
-//! Runs `hough-split` on the standard bench scan many times, for a profiler:
-//! `valgrind --tool=callgrind target/release/examples/profile_extract 1000`.
+//! Runs `hough-split` many times on the standard bench scan, or on the bundled real URG-04LX
+//! scans, for a profiler:
+//!
+//! ```sh
+//! valgrind --tool=callgrind target/release/examples/profile_extract 1000        # bench scan
+//! valgrind --tool=callgrind target/release/examples/profile_extract 100 real    # 100 x 40 scans
+//! ```
 
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
 
 fn main() {
-    let n: usize = std::env::args()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(1000);
-    let scan = laserlines_benches::bench_scan();
+    let mut args = std::env::args().skip(1);
+    let n: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(1000);
+    let scans = if args.next().as_deref() == Some("real") {
+        laserlines_benches::real_scans()
+    } else {
+        vec![laserlines_benches::bench_scan()]
+    };
     let Ok(mut hs) = HoughSplit::new(HoughSplitParams::default()) else {
         return;
     };
     let mut lines = Vec::new();
     let mut total = 0;
     for _ in 0..n {
-        hs.extract_into(std::hint::black_box(&scan), &mut lines);
-        total += lines.len();
+        for scan in &scans {
+            hs.extract_into(std::hint::black_box(scan), &mut lines);
+            total += lines.len();
+        }
     }
-    println!("{total} lines");
+    println!("{total} lines from {} scans", n * scans.len());
 }

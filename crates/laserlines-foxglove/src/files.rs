@@ -1,7 +1,8 @@
 //! Scans in, lines and scans out: the one place that chooses between the formats of
-//! `laserlines-io` and MCAP, for input ([`open_scans`]) and output ([`LinesOutput`],
-//! [`ScanOutput`]) alike. MCAP is chosen by the format given, else by the `.mcap` extension;
-//! a directory is a ROS 2 bag (MCAP or sqlite3 storage), as is a `.db3` file.
+//! `laserlines-io`, MCAP and Parquet (`laserlines-parquet`), for input ([`open_scans`]) and
+//! output ([`LinesOutput`], [`ScanOutput`]) alike. MCAP and Parquet are chosen by the format
+//! given, else by the `.mcap` or `.parquet` extension; a directory is a ROS 2 bag (MCAP or
+//! sqlite3 storage), as is a `.db3` file.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -12,24 +13,25 @@ use laserlines_io::{
     Format, LinesWriter, Output, ReadError, ReadOptions, ScanReader, ScanRecord, ScanWriter,
     WriteError,
 };
+use laserlines_parquet::{LinesParquetWriter, ScansParquetWriter};
 
 use crate::McapReadOptions;
 use crate::write::McapSceneWriter;
 
 /// Opens the scans of `path` (`-` for standard input, with a format): an MCAP file, a ROS 2
-/// bag directory or a `.db3` file with [`crate::read`], any other format with
-/// [`laserlines_io::open_with`].
+/// bag directory or a `.db3` file with [`crate::read`], a Parquet table of scans with
+/// [`laserlines_parquet::read`], any other format with [`laserlines_io::open_with`].
 /// `options.topic` picks the topic (MCAP, ROS bag) or the laser (CARMEN).
 ///
 /// # Errors
 /// As the reader of the format: a [`ReadError`] naming the file.
 pub fn open_scans(path: &Path, options: &ReadOptions) -> Result<ScanReader, ReadError> {
-    let ours = |f: Format| matches!(f, Format::Mcap | Format::Db3);
-    let mcap = match options.format {
-        Some(f) => ours(f),
-        None => path.is_dir() || Format::from_path(path).is_some_and(ours),
+    let format = match options.format {
+        Some(f) => Some(f),
+        None if path.is_dir() => Some(Format::Mcap),
+        None => Format::from_path(path),
     };
-    if options.format == Some(Format::Db3) && path == Path::new("-") {
+    if format == Some(Format::Db3) && path == Path::new("-") {
         return Err(ReadError::Open {
             file: "-".to_owned(),
             source: std::io::Error::new(
@@ -39,26 +41,73 @@ pub fn open_scans(path: &Path, options: &ReadOptions) -> Result<ScanReader, Read
             ),
         });
     }
-    if mcap {
-        let mcap_options = McapReadOptions::topic(options.topic.as_deref());
-        return crate::read::open(path, &mcap_options);
+    match format {
+        Some(Format::Mcap | Format::Db3) => {
+            let mcap_options = McapReadOptions::topic(options.topic.as_deref());
+            crate::read::open(path, &mcap_options)
+        }
+        Some(Format::Parquet) => open_parquet(path, options),
+        _ => laserlines_io::open_with(path, options),
     }
-    laserlines_io::open_with(path, options)
+}
+
+/// A Parquet table of scans: one stream (no topic); standard input is read whole.
+fn open_parquet(path: &Path, options: &ReadOptions) -> Result<ScanReader, ReadError> {
+    let name = path.display().to_string();
+    if let Some(topic) = &options.topic {
+        return Err(ReadError::Topic {
+            file: name,
+            topic: topic.clone(),
+            expected: "no topic: a Parquet table holds one stream of scans".to_owned(),
+        });
+    }
+    if path != Path::new("-") {
+        return laserlines_parquet::read::open(path);
+    }
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(&mut std::io::stdin().lock(), &mut bytes).map_err(|source| {
+        ReadError::Open {
+            file: name.clone(),
+            source,
+        }
+    })?;
+    laserlines_parquet::read::from_bytes(&name, bytes)
+}
+
+/// `path` when it names a Parquet file to write: `.parquet`, not `.parquet.gz` (Parquet
+/// compresses its pages itself; a gzipped table is no Parquet file).
+fn parquet_name(path: &Path) -> Result<&Path, WriteError> {
+    let gz = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+    if gz {
+        return Err(WriteError::Name {
+            file: path.display().to_string(),
+            expected: "a Parquet file named .parquet (Parquet compresses its pages itself; \
+                       .parquet.gz is not written)",
+        });
+    }
+    Ok(path)
 }
 
 /// Where `laserlines extract` writes its lines: an MCAP scene ([`McapSceneWriter`]: scan,
-/// lines and pose) when the name ends in `.mcap`, else lines JSONL ([`LinesWriter`]).
+/// lines and pose) when the name ends in `.mcap`, a Parquet table of lines
+/// ([`LinesParquetWriter`]: one row per line) when it ends in `.parquet`, else lines JSONL
+/// ([`LinesWriter`]).
 #[derive(Debug)]
 pub enum LinesOutput {
     /// Lines JSONL (`-` = standard output, `.gz` = gzip).
     Jsonl(Box<LinesWriter<Output>>),
     /// An MCAP file that Foxglove plays.
     Mcap(Box<McapSceneWriter<BufWriter<File>>>),
+    /// A Parquet table, one row per line.
+    Parquet(Box<LinesParquetWriter<BufWriter<File>>>),
 }
 
 impl LinesOutput {
     /// Creates the output named `path`, choosing the kind by its extension: `.mcap` for
-    /// MCAP, `.jsonl` or `.ndjson` (optionally `.gz`) or `-` (standard output) for lines JSONL.
+    /// MCAP, `.parquet` for Parquet, `.jsonl` or `.ndjson` (optionally `.gz`) or `-` (standard
+    /// output) for lines JSONL.
     ///
     /// # Errors
     /// [`WriteError::Io`] when the file cannot be created, [`WriteError::Name`] for
@@ -70,11 +119,14 @@ impl LinesOutput {
         }
         match Format::from_path(path) {
             Some(Format::Mcap) => Ok(Self::Mcap(Box::new(McapSceneWriter::create(path)?))),
+            Some(Format::Parquet) => Ok(Self::Parquet(Box::new(LinesParquetWriter::create(
+                parquet_name(path)?,
+            )?))),
             Some(Format::Jsonl) => Ok(Self::Jsonl(Box::new(LinesWriter::create(path)?))),
             _ => Err(WriteError::Name {
                 file: path.display().to_string(),
-                expected: "lines JSONL (.jsonl, .jsonl.gz, or - for standard output) or MCAP \
-                           (.mcap)",
+                expected: "lines JSONL (.jsonl, .jsonl.gz, or - for standard output), MCAP \
+                           (.mcap) or Parquet (.parquet)",
             }),
         }
     }
@@ -92,6 +144,7 @@ impl LinesOutput {
         match self {
             Self::Jsonl(w) => w.write_record(scan, record, lines),
             Self::Mcap(w) => w.write_lines(record, lines),
+            Self::Parquet(w) => w.write_record(scan, record, lines),
         }
     }
 
@@ -103,19 +156,23 @@ impl LinesOutput {
         match self {
             Self::Jsonl(w) => w.close(),
             Self::Mcap(w) => w.finish().map(|_| ()),
+            Self::Parquet(w) => w.finish().map(|_| ()),
         }
     }
 }
 
 /// Where `laserlines convert` writes scans: an MCAP scene ([`McapSceneWriter`]: `/scan` and
-/// `/tf`) for the format `mcap` or the `.mcap` extension, else a scan file of
-/// `laserlines-io` ([`ScanWriter`]: JSON, JSONL, CSV).
+/// `/tf`) for the format `mcap` or the `.mcap` extension, a Parquet table of scans
+/// ([`ScansParquetWriter`]: one row per scan) for `parquet` or `.parquet`, else a scan file
+/// of `laserlines-io` ([`ScanWriter`]: JSON, JSONL, CSV).
 #[derive(Debug)]
 pub enum ScanOutput {
     /// A scan file (`-` = standard output, `.gz` = gzip).
     Scans(Box<ScanWriter<Output>>),
     /// An MCAP file that Foxglove plays.
     Mcap(Box<McapSceneWriter<BufWriter<File>>>),
+    /// A Parquet table, one row per scan.
+    Parquet(Box<ScansParquetWriter<BufWriter<File>>>),
 }
 
 impl ScanOutput {
@@ -124,13 +181,13 @@ impl ScanOutput {
     /// # Errors
     /// [`WriteError`] when the file cannot be created or the format cannot be written.
     pub fn create(path: &Path, format: Option<Format>) -> Result<Self, WriteError> {
-        Ok(
-            if format.or_else(|| Format::from_path(path)) == Some(Format::Mcap) {
-                Self::Mcap(Box::new(McapSceneWriter::create(path)?))
-            } else {
-                Self::Scans(Box::new(ScanWriter::create(path, format)?))
-            },
-        )
+        Ok(match format.or_else(|| Format::from_path(path)) {
+            Some(Format::Mcap) => Self::Mcap(Box::new(McapSceneWriter::create(path)?)),
+            Some(Format::Parquet) => {
+                Self::Parquet(Box::new(ScansParquetWriter::create(parquet_name(path)?)?))
+            }
+            _ => Self::Scans(Box::new(ScanWriter::create(path, format)?)),
+        })
     }
 
     /// Writes one scan.
@@ -141,6 +198,7 @@ impl ScanOutput {
         match self {
             Self::Mcap(w) => w.write_scan(record),
             Self::Scans(w) => w.write(record),
+            Self::Parquet(w) => w.write(record),
         }
     }
 
@@ -152,6 +210,7 @@ impl ScanOutput {
         match self {
             Self::Mcap(w) => w.finish().map(|_| ()),
             Self::Scans(w) => w.close(),
+            Self::Parquet(w) => w.finish().map(|_| ()),
         }
     }
 }

@@ -17,7 +17,7 @@
 //! - [`sectors`]: the paper's three sectors and their objects as a scene (`/sectors`), for
 //!   a navigation run and for a live sensor.
 //! - [`scene`]: the messages themselves; [`ros`] (from `laserlines-io`), [`proto`]: the
-//!   decoders.
+//!   decoders; [`message`]: one LaserScan message decoded on its own.
 //!
 //! Channels and frames (REP 103 frames, SI units):
 //!
@@ -53,6 +53,7 @@ pub mod files;
 pub mod grid;
 #[cfg(feature = "live")]
 pub mod live;
+pub mod message;
 pub mod navigation;
 pub mod proto;
 pub mod read;

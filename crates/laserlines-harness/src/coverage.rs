@@ -24,8 +24,8 @@
 
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines_sim::arena::ArenaOutline;
+use laserlines_sim::cells::{clear_of, extent, flood4};
 use laserlines_sim::index::WorldIndex;
-use laserlines_sim::world::Target;
 
 use laserlines_nav::raster::{BeamTable, FanRaster};
 
@@ -201,39 +201,9 @@ impl CoverageGrid {
     fn start_component(&self, ok: &[bool], start: Point2) -> Vec<bool> {
         let mut reached = vec![false; ok.len()];
         if let Some(s) = self.cell_of(start).filter(|&s| ok[s]) {
-            self.flood(ok, &[s], &mut reached);
+            flood4(self.cols, ok, &[s], &mut reached);
         }
         reached
-    }
-
-    /// Marks in `reached` the cells `ok` connected to `seeds` (4-neighbours).
-    fn flood(&self, ok: &[bool], seeds: &[usize], reached: &mut [bool]) {
-        let cols = self.cols;
-        let mut stack: Vec<usize> = seeds.to_vec();
-        for &s in seeds {
-            reached[s] = true;
-        }
-        while let Some(c) = stack.pop() {
-            let (x, y) = (c % cols, c / cols);
-            let mut push = |m: usize| {
-                if ok[m] && !reached[m] {
-                    reached[m] = true;
-                    stack.push(m);
-                }
-            };
-            if x > 0 {
-                push(c - 1);
-            }
-            if x + 1 < cols {
-                push(c + 1);
-            }
-            if y > 0 {
-                push(c - cols);
-            }
-            if y + 1 < self.rows {
-                push(c + cols);
-            }
-        }
     }
 
     fn centre(&self, c: usize) -> Point2 {
@@ -401,45 +371,6 @@ impl CoverageGrid {
         self.raster = raster;
         self.polygon = poly;
     }
-}
-
-/// The bounding box of the finite points, if any.
-fn extent(points: impl Iterator<Item = Point2>) -> Option<(Point2, Point2)> {
-    points
-        .filter(|p| p.x.is_finite() && p.y.is_finite())
-        .fold(None, |acc, p| match acc {
-            None => Some((p, p)),
-            Some((lo, hi)) => Some((
-                Point2::new(lo.x.min(p.x), lo.y.min(p.y)),
-                Point2::new(hi.x.max(p.x), hi.y.max(p.y)),
-            )),
-        })
-}
-
-/// True when `p` is at least `radius` from every wall and disc of the index's world.
-fn clear_of(index: &WorldIndex, p: Point2, radius: f64) -> bool {
-    let world = index.world();
-    let r = Vector2::new(radius, radius);
-    let mut ok = true;
-    index.near_box(p - r, p + r, |t| {
-        if !ok {
-            return;
-        }
-        let d = match t {
-            Target::Wall(i) => {
-                let w = &world.walls[i];
-                laserlines::geometry::distance_to_segment(p, w.a, w.b)
-            }
-            Target::Disc(i) => {
-                let d = &world.discs[i];
-                (p - d.centre).norm() - d.radius
-            }
-        };
-        if d < radius {
-            ok = false;
-        }
-    });
-    ok
 }
 
 #[cfg(test)]

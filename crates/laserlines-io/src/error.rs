@@ -20,6 +20,8 @@ pub enum At {
     Byte(u64),
     /// A message of a database (a ROS 2 bag in sqlite3 storage), by its id.
     Message(i64),
+    /// A 0-based row of a table (Parquet).
+    Row(u64),
 }
 
 impl At {
@@ -28,13 +30,13 @@ impl At {
     pub fn line(self) -> Option<usize> {
         match self {
             Self::Line(line) | Self::LineColumn { line, .. } => Some(line),
-            Self::Byte(_) | Self::Message(_) => None,
+            Self::Byte(_) | Self::Message(_) | Self::Row(_) => None,
         }
     }
 }
 
 /// A file name and a place in it, shown as `exp1.dat:17`, `scan.json:3:15`,
-/// `log.bag: byte 1234` or `bag_0.db3: message 17`.
+/// `log.bag: byte 1234`, `bag_0.db3: message 17` or `scans.parquet: row 12`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SourcePos {
     /// The input's name as the user gave it (a path, or `-` for standard input).
@@ -71,6 +73,15 @@ impl SourcePos {
         }
     }
 
+    /// A position at a 0-based row of a table.
+    #[must_use]
+    pub fn row(file: &str, row: u64) -> Self {
+        Self {
+            file: file.to_owned(),
+            at: At::Row(row),
+        }
+    }
+
     /// A position at a 0-based byte offset.
     #[must_use]
     pub fn byte(file: &str, offset: u64) -> Self {
@@ -88,6 +99,7 @@ impl fmt::Display for SourcePos {
             At::LineColumn { line, column } => write!(f, "{}:{line}:{column}", self.file),
             At::Byte(offset) => write!(f, "{}: byte {offset}", self.file),
             At::Message(id) => write!(f, "{}: message {id}", self.file),
+            At::Row(row) => write!(f, "{}: row {row}", self.file),
         }
     }
 }
@@ -125,8 +137,8 @@ pub enum ReadError {
     #[error(
         "{file}: cannot tell the scan format from the name (found {found}); expected a name \
          ending in .json, .jsonl, .ndjson, .csv, .dat, .mcap, .clf, .log, .bag or .db3 \
-         (optionally followed by .gz), or an explicit format (one of: json, jsonl, csv, dat, \
-         mcap, carmen, bag, db3)"
+         (optionally followed by .gz) or .parquet, or an explicit format (one of: json, jsonl, \
+         csv, dat, mcap, carmen, bag, db3, parquet)"
     )]
     UnknownFormat {
         /// The input's name.

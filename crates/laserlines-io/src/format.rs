@@ -28,11 +28,15 @@ pub enum Format {
     /// ROS 2 bag in sqlite3 storage (`.db3`, or a bag directory holding `.db3` files). Named
     /// here so that paths and `--format` can choose it; `laserlines-foxglove` reads it.
     Db3,
+    /// Apache Parquet (`.parquet`), one scan per row. Named here so that paths and
+    /// `--format` can choose it; the `laserlines-parquet` crate reads and writes it, this
+    /// crate does not.
+    Parquet,
 }
 
 impl Format {
     /// Every format, in the order of [`Format::NAMES`].
-    pub const ALL: [Self; 8] = [
+    pub const ALL: [Self; 9] = [
         Self::Json,
         Self::Jsonl,
         Self::Csv,
@@ -41,16 +45,17 @@ impl Format {
         Self::Carmen,
         Self::Bag,
         Self::Db3,
+        Self::Parquet,
     ];
 
     /// The canonical names accepted by [`Format::from_name`] (e.g. for `--format`).
     pub const NAMES: &'static [&'static str] = &[
-        "json", "jsonl", "csv", "dat", "mcap", "carmen", "bag", "db3",
+        "json", "jsonl", "csv", "dat", "mcap", "carmen", "bag", "db3", "parquet",
     ];
 
     /// Tells the format from a path's extension, ignoring a trailing `.gz` (case-insensitive):
     /// `.json`, `.jsonl` / `.ndjson`, `.csv`, `.dat`, `.mcap`, `.clf` / `.log` (CARMEN), `.bag`,
-    /// `.db3`.
+    /// `.db3`, `.parquet`.
     /// `None` for anything else.
     #[must_use]
     pub fn from_path(path: &Path) -> Option<Self> {
@@ -71,6 +76,7 @@ impl Format {
             "carmen" | "clf" | "log" => Some(Self::Carmen),
             "bag" | "rosbag" => Some(Self::Bag),
             "db3" | "sqlite3" => Some(Self::Db3),
+            "parquet" | "pq" => Some(Self::Parquet),
             _ => None,
         }
     }
@@ -85,6 +91,7 @@ impl Format {
             "clf" | "log" => Some(Self::Carmen),
             "bag" => Some(Self::Bag),
             "db3" => Some(Self::Db3),
+            "parquet" | "pq" => Some(Self::Parquet),
             _ => None,
         }
     }
@@ -101,6 +108,7 @@ impl Format {
             Self::Carmen => "carmen",
             Self::Bag => "bag",
             Self::Db3 => "db3",
+            Self::Parquet => "parquet",
         }
     }
 
@@ -125,7 +133,7 @@ impl Format {
     pub fn is_writable(self) -> bool {
         !matches!(
             self,
-            Self::BreezyDat | Self::Mcap | Self::Carmen | Self::Bag | Self::Db3
+            Self::BreezyDat | Self::Mcap | Self::Carmen | Self::Bag | Self::Db3 | Self::Parquet
         )
     }
 }
@@ -139,7 +147,8 @@ impl fmt::Display for Format {
 /// The error of parsing a [`Format`] from an unknown name.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error(
-    "unknown scan format `{0}`; expected one of: json, jsonl, csv, dat, mcap, carmen, bag, db3"
+    "unknown scan format `{0}`; expected one of: json, jsonl, csv, dat, mcap, carmen, bag, db3, \
+     parquet"
 )]
 pub struct UnknownFormatName(pub String);
 
@@ -198,6 +207,7 @@ mod tests {
             ("demo.bag", Some(Format::Bag)),
             ("demo.bag.gz", Some(Format::Bag)),
             ("rosbag2_0.db3", Some(Format::Db3)),
+            ("scans.parquet", Some(Format::Parquet)),
             ("a.gz", None),
             ("a.txt", None),
             ("noext", None),

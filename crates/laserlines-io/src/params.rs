@@ -136,6 +136,15 @@ impl ParamsFile {
             file: name.to_owned(),
             message: e.to_string().trim_end().to_owned(),
         })?;
+        Self::from_tables(tables, name)
+    }
+
+    /// The tables of a params file given as values rather than text (keyword arguments of
+    /// another language's binding), named `name` in errors.
+    ///
+    /// # Errors
+    /// As [`ParamsFile::parse`], but for the syntax.
+    pub fn from_tables(tables: toml::Table, name: &str) -> Result<Self, ParamsFileError> {
         let file = Self {
             name: name.to_owned(),
             tables,

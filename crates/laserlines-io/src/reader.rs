@@ -321,11 +321,13 @@ fn reader_for(
         Format::Carmen => Box::new(crate::carmen::CarmenSource::new(name, input, topic)?),
         Format::Bag => Box::new(crate::bag::BagSource::new(name, input, topic)),
         Format::Mcap | Format::Db3 => Box::new(ReadElsewhere::new(name, "laserlines-foxglove")),
+        Format::Parquet => Box::new(ReadElsewhere::new(name, "laserlines-parquet")),
     };
     Ok(ScanReader::from_source(name, format, source))
 }
 
-/// A format another crate reads (MCAP: `laserlines-foxglove`): one error saying so, then the end.
+/// A format another crate reads (MCAP: `laserlines-foxglove`, Parquet: `laserlines-parquet`):
+/// one error saying so, then the end.
 struct ReadElsewhere {
     name: String,
     reader: &'static str,

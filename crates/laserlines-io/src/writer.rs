@@ -412,12 +412,15 @@ impl<W: Write> ScanWriter<W> {
                 write_csv(buf, record).map_err(|e| self.io(e))?;
                 self.emit(buf)
             }
-            Format::BreezyDat | Format::Mcap | Format::Carmen | Format::Bag | Format::Db3 => {
-                Err(WriteError::Unsupported {
-                    file: self.name.clone(),
-                    format: self.format.name(),
-                })
-            }
+            Format::BreezyDat
+            | Format::Mcap
+            | Format::Carmen
+            | Format::Bag
+            | Format::Db3
+            | Format::Parquet => Err(WriteError::Unsupported {
+                file: self.name.clone(),
+                format: self.format.name(),
+            }),
         }
     }
 

@@ -208,7 +208,8 @@ fn raw_panel(
     view: Extent,
     pw: f64,
 ) -> (Panel, bool) {
-    let used = hs.stages().points();
+    let used_points = hs.stages().points();
+    let used = &used_points[..];
     let mut a = Panel::map(view, pw);
     a.set_title(format!(
         "(a) raw scan: {} of {}",
@@ -296,7 +297,8 @@ fn net_panel(scan: &Scan, hs: &HoughSplit, view: Extent, pw: f64) -> (Panel, (f6
 /// the removed points; whether any point was removed.
 fn grouping_panel(scan: &Scan, hs: &HoughSplit, view: Extent, pw: f64) -> (Panel, bool) {
     let stages = hs.stages();
-    let used = stages.points();
+    let used_points = stages.points();
+    let used = &used_points[..];
     let half = 0.5 * hs.params().sector_step;
     let mut c = Panel::map(view, pw);
     let groups = stages.radius_groups();

@@ -48,6 +48,7 @@
 //! ```
 
 pub mod arena;
+pub mod cells;
 pub mod index;
 pub mod laser;
 pub mod maze;

@@ -2,7 +2,7 @@
 
 use crate::line::Line;
 use crate::noise::RangeNoise;
-use crate::scan::Scan;
+use crate::scan::{Scan, ScanView};
 
 /// A line extraction algorithm.
 ///
@@ -15,8 +15,15 @@ pub trait LineExtractor {
     /// The algorithm's name as the command line knows it (e.g. `hough-split`).
     fn name(&self) -> &'static str;
 
-    /// Extracts the lines of `scan` into `out` (cleared first), ordered by first beam.
-    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>);
+    /// Extracts the lines of `scan` into `out` (cleared first), ordered by first beam. The
+    /// ranges are read where they are (a [`Scan`]'s, or any other buffer's), never copied.
+    fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>);
+
+    /// Extracts the lines of `scan` into `out` (cleared first), ordered by first beam:
+    /// [`LineExtractor::extract_view_into`] on [`Scan::view`].
+    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+        self.extract_view_into(scan.view(), out);
+    }
 
     /// The range noise the last extraction assumed, for extractors that model it
     /// (`hough-split`: estimated from the scan, or its fixed model); `None` otherwise.

@@ -98,7 +98,7 @@ impl FitSums {
 
     /// The sum of squared orthogonal residuals of the best line through the points, m^2
     /// (0 for fewer than three points or non-finite sums): what [`FitSums::fit`] would give
-    /// as `n * rms^2`, at the cost of one square root and one division. The smaller
+    /// as `n * rms^2` (to rounding), at the cost of one square root and two divisions. The smaller
     /// eigenvalue of the scatter matrix is taken as its determinant over the larger one,
     /// which keeps it accurate for nearly perfect lines far from the origin.
     #[must_use]
@@ -106,8 +106,8 @@ impl FitSums {
         if self.n < 3 {
             return 0.0;
         }
-        let n = self.n as f64;
-        let (cx, cy) = (self.sx / n, self.sy / n);
+        let inv = 1.0 / self.n as f64;
+        let (cx, cy) = (self.sx * inv, self.sy * inv);
         let mxx = (self.sxx - self.sx * cx).max(0.0);
         let myy = (self.syy - self.sy * cy).max(0.0);
         let mxy = self.sxy - self.sx * cy;
@@ -120,6 +120,17 @@ impl FitSums {
             0.0
         };
         if v.is_finite() { v } else { 0.0 }
+    }
+
+    /// The squared distance of the centroid from the origin, m^2 (0 when empty).
+    #[must_use]
+    pub fn centroid_norm_squared(&self) -> f64 {
+        if self.n == 0 {
+            return 0.0;
+        }
+        let inv = 1.0 / self.n as f64;
+        let (cx, cy) = (self.sx * inv, self.sy * inv);
+        cx * cx + cy * cy
     }
 
     /// The centroid of the points (`None` when empty).
@@ -185,6 +196,94 @@ impl FitSums {
             covariance,
             spread,
         })
+    }
+}
+
+impl FitSums {
+    /// The same line as [`FitSums::fit`] without its angle: the unit normal is the
+    /// eigenvector of the scatter matrix's smaller eigenvalue (one square root more than the
+    /// eigenvalues), so no trigonometry is needed. `None` in the same cases as
+    /// [`FitSums::fit`]. The normal agrees with `fit`'s to rounding.
+    #[must_use]
+    pub fn normal_fit(&self) -> Option<NormalFit> {
+        if self.n < 2 {
+            return None;
+        }
+        let n = self.n as f64;
+        let inv = 1.0 / n;
+        let (cx, cy) = (self.sx * inv, self.sy * inv);
+        let mxx = (self.sxx - self.sx * cx).max(0.0);
+        let myy = (self.syy - self.sy * cy).max(0.0);
+        let mxy = self.sxy - self.sx * cy;
+        if !(cx.is_finite()
+            && cy.is_finite()
+            && mxx.is_finite()
+            && myy.is_finite()
+            && mxy.is_finite())
+        {
+            return None;
+        }
+        let half_tr = 0.5 * (mxx + myy);
+        let disc = (0.25 * (mxx - myy) * (mxx - myy) + mxy * mxy).sqrt();
+        let spread = half_tr + disc;
+        let sse = (half_tr - disc).max(0.0);
+        if spread <= f64::EPSILON * (1.0 + cx.abs() + cy.abs()) {
+            return None;
+        }
+        // (M - lambda I) v = 0 for the smaller eigenvalue lambda, from the row whose diagonal
+        // term is farther from lambda (no cancellation: both terms have one sign).
+        let lambda = half_tr - disc;
+        let (vx, vy) = if mxx >= myy {
+            (mxy, lambda - mxx)
+        } else {
+            (lambda - myy, mxy)
+        };
+        let scale = 1.0 / (vx * vx + vy * vy).sqrt();
+        let (mut cos, mut sin) = (vx * scale, vy * scale);
+        let mut r = cx * cos + cy * sin;
+        if r < 0.0 {
+            r = -r;
+            (cos, sin) = (-cos, -sin);
+        }
+        let s2 = if self.n > 2 { sse / (n - 2.0) } else { 0.0 };
+        let var_alpha = s2 / spread;
+        let t0 = -cx * sin + cy * cos;
+        Some(NormalFit {
+            normal: Vector2::new(cos, sin),
+            r,
+            n: self.n,
+            s2,
+            covariance: Matrix2::new(
+                s2 * inv + t0 * t0 * var_alpha,
+                t0 * var_alpha,
+                t0 * var_alpha,
+                var_alpha,
+            ),
+        })
+    }
+}
+
+/// A fitted infinite line `p . normal = r` without its angle ([`FitSums::normal_fit`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalFit {
+    /// Unit normal `(cos alpha, sin alpha)`.
+    pub normal: Vector2,
+    /// Distance of the line from the origin, m (`>= 0`).
+    pub r: f64,
+    /// Number of fitted points.
+    pub n: usize,
+    /// Residual variance `SSE / (n - 2)`, m^2 (0 for two points).
+    pub s2: f64,
+    /// Covariance of `(r, alpha)`: m^2, m rad, rad^2.
+    pub covariance: Matrix2,
+}
+
+impl NormalFit {
+    /// Signed orthogonal distance of `p` from the line, m.
+    #[inline]
+    #[must_use]
+    pub fn distance(&self, p: Point2) -> f64 {
+        p.coords.dot(&self.normal) - self.r
     }
 }
 
@@ -363,6 +462,35 @@ mod tests {
         let g = fit_points(&noisy).unwrap();
         let s2 = g.rms * g.rms * 10.0 / 8.0;
         assert!((g.covariance_for(s2) - g.covariance).norm() < 1e-15);
+    }
+
+    #[test]
+    fn normal_fit_agrees_with_the_fit() {
+        for (k, slope) in [0.0, 0.3, -2.0, 1e3, -1e-3].iter().enumerate() {
+            let pts: Vec<Point2> = (0..25)
+                .map(|i| {
+                    let t = f64::from(i) * 0.07;
+                    let wiggle = 0.004 * f64::from((i * 7 + k as i32) % 5) - 0.008;
+                    Point2::new(1.5 + t, -0.7 + slope * t + wiggle)
+                })
+                .collect();
+            let s = FitSums::from_points(pts.iter().copied());
+            let (f, g) = (s.fit().unwrap(), s.normal_fit().unwrap());
+            assert!((g.normal - f.normal()).norm() < 1e-12, "{slope}");
+            assert!((g.r - f.r).abs() < 1e-12 && g.n == f.n);
+            let s2 = f.rms * f.rms * 25.0 / 23.0;
+            assert!((g.s2 - s2).abs() < 1e-12 * (1.0 + s2));
+            assert!((g.covariance - f.covariance).norm() < 1e-12 * (1.0 + f.covariance.norm()));
+            for p in &pts {
+                assert!((g.distance(*p) - f.distance(*p)).abs() < 1e-12);
+            }
+        }
+        assert!(fit_points(&[Point2::new(1.0, 1.0); 3]).is_none());
+        assert!(
+            FitSums::from_points([Point2::new(1.0, 1.0); 3])
+                .normal_fit()
+                .is_none()
+        );
     }
 
     #[test]

@@ -41,7 +41,7 @@ pub use hough_split::{HoughSplit, HoughSplitParams, Weight};
 pub use line::Line;
 pub use noise::{NoiseEstimator, NoiseModel, RangeNoise};
 pub use params::ParamsError;
-pub use scan::{RangeWindow, Scan, ScanError, ScanPoint};
+pub use scan::{RangeWindow, Scan, ScanError, ScanPoint, ScanView};
 
 /// The README's Rust examples, compiled and run as doc tests.
 #[doc = include_str!("../../../README.md")]

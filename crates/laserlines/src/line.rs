@@ -36,9 +36,12 @@ impl Line {
     /// fitted line to give the end points).
     #[must_use]
     pub fn from_fit(fit: &PolarFit, first: (usize, Point2), last: (usize, Point2)) -> Self {
+        // PolarFit::project with the normal computed once (the same values).
+        let normal = fit.normal();
+        let project = |p: Point2| p - normal * (p.coords.dot(&normal) - fit.r);
         Self {
-            start: fit.project(first.1),
-            end: fit.project(last.1),
+            start: project(first.1),
+            end: project(last.1),
             r: fit.r,
             alpha: fit.alpha,
             first: first.0,

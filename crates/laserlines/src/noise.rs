@@ -10,9 +10,10 @@
 //! ```
 //!
 //! [`NoiseModel::Auto`] (the default) estimates both numbers from the scan being processed,
-//! with no history: for every beam `i` whose beams `i - LAG` and `i + LAG` ([`LAG`] = 3) are
-//! valid, the range a straight surface through those two would give on beam `i` is
-//! `r_hat = 2 cos(dphi) r0 r2 / (r0 + r2)` with `dphi = LAG * angle_increment` (exact for
+//! with no history: for every beam `i` whose beams `i - k` and `i + k` are valid (`k` =
+//! [`lag_for`]: [`LAG`] = 3 beams, fewer on scanners coarser than the URG-04LX), the range a
+//! straight surface through those two would give on beam `i` is
+//! `r_hat = 2 cos(dphi) r0 r2 / (r0 + r2)` with `dphi = k * angle_increment` (exact for
 //! any line: `1 / r` of a line is a sinusoid of the beam angle), and `e = r1 - r_hat` has
 //! the variance `1.5 sigma^2` on a smooth surface. Per range band (octaves from 0.5 m) the median of `|e|` gives a robust
 //! `sigma_b = median|e| / (0.6745 sqrt(1.5))`: corners, depth edges and mixed pixels are a
@@ -20,7 +21,7 @@
 //! below every band's estimate: clutter only ever adds dispersion, so the cleanest band
 //! tells the sensor's own noise.
 
-use crate::scan::{RangeWindow, Scan};
+use crate::scan::{RangeWindow, ScanView};
 
 /// A range-noise model `sigma(r) = max(sigma_min, fraction * r)`, metres.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -114,7 +115,13 @@ impl RangeNoise {
     #[inline]
     #[must_use]
     pub fn sigma(&self, r: f64) -> f64 {
-        self.sigma_min.max(self.fraction * r)
+        // `max` by one comparison (a NaN product gives `sigma_min`, as `f64::max` does).
+        let v = self.fraction * r;
+        if v > self.sigma_min {
+            v
+        } else {
+            self.sigma_min
+        }
     }
 
     /// The model scaled by `k` (both numbers).
@@ -165,6 +172,20 @@ pub enum NoiseModel {
 /// one beam to three on real logs), so the noise that splitting and merging see over tens of
 /// beams is read three beams apart; for independent noise any lag reads the same.
 pub const LAG: usize = 3;
+
+/// The lag used on a scan with beams `increment` rad apart: [`LAG`] beams, but never a wider
+/// angle than [`LAG`] beams of the URG-04LX (1.05 deg), so that on coarse scanners (a SICK LMS
+/// at 1 deg: one beam) the triples see as little of the scene's own shape as on fine ones.
+#[must_use]
+pub fn lag_for(increment: f64) -> usize {
+    const SPAN: f64 = LAG as f64 * 0.006_135_923_151_542_565;
+    let beams = (SPAN / increment.abs()).round();
+    if beams.is_finite() && beams >= 1.0 {
+        (beams as usize).min(LAG)
+    } else {
+        1
+    }
+}
 
 #[cfg(feature = "serde")]
 mod serde_impl {
@@ -245,7 +266,8 @@ pub struct BandEstimate {
 /// between scans.
 #[derive(Debug, Clone, Default)]
 pub struct NoiseEstimator {
-    abs: [Vec<f64>; NOISE_BANDS],
+    /// Per band: the bits of each sample's `|e|` (non-negative floats order as their bits).
+    abs: [Vec<u64>; NOISE_BANDS],
     range_sum: [f64; NOISE_BANDS],
     bands: [BandEstimate; NOISE_BANDS],
 }
@@ -267,38 +289,18 @@ impl NoiseEstimator {
     /// Estimates the noise of `scan`'s ranges valid in `window`; `None` when no band has
     /// [`MIN_BAND_SAMPLES`] samples (a short or sparse scan). The result is never below
     /// `floor` (m).
-    pub fn estimate(&mut self, scan: &Scan, window: RangeWindow, floor: f64) -> Option<RangeNoise> {
+    pub fn estimate<'a>(
+        &mut self,
+        scan: impl Into<ScanView<'a>>,
+        window: RangeWindow,
+        floor: f64,
+    ) -> Option<RangeNoise> {
+        let scan = scan.into();
         for b in &mut self.abs {
             b.clear();
         }
         self.range_sum = [0.0; NOISE_BANDS];
-        let r = &scan.ranges;
-        let dphi = LAG as f64 * scan.angle_increment;
-        let two_cos = 2.0 * dphi.cos();
-        // Points of one smooth surface `LAG` beams apart differ by `2 r dphi tan(incidence)`
-        // plus noise: up to 80 deg of incidence and 2 % noise. Farther apart, the triple
-        // spans a depth edge or a mixed pixel, which says nothing about the noise.
-        let spread = 12.0 * dphi.abs() + 0.1;
-        // Every second beam on long scans: neighbouring samples share readings.
-        let stride = if r.len() > 360 { 2 } else { 1 };
-        let mut i = LAG;
-        while i + LAG < r.len() {
-            let (r0, r1, r2) = (r[i - LAG], r[i], r[i + LAG]);
-            i += stride;
-            if !(window.contains(r0) && window.contains(r1) && window.contains(r2))
-                || (r2 - r0).abs() > spread * r1
-            {
-                continue;
-            }
-            let e = (r1 - two_cos * r0 * r2 / (r0 + r2)).abs();
-            // A NaN (absurd ranges) or a gross residual says nothing about the noise.
-            if e.is_nan() || e > 0.25 * r1 {
-                continue;
-            }
-            let b = band_of(r1);
-            self.abs[b].push(e);
-            self.range_sum[b] += r1;
-        }
+        self.sample(scan, window);
         for (b, out) in self.bands.iter_mut().enumerate() {
             let v = &mut self.abs[b];
             let n = v.len();
@@ -312,12 +314,55 @@ impl NoiseEstimator {
                 sigma: 0.0,
             };
             if n >= MIN_BAND_SAMPLES {
-                let mid = n / 2;
-                let (_, m, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
-                out.sigma = *m * MEDIAN_TO_SIGMA;
+                // The samples are the bits of non-negative floats, which order as the floats.
+                let (_, m, _) = v.select_nth_unstable(n / 2);
+                out.sigma = f64::from_bits(*m) * MEDIAN_TO_SIGMA;
             }
         }
         fit_lower_envelope(&self.bands, floor)
+    }
+
+    /// Collects the residuals `|e|` of `scan` (valid in `window`) per band (as the bits of
+    /// the floats) and the sums of their ranges.
+    fn sample(&mut self, scan: ScanView<'_>, window: RangeWindow) {
+        if window.min.is_nan() || window.max.is_nan() {
+            return;
+        }
+        // `RangeWindow::contains` as two comparisons: `v >= lo` implies `v > 0`, `v <= hi`
+        // implies a finite `v`, NaN fails both.
+        let (lo, hi) = (window.min.max(f64::from_bits(1)), window.max.min(f64::MAX));
+        let valid = |v: f64| (v >= lo) & (v <= hi);
+        let r = scan.ranges;
+        let lag = lag_for(scan.angle_increment);
+        let dphi = lag as f64 * scan.angle_increment;
+        let two_cos = 2.0 * dphi.cos();
+        // Points of one smooth surface `lag` beams apart differ by `2 r dphi tan(incidence)`
+        // plus noise: up to 80 deg of incidence and 2 % noise. Farther apart, the triple
+        // spans a depth edge or a mixed pixel, which says nothing about the noise.
+        let spread = 12.0 * dphi.abs() + 0.1;
+        // Every second beam on long scans: neighbouring samples share readings.
+        let stride = if r.len() > 360 { 2 } else { 1 };
+        for b in &mut self.abs {
+            b.reserve(r.len() / stride + 1);
+        }
+        let mut i = lag;
+        while i + lag < r.len() {
+            let (r0, r1, r2) = (r[i - lag], r[i], r[i + lag]);
+            i += stride;
+            // Computed for every triple, used for the valid ones (a NaN, from absurd ranges,
+            // fails every test, as does a gross residual).
+            let e = (r1 - two_cos * r0 * r2 / (r0 + r2)).abs();
+            let usable = valid(r0)
+                & valid(r1)
+                & valid(r2)
+                & ((r2 - r0).abs() <= spread * r1)
+                & (e <= 0.25 * r1);
+            if usable {
+                let b = band_of(r1);
+                self.abs[b].push(e.to_bits());
+                self.range_sum[b] += r1;
+            }
+        }
     }
 }
 
@@ -352,6 +397,19 @@ fn fit_lower_envelope(bands: &[BandEstimate; NOISE_BANDS], floor: f64) -> Option
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scan::Scan;
+
+    #[test]
+    fn the_lag_spans_at_most_three_urg_beams() {
+        let deg = std::f64::consts::PI / 180.0;
+        // URG-04LX (0.3516 deg) and finer: three beams; 0.5 deg: two; 1 deg (SICK LMS): one.
+        for (step, lag) in [(0.351_562_5, 3), (0.25, 3), (0.5, 2), (1.0, 1), (-1.0, 1)] {
+            assert_eq!(lag_for(step * deg), lag, "{step} deg");
+        }
+        // Degenerate geometry (no valid scan has it): one beam.
+        assert_eq!(lag_for(0.0), 1);
+        assert_eq!(lag_for(f64::NAN), 1);
+    }
 
     #[test]
     fn bands_are_octaves_from_half_a_metre() {

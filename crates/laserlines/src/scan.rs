@@ -86,7 +86,139 @@ impl Scan {
         Ok(scan)
     }
 
-    /// Checks the scan's geometry and limits.
+    /// Checks the scan's geometry and limits ([`ScanView::validate`]) and that the
+    /// intensities, when present, are one per range.
+    ///
+    /// # Errors
+    /// A [`ScanError`] naming the first problem found.
+    pub fn validate(&self) -> Result<(), ScanError> {
+        self.view().validate()?;
+        if let Some(int) = &self.intensities
+            && int.len() != self.ranges.len()
+        {
+            return Err(ScanError::IntensityLength {
+                ranges: self.ranges.len(),
+                intensities: int.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// The scan borrowed as a [`ScanView`]: its geometry, limits and ranges.
+    #[must_use]
+    pub fn view(&self) -> ScanView<'_> {
+        ScanView {
+            angle_min: self.angle_min,
+            angle_increment: self.angle_increment,
+            range_min: self.range_min,
+            range_max: self.range_max,
+            ranges: &self.ranges,
+        }
+    }
+
+    /// Number of beams.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.ranges.len()
+    }
+
+    /// True when the scan has no beams.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.ranges.is_empty()
+    }
+
+    /// Angle of beam `i`, rad.
+    #[must_use]
+    pub fn angle(&self, i: usize) -> f64 {
+        self.view().angle(i)
+    }
+
+    /// Angle of the last beam, rad (`angle_min` for an empty scan), as in ROS.
+    #[must_use]
+    pub fn angle_max(&self) -> f64 {
+        self.view().angle_max()
+    }
+
+    /// The window of valid ranges for this scan: its own limits, narrowed by `extra`.
+    #[must_use]
+    pub fn range_window(&self, extra: Option<RangeWindow>) -> RangeWindow {
+        self.view().range_window(extra)
+    }
+
+    /// Number of valid ranges in `window`.
+    #[must_use]
+    pub fn count_valid(&self, window: RangeWindow) -> usize {
+        self.view().count_valid(window)
+    }
+
+    /// Converts the valid beams to points in the sensor frame, keeping beam indices
+    /// ([`ScanView::points_into`]).
+    pub fn points_into(&self, window: RangeWindow, out: &mut Vec<ScanPoint>) {
+        self.view().points_into(window, out);
+    }
+
+    /// Convenience wrapper around [`Scan::points_into`] that allocates.
+    #[must_use]
+    pub fn points(&self, window: RangeWindow) -> Vec<ScanPoint> {
+        let mut out = Vec::with_capacity(self.ranges.len());
+        self.points_into(window, &mut out);
+        out
+    }
+}
+
+/// A scan whose ranges are borrowed: what every extractor reads
+/// ([`crate::LineExtractor::extract_view_into`]). A [`Scan`] lends one ([`Scan::view`]);
+/// ranges held elsewhere (a buffer of a driver, an array of another language) are read in
+/// place, without a copy.
+///
+/// Beam `i` points at `angle_min + i * angle_increment`, as in [`Scan`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScanView<'a> {
+    /// Angle of the first beam, rad.
+    pub angle_min: f64,
+    /// Angle between consecutive beams, rad (non-zero; negative for clockwise scans).
+    pub angle_increment: f64,
+    /// Smallest valid range, m.
+    pub range_min: f64,
+    /// Largest valid range, m.
+    pub range_max: f64,
+    /// Ranges, m; invalid values mean "no return".
+    pub ranges: &'a [f64],
+}
+
+impl<'a> From<&'a Scan> for ScanView<'a> {
+    fn from(scan: &'a Scan) -> Self {
+        scan.view()
+    }
+}
+
+impl<'a> ScanView<'a> {
+    /// Borrows `ranges` with the given geometry and limits, validated.
+    ///
+    /// # Errors
+    /// Any [`ScanError`] found by [`ScanView::validate`].
+    pub fn new(
+        angle_min: f64,
+        angle_increment: f64,
+        range_min: f64,
+        range_max: f64,
+        ranges: &'a [f64],
+    ) -> Result<Self, ScanError> {
+        let view = Self {
+            angle_min,
+            angle_increment,
+            range_min,
+            range_max,
+            ranges,
+        };
+        view.validate()?;
+        Ok(view)
+    }
+
+    /// Checks the geometry and limits: a finite `angle_min`, a finite non-zero
+    /// `angle_increment`, beams spanning at most a full turn, `0 <= range_min < range_max`
+    /// (finite).
     ///
     /// # Errors
     /// A [`ScanError`] naming the first problem found.
@@ -112,14 +244,6 @@ impl Scan {
             return Err(ScanError::BadRangeLimits {
                 min: self.range_min,
                 max: self.range_max,
-            });
-        }
-        if let Some(int) = &self.intensities
-            && int.len() != n
-        {
-            return Err(ScanError::IntensityLength {
-                ranges: n,
-                intensities: int.len(),
             });
         }
         Ok(())
@@ -187,14 +311,6 @@ impl Scan {
                 });
             }
         }
-    }
-
-    /// Convenience wrapper around [`Scan::points_into`] that allocates.
-    #[must_use]
-    pub fn points(&self, window: RangeWindow) -> Vec<ScanPoint> {
-        let mut out = Vec::with_capacity(self.ranges.len());
-        self.points_into(window, &mut out);
-        out
     }
 }
 
@@ -293,6 +409,31 @@ mod tests {
             s.validate(),
             Err(ScanError::IntensityLength { .. })
         ));
+    }
+
+    #[test]
+    fn a_view_borrows_the_ranges_and_checks_like_the_scan() {
+        let ranges = [1.0, f64::NAN, 2.0];
+        let view = ScanView::new(0.5, -0.25, 0.1, 4.0, &ranges).unwrap();
+        assert!(std::ptr::eq(view.ranges, &ranges[..]));
+        assert_eq!(view.angle_max(), 0.0);
+        let pts: Vec<usize> = {
+            let mut out = Vec::new();
+            view.points_into(view.range_window(None), &mut out);
+            out.iter().map(|p| p.index).collect()
+        };
+        assert_eq!(pts, vec![0, 2]);
+        assert_eq!(
+            ScanView::new(0.0, 0.1, 1.0, 1.0, &ranges).unwrap_err(),
+            ScanError::BadRangeLimits { min: 1.0, max: 1.0 }
+        );
+        assert!(matches!(
+            ScanView::new(0.0, f64::NAN, 0.0, 1.0, &ranges),
+            Err(ScanError::BadAngleIncrement(x)) if x.is_nan()
+        ));
+        let scan = Scan::new(0.5, -0.25, 0.1, 4.0, ranges.to_vec()).unwrap();
+        assert_eq!(scan.view().ranges.len(), 3);
+        assert_eq!(ScanView::from(&scan).angle(1), view.angle(1));
     }
 
     #[test]

@@ -1,5 +1,9 @@
 //! Invariants of `HoughSplit` on arbitrary scans: no panic, indices in range, every point in
-//! at most one line, identical results on a second run, both weight functions.
+//! at most one line, identical results on a second run, both weight functions; and the
+//! documented bounds that keep lines off empty space and off scattered points: consecutive
+//! supporting points of a line lie within the breakpoint distance `D` of each other
+//! ([`HoughSplitParams::breakpoint_distance`] at the noise the extraction assumed), and no
+//! line's RMS residual exceeds `max_rms_sigmas` times the noise at its points' centroid.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -124,6 +128,71 @@ fn check_invariants(scan: &Scan, lines: &[Line]) {
     }
 }
 
+/// The documented bounds of every line of the last extraction of `hs` on `scan`.
+fn check_bounds(scan: &Scan, hs: &HoughSplit, lines: &[Line]) {
+    let st = hs.stages();
+    let noise = st.noise();
+    let kept: std::collections::BTreeSet<usize> = st.kept().collect();
+    let points = st.points();
+    let p = HoughSplitParams::default();
+    let step = scan.angle_increment.abs();
+    for l in lines {
+        // The line's support: the kept points of its beam span, all of them its own.
+        let support: Vec<_> = points
+            .iter()
+            .filter(|q| (l.first..=l.last).contains(&q.index) && kept.contains(&q.index))
+            .collect();
+        assert_eq!(support.len(), l.points, "{l:?}");
+        for w in support.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let gap = (b.index - a.index) as f64 * step;
+            let d = p.breakpoint_distance(a.range, gap, step, noise.sigma(a.range));
+            let Some(d) = d else {
+                panic!(
+                    "beams {} and {} are too far apart to join: {l:?}",
+                    a.index, b.index
+                );
+            };
+            let apart = (b.point - a.point).norm();
+            assert!(
+                apart <= d * (1.0 + 1e-9),
+                "consecutive points {} m apart, D = {d} m: {l:?}",
+                apart
+            );
+        }
+        let n = support.len() as f64;
+        let (cx, cy) = support
+            .iter()
+            .fold((0.0, 0.0), |(x, y), q| (x + q.point.x, y + q.point.y));
+        let centroid = (cx / n).hypot(cy / n);
+        let limit = p.max_rms_sigmas * noise.sigma(centroid);
+        assert!(
+            l.rms <= limit * (1.0 + 1e-9),
+            "rms {} > {limit}: {l:?}",
+            l.rms
+        );
+    }
+}
+
+/// Walls with clutter: some of a wall scan's beams replaced by arbitrary ranges, so that
+/// points of no surface lie among and between the walls' points.
+fn cluttered_wall_scan() -> impl Strategy<Value = Scan> {
+    (
+        wall_scan(),
+        prop::collection::vec((0.0f64..1.0, 0.05f64..6.0), 0..80),
+    )
+        .prop_map(|(mut scan, clutter)| {
+            let n = scan.ranges.len();
+            for (at, r) in clutter {
+                let i = ((at * n as f64) as usize).min(n.saturating_sub(1));
+                if let Some(x) = scan.ranges.get_mut(i) {
+                    *x = r;
+                }
+            }
+            scan
+        })
+}
+
 fn params_for(weight: Weight) -> HoughSplitParams {
     HoughSplitParams {
         weight,
@@ -144,6 +213,7 @@ proptest! {
         let mut hs = HoughSplit::new(params_for(weight)).unwrap();
         let first = hs.extract(&scan);
         check_invariants(&scan, &first);
+        check_bounds(&scan, &hs, &first);
         let second = hs.extract(&scan);
         prop_assert_eq!(&first, &second);
         // A fresh extractor agrees with a reused one.
@@ -157,6 +227,7 @@ proptest! {
             let mut hs = HoughSplit::new(params_for(weight)).unwrap();
             let lines = hs.extract(&scan);
             check_invariants(&scan, &lines);
+            check_bounds(&scan, &hs, &lines);
             prop_assert!(!lines.is_empty(), "no line from a scan of walls ({weight:?})");
             // Stages are consistent: kept and removed partition the valid points.
             let st = hs.stages();
@@ -165,6 +236,18 @@ proptest! {
                 prop_assert!(st.segments().any(|s| s.first <= l.first && l.last <= s.last));
             }
         }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    #[test]
+    fn cluttered_walls_keep_lines_within_the_documented_bounds(scan in cluttered_wall_scan()) {
+        let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+        let lines = hs.extract(&scan);
+        check_invariants(&scan, &lines);
+        check_bounds(&scan, &hs, &lines);
     }
 }
 

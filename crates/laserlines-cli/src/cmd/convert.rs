@@ -10,18 +10,18 @@ use laserlines_io::Format;
 use crate::InputArgs;
 
 /// The formats `convert` writes.
-const WRITTEN: &str = "json, jsonl, csv, mcap";
+const WRITTEN: &str = "json, jsonl, csv, mcap, parquet";
 
 /// Arguments of `laserlines convert`.
 #[derive(Debug, Args)]
 pub struct ConvertArgs {
     #[command(flatten)]
     input: InputArgs,
-    /// Output file: .mcap (Foxglove: /scan, and /tf when the input has poses), .json, .jsonl
-    /// or .csv (one scan per file; optionally .gz, but not .mcap.gz); `-` for stdout with
-    /// --to.
+    /// Output file: .mcap (Foxglove: /scan, and /tf when the input has poses), .parquet (one
+    /// row per scan), .json, .jsonl or .csv (one scan per file; optionally .gz, but not
+    /// .mcap.gz or .parquet.gz); `-` for stdout with --to.
     output: PathBuf,
-    /// Output format, overriding the extension (json, jsonl, csv, mcap).
+    /// Output format, overriding the extension (json, jsonl, csv, mcap, parquet).
     #[arg(long)]
     to: Option<String>,
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.
@@ -78,13 +78,13 @@ fn output_format(args: &ConvertArgs) -> Result<Format> {
         None => Format::from_path(&args.output).ok_or_else(|| {
             anyhow!(
                 "{}: cannot tell the output format from the name; expected a name ending in \
-                 .mcap, .json, .jsonl, .ndjson or .csv (the last four optionally followed by \
-                 .gz), or --to FORMAT (one of {WRITTEN})",
+                 .mcap, .parquet, .json, .jsonl, .ndjson or .csv (the last four optionally \
+                 followed by .gz), or --to FORMAT (one of {WRITTEN})",
                 args.output.display()
             )
         })?,
     };
-    if !(format == Format::Mcap || format.is_writable()) {
+    if !(matches!(format, Format::Mcap | Format::Parquet) || format.is_writable()) {
         bail!(
             "{}: convert does not write the {format} format; it writes {WRITTEN}",
             args.output.display()

@@ -42,8 +42,8 @@ pub const IN_FLIGHT: usize = 4;
 pub struct ExtractArgs {
     #[command(flatten)]
     input: InputArgs,
-    /// Output: lines JSONL (`.jsonl`, `.jsonl.gz` compressed; `-` for stdout), or `.mcap` for
-    /// Foxglove (scan, lines and pose).
+    /// Output: lines JSONL (`.jsonl`, `.jsonl.gz` compressed; `-` for stdout), `.mcap` for
+    /// Foxglove (scan, lines and pose), or `.parquet` (one row per line).
     #[arg(short, long, default_value = "-")]
     output: PathBuf,
     /// Line extraction algorithm.

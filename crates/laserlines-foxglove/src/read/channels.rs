@@ -1,8 +1,7 @@
 //! Schemas and channels: what each channel carries, and the decoding of its messages
 //! (LaserScans in three encodings, transforms for poses).
 
-use foxglove::messages::{FrameTransform, LaserScan};
-use laserlines::Scan;
+use foxglove::messages::FrameTransform;
 use laserlines_io::{DecodeError, Pose2, ReadError, ScanRecord, SkipCounts};
 use prost::Message as _;
 
@@ -10,8 +9,8 @@ use super::records::{Body, Loc};
 use super::{
     McapScanSource, SKIP_BAD_TRANSFORM, SKIP_OTHER_TOPIC, SKIP_UNKNOWN_CHANNEL, ScanEncoding,
 };
+use crate::message::{self, MessageError};
 use crate::proto::{self, RangeLimits};
-use crate::ros::{self, LaserScanMsg};
 use crate::{ODOM_FRAME, ROBOT_FRAME};
 
 /// What a channel carries, as far as this reader cares.
@@ -35,10 +34,10 @@ pub(super) fn is_scan_schema(name: &str) -> bool {
 }
 
 pub(super) fn role_of(schema: &str, encoding: &str, limits: RangeLimits) -> Role {
+    if let Some(e) = ScanEncoding::of_channel(schema, encoding) {
+        return Role::Scan(e, limits);
+    }
     match (schema, encoding) {
-        ("sensor_msgs/msg/LaserScan", "cdr") => Role::Scan(ScanEncoding::Ros2Cdr, limits),
-        ("sensor_msgs/LaserScan", "ros1") => Role::Scan(ScanEncoding::Ros1, limits),
-        ("foxglove.LaserScan", "protobuf") => Role::Scan(ScanEncoding::FoxgloveProtobuf, limits),
         ("foxglove.FrameTransform", "protobuf") => Role::Transform,
         (s, _) if is_scan_schema(s) => Role::UnsupportedScan,
         _ => Role::Other,
@@ -181,23 +180,16 @@ impl McapScanSource {
             expected: e.expected,
             found: e.found,
         };
-        let fallback = (log_seconds > 0.0).then_some(log_seconds);
-        let mut scan: Scan = match encoding {
-            ScanEncoding::Ros2Cdr => ros_scan(ros::decode_cdr(data).map_err(field_error)?),
-            ScanEncoding::Ros1 => ros_scan(ros::decode_ros1(data).map_err(field_error)?),
-            ScanEncoding::FoxgloveProtobuf => {
-                let msg = LaserScan::decode(data).map_err(|e| ReadError::Field {
+        let scan =
+            message::decode_scan(encoding, limits, data, log_seconds).map_err(|e| match e {
+                MessageError::Ros(e) => field_error(e),
+                MessageError::Protobuf(e) => ReadError::Field {
                     pos: self.at(loc.byte()),
                     field: format!("{} message{}", channel.topic, loc.context()),
                     expected: "a protobuf foxglove.LaserScan".to_owned(),
                     found: format!("bytes that do not decode ({e})"),
-                })?;
-                proto::scan_from_foxglove(&msg, limits, log_seconds)
-            }
-        };
-        if scan.stamp.is_none() {
-            scan.stamp = fallback;
-        }
+                },
+            })?;
         scan.validate().map_err(|source| ReadError::InvalidScan {
             pos: self.at(loc.byte()),
             source,
@@ -244,8 +236,4 @@ impl McapScanSource {
             _ => {}
         }
     }
-}
-
-fn ros_scan(msg: LaserScanMsg) -> Scan {
-    msg.to_scan()
 }

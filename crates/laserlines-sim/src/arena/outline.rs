@@ -16,8 +16,9 @@
 use laserlines::geometry::distance_to_segment;
 use laserlines::math::{Point2, Vector2};
 
+use crate::cells::{clear_of, extent, flood4};
 use crate::index::WorldIndex;
-use crate::world::{Target, World};
+use crate::world::World;
 
 /// Widest gap the outline closes, m.
 pub const SEAL_GAP: f64 = 1.3;
@@ -130,36 +131,13 @@ impl ArenaOutline {
     fn not_reached_from_edge(&self, open: &[bool]) -> Vec<bool> {
         let (cols, rows) = (self.cols, self.rows);
         let mut reached = vec![false; cols * rows];
-        let mut stack: Vec<usize> = (0..cols * rows)
+        let edge: Vec<usize> = (0..cols * rows)
             .filter(|&c| {
                 let (x, y) = (c % cols, c / cols);
                 open[c] && (x == 0 || y == 0 || x + 1 == cols || y + 1 == rows)
             })
             .collect();
-        for &c in &stack {
-            reached[c] = true;
-        }
-        while let Some(c) = stack.pop() {
-            let (x, y) = (c % cols, c / cols);
-            let mut push = |m: usize| {
-                if open[m] && !reached[m] {
-                    reached[m] = true;
-                    stack.push(m);
-                }
-            };
-            if x > 0 {
-                push(c - 1);
-            }
-            if x + 1 < cols {
-                push(c + 1);
-            }
-            if y > 0 {
-                push(c - cols);
-            }
-            if y + 1 < rows {
-                push(c + cols);
-            }
-        }
+        flood4(cols, open, &edge, &mut reached);
         // Grow the reached centres by the disc's radius: stamp the disc around every reached
         // cell on the edge of the reached area.
         let r = 0.5 * SEAL_GAP / OUTLINE_CELL;
@@ -201,36 +179,6 @@ fn obstacle_points(world: &World) -> impl Iterator<Item = Point2> + '_ {
         .iter()
         .flat_map(|w| [w.a, w.b])
         .chain(world.discs.iter().map(|d| d.centre))
-}
-
-/// The bounding box of the finite points, if any.
-pub(crate) fn extent(points: impl Iterator<Item = Point2>) -> Option<(Point2, Point2)> {
-    points
-        .filter(|p| p.x.is_finite() && p.y.is_finite())
-        .fold(None, |acc, p| match acc {
-            None => Some((p, p)),
-            Some((lo, hi)) => Some((
-                Point2::new(lo.x.min(p.x), lo.y.min(p.y)),
-                Point2::new(hi.x.max(p.x), hi.y.max(p.y)),
-            )),
-        })
-}
-
-/// True when `p` is at least `need` from every wall and disc.
-fn clear_of(index: &WorldIndex, p: Point2, need: f64) -> bool {
-    let world = index.world();
-    let r = Vector2::new(need, need);
-    let mut clear = true;
-    index.near_box(p - r, p + r, |t| {
-        if clear {
-            let d = match t {
-                Target::Wall(i) => distance_to_segment(p, world.walls[i].a, world.walls[i].b),
-                Target::Disc(i) => (p - world.discs[i].centre).norm() - world.discs[i].radius,
-            };
-            clear = d >= need;
-        }
-    });
-    clear
 }
 
 /// One obstacle as the grouping sees it: a segment (a disc is a point with a radius).

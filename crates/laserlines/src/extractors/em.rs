@@ -33,7 +33,7 @@ use crate::fit::FitSums;
 use crate::line::Line;
 use crate::math::Vector2;
 use crate::params;
-use crate::scan::{RangeWindow, Scan, ScanPoint};
+use crate::scan::{RangeWindow, ScanPoint, ScanView};
 
 /// Parameters of [`Em`].
 ///
@@ -281,7 +281,7 @@ impl LineExtractor for Em {
         "em"
     }
 
-    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+    fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
         out.clear();
         let p = self.params.clone();
         scan.points_into(scan.range_window(p.range_limits), &mut self.points);

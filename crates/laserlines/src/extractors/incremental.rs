@@ -21,7 +21,7 @@ use crate::extractor::LineExtractor;
 use crate::fit::FitSums;
 use crate::line::Line;
 use crate::params;
-use crate::scan::{RangeWindow, Scan, ScanPoint};
+use crate::scan::{RangeWindow, ScanPoint, ScanView};
 
 /// Parameters of [`Incremental`].
 ///
@@ -172,7 +172,7 @@ impl LineExtractor for Incremental {
         "incremental"
     }
 
-    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+    fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
         out.clear();
         let p = &self.params;
         scan.points_into(scan.range_window(p.range_limits), &mut self.points);

@@ -26,7 +26,7 @@ use crate::fit::{FitSums, PolarFit};
 use crate::line::Line;
 use crate::math::{Matrix2, Point2, angle_diff, wrap_angle};
 use crate::params;
-use crate::scan::{RangeWindow, Scan, ScanPoint};
+use crate::scan::{RangeWindow, ScanPoint, ScanView};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Parameters of [`LineRegression`].
@@ -284,7 +284,7 @@ impl LineExtractor for LineRegression {
         "line-regression"
     }
 
-    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+    fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
         out.clear();
         let p = &self.params;
         scan.points_into(scan.range_window(p.range_limits), &mut self.points);

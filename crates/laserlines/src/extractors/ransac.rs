@@ -28,7 +28,7 @@ use super::runs::{Run, fit_where, for_each_run, largest_run};
 use crate::extractor::LineExtractor;
 use crate::line::Line;
 use crate::params;
-use crate::scan::{RangeWindow, Scan, ScanPoint};
+use crate::scan::{RangeWindow, ScanPoint, ScanView};
 
 /// Parameters of [`Ransac`].
 ///
@@ -272,7 +272,7 @@ impl LineExtractor for Ransac {
         "ransac"
     }
 
-    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+    fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
         out.clear();
         let p = self.params.clone();
         scan.points_into(scan.range_window(p.range_limits), &mut self.points);

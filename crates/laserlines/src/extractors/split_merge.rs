@@ -28,7 +28,7 @@ use super::split::{SplitLine, split};
 use crate::extractor::LineExtractor;
 use crate::line::Line;
 use crate::params;
-use crate::scan::{RangeWindow, Scan, ScanPoint};
+use crate::scan::{RangeWindow, ScanPoint, ScanView};
 
 /// Parameters of [`SplitMerge`], for either variant.
 ///
@@ -186,7 +186,7 @@ impl LineExtractor for SplitMerge {
         }
     }
 
-    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+    fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
         out.clear();
         let p = &self.params;
         let threshold = p.threshold();

@@ -4,11 +4,11 @@
 
 use super::linseg::{split_is_significant, sums};
 use super::params::HoughSplitParams;
-use crate::fit::FitSums;
+use super::points::Seg;
+use crate::fit::{FitSums, NormalFit};
 use crate::line::Line;
 use crate::math::Point2;
 use crate::noise::RangeNoise;
-use crate::scan::ScanPoint;
 
 /// Points on each side of a shared end point that [`Pieces::best_cut`] may move to the other
 /// line, and most points [`Pieces::trim_ends`] cuts from an end.
@@ -21,16 +21,15 @@ const CHI2_1E2: [f64; CUT_WINDOW] = [6.63, 9.21, 11.34, 13.28];
 /// A segment's points, their prefix sums, the parameters and the noise: what every step
 /// below reads.
 pub(crate) struct Pieces<'a> {
-    pub(crate) points: &'a [ScanPoint],
-    pub(crate) seg: &'a [u32],
+    pub(crate) seg: Seg<'a>,
     pub(crate) pre: &'a [FitSums],
     pub(crate) p: &'a HoughSplitParams,
     pub(crate) noise: &'a RangeNoise,
 }
 
 impl Pieces<'_> {
-    fn point(&self, k: usize) -> &ScanPoint {
-        &self.points[self.seg[k] as usize]
+    fn point(&self, k: usize) -> Point2 {
+        self.seg.point(k)
     }
 
     /// Drops every break whose two pieces are one line (the split test, not significant),
@@ -69,11 +68,11 @@ impl Pieces<'_> {
         if whi < wlo {
             return b + 1;
         }
-        let left = sums(self.pre, lo, wlo).fit();
-        let right = sums(self.pre, whi + 1, next + 1).fit();
-        let near = |fit: &crate::fit::PolarFit, k: usize| {
-            let q = self.point(k);
-            fit.distance(q.point).abs() <= self.p.split_sigmas * self.noise.sigma(q.range)
+        let left = sums(self.pre, lo, wlo).normal_fit();
+        let right = sums(self.pre, whi + 1, next + 1).normal_fit();
+        let near = |fit: &NormalFit, k: usize| {
+            fit.distance(self.point(k)).abs()
+                <= self.p.split_sigmas * self.noise.sigma(self.seg.range(k))
         };
         let (left, right) = match (left, right) {
             (Some(l), Some(r)) => (l, r),
@@ -94,11 +93,11 @@ impl Pieces<'_> {
             (None, None) => return b + 1,
         };
         // cost(c) = sum over window points before c of dL^2 + from c on of dR^2.
-        let (dl, dr) = (left.distance_fn(), right.distance_fn());
-        let mut cost: f64 = (wlo..=whi).map(|k| dr(self.point(k).point).powi(2)).sum();
+        let (dl, dr) = (|p| left.distance(p), |p| right.distance(p));
+        let mut cost: f64 = (wlo..=whi).map(|k| dr(self.point(k)).powi(2)).sum();
         let mut best = (cost, wlo);
         for c in wlo..=whi {
-            let q = self.point(c).point;
+            let q = self.point(c);
             cost += dl(q).powi(2) - dr(q).powi(2);
             // Ties keep the cut nearest the split point.
             let better = cost < best.0
@@ -132,8 +131,8 @@ impl Pieces<'_> {
             let mut best: Option<(f64, usize)> = None;
             for k in 1..=max_k {
                 let idx = |j: usize| if from_end { hi - 1 - j } else { lo + j };
-                rest.remove(self.point(idx(k - 1)).point);
-                let Some(fit) = rest.fit() else { break };
+                rest.remove(self.point(idx(k - 1)));
+                let Some(fit) = rest.normal_fit() else { break };
                 let (chi2, bent) = self.end_chi2(&fit, (0..k).map(idx));
                 let excess = chi2 - k as f64;
                 if bent && chi2 >= CHI2_1E2[k - 1] && best.is_none_or(|(e, _)| excess > e) {
@@ -154,30 +153,24 @@ impl Pieces<'_> {
     /// The chi-square of the points at positions `ks` (the outermost first) against `fit`
     /// (point noise plus the fit's uncertainty there), and whether they bend away from it: all
     /// on one side, the outermost farthest.
-    fn end_chi2(&self, fit: &crate::fit::PolarFit, ks: impl Iterator<Item = usize>) -> (f64, bool) {
-        // The normal once, for the distances and the positions along the line.
-        let normal = fit.normal();
+    fn end_chi2(&self, fit: &NormalFit, ks: impl Iterator<Item = usize>) -> (f64, bool) {
+        let normal = fit.normal;
         let (ca, sa) = (normal.x, normal.y);
         let cov = fit.covariance;
-        let n = fit.n as f64;
-        let residual = if fit.n > 2 {
-            fit.rms * fit.rms * n / (n - 2.0)
-        } else {
-            0.0
-        };
+        let residual = fit.s2;
         let (mut chi2, mut sign, mut bent) = (0.0, 0.0f64, true);
         let mut outermost = 0.0f64;
         for k in ks {
             let sp = self.point(k);
-            let d = sp.point.coords.dot(&normal) - fit.r;
+            let d = sp.coords.dot(&normal) - fit.r;
             if sign == 0.0 {
                 sign = d.signum();
                 outermost = d.abs();
             } else if d.signum() != sign || d.abs() > outermost {
                 bent = false;
             }
-            let noise = self.noise.sigma(sp.range);
-            let t = -sp.point.x * sa + sp.point.y * ca;
+            let noise = self.noise.sigma(self.seg.range(k));
+            let t = -sp.x * sa + sp.y * ca;
             let line_var = cov[(0, 0)] - 2.0 * t * cov[(0, 1)] + t * t * cov[(1, 1)];
             chi2 += d * d / ((noise * noise).max(residual) + line_var.max(0.0));
         }
@@ -198,9 +191,9 @@ impl Pieces<'_> {
         if fit.rms > self.p.max_rms_sigmas * sigma {
             return None;
         }
-        let first = self.point(a);
-        let last = self.point(z - 1);
-        let mut line = Line::from_fit(&fit, (first.index, first.point), (last.index, last.point));
+        let first = (self.seg.idx(a), self.point(a));
+        let last = (self.seg.idx(z - 1), self.point(z - 1));
+        let mut line = Line::from_fit(&fit, first, last);
         if line.length() < self.p.min_line_length {
             return None;
         }
@@ -289,19 +282,8 @@ fn join_corners(lines: &mut [Line], p: &HoughSplitParams, noise: &RangeNoise) {
 #[cfg(test)]
 mod tests {
     use super::super::linseg::{SplitScratch, linseg, prefix_sums};
+    use super::super::points::{Seg, points_at};
     use super::*;
-
-    fn pts(xy: &[(f64, f64)]) -> Vec<ScanPoint> {
-        xy.iter()
-            .enumerate()
-            .map(|(i, &(x, y))| ScanPoint {
-                index: i,
-                range: (x * x + y * y).sqrt(),
-                angle: y.atan2(x),
-                point: Point2::new(x, y),
-            })
-            .collect()
-    }
 
     #[test]
     fn an_l_gives_two_lines_sharing_the_corner_point_once() {
@@ -312,16 +294,15 @@ mod tests {
         for i in 1..=20 {
             xy.push((1.0 - 0.025 * f64::from(i), 0.0));
         }
-        let points = pts(&xy);
-        let seg: Vec<u32> = (0..points.len() as u32).collect();
+        let points = points_at(&xy);
+        let seg = Seg(&points);
         let p = HoughSplitParams::default();
         let noise = RangeNoise::new(0.002, 0.0);
         let mut scratch = SplitScratch::default();
-        prefix_sums(&points, &seg, &mut scratch.prefix);
-        linseg(&points, &seg, &p, &noise, &mut scratch);
+        prefix_sums(seg, &mut scratch.prefix);
+        linseg(seg, &p, &noise, &mut scratch);
         let pieces = Pieces {
-            points: &points,
-            seg: &seg,
+            seg,
             pre: &scratch.prefix,
             p: &p,
             noise: &noise,

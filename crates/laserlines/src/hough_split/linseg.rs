@@ -3,10 +3,10 @@
 //! splitting a wall.
 
 use super::params::HoughSplitParams;
+use super::points::Seg;
 use crate::fit::FitSums;
 use crate::math::Point2;
 use crate::noise::RangeNoise;
-use crate::scan::ScanPoint;
 
 /// Working memory of the split.
 #[derive(Debug, Default, Clone)]
@@ -27,13 +27,13 @@ fn chord_distance(p: Point2, a: Point2, b: Point2) -> f64 {
 }
 
 /// Prefix sums of a segment's points: `pre[i]` holds the sums of `seg[..i]`.
-pub(crate) fn prefix_sums(points: &[ScanPoint], seg: &[u32], pre: &mut Vec<FitSums>) {
-    pre.clear();
+pub(crate) fn prefix_sums(seg: Seg<'_>, pre: &mut Vec<FitSums>) {
+    pre.resize(seg.len() + 1, FitSums::new());
     let mut acc = FitSums::new();
-    pre.push(acc);
-    for &i in seg {
-        acc.add(points[i as usize].point);
-        pre.push(acc);
+    pre[0] = acc;
+    for (out, pt) in pre[1..].iter_mut().zip(seg.0) {
+        acc.add(Point2::new(pt.x, pt.y));
+        *out = acc;
     }
 }
 
@@ -45,11 +45,17 @@ pub(crate) fn sums(pre: &[FitSums], from: usize, to: usize) -> FitSums {
 /// The noise variance a test on the points `seg[a..=b]` uses: `sigma(r)^2` at their
 /// centroid's range.
 pub(crate) fn model_variance(pre: &[FitSums], a: usize, b: usize, noise: &RangeNoise) -> f64 {
-    let r = sums(pre, a, b + 1)
-        .centroid()
-        .map_or(0.0, |c| c.coords.norm());
-    let s = noise.sigma(r);
-    s * s
+    variance_at(&sums(pre, a, b + 1), noise)
+}
+
+/// `sigma(r)^2` at the range of the centroid of `s`: `max(sigma_min^2, fraction^2 r^2)`.
+fn variance_at(s: &FitSums, noise: &RangeNoise) -> f64 {
+    let r2 = s.centroid_norm_squared();
+    let (floor, growth) = (
+        noise.sigma_min * noise.sigma_min,
+        noise.fraction * noise.fraction,
+    );
+    (growth * r2).max(floor)
 }
 
 /// True when two lines, `seg[a..=m]` and `seg[m..=b]`, explain the points `seg[a..=b]`
@@ -65,12 +71,13 @@ pub(crate) fn split_is_significant(
     p: &HoughSplitParams,
     noise: &RangeNoise,
 ) -> bool {
-    let one = sums(pre, a, b + 1).sse();
+    let whole = sums(pre, a, b + 1);
+    let one = whole.sse();
     let two = sums(pre, a, m + 1).sse() + sums(pre, m, b + 1).sse();
     // Both lines hold the shared point: n + 1 residuals, four parameters.
     let n = b - a + 1;
     let residual = if n > 3 { two / (n - 3) as f64 } else { 0.0 };
-    let variance = model_variance(pre, a, b, noise).max(residual);
+    let variance = variance_at(&whole, noise).max(residual);
     one - two > p.split_significance * variance
 }
 
@@ -99,38 +106,39 @@ fn best_split(pre: &[FitSums], a: usize, b: usize) -> Option<usize> {
 /// tried instead (the farthest point can be an outlier while a shallow corner lies
 /// elsewhere).
 fn split_point(
-    points: &[ScanPoint],
-    seg: &[u32],
+    seg: Seg<'_>,
     pre: &[FitSums],
     (a, b): (usize, usize),
     p: &HoughSplitParams,
     noise: &RangeNoise,
 ) -> Option<usize> {
-    let pa = points[seg[a] as usize].point;
-    let pb = points[seg[b] as usize].point;
+    if b < a + 2 {
+        return None;
+    }
+    let (pa, pb) = (seg.point(a), seg.point(b));
     // Farthest point from the chord, compared by |cross product| (distance times chord
     // length) so that only the winner needs a division. When the chord's ends coincide, the
     // farthest point from them is taken instead.
     let ab = pb - pa;
     let degenerate = ab.norm_squared() <= f64::EPSILON;
     let mut best = (0.0f64, a);
-    for (m, &i) in seg.iter().enumerate().take(b).skip(a + 1) {
-        let ap = points[i as usize].point - pa;
+    for (m, pt) in seg.0[a + 1..b].iter().enumerate() {
+        let (apx, apy) = (pt.x - pa.x, pt.y - pa.y);
         let c = if degenerate {
-            ap.norm_squared()
+            apx * apx + apy * apy
         } else {
-            (ab.x * ap.y - ab.y * ap.x).abs()
+            (ab.x * apy - ab.y * apx).abs()
         };
         if c > best.0 {
-            best = (c, m);
+            best = (c, a + 1 + m);
         }
     }
     let middle = best.1;
     if middle == a {
         return None;
     }
-    let far = &points[seg[middle] as usize];
-    if chord_distance(far.point, pa, pb) <= p.split_sigmas * noise.sigma(far.range) {
+    let far = seg.point(middle);
+    if chord_distance(far, pa, pb) <= p.split_sigmas * noise.sigma(seg.range(middle)) {
         return None;
     }
     if p.split_significance <= 0.0 || split_is_significant(pre, a, middle, b, p, noise) {
@@ -144,20 +152,19 @@ fn split_point(
     best_split(pre, a, b).filter(|&m| split_is_significant(pre, a, m, b, p, noise))
 }
 
-/// Runs `Linseg(start, end)` over `seg` (indices into `points`, in beam order), whose prefix
+/// Runs `Linseg(start, end)` over the points of `seg` (in beam order), whose prefix
 /// sums are `scratch.prefix`, and leaves the split tree's end points in `scratch.breaks`, as
 /// positions in `seg`, ascending, first and last included. Neighbouring pieces share their
 /// end point, as in the paper.
 pub(crate) fn linseg(
-    points: &[ScanPoint],
-    seg: &[u32],
+    seg: Seg<'_>,
     p: &HoughSplitParams,
     noise: &RangeNoise,
     scratch: &mut SplitScratch,
 ) {
     scratch.breaks.clear();
     scratch.stack.clear();
-    if seg.is_empty() {
+    if seg.len() == 0 {
         return;
     }
     let last = (seg.len() - 1) as u32;
@@ -166,7 +173,7 @@ pub(crate) fn linseg(
     // Depth-first, left piece first: breaks come out in ascending order.
     while let Some((a, b)) = scratch.stack.pop() {
         let piece = (a as usize, b as usize);
-        match split_point(points, seg, &scratch.prefix, piece, p, noise) {
+        match split_point(seg, &scratch.prefix, piece, p, noise) {
             Some(m) => {
                 scratch.stack.push((m as u32, b));
                 scratch.stack.push((a, m as u32));
@@ -184,25 +191,13 @@ pub(crate) fn linseg(
 mod tests {
     use super::*;
 
-    pub(crate) fn pts(xy: &[(f64, f64)]) -> Vec<ScanPoint> {
-        xy.iter()
-            .enumerate()
-            .map(|(i, &(x, y))| ScanPoint {
-                index: i,
-                range: (x * x + y * y).sqrt(),
-                angle: y.atan2(x),
-                point: Point2::new(x, y),
-            })
-            .collect()
-    }
-
     fn run(xy: &[(f64, f64)], p: &HoughSplitParams) -> Vec<u32> {
-        let points = pts(xy);
-        let seg: Vec<u32> = (0..points.len() as u32).collect();
+        let points = crate::hough_split::points::points_at(xy);
+        let seg = Seg(&points);
         let mut scratch = SplitScratch::default();
-        prefix_sums(&points, &seg, &mut scratch.prefix);
+        prefix_sums(seg, &mut scratch.prefix);
         let noise = RangeNoise::new(0.002, 0.0);
-        linseg(&points, &seg, p, &noise, &mut scratch);
+        linseg(seg, p, &noise, &mut scratch);
         scratch.breaks
     }
 

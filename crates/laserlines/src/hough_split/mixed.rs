@@ -17,22 +17,21 @@ const EXTRAPOLATION: f64 = 2.449_489_742_783_178;
 /// the ranges, exact enough over two beams). A corner's apex lies on both lines and a point at
 /// a depth edge on its own side's, so only isolated points (mixed pixels, spikes) are found.
 /// Points without two valid neighbours on each side are never isolated.
+#[inline]
 pub(crate) fn isolated(ranges: &[f64], i: usize, window: RangeWindow, noise: &RangeNoise) -> bool {
-    if i < 2 || i + 2 >= ranges.len() {
+    // Beams `i - 2 ..= i + 2`: none when `i < 2` or `i + 2` is past the end.
+    let Some(&[a, b, r, c, d]) = i.checked_sub(2).and_then(|s| ranges.get(s..s + 5)) else {
         return false;
-    }
-    let (a, b, r, c, d) = (
-        ranges[i - 2],
-        ranges[i - 1],
-        ranges[i],
-        ranges[i + 1],
-        ranges[i + 2],
-    );
-    if !(window.contains(a) && window.contains(b) && window.contains(c) && window.contains(d)) {
-        return false;
-    }
+    };
     let limit = SIGMAS * EXTRAPOLATION * noise.sigma(r);
-    (r - (2.0 * b - a)).abs() > limit && (r - (2.0 * c - d)).abs() > limit
+    // The extrapolations first: almost every point fails them (so do NaN neighbours), and the
+    // neighbours' validity is asked only of the few that pass.
+    (r - (2.0 * b - a)).abs() > limit
+        && (r - (2.0 * c - d)).abs() > limit
+        && window.contains(a)
+        && window.contains(b)
+        && window.contains(c)
+        && window.contains(d)
 }
 
 #[cfg(test)]
@@ -64,5 +63,41 @@ mod tests {
         // Too few valid neighbours.
         let holes = [1.1, f64::NAN, 1.1, 1.25, 1.4, 1.4];
         assert!(!isolated(&holes, 3, W, &NOISE));
+    }
+
+    #[test]
+    fn invalid_neighbours_never_make_a_point_isolated() {
+        // Every neighbour value, valid or not (NaN, infinities, zero, negative, beyond the
+        // window), at every position around a point between two surfaces: isolated exactly
+        // when all four neighbours are valid and the point is far from both extrapolations.
+        let values = [
+            1.1,
+            1.4,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            0.0,
+            -1.1,
+            0.01,
+            25.0,
+            f64::MAX,
+        ];
+        let mut isolated_seen = 0;
+        for &a in &values {
+            for &b in &values {
+                for &c in &values {
+                    for &d in &values {
+                        let r = [a, b, 1.25, c, d];
+                        let valid = [a, b, c, d].iter().all(|&v| W.contains(v));
+                        let limit = SIGMAS * EXTRAPOLATION * NOISE.sigma(1.25);
+                        let far = (1.25 - (2.0 * b - a)).abs() > limit
+                            && (1.25 - (2.0 * c - d)).abs() > limit;
+                        assert_eq!(isolated(&r, 2, W, &NOISE), valid && far, "{r:?}");
+                        isolated_seen += usize::from(valid && far);
+                    }
+                }
+            }
+        }
+        assert!(isolated_seen > 0);
     }
 }

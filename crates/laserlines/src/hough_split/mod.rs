@@ -16,10 +16,12 @@
 //! ```
 
 mod accumulator;
+mod components;
 mod lines;
 mod linseg;
 mod mixed;
 mod params;
+mod points;
 mod segment;
 
 pub use crate::params::ParamsError;
@@ -28,11 +30,14 @@ pub use params::{HoughSplitParams, Weight};
 
 use crate::extractor::LineExtractor;
 use crate::line::Line;
+use crate::math::Point2;
 use crate::noise::{BandEstimate, NOISE_BANDS, NoiseEstimator, NoiseModel, RangeNoise};
-use crate::scan::{Scan, ScanPoint};
-use accumulator::{Accumulator, BeamTable};
+use crate::scan::{Scan, ScanPoint, ScanView};
+use accumulator::{Accumulator, Valid};
+use components::Components;
 use linseg::SplitScratch;
-use segment::{Breakpoints, Components, SegmentRun};
+use points::{BeamTable, Pt};
+use segment::{Breakpoints, Segments};
 
 /// The paper's line extractor (see the module docs). Reuse one value across scans: its
 /// working memory is kept, so that steady-state extraction allocates nothing.
@@ -45,16 +50,15 @@ pub struct HoughSplit {
     noise: RangeNoise,
     /// True when the last scan's noise was estimated from it.
     estimated: bool,
-    sizes: Vec<u32>,
+    /// The last scan's `angle_min` and `angle_increment`.
+    angles: (f64, f64),
     breakpoints: Breakpoints,
-    points: Vec<ScanPoint>,
-    /// Per point: a mixed pixel or spike, removed before the accumulator.
-    isolated: Vec<bool>,
+    points: Vec<Pt>,
     acc: Accumulator,
     uf: Components,
+    /// Per point: its cell (see `Accumulator::build`).
     cell_of: Vec<u32>,
-    kept: Vec<u32>,
-    segments: Vec<SegmentRun>,
+    segments: Segments,
     scratch: SplitScratch,
     /// Split-tree end points of all segments (beam indices), with per-segment ranges.
     split_points: Vec<usize>,
@@ -74,15 +78,13 @@ impl HoughSplit {
             estimator: NoiseEstimator::default(),
             noise: FALLBACK_NOISE,
             estimated: false,
-            sizes: Vec::new(),
+            angles: (0.0, 0.0),
             breakpoints: Breakpoints::default(),
             points: Vec::new(),
-            isolated: Vec::new(),
             acc: Accumulator::default(),
             uf: Components::default(),
             cell_of: Vec::new(),
-            kept: Vec::new(),
-            segments: Vec::new(),
+            segments: Segments::default(),
             scratch: SplitScratch::default(),
             split_points: Vec::new(),
             split_ranges: Vec::new(),
@@ -95,43 +97,10 @@ impl HoughSplit {
         &self.params
     }
 
-    /// Converts the valid beams to points (step 0), leaving out those nearer than
-    /// `min_range`, and marks isolated points (with `remove_mixed_pixels`): they vote in no
-    /// cell and so are removed.
-    fn convert(&mut self, scan: &Scan) {
-        let p = &self.params;
-        self.table.prepare(
-            scan.angle_min,
-            scan.angle_increment,
-            scan.ranges.len(),
-            p.sector_step,
-        );
-        let window = scan.range_window(p.range_limits);
-        self.points.clear();
-        self.isolated.clear();
-        for (i, (&r, beam)) in scan.ranges.iter().zip(&self.table.beams).enumerate() {
-            if !window.contains(r) || r < p.min_range {
-                continue;
-            }
-            let point = crate::math::Point2::new(r * beam.cos, r * beam.sin);
-            if point.x.is_finite() && point.y.is_finite() {
-                self.points.push(ScanPoint {
-                    index: i,
-                    range: r,
-                    angle: scan.angle(i),
-                    point,
-                });
-                self.isolated.push(
-                    p.remove_mixed_pixels && mixed::isolated(&scan.ranges, i, window, &self.noise),
-                );
-            }
-        }
-    }
-
     /// The range noise of `scan`: the fixed model, or the estimate from the scan itself
     /// ([`FALLBACK_NOISE`] when the scan is too short or sparse to tell), never below
     /// `noise_floor`.
-    fn noise_of(&mut self, scan: &Scan) {
+    fn noise_of(&mut self, scan: ScanView<'_>) {
         let p = &self.params;
         let floor = p.noise_floor;
         let (noise, estimated) = match p.noise {
@@ -164,20 +133,37 @@ impl LineExtractor for HoughSplit {
         Some(self.noise)
     }
 
-    fn extract_into(&mut self, scan: &Scan, out: &mut Vec<Line>) {
+    fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
         out.clear();
         self.split_points.clear();
         self.split_ranges.clear();
         // 0. valid beams to points, and their noise; 1-2. accumulator and criterion.
+        let p = &self.params;
+        self.table.prepare(
+            scan.angle_min,
+            scan.angle_increment,
+            scan.ranges.len(),
+            p.sector_step,
+        );
+        self.angles = (scan.angle_min, scan.angle_increment);
         self.noise_of(scan);
-        self.convert(scan);
         self.breakpoints
             .prepare(&self.params, scan.angle_increment, self.noise);
-        self.acc
-            .build(&self.points, &self.isolated, &self.table, &self.params);
+        let valid = Valid {
+            window: scan.range_window(self.params.range_limits),
+            min_range: self.params.min_range,
+            mixed: self.params.remove_mixed_pixels.then_some(self.noise),
+        };
+        self.acc.build(
+            scan,
+            &valid,
+            &self.table,
+            &self.params,
+            &mut self.points,
+            &mut self.cell_of,
+        );
         // 3. radius grouping and merging of touching groups.
-        self.acc.kept_cells(&mut self.cell_of);
-        segment::connect_cells(&self.acc, &self.params, &mut self.uf);
+        components::connect_cells(&self.acc, &self.params, &mut self.uf);
         if self.params.bridge_beams {
             segment::bridge_beams(&self.points, &self.cell_of, &self.breakpoints, &mut self.uf);
         }
@@ -185,35 +171,24 @@ impl LineExtractor for HoughSplit {
         segment::cut_segments(
             &self.points,
             &self.cell_of,
+            &self.acc.bins,
             &self.params,
             &self.breakpoints,
             &mut self.uf,
-            &mut self.sizes,
-            &mut self.kept,
             &mut self.segments,
         );
         // 5-6. Linseg on each segment, then the least-squares lines.
-        for run in &self.segments {
-            let seg = &self.kept[run.start as usize..run.end as usize];
-            linseg::prefix_sums(&self.points, seg, &mut self.scratch.prefix);
-            linseg::linseg(
-                &self.points,
-                seg,
-                &self.params,
-                &self.noise,
-                &mut self.scratch,
-            );
+        let kept = &self.segments.kept;
+        for run in &self.segments.runs {
+            let seg = points::Seg(&kept[run.start as usize..run.end as usize]);
+            linseg::prefix_sums(seg, &mut self.scratch.prefix);
+            linseg::linseg(seg, &self.params, &self.noise, &mut self.scratch);
             let from = self.split_points.len() as u32;
-            self.split_points.extend(
-                self.scratch
-                    .breaks
-                    .iter()
-                    .map(|&b| self.points[seg[b as usize] as usize].index),
-            );
+            self.split_points
+                .extend(self.scratch.breaks.iter().map(|&b| seg.idx(b as usize)));
             self.split_ranges
                 .push((from, self.split_points.len() as u32));
             let pieces = lines::Pieces {
-                points: &self.points,
                 seg,
                 pre: &self.scratch.prefix,
                 p: &self.params,
@@ -277,14 +252,23 @@ impl<'a> Stages<'a> {
 
     /// The valid points the pipeline started from, in beam order.
     #[must_use]
-    pub fn points(&self) -> &'a [ScanPoint] {
-        &self.hs.points
+    pub fn points(&self) -> Vec<ScanPoint> {
+        let pts = &self.hs.points;
+        let (angle_min, increment) = self.hs.angles;
+        (0..pts.len())
+            .map(|k| ScanPoint {
+                index: pts[k].idx,
+                range: pts[k].range,
+                angle: angle_min + pts[k].idx as f64 * increment,
+                point: Point2::new(pts[k].x, pts[k].y),
+            })
+            .collect()
     }
 
     /// Every accumulator cell that received a vote, sector by sector in ring order.
     #[must_use]
-    pub fn cells(&self) -> &'a [Cell] {
-        &self.hs.acc.cells
+    pub fn cells(&self) -> Vec<Cell> {
+        self.hs.acc.cells()
     }
 
     /// The distance `d` of a ring's centre line, m.
@@ -309,7 +293,7 @@ impl<'a> Stages<'a> {
     pub fn radius_groups(&self) -> Vec<RadiusGroup> {
         let mut kept: Vec<(u32, u32)> = self
             .cells()
-            .iter()
+            .into_iter()
             .filter(|c| c.kept)
             .map(|c| (c.ring, c.sector))
             .collect();
@@ -333,30 +317,29 @@ impl<'a> Stages<'a> {
 
     /// The data segments, in beam order.
     pub fn segments(&self) -> impl Iterator<Item = DataSegment> + 'a {
-        let hs = self.hs;
-        hs.segments.iter().map(move |run| DataSegment {
-            first: hs.points[hs.kept[run.start as usize] as usize].index,
-            last: hs.points[hs.kept[run.end as usize - 1] as usize].index,
+        let segs = &self.hs.segments;
+        segs.runs.iter().map(move |run| DataSegment {
+            first: segs.kept[run.start as usize].idx,
+            last: segs.kept[run.end as usize - 1].idx,
             points: (run.end - run.start) as usize,
         })
     }
 
     /// Beam indices of the surviving points (the paper's non-zero `Pm[i]`).
     pub fn kept(&self) -> impl Iterator<Item = usize> + 'a {
-        let hs = self.hs;
-        hs.kept.iter().map(move |&k| hs.points[k as usize].index)
+        self.hs.segments.kept.iter().map(|p| p.idx)
     }
 
     /// Beam indices of valid points removed as sparse or cluttered (the paper's `Pm[i] = 0`).
     #[must_use]
     pub fn removed(&self) -> Vec<usize> {
-        let mut keep = self.hs.kept.iter().peekable();
+        let mut keep = self.hs.segments.kept.iter().map(|p| p.idx).peekable();
         let mut out = Vec::new();
-        for (k, p) in self.hs.points.iter().enumerate() {
-            if keep.peek().is_some_and(|&&x| x as usize == k) {
+        for i in self.hs.points.iter().map(|p| p.idx) {
+            if keep.peek().is_some_and(|&x| x == i) {
                 keep.next();
             } else {
-                out.push(p.index);
+                out.push(i);
             }
         }
         out

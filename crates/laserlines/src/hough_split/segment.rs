@@ -1,101 +1,22 @@
-//! Step 3-4: radius grouping, merging of touching groups into data segments, and removal of
-//! the points outside every segment (paper section II-B, ALGORITHM section 2).
+//! Step 4: data segments, and removal of the points outside every segment (paper section
+//! II-B, ALGORITHM section 2), after the beam bridge joins the components of nearby points.
 //!
-//! Grouping along a ring and merging groups that touch in a neighbouring ring is computed in
-//! one union-find pass over the kept cells: two kept cells are joined when they lie in the same
-//! ring at most `1 + group_gap` sectors apart, or in neighbouring rings of the same or of
-//! neighbouring sectors (the 8-neighbourhood). Each connected component is one group of the
-//! paper's Fig. 4b. A data segment is then a maximal run of surviving points, in beam order,
-//! whose cells belong to one component: this resolves interleaved components (a box in front
-//! of a wall) so that every point belongs to exactly one segment, and segments never overlap.
+//! A data segment is a maximal run of surviving points, in beam order, whose cells belong to
+//! one component ([`super::components`]): this resolves interleaved components (a box in
+//! front of a wall) so that every point belongs to exactly one segment, and segments never
+//! overlap.
 
-use super::accumulator::{Accumulator, NONE};
+use super::accumulator::{Bin, NONE};
+use super::components::Components;
 use super::params::HoughSplitParams;
+use super::points::Pt;
 use crate::noise::RangeNoise;
-use crate::scan::ScanPoint;
 
 /// A data segment: a run of surviving points `kept[start..end]` in beam order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct SegmentRun {
     pub(crate) start: u32,
     pub(crate) end: u32,
-}
-
-/// Union-find over cell indices.
-#[derive(Debug, Default, Clone)]
-pub(crate) struct Components {
-    pub(crate) parent: Vec<u32>,
-}
-
-impl Components {
-    fn reset(&mut self, n: usize) {
-        self.parent.clear();
-        self.parent.extend(0..n as u32);
-    }
-
-    pub(crate) fn find(&mut self, mut x: usize) -> usize {
-        while self.parent[x] as usize != x {
-            let grand = self.parent[self.parent[x] as usize];
-            self.parent[x] = grand;
-            x = grand as usize;
-        }
-        x
-    }
-
-    fn same(&mut self, a: usize, b: usize) -> bool {
-        self.find(a) == self.find(b)
-    }
-
-    fn union(&mut self, a: usize, b: usize) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            // Smaller index becomes the root: roots are then deterministic and in scan order.
-            let (lo, hi) = if ra < rb { (ra, rb) } else { (rb, ra) };
-            self.parent[hi] = lo as u32;
-        }
-    }
-}
-
-/// Joins touching kept cells (grouping along rings and merging across rings).
-pub(crate) fn connect_cells(acc: &Accumulator, p: &HoughSplitParams, uf: &mut Components) {
-    uf.reset(acc.cells.len());
-    let sectors = acc.sector_start.len().saturating_sub(1);
-    for k in 0..sectors {
-        let here = acc.sector_cells(k);
-        // Same sector: neighbouring rings.
-        for c in here.clone().skip(1) {
-            let (a, b) = (&acc.cells[c - 1], &acc.cells[c]);
-            if a.kept && b.kept && b.ring - a.ring <= 1 {
-                uf.union(c - 1, c);
-            }
-        }
-        // Earlier sectors: the neighbouring one in the 8-neighbourhood, farther ones (up to the
-        // grouping gap) along the same ring only.
-        for back in 1..=(1 + p.group_gap) {
-            if back > k {
-                break;
-            }
-            let there = acc.sector_cells(k - back);
-            let reach = u32::from(back == 1);
-            let mut lo = there.start;
-            for c in here.clone() {
-                let cell = acc.cells[c];
-                if !cell.kept {
-                    continue;
-                }
-                while lo < there.end && acc.cells[lo].ring + reach < cell.ring {
-                    lo += 1;
-                }
-                let mut o = lo;
-                while o < there.end && acc.cells[o].ring <= cell.ring + reach {
-                    if acc.cells[o].kept {
-                        uf.union(c, o);
-                    }
-                    o += 1;
-                }
-            }
-        }
-    }
 }
 
 /// The breakpoint distance `D` of one scan ([`HoughSplitParams::breakpoint_distance`]) with
@@ -137,17 +58,18 @@ impl Breakpoints {
         self.factor.len()
     }
 
-    /// True when `b`, `gap` beams after `a`, lies within `D` of it.
-    #[inline]
-    pub(crate) fn joins(&self, a: &ScanPoint, b: &ScanPoint, gap: usize) -> bool {
+    /// True when a point at `(xb, yb)`, `gap` beams after the point `a`, lies within `D` of
+    /// it.
+    #[inline(always)]
+    pub(crate) fn joins(&self, a: &Pt, (xb, yb): (f64, f64), gap: usize) -> bool {
         let Some(&f) = self.factor.get(gap.wrapping_sub(1)) else {
             return false;
         };
         let limit = a.range * f + self.spread * self.noise.sigma(a.range);
-        let d = b.point - a.point;
-        let d2 = d.x * d.x + d.y * d.y;
+        let (dx, dy) = (xb - a.x, yb - a.y);
+        let d2 = dx * dx + dy * dy;
         // NaN factors and limits fail; squares that overflow (absurd ranges) never join.
-        d2.is_finite() && d2 <= limit * limit
+        d2 < f64::INFINITY && d2 <= limit * limit
     }
 }
 
@@ -155,107 +77,157 @@ impl Breakpoints {
 /// `D`: each point is compared with the points up to `bridge_max_gap` beams before it
 /// (missing beams, or points of other cells in between) until one joins it, so that a single
 /// outlier does not cut a wall in two.
-pub(crate) fn bridge_beams(
-    points: &[ScanPoint],
-    cell_of: &[u32],
-    bp: &Breakpoints,
-    uf: &mut Components,
-) {
+pub(crate) fn bridge_beams(points: &[Pt], cell_of: &[u32], bp: &Breakpoints, uf: &mut Components) {
     let reach = bp.reach();
-    for pi in 0..points.len() {
-        let cell = cell_of[pi];
-        if cell == NONE {
+    let points = &points[..cell_of.len()];
+    for pi in 1..cell_of.len() {
+        let (cell, before) = (cell_of[pi] as usize, cell_of[pi - 1] as usize);
+        // The usual case: the point before lies in the same cell, or in the same component.
+        // Points without a kept cell are skipped.
+        if cell == before {
             continue;
         }
-        let here = &points[pi];
+        let (pc, pb) = (uf.parent[cell], uf.parent[before]);
+        if pc == NONE || (pb != NONE && (pc == pb || uf.same(cell, before))) {
+            continue;
+        }
+        let here = points[pi];
         for q in (0..pi).rev() {
-            let gap = here.index - points[q].index;
+            let gap = here.idx - points[q].idx;
             if gap > reach {
                 break;
             }
-            let other = cell_of[q];
-            if other == NONE {
+            let other = cell_of[q] as usize;
+            if uf.parent[other] == NONE {
                 continue;
             }
-            if other == cell || uf.same(cell as usize, other as usize) {
+            if other == cell || uf.same(cell, other) {
                 break;
             }
-            if bp.joins(&points[q], here, gap) {
-                uf.union(cell as usize, other as usize);
+            if bp.joins(&points[q], (here.x, here.y), gap) {
+                uf.union(cell, other);
                 break;
             }
         }
     }
 }
 
-/// Cuts the surviving points into data segments and fills `kept` with the indices of the
-/// points that remain.
+/// Where [`cut_segments`] puts its results and keeps its working memory.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct Segments {
+    /// The surviving points, in beam order.
+    pub(crate) kept: Vec<Pt>,
+    /// The data segments, as runs of `kept`.
+    pub(crate) runs: Vec<SegmentRun>,
+    /// Points per component, counted at each component's root.
+    sizes: Vec<u32>,
+    /// Per cell: the root of its component when that is kept as a data segment, else `NONE`.
+    root_of: Vec<u32>,
+}
+
+/// Cuts the surviving points into data segments, filling `out.kept` with the points that
+/// remain and `out.runs` with the segments.
 ///
 /// Points whose component holds fewer than `min_segment_points` points are removed first
 /// (sparse and cluttered points: the paper's `Pm[i] = 0`); the rest are cut into maximal
 /// runs of one component, and (with `bridge_beams`) a run is also cut where consecutive
 /// points lie more than `bridge_max_gap` missing beams or more than the breakpoint distance
-/// `D` apart, so that no segment, and no line, spans empty space. Runs shorter than `min_segment_points` are
-/// removed too.
-#[allow(clippy::too_many_arguments)]
+/// `D` apart, so that no segment, and no line, spans empty space. Runs shorter than
+/// `min_segment_points` are removed too.
 pub(crate) fn cut_segments(
-    points: &[ScanPoint],
+    points: &[Pt],
     cell_of: &[u32],
+    bins: &[Bin],
     p: &HoughSplitParams,
     bp: &Breakpoints,
     uf: &mut Components,
-    sizes: &mut Vec<u32>,
-    kept: &mut Vec<u32>,
-    segments: &mut Vec<SegmentRun>,
+    out: &mut Segments,
 ) {
-    kept.clear();
-    segments.clear();
+    let Segments {
+        kept,
+        runs,
+        sizes,
+        root_of,
+    } = out;
+    runs.clear();
     let min = p.min_segment_points.max(1);
-    // Points per component, counted at each component's root.
+    uf.flatten();
+    // Points per component, from the points of each kept cell; then each cell's root when
+    // its component is large enough.
     sizes.clear();
     sizes.resize(uf.parent.len(), 0);
-    for &cell in cell_of {
-        if cell != NONE {
-            let root = uf.find(cell as usize);
-            sizes[root] += 1;
+    for (b, &root) in bins.iter().zip(&uf.parent) {
+        if root != NONE {
+            sizes[root as usize] += b.points;
         }
     }
-    let close = |kept: &mut Vec<u32>, segments: &mut Vec<SegmentRun>, start: usize| {
-        if kept.len() - start >= min {
-            segments.push(SegmentRun {
-                start: start as u32,
-                end: kept.len() as u32,
-            });
+    root_of.clear();
+    root_of.extend(uf.parent.iter().map(|&root| {
+        if root != NONE && sizes[root as usize] as usize >= min {
+            root
         } else {
-            kept.truncate(start);
+            NONE
         }
+    }));
+    let n = points.len().min(cell_of.len());
+    // Every point is written at the end of `kept`, which advances when it survives.
+    kept.resize(n, Pt::default());
+    let m = if p.bridge_beams {
+        runs_of::<true>(&points[..n], &cell_of[..n], root_of, bp, min, kept, runs)
+    } else {
+        runs_of::<false>(&points[..n], &cell_of[..n], root_of, bp, min, kept, runs)
     };
-    let mut run_root = usize::MAX;
+    kept.truncate(m);
+}
+
+/// The run loop of [`cut_segments`]: writes the surviving points to `kept` (as long as
+/// `points`) and their runs to `runs`; returns the number of surviving points.
+fn runs_of<const BRIDGE: bool>(
+    points: &[Pt],
+    cell_of: &[u32],
+    root_of: &[u32],
+    bp: &Breakpoints,
+    min: usize,
+    kept: &mut [Pt],
+    runs: &mut Vec<SegmentRun>,
+) -> usize {
+    let mut m = 0usize;
+    let mut run_root = NONE;
     let mut run_start = 0usize;
-    for (pi, &cell) in cell_of.iter().enumerate() {
-        if cell == NONE {
+    // The last kept point.
+    let mut last = Pt::default();
+    for (&pt, &cell) in points.iter().zip(cell_of) {
+        let root = root_of[cell as usize];
+        if root == NONE {
             continue;
         }
-        let root = uf.find(cell as usize);
-        if (sizes[root] as usize) < min {
-            continue;
-        }
-        let joined = run_root == root
-            && (!p.bridge_beams
-                || kept.last().is_some_and(|&q| {
-                    let (a, b) = (&points[q as usize], &points[pi]);
-                    bp.joins(a, b, b.index - a.index)
-                }));
-        if !joined {
-            if run_root != usize::MAX {
-                close(kept, segments, run_start);
+        if root != run_root || (BRIDGE && !bp.joins(&last, (pt.x, pt.y), pt.idx - last.idx)) {
+            if run_root != NONE {
+                m = close_run(runs, m, run_start, min);
             }
             run_root = root;
-            run_start = kept.len();
+            run_start = m;
         }
-        kept.push(pi as u32);
+        kept[m] = pt;
+        m += 1;
+        last = pt;
     }
-    if run_root != usize::MAX {
-        close(kept, segments, run_start);
+    if run_root != NONE {
+        m = close_run(runs, m, run_start, min);
+    }
+    m
+}
+
+/// Ends the run of kept points `start..m`: a data segment when it has `min` points or more,
+/// else its points are dropped. Returns the number of kept points.
+fn close_run(runs: &mut Vec<SegmentRun>, m: usize, start: usize, min: usize) -> usize {
+    if m - start >= min {
+        runs.push(SegmentRun {
+            start: start as u32,
+            end: m as u32,
+        });
+        m
+    } else {
+        start
     }
 }

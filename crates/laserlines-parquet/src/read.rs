@@ -1,0 +1,136 @@
+//! Reading scans back from a Parquet table of [`crate::schema::scans_schema`] (or any table
+//! with its required columns) as a [`ScanReader`], like every other format: `laserlines
+//! extract scans.parquet` and `laserlines.read("scans.parquet")` read it.
+//!
+//! The file is read one batch of rows at a time, so memory stays bounded by a row group.
+//! A row that is not a valid scan (a null where a number is required, limits out of order)
+//! is an error naming the file, the row and the column; reading goes on with the next row.
+//! A file that is not Parquet, lacks a column or holds one of another type is an error at
+//! opening; a page that cannot be decoded ends the reader with an error naming the first row
+//! of its batch.
+
+use std::fs::File;
+use std::path::Path;
+
+use bytes::Bytes;
+use laserlines_io::{Format, ReadError, ScanReader, ScanRecord, ScanSource, SkipCounts, SourcePos};
+use parquet::arrow::arrow_reader::{ParquetRecordBatchReader, ParquetRecordBatchReaderBuilder};
+use parquet::file::reader::ChunkReader;
+
+use crate::columns::{ScanColumns, check_schema};
+
+/// Rows decoded at a time.
+const BATCH_ROWS: usize = 1024;
+
+/// Opens the Parquet file `path` as a reader of scans.
+///
+/// # Errors
+/// [`ReadError::Open`] when the file cannot be opened; [`ReadError::Syntax`] when it is not
+/// a Parquet file; [`ReadError::Field`] for a missing column or one of another type.
+pub fn open(path: &Path) -> Result<ScanReader, ReadError> {
+    let name = path.display().to_string();
+    let file = File::open(path).map_err(|source| ReadError::Open {
+        file: name.clone(),
+        source,
+    })?;
+    from_chunks(&name, file)
+}
+
+/// Reads scans from a whole Parquet file in memory (standard input, a fuzzer's bytes).
+///
+/// # Errors
+/// As [`open`], but for opening.
+pub fn from_bytes(name: &str, bytes: impl Into<Bytes>) -> Result<ScanReader, ReadError> {
+    from_chunks(name, bytes.into())
+}
+
+fn from_chunks<T: ChunkReader + 'static>(name: &str, input: T) -> Result<ScanReader, ReadError> {
+    let not_parquet = |e: parquet::errors::ParquetError| ReadError::Syntax {
+        pos: SourcePos::byte(name, 0),
+        expected: "a Parquet file".to_owned(),
+        found: e.to_string(),
+    };
+    let builder = ParquetRecordBatchReaderBuilder::try_new(input).map_err(not_parquet)?;
+    check_schema(builder.schema()).map_err(|e| ReadError::Field {
+        pos: SourcePos::row(name, 0),
+        field: e.column.to_owned(),
+        expected: e.expected.to_owned(),
+        found: e.found,
+    })?;
+    let batches = builder
+        .with_batch_size(BATCH_ROWS)
+        .build()
+        .map_err(not_parquet)?;
+    let source = ParquetScanSource {
+        name: name.to_owned(),
+        batches: Some(batches),
+        current: None,
+        row_in_batch: 0,
+        batch_rows: 0,
+        row: 0,
+    };
+    Ok(ScanReader::from_source(
+        name,
+        Format::Parquet,
+        Box::new(source),
+    ))
+}
+
+/// The [`ScanSource`] of a Parquet table.
+struct ParquetScanSource {
+    name: String,
+    /// `None` at the end or after an error that ends reading.
+    batches: Option<ParquetRecordBatchReader>,
+    current: Option<ScanColumns>,
+    row_in_batch: usize,
+    batch_rows: usize,
+    /// The 0-based row of the table about to be read.
+    row: u64,
+}
+
+impl ParquetScanSource {
+    /// Decodes the next batch; `None` at the end, an error when it cannot be decoded.
+    fn next_batch(&mut self) -> Option<Result<(), ReadError>> {
+        let batches = self.batches.as_mut()?;
+        let batch = match batches.next()? {
+            Ok(batch) => batch,
+            Err(e) => {
+                self.batches = None;
+                return Some(Err(ReadError::Syntax {
+                    pos: SourcePos::row(&self.name, self.row),
+                    expected: "a readable row group".to_owned(),
+                    found: e.to_string(),
+                }));
+            }
+        };
+        self.row_in_batch = 0;
+        self.batch_rows = batch.num_rows();
+        self.current = ScanColumns::of(&batch);
+        if self.current.is_none() {
+            // The schema was checked at opening: a batch of another schema is a defect of
+            // the file or of the decoder, not of one row.
+            self.batches = None;
+            return Some(Err(ReadError::Syntax {
+                pos: SourcePos::row(&self.name, self.row),
+                expected: "rows of the file's schema".to_owned(),
+                found: "a batch of another schema".to_owned(),
+            }));
+        }
+        Some(Ok(()))
+    }
+}
+
+impl ScanSource for ParquetScanSource {
+    fn next_record(&mut self, _: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
+        while self.current.is_none() || self.row_in_batch >= self.batch_rows {
+            if let Err(e) = self.next_batch()? {
+                return Some(Err(e));
+            }
+        }
+        let columns = self.current.as_ref()?;
+        let item = columns.record(self.row_in_batch, &SourcePos::row(&self.name, self.row));
+        self.row_in_batch += 1;
+        self.row += 1;
+        Some(item)
+    }
+}

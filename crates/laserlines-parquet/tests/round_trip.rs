@@ -1,0 +1,262 @@
+//! Scans and lines through Parquet and back, on the bundled real URG-04LX excerpt, and what
+//! other writers produce (float64 lists, large and fixed-size lists, nullable columns).
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::sync::Arc;
+
+use arrow_array::cast::AsArray;
+use arrow_array::types::{Float64Type, Int64Type};
+use arrow_array::{
+    ArrayRef, FixedSizeListArray, Float32Array, Float64Array, LargeListArray, RecordBatch,
+};
+use arrow_buffer::OffsetBuffer;
+use arrow_schema::{DataType, Field, Schema};
+use laserlines::registry;
+use laserlines_io::{ReadError, ScanRecord, demo};
+use laserlines_parquet::schema::{LINE_BEAMS, LINE_FIT, LINE_GEOMETRY};
+use laserlines_parquet::{LinesParquetWriter, ScansParquetWriter, TableWriter, lines_schema, read};
+use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
+
+fn excerpt() -> Vec<ScanRecord> {
+    demo::urg04lx_excerpt().unwrap()
+}
+
+fn scans_bytes(records: &[ScanRecord]) -> Vec<u8> {
+    let mut w = ScansParquetWriter::new(Vec::new(), "mem").unwrap();
+    for r in records {
+        w.write(r).unwrap();
+    }
+    w.finish().unwrap()
+}
+
+#[test]
+fn scans_read_back_as_written_with_ranges_as_float32() {
+    let records = excerpt();
+    let bytes = scans_bytes(&records);
+    let back: Vec<ScanRecord> = read::from_bytes("mem", bytes.clone())
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap();
+    assert_eq!(back.len(), records.len());
+    for (a, b) in records.iter().zip(&back) {
+        let (s, t) = (&a.scan, &b.scan);
+        assert_eq!(
+            (s.angle_min, s.angle_increment, s.range_min, s.range_max),
+            (t.angle_min, t.angle_increment, t.range_min, t.range_max)
+        );
+        assert_eq!(s.stamp, t.stamp);
+        assert_eq!(a.pose, b.pose);
+        assert!(a.pose.is_some() && s.stamp.is_some());
+        let rounded: Vec<u64> = s
+            .ranges
+            .iter()
+            .map(|&r| f64::from(r as f32).to_bits())
+            .collect();
+        let read: Vec<u64> = t.ranges.iter().map(|r| r.to_bits()).collect();
+        assert_eq!(rounded, read);
+    }
+    // Written again, the scans read back give the very same bytes.
+    assert_eq!(scans_bytes(&back), bytes);
+}
+
+#[test]
+fn lines_table_holds_every_line_of_every_scan() {
+    let records = excerpt();
+    let mut hs = registry::by_name("hough-split").unwrap();
+    let mut w = LinesParquetWriter::new(Vec::new(), "mem").unwrap();
+    let mut expected = Vec::new();
+    for (k, r) in records.iter().enumerate() {
+        let lines = hs.extract(&r.scan);
+        w.write_record(k as u64, r, &lines).unwrap();
+        expected.extend(lines.into_iter().map(|l| (k, r.scan.stamp, r.pose, l)));
+    }
+    let bytes = bytes::Bytes::from(w.finish().unwrap());
+    let builder = ParquetRecordBatchReaderBuilder::try_new(bytes).unwrap();
+    assert_eq!(builder.schema().fields(), lines_schema().fields());
+    let batches: Vec<RecordBatch> = builder.build().unwrap().collect::<Result<_, _>>().unwrap();
+    let rows: usize = batches.iter().map(RecordBatch::num_rows).sum();
+    assert!(rows > 100, "{rows} lines");
+    assert_eq!(rows, expected.len());
+    let mut i = 0;
+    for b in &batches {
+        let f = |name: &str| {
+            b.column_by_name(name)
+                .unwrap()
+                .as_primitive::<Float64Type>()
+                .clone()
+        };
+        let n = |name: &str| {
+            b.column_by_name(name)
+                .unwrap()
+                .as_primitive::<Int64Type>()
+                .clone()
+        };
+        for row in 0..b.num_rows() {
+            let (k, stamp, pose, l) = &expected[i];
+            i += 1;
+            assert_eq!(n("scan").value(row), *k as i64);
+            assert_eq!(f("stamp").value(row), stamp.unwrap());
+            let pose = pose.unwrap();
+            assert_eq!(
+                [
+                    f("pose_x").value(row),
+                    f("pose_y").value(row),
+                    f("pose_theta").value(row)
+                ],
+                [pose.x, pose.y, pose.theta]
+            );
+            let geometry = [l.start.x, l.start.y, l.end.x, l.end.y, l.r, l.alpha];
+            for (name, v) in LINE_GEOMETRY.iter().zip(geometry) {
+                assert_eq!(f(name).value(row).to_bits(), v.to_bits(), "{name}");
+            }
+            for (name, v) in LINE_BEAMS.iter().zip([l.first, l.last, l.points]) {
+                assert_eq!(n(name).value(row), v as i64, "{name}");
+            }
+            let c = l.covariance;
+            for (name, v) in LINE_FIT
+                .iter()
+                .zip([l.rms, c[(0, 0)], c[(0, 1)], c[(1, 1)]])
+            {
+                assert_eq!(f(name).value(row).to_bits(), v.to_bits(), "{name}");
+            }
+        }
+    }
+}
+
+/// Writes one batch of `columns` (all nullable) with the crate's own table writer.
+fn table(columns: Vec<(&str, ArrayRef)>) -> Vec<u8> {
+    let schema = Arc::new(Schema::new(
+        columns
+            .iter()
+            .map(|(n, a)| Field::new(*n, a.data_type().clone(), true))
+            .collect::<Vec<_>>(),
+    ));
+    let batch =
+        RecordBatch::try_new(schema.clone(), columns.into_iter().map(|c| c.1).collect()).unwrap();
+    let mut w = TableWriter::new(Vec::new(), "t.parquet", schema, 100).unwrap();
+    w.write(&batch).unwrap();
+    w.finish().unwrap()
+}
+
+fn f64s(v: &[Option<f64>]) -> ArrayRef {
+    Arc::new(Float64Array::from(v.to_vec()))
+}
+
+#[test]
+fn other_writers_shapes_read_the_same() {
+    // Two scans of three beams, lists of float64 in three list kinds, limits as float32.
+    let values = Float64Array::from(vec![
+        Some(1.0),
+        None,
+        Some(2.0),
+        Some(3.0),
+        Some(0.5),
+        Some(9.0),
+    ]);
+    let item = Arc::new(Field::new("item", DataType::Float64, true));
+    let large: ArrayRef = Arc::new(LargeListArray::new(
+        item.clone(),
+        OffsetBuffer::from_lengths([3, 3]),
+        Arc::new(values.clone()),
+        None,
+    ));
+    let fixed: ArrayRef = Arc::new(FixedSizeListArray::new(item, 3, Arc::new(values), None));
+    for ranges in [large, fixed] {
+        let bytes = table(vec![
+            ("angle_min", f64s(&[Some(-0.1), Some(0.2)])),
+            ("angle_increment", f64s(&[Some(0.1), Some(-0.1)])),
+            (
+                "range_min",
+                Arc::new(Float32Array::from(vec![0.25f32, 0.25])),
+            ),
+            ("range_max", f64s(&[Some(5.0), Some(5.0)])),
+            ("ranges", ranges),
+            ("pose_x", f64s(&[Some(1.0), Some(2.0)])),
+            ("pose_y", f64s(&[Some(1.0), None])),
+            ("pose_theta", f64s(&[Some(0.0), Some(0.0)])),
+            ("other", f64s(&[None, None])),
+        ]);
+        let scans: Vec<ScanRecord> = read::from_bytes("t.parquet", bytes)
+            .unwrap()
+            .collect::<Result<_, _>>()
+            .unwrap();
+        assert_eq!(scans.len(), 2);
+        assert_eq!(scans[0].scan.ranges[0], 1.0);
+        assert!(scans[0].scan.ranges[1].is_nan()); // a null item: no return
+        assert_eq!(scans[1].scan.ranges, vec![3.0, 0.5, 9.0]);
+        assert_eq!(scans[1].scan.angle_increment, -0.1);
+        assert_eq!(scans[0].scan.range_min, 0.25);
+        assert!(scans[0].pose.is_some() && scans[1].pose.is_none()); // pose_y null
+        assert!(scans[0].scan.stamp.is_none() && scans[0].scan.intensities.is_none());
+    }
+}
+
+fn error_of(bytes: Vec<u8>) -> String {
+    read::from_bytes("bad.parquet", bytes)
+        .unwrap_err()
+        .to_string()
+}
+
+#[test]
+fn bad_files_are_errors_naming_the_file_the_row_and_the_column() {
+    assert!(
+        error_of(b"PAR1 not really".to_vec())
+            .starts_with("bad.parquet: byte 0: expected a Parquet file, found"),
+    );
+    let good = scans_bytes(&excerpt()[..3]);
+    let truncated = good[..good.len() / 2].to_vec();
+    assert!(error_of(truncated).starts_with("bad.parquet: byte 0: expected a Parquet file"));
+    let e = error_of(table(vec![("angle_min", f64s(&[Some(0.0)]))]));
+    assert!(
+        e.starts_with(
+            "bad.parquet: row 0: angle_increment: expected a column of float64 (or float32), \
+             found no such column (columns: angle_min)"
+        ),
+        "{e}"
+    );
+    let e = error_of(table(vec![
+        ("angle_min", f64s(&[Some(0.0)])),
+        ("angle_increment", f64s(&[Some(0.1)])),
+        ("range_min", f64s(&[Some(0.0)])),
+        ("range_max", f64s(&[Some(1.0)])),
+        ("ranges", f64s(&[Some(1.0)])),
+    ]));
+    assert!(
+        e.contains("row 0: ranges: expected a column of list<float32>"),
+        "{e}"
+    );
+    assert!(e.ends_with("found a column of Float64"), "{e}");
+}
+
+#[test]
+fn a_bad_row_is_an_error_naming_it_and_reading_goes_on() {
+    let values = Float32Array::from(vec![1.0f32, 2.0, 1.0, 2.0, 1.0, 2.0]);
+    let item = Arc::new(Field::new("item", DataType::Float32, true));
+    let ranges: ArrayRef = Arc::new(arrow_array::ListArray::new(
+        item,
+        OffsetBuffer::from_lengths([2, 2, 2]),
+        Arc::new(values),
+        None,
+    ));
+    let bytes = table(vec![
+        ("angle_min", f64s(&[Some(0.0), None, Some(0.0)])),
+        ("angle_increment", f64s(&[Some(0.1), Some(0.1), Some(0.1)])),
+        ("range_min", f64s(&[Some(0.0), Some(0.0), Some(3.0)])),
+        ("range_max", f64s(&[Some(4.0), Some(4.0), Some(2.0)])),
+        ("ranges", ranges),
+    ]);
+    let items: Vec<Result<ScanRecord, ReadError>> =
+        read::from_bytes("bad.parquet", bytes).unwrap().collect();
+    assert_eq!(items.len(), 3);
+    assert_eq!(items[0].as_ref().unwrap().scan.ranges, vec![1.0, 2.0]);
+    assert_eq!(
+        items[1].as_ref().unwrap_err().to_string(),
+        "bad.parquet: row 1: angle_min: expected a number, found null"
+    );
+    assert_eq!(
+        items[2].as_ref().unwrap_err().to_string(),
+        "bad.parquet: row 2: invalid scan: range limits must satisfy 0 <= range_min < \
+         range_max (finite), got 3..2"
+    );
+}

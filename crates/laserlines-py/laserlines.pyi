@@ -1,0 +1,189 @@
+"""Line segments from 2D laser range scans (the Rust library laserlines).
+
+Units are SI (metres, radians); frames follow REP 103 (x forward, y left, angles
+counter-clockwise). Beam ``i`` points at ``angle_min + i * angle_increment``; a range that is
+NaN, inf, not positive or outside ``range_min..range_max`` is "no return".
+
+Lines come as a numpy structured array, one record per line (``lines["r"]`` is the column of
+``r``, ``lines["start"]`` an (n, 2) array, ``lines[i]`` the i-th line); its fields:
+
+- ``start``, ``end``: (n, 2) float64, end points in the laser frame, m (``start`` at beam
+  ``first``);
+- ``r``: (n,) float64, distance of the line from the laser, m; ``alpha``: (n,) float64, the
+  direction of its normal, rad, in (-pi, pi] (the line is ``x cos(alpha) + y sin(alpha) = r``);
+- ``first``, ``last``: (n,) int64, the first and last supporting beam (inclusive);
+  ``points``: (n,) int64, the number of supporting points;
+- ``rms``: (n,) float64, RMS orthogonal residual, m;
+- ``covariance``: (n, 2, 2) float64, covariance of (r, alpha): [[m², m rad], [m rad, rad²]].
+"""
+
+from os import PathLike
+from typing import Any, Dict, Iterator, Optional, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+ALGORITHMS: Tuple[str, ...]
+"""The extractors by name, the paper's ``hough-split`` first."""
+
+Lines = npt.NDArray[np.void]
+"""The lines of one scan, a structured array with the fields ``start``, ``end``, ``r``,
+``alpha``, ``first``, ``last``, ``points``, ``rms``, ``covariance`` (see the module
+docstring)."""
+
+Ranges = Union[npt.NDArray[np.float64], npt.NDArray[np.float32]]
+"""Ranges of one scan, m: a 1-D float64 array (read in place when contiguous) or float32."""
+
+Path = Union[str, "PathLike[str]"]
+
+class Scan:
+    """One laser scan, shaped like ``sensor_msgs/LaserScan``."""
+
+    def __init__(
+        self,
+        ranges: Ranges,
+        angle_min: float,
+        angle_increment: float,
+        range_min: float = 0.0,
+        range_max: float = float("inf"),
+        stamp: Optional[float] = None,
+        pose: Optional[Tuple[float, float, float]] = None,
+    ) -> None:
+        """A scan; ``range_max=inf`` means no upper limit. ValueError for broken geometry."""
+    @property
+    def ranges(self) -> npt.NDArray[np.float64]:
+        """The ranges, m."""
+    @property
+    def intensities(self) -> Optional[npt.NDArray[np.float64]]:
+        """The intensities, one per range, when the source has them."""
+    angle_min: float
+    """Angle of the first beam, rad."""
+    angle_increment: float
+    """Angle between beams, rad (negative: a clockwise scan)."""
+    range_min: float
+    """Smallest valid range, m."""
+    range_max: float
+    """Largest valid range, m."""
+    stamp: Optional[float]
+    """Time stamp, s, when the source has one."""
+    pose: Optional[Tuple[float, float, float]]
+    """The robot's pose (x, y, theta) in m, m, rad, when the source has one."""
+    def __len__(self) -> int: ...
+
+class ScanIterator(Iterator[Scan]):
+    """The scans of a file, in file order (see :func:`read`)."""
+
+    def __iter__(self) -> "ScanIterator": ...
+    def __next__(self) -> Scan: ...
+    @property
+    def skipped(self) -> int:
+        """Records skipped so far (with ``skip_bad=True``)."""
+
+class Extractor:
+    """A line extractor chosen by name (one of :data:`ALGORITHMS`), with its parameters as
+    keyword arguments laid over the algorithm's defaults, exactly as a ``[name]`` table of a
+    ``laserlines --params`` file: nested parameters as dicts (``breakpoints={"noise": 0.02}``),
+    a preset by name (``paper=True``), ``noise="auto"``, a preset name such as ``"urg-04lx"``
+    or ``{"sigma_min": 0.01, "fraction": 0.01}`` for hough-split. An unknown algorithm or
+    parameter, or a value of the wrong type or out of range, raises ValueError naming it.
+
+    The extractor keeps its working memory between calls. The GIL is released while it
+    extracts: threads with one extractor each run in parallel (calls on one extractor from
+    several threads take turns).
+    """
+
+    def __init__(self, algorithm: str = "hough-split", **params: Any) -> None: ...
+    @property
+    def algorithm(self) -> str:
+        """The algorithm's name."""
+    @property
+    def params(self) -> Dict[str, Any]:
+        """Every parameter the extractor runs with (SI units, angles in radians)."""
+    @property
+    def last_ranges_address(self) -> int:
+        """Address of the first range the last extraction read: ``ranges.ctypes.data`` when a
+        contiguous float64 array was read in place."""
+    def extract(
+        self,
+        ranges: Union[Ranges, Scan],
+        angle_min: Optional[float] = None,
+        angle_increment: Optional[float] = None,
+        range_min: float = 0.0,
+        range_max: float = float("inf"),
+    ) -> Lines:
+        """The lines of one scan: ranges with their geometry, or a :class:`Scan`.
+
+        A contiguous float64 array is read where it is, without a copy (do not write to it
+        from another thread meanwhile); float32 and strided arrays are converted.
+        ``range_max=inf`` means no upper limit. TypeError for anything but a numpy array of
+        float64 or float32, ValueError for an array that is not 1-D, an ``angle_increment``
+        that is zero or not finite, limits out of order (a negative increment is a clockwise
+        scan, not an error)."""
+    def time_extract(
+        self,
+        ranges: Ranges,
+        angle_min: float,
+        angle_increment: float,
+        range_min: float = 0.0,
+        range_max: float = float("inf"),
+        repeat: int = 1000,
+    ) -> float:
+        """Seconds per extraction of one scan, timed in Rust around the extraction alone (the
+        mean of ``repeat``): a call of :meth:`extract` costs this plus the binding's overhead."""
+    def extract_table(self, table: Any) -> Any:
+        """The lines (a ``pyarrow.Table`` of :func:`lines_schema`, one row per line) of a table
+        of scans in :func:`scans_schema` (a ``pyarrow.Table``, a ``RecordBatchReader`` or
+        anything with ``__arrow_c_stream__``; ``convert LOG scans.parquet`` writes one, and a
+        Ray Data batch of it is one). Scans keep the table's ``scan`` index (else their row)."""
+    def extract_messages(self, table: Any) -> Any:
+        """The lines (a ``pyarrow.Table`` of :func:`lines_schema`) of a table of LaserScan
+        messages, one per row, as Ray Data's ``read_mcap(..., include_metadata=True)`` gives
+        them (``data``, ``schema_name``, ``message_encoding``, ``log_time`` in ns); scans
+        are numbered by row. Decoded and extracted at full precision (unlike a detour
+        through :func:`scans_from_messages`, whose table holds float32 ranges)."""
+    def extract_file(self, path: Path, topic: Optional[str] = None, skip_bad: bool = False) -> Any:
+        """The lines of every scan of a file (any format ``laserlines extract`` reads) as a
+        ``pyarrow.Table`` of :func:`lines_schema`."""
+
+def extract(
+    ranges: Union[Ranges, Scan],
+    angle_min: Optional[float] = None,
+    angle_increment: Optional[float] = None,
+    range_min: float = 0.0,
+    range_max: float = float("inf"),
+    algorithm: str = "hough-split",
+    **params: Any,
+) -> Lines:
+    """The lines of one scan with a new :class:`Extractor` of ``algorithm`` and ``params``
+    (use an :class:`Extractor` for many scans: it keeps its working memory)."""
+
+def read(path: Path, topic: Optional[str] = None, skip_bad: bool = False) -> ScanIterator:
+    """The scans of a file, with stamps and poses: every format ``laserlines extract`` reads
+    (MCAP and ROS 2 bag directories, Parquet scans tables, BreezySLAM ``.dat``, CARMEN logs,
+    ROS 1 bags, JSON, JSONL, CSV; ``.gz`` inflated). ``topic`` picks a topic (MCAP, bags) or a
+    laser (CARMEN). A bad record raises ValueError naming the file and line (or byte offset or
+    row); ``skip_bad=True`` skips and counts it. A missing file raises FileNotFoundError."""
+
+def extract_file(
+    path: Path,
+    topic: Optional[str] = None,
+    algorithm: str = "hough-split",
+    skip_bad: bool = False,
+    **params: Any,
+) -> Any:
+    """The lines of every scan of a file as a ``pyarrow.Table`` of :func:`lines_schema`: one
+    row per line, with the scan's index (from 0, in file order), stamp and pose."""
+
+def lines_schema() -> Any:
+    """The ``pyarrow.Schema`` of lines tables (``extract -o lines.parquet``)."""
+
+def scans_schema() -> Any:
+    """The ``pyarrow.Schema`` of scans tables (``convert LOG scans.parquet``)."""
+
+def scans_from_messages(table: Any) -> Any:
+    """LaserScan messages one per row, as Ray Data's ``read_mcap(..., include_metadata=True)``
+    gives them (``data``, ``schema_name``, ``message_encoding``, ``log_time`` in ns), as a
+    ``pyarrow.Table`` of :func:`scans_schema`. ValueError names a row that is not a LaserScan
+    or does not decode."""

@@ -1,0 +1,244 @@
+//! The `Extractor` class (an extractor by name, with its working memory kept across calls)
+//! and the module-level `extract`.
+
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+use laserlines::registry::BoxedExtractor;
+use laserlines::{Line, ScanView};
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::arrays::{LineRecords, ranges as read_ranges};
+use crate::config::{self, make_extractor};
+use crate::errors::value_error;
+use crate::kwargs;
+use crate::scans::Scan;
+use crate::tables;
+
+/// What an extraction works with: the extractor, its output buffer, and where the ranges it
+/// last read were.
+pub struct Working {
+    pub extractor: BoxedExtractor,
+    pub lines: Vec<Line>,
+    /// Address of the first range the last extraction read.
+    pub last_address: usize,
+}
+
+/// A line extractor chosen by name, with its parameters as keyword arguments laid over the
+/// algorithm's defaults. It keeps its working memory between calls; the GIL is released while
+/// it extracts, so threads with an extractor each run in parallel.
+#[pyclass(frozen, module = "laserlines")]
+pub struct Extractor {
+    algorithm: String,
+    params: toml::Table,
+    working: Mutex<Working>,
+}
+
+impl Extractor {
+    /// An extractor of `algorithm` with `params` over its defaults.
+    pub fn build(algorithm: &str, params: toml::Table) -> PyResult<Self> {
+        let built = make_extractor(algorithm, params).map_err(value_error)?;
+        Ok(Self {
+            algorithm: algorithm.to_owned(),
+            params: built.params,
+            working: Mutex::new(Working {
+                extractor: built.extractor,
+                lines: Vec::new(),
+                last_address: 0,
+            }),
+        })
+    }
+
+    /// The working memory, for one extraction at a time. A panic in an extractor leaves it
+    /// as it was (each extraction starts afresh).
+    pub fn working(&self) -> MutexGuard<'_, Working> {
+        self.working.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Extracts the lines of `view` without the GIL; the columns of the result.
+    fn extract_view(&self, py: Python<'_>, view: ScanView<'_>) -> LineRecords {
+        py.detach(|| {
+            let mut w = self.working();
+            let Working {
+                extractor,
+                lines,
+                last_address,
+            } = &mut *w;
+            extractor.extract_view_into(view, lines);
+            *last_address = view.ranges.as_ptr() as usize;
+            LineRecords::of(lines)
+        })
+    }
+}
+
+#[pymethods]
+impl Extractor {
+    #[new]
+    #[pyo3(signature = (algorithm = "hough-split", **params))]
+    fn new(algorithm: &str, params: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        Self::build(algorithm, kwargs::to_table(params)?)
+    }
+
+    /// The algorithm's name.
+    #[getter]
+    fn algorithm(&self) -> &str {
+        &self.algorithm
+    }
+
+    /// Every parameter the extractor runs with (SI units, angles in radians), as a dict.
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        kwargs::to_dict(py, &self.params)
+    }
+
+    /// Address of the first range the last extraction read: the array's own buffer
+    /// (`ranges.ctypes.data`) when it was read in place, a converted copy's otherwise.
+    #[getter]
+    fn last_ranges_address(&self) -> usize {
+        self.working().last_address
+    }
+
+    /// The lines of one scan (see the module docs of `laserlines.extract`).
+    #[pyo3(signature = (ranges, angle_min = None, angle_increment = None, range_min = 0.0, range_max = f64::INFINITY))]
+    fn extract<'py>(
+        &self,
+        py: Python<'py>,
+        ranges: &Bound<'py, PyAny>,
+        angle_min: Option<f64>,
+        angle_increment: Option<f64>,
+        range_min: f64,
+        range_max: f64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        if let Ok(scan) = ranges.cast::<Scan>() {
+            if angle_min.is_some() || angle_increment.is_some() {
+                return Err(PyTypeError::new_err(
+                    "extract(scan) takes its geometry from the scan: give no angle_min or angle_increment",
+                ));
+            }
+            let scan = scan.get();
+            let values = read_ranges(scan.ranges(py))?;
+            let view = config::checked_view(
+                values.as_slice(),
+                scan.angle_min,
+                scan.angle_increment,
+                scan.range_min,
+                scan.range_max,
+            )
+            .map_err(value_error)?;
+            return self.extract_view(py, view).into_array(py);
+        }
+        let (Some(angle_min), Some(angle_increment)) = (angle_min, angle_increment) else {
+            return Err(PyTypeError::new_err(
+                "extract() needs angle_min and angle_increment (rad) with an array of ranges",
+            ));
+        };
+        let values = read_ranges(ranges)?;
+        let view = config::checked_view(
+            values.as_slice(),
+            angle_min,
+            angle_increment,
+            range_min,
+            range_max,
+        )
+        .map_err(value_error)?;
+        self.extract_view(py, view).into_array(py)
+    }
+
+    /// Seconds per extraction of one scan, timed in Rust around the extraction alone
+    /// (`repeat` times, the mean): what a call from Python costs beyond it is the binding's
+    /// overhead.
+    #[pyo3(signature = (ranges, angle_min, angle_increment, range_min = 0.0, range_max = f64::INFINITY, repeat = 1000))]
+    // The Python signature: a scan's fields as keyword arguments.
+    #[allow(clippy::too_many_arguments)]
+    fn time_extract(
+        &self,
+        py: Python<'_>,
+        ranges: &Bound<'_, PyAny>,
+        angle_min: f64,
+        angle_increment: f64,
+        range_min: f64,
+        range_max: f64,
+        repeat: u32,
+    ) -> PyResult<f64> {
+        let values = read_ranges(ranges)?;
+        let view = config::checked_view(
+            values.as_slice(),
+            angle_min,
+            angle_increment,
+            range_min,
+            range_max,
+        )
+        .map_err(value_error)?;
+        let repeat = repeat.max(1);
+        Ok(py.detach(|| {
+            let mut w = self.working();
+            let Working {
+                extractor, lines, ..
+            } = &mut *w;
+            let start = std::time::Instant::now();
+            for _ in 0..repeat {
+                extractor.extract_view_into(view, lines);
+            }
+            start.elapsed().as_secs_f64() / f64::from(repeat)
+        }))
+    }
+
+    /// The lines of every scan of a table of scans (the scans schema: `laserlines convert
+    /// LOG scans.parquet`, a batch of Ray Data) as a `pyarrow.Table` of the lines schema.
+    fn extract_table<'py>(
+        &self,
+        py: Python<'py>,
+        table: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        tables::extract_table(self, py, table)
+    }
+
+    /// The lines of every LaserScan message of a table of messages (Ray Data's
+    /// `read_mcap(..., include_metadata=True)` rows: `data`, `schema_name`,
+    /// `message_encoding`, `log_time`) as a `pyarrow.Table` of the lines schema, scans
+    /// numbered by row; decoded and extracted at full precision.
+    fn extract_messages<'py>(
+        &self,
+        py: Python<'py>,
+        table: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        tables::extract_messages(self, py, table)
+    }
+
+    /// The lines of every scan of the file `path` (any format the command line reads) as a
+    /// `pyarrow.Table` of the lines schema.
+    #[pyo3(signature = (path, topic = None, skip_bad = false))]
+    fn extract_file<'py>(
+        &self,
+        py: Python<'py>,
+        path: std::path::PathBuf,
+        topic: Option<String>,
+        skip_bad: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        tables::extract_path(self, py, &path, topic, skip_bad)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Extractor({:?})", self.algorithm)
+    }
+}
+
+/// The lines of one scan with a fresh extractor of `algorithm` (see `Extractor.extract`).
+#[pyfunction]
+#[pyo3(signature = (ranges, angle_min = None, angle_increment = None, range_min = 0.0, range_max = f64::INFINITY, algorithm = "hough-split", **params))]
+// The Python signature: a scan's fields as keyword arguments.
+#[allow(clippy::too_many_arguments)]
+pub fn extract<'py>(
+    py: Python<'py>,
+    ranges: &Bound<'py, PyAny>,
+    angle_min: Option<f64>,
+    angle_increment: Option<f64>,
+    range_min: f64,
+    range_max: f64,
+    algorithm: &str,
+    params: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let extractor = Extractor::build(algorithm, kwargs::to_table(params)?)?;
+    extractor.extract(py, ranges, angle_min, angle_increment, range_min, range_max)
+}

@@ -1,0 +1,198 @@
+//! Scans in Python: the `Scan` class (a scan with its stamp and pose, ranges as a numpy
+//! array) and `read(path, topic=None)`, which iterates the scans of any file the command line
+//! reads.
+
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+use laserlines_io::{ReadOptions, ScanReader, ScanRecord};
+use numpy::{PyArray1, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+use crate::errors::read_error;
+
+/// One laser scan, shaped like `sensor_msgs/LaserScan`: beam `i` points at
+/// `angle_min + i * angle_increment` (rad); ranges in metres (NaN or inf: no return).
+#[pyclass(frozen, module = "laserlines")]
+pub struct Scan {
+    ranges: Py<PyArray1<f64>>,
+    /// Angle of the first beam, rad.
+    #[pyo3(get)]
+    pub angle_min: f64,
+    /// Angle between beams, rad (negative: clockwise).
+    #[pyo3(get)]
+    pub angle_increment: f64,
+    /// Smallest valid range, m.
+    #[pyo3(get)]
+    pub range_min: f64,
+    /// Largest valid range, m (`inf`: no limit).
+    #[pyo3(get)]
+    pub range_max: f64,
+    /// Time stamp, s, when the source has one.
+    #[pyo3(get)]
+    pub stamp: Option<f64>,
+    /// The robot's pose `(x, y, theta)` (m, m, rad) when the source has one.
+    #[pyo3(get)]
+    pub pose: Option<(f64, f64, f64)>,
+    intensities: Option<Py<PyArray1<f64>>>,
+}
+
+impl Scan {
+    /// The ranges array.
+    pub fn ranges<'py>(&self, py: Python<'py>) -> &Bound<'py, PyAny> {
+        self.ranges.bind(py).as_any()
+    }
+
+    /// A record read from a file, its vectors moved into numpy arrays.
+    fn of_record(py: Python<'_>, record: ScanRecord) -> Self {
+        let s = record.scan;
+        Self {
+            ranges: PyArray1::from_vec(py, s.ranges).unbind(),
+            angle_min: s.angle_min,
+            angle_increment: s.angle_increment,
+            range_min: s.range_min,
+            range_max: s.range_max,
+            stamp: s.stamp,
+            pose: record.pose.map(|p| (p.x, p.y, p.theta)),
+            intensities: s.intensities.map(|v| PyArray1::from_vec(py, v).unbind()),
+        }
+    }
+}
+
+#[pymethods]
+impl Scan {
+    #[new]
+    #[pyo3(signature = (ranges, angle_min, angle_increment, range_min = 0.0, range_max = f64::INFINITY, stamp = None, pose = None))]
+    // The Python signature: a scan's fields as keyword arguments.
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        ranges: &Bound<'_, PyAny>,
+        angle_min: f64,
+        angle_increment: f64,
+        range_min: f64,
+        range_max: f64,
+        stamp: Option<f64>,
+        pose: Option<(f64, f64, f64)>,
+    ) -> PyResult<Self> {
+        let values = crate::arrays::ranges(ranges)?;
+        crate::config::checked_view(
+            values.as_slice(),
+            angle_min,
+            angle_increment,
+            range_min,
+            range_max,
+        )
+        .map_err(crate::errors::value_error)?;
+        // A float64 array is kept as given; anything else as its float64 copy.
+        let array = match ranges.cast::<PyArray1<f64>>() {
+            Ok(a) => a.clone().unbind(),
+            Err(_) => PyArray1::from_slice(py, values.as_slice()).unbind(),
+        };
+        Ok(Self {
+            ranges: array,
+            angle_min,
+            angle_increment,
+            range_min,
+            range_max,
+            stamp,
+            pose,
+            intensities: None,
+        })
+    }
+
+    /// The ranges, m, as a float64 array.
+    #[getter(ranges)]
+    fn ranges_array<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.ranges.bind(py).clone()
+    }
+
+    /// The intensities, one per range, when the source has them.
+    #[getter]
+    fn intensities<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray1<f64>>> {
+        self.intensities.as_ref().map(|a| a.bind(py).clone())
+    }
+
+    fn __len__(&self, py: Python<'_>) -> usize {
+        PyUntypedArrayMethods::len(self.ranges.bind(py))
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "Scan({} beams from {:.4} rad by {:.6} rad, ranges {}..{} m, stamp {:?}, pose {:?})",
+            PyUntypedArrayMethods::len(self.ranges.bind(py)),
+            self.angle_min,
+            self.angle_increment,
+            self.range_min,
+            self.range_max,
+            self.stamp,
+            self.pose
+        )
+    }
+}
+
+/// An iterator of the scans of a file (see `laserlines.read`).
+#[pyclass(frozen, module = "laserlines")]
+pub struct ScanIterator {
+    reader: Mutex<ScanReader>,
+    skip_bad: bool,
+    skipped: Mutex<u64>,
+}
+
+#[pymethods]
+impl ScanIterator {
+    fn __iter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+        slf
+    }
+
+    fn __next__(&self, py: Python<'_>) -> PyResult<Option<Scan>> {
+        loop {
+            let item = py.detach(|| {
+                let mut reader = self
+                    .reader
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner);
+                reader.next()
+            });
+            match item {
+                None => return Ok(None),
+                Some(Ok(record)) => return Ok(Some(Scan::of_record(py, record))),
+                Some(Err(e)) if self.skip_bad => {
+                    *self
+                        .skipped
+                        .lock()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner) += 1;
+                    let _ = e;
+                }
+                Some(Err(e)) => return Err(read_error(&e)),
+            }
+        }
+    }
+
+    /// Records skipped so far (with `skip_bad=True`).
+    #[getter]
+    fn skipped(&self) -> u64 {
+        *self
+            .skipped
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+}
+
+/// Opens `path` as the command line does: any format by its extension (MCAP and ROS 2 bag
+/// directories, Parquet, BreezySLAM, CARMEN, ROS 1 bags, JSON, JSONL, CSV; `.gz` inflated).
+pub fn open(path: &std::path::Path, topic: Option<String>) -> PyResult<ScanReader> {
+    let options = ReadOptions::format(None).with_topic(topic.as_deref());
+    laserlines_foxglove::open_scans(path, &options).map_err(|e| read_error(&e))
+}
+
+/// Iterates the scans of the file `path`, with their stamps and poses.
+#[pyfunction]
+#[pyo3(signature = (path, topic = None, skip_bad = false))]
+pub fn read(path: PathBuf, topic: Option<String>, skip_bad: bool) -> PyResult<ScanIterator> {
+    Ok(ScanIterator {
+        reader: Mutex::new(open(&path, topic)?),
+        skip_bad,
+        skipped: Mutex::new(0),
+    })
+}

@@ -1,0 +1,126 @@
+//! Step 0: the valid beams of a scan as points, and the beam geometry they are computed from
+//! (cached per scan shape).
+
+use crate::math::Point2;
+
+/// One beam's geometry: its direction, its sector and `cos(phi - gamma_sector)`.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct Beam {
+    pub(crate) cos: f64,
+    pub(crate) sin: f64,
+    pub(crate) cos_to_sector: f64,
+    pub(crate) sector: u32,
+}
+
+/// Beam geometry of one scan shape, cached between scans of the same shape.
+#[derive(Debug, Default, Clone)]
+pub(crate) struct BeamTable {
+    key: Option<(u64, u64, usize, u64)>,
+    pub(crate) beams: Vec<Beam>,
+    /// Per sector: the first beam after it.
+    pub(crate) sector_end: Vec<usize>,
+    /// True when every beam direction is finite.
+    pub(crate) finite: bool,
+}
+
+impl BeamTable {
+    /// Makes sure the table describes beams of `angle_min + i * increment`, `i < n`.
+    pub(crate) fn prepare(&mut self, angle_min: f64, increment: f64, n: usize, sector_step: f64) {
+        let key = (
+            angle_min.to_bits(),
+            increment.to_bits(),
+            n,
+            sector_step.to_bits(),
+        );
+        if self.key == Some(key) {
+            return;
+        }
+        self.key = Some(key);
+        self.beams.clear();
+        self.sector_end.clear();
+        self.finite = true;
+        let sign = if increment < 0.0 { -1.0 } else { 1.0 };
+        let step = increment.abs();
+        for i in 0..n {
+            let phi = angle_min + i as f64 * increment;
+            let (sin, cos) = phi.sin_cos();
+            // Sector in the scan's own field of view, counted from the first beam. The tiny
+            // epsilon keeps beams that fall exactly on a boundary in the upper sector despite
+            // rounding.
+            let k_f = ((i as f64 * step) / sector_step + 1e-9).floor();
+            let k = if k_f.is_finite() && k_f >= 0.0 {
+                (k_f as usize).min(n)
+            } else {
+                0
+            };
+            let gamma = angle_min + sign * (k as f64 + 0.5) * sector_step;
+            let cos_to_sector = (phi - gamma).cos();
+            self.finite &= cos.is_finite() && sin.is_finite();
+            // Sectors are non-decreasing along the beams.
+            self.sector_end.resize(k + 1, i);
+            self.sector_end[k] = i + 1;
+            self.beams.push(Beam {
+                cos,
+                sin,
+                cos_to_sector: if cos_to_sector.is_finite() {
+                    cos_to_sector
+                } else {
+                    1.0
+                },
+                sector: k as u32,
+            });
+        }
+    }
+}
+
+/// A valid beam as a point: `(x, y)` in the sensor frame, m, its range, m, and beam index.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct Pt {
+    pub(crate) x: f64,
+    pub(crate) y: f64,
+    pub(crate) range: f64,
+    pub(crate) idx: usize,
+}
+
+/// A run of points (one data segment).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Seg<'a>(pub(crate) &'a [Pt]);
+
+impl Seg<'_> {
+    /// Number of points.
+    pub(crate) fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// Point `k`.
+    #[inline]
+    pub(crate) fn point(&self, k: usize) -> Point2 {
+        Point2::new(self.0[k].x, self.0[k].y)
+    }
+
+    /// Range of point `k`, m.
+    #[inline]
+    pub(crate) fn range(&self, k: usize) -> f64 {
+        self.0[k].range
+    }
+
+    /// Beam index of point `k`.
+    #[inline]
+    pub(crate) fn idx(&self, k: usize) -> usize {
+        self.0[k].idx
+    }
+}
+
+/// Points at `xy`, beam `k` for the `k`-th, their ranges from the origin.
+#[cfg(test)]
+pub(crate) fn points_at(xy: &[(f64, f64)]) -> Vec<Pt> {
+    xy.iter()
+        .enumerate()
+        .map(|(i, &(x, y))| Pt {
+            x,
+            y,
+            range: (x * x + y * y).sqrt(),
+            idx: i,
+        })
+        .collect()
+}
