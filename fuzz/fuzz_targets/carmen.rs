@@ -35,6 +35,7 @@ fuzz_target!(|data: &[u8]| {
             Ok(record) => {
                 assert!(record.scan.validate().is_ok());
                 assert!(record.pose.is_none_or(|p| p.is_finite()));
+                assert!(record.odometry.is_none_or(|p| p.is_finite()));
             }
             Err(e) => assert_eq!(e.file(), "fuzz"),
         }

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use foxglove::messages::{LaserScan, SceneUpdate};
+use foxglove::messages::{FrameTransform, LaserScan, SceneUpdate};
 use laserlines_foxglove::{McapReadOptions, read};
 use laserlines_io::ScanRecord;
 use prost::Message as _;
@@ -108,7 +108,25 @@ fn extract_to_mcap_writes_scans_lines_and_poses() {
     let by_topic = messages(&out);
     assert_eq!(by_topic["/scan"].len(), EXCERPT_SCANS);
     assert_eq!(by_topic["/lines"].len(), EXCERPT_SCANS);
-    assert_eq!(by_topic["/tf"].len(), 2 * EXCERPT_SCANS);
+    // The excerpt has wheel odometry: per scan `world -> odom`, `odom -> base_link` (REP 105)
+    // and the laser at the robot.
+    assert_eq!(by_topic["/tf"].len(), 3 * EXCERPT_SCANS);
+    let frames: Vec<(String, String)> = by_topic["/tf"][..3]
+        .iter()
+        .map(|m| {
+            let t = FrameTransform::decode(m.as_slice()).unwrap();
+            (t.parent_frame_id, t.child_frame_id)
+        })
+        .collect();
+    assert_eq!(
+        frames,
+        [
+            ("world", "odom"),
+            ("odom", "base_link"),
+            ("base_link", "laser")
+        ]
+        .map(|(a, b)| (a.to_owned(), b.to_owned()))
+    );
     // The lines are those of the JSONL output, end point for end point.
     let text = std::fs::read_to_string(&jsonl).unwrap();
     for (line, update) in text.lines().zip(&by_topic["/lines"]) {

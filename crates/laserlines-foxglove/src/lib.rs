@@ -25,7 +25,7 @@
 //! |---|---|---|
 //! | [`SCAN_TOPIC`] `/scan` | `foxglove.LaserScan` | [`LASER_FRAME`] `laser` |
 //! | [`LINES_TOPIC`] `/lines` | `foxglove.SceneUpdate` (entity `lines`, one `LINE_LIST`) | `laser` |
-//! | [`TF_TOPIC`] `/tf` | `foxglove.FrameTransform` | [`WORLD_FRAME`] `world` -> [`ROBOT_FRAME`] `base_link` -> `laser` |
+//! | [`TF_TOPIC`] `/tf` | `foxglove.FrameTransform` | [`WORLD_FRAME`] `world` -> [`ROBOT_FRAME`] `base_link` -> `laser`; with odometry `world` -> [`ODOM_FRAME`] `odom` -> `base_link` (REP 105) |
 //!
 //! ```
 //! use laserlines::Scan;
@@ -82,6 +82,8 @@ pub const TF_TOPIC: &str = "/tf";
 pub const WORLD_FRAME: &str = "world";
 /// The robot's frame (REP 105 `base_link`).
 pub const ROBOT_FRAME: &str = "base_link";
+/// The odometry frame (REP 105 `odom`): `odom -> base_link` is the wheel odometry.
+pub const ODOM_FRAME: &str = "odom";
 /// The laser's frame, in which scans and lines are given.
 pub const LASER_FRAME: &str = "laser";
 /// Id of the scene entity holding the lines.

@@ -5,7 +5,7 @@
 //! |---|---|---|---|
 //! | `/scan` | `foxglove.LaserScan` | `laser` | the scan; invalid ranges as NaN |
 //! | `/lines` | `foxglove.SceneUpdate` | `laser` | one entity `lines` with one `LINE_LIST` primitive: two points (start, end) per line, z = 0 |
-//! | `/tf` | `foxglove.FrameTransform` | `world` -> `base_link`, `base_link` -> `laser` | the robot's pose (`world_from_robot`) and the identity (the laser at the robot's origin), only when the input has poses |
+//! | `/tf` | `foxglove.FrameTransform` | `world` -> `base_link`, `base_link` -> `laser` | the robot's pose (`world_from_robot`) and the identity (the laser at the robot's origin), only when the input has poses; with odometry `world` -> `odom` -> `base_link` instead (REP 105: the odometry, and the odometry frame placed so that the chain gives the pose) |
 //!
 //! Every message of a scan carries the same timestamp and log time: the scan's stamp, or, for
 //! scans without one, 0.1 s after the previous scan's time (the first at 0).
@@ -18,7 +18,7 @@ use laserlines::Line;
 use laserlines_io::{Pose2, ScanRecord};
 
 use crate::proto;
-use crate::{LASER_FRAME, LINES_ENTITY, ROBOT_FRAME, WORLD_FRAME};
+use crate::{LASER_FRAME, LINES_ENTITY, ODOM_FRAME, ROBOT_FRAME, WORLD_FRAME};
 
 /// Time given to a scan without a stamp, after the previous scan's, s.
 pub const DEFAULT_SCAN_PERIOD: f64 = 0.1;
@@ -64,7 +64,8 @@ pub struct SceneMessages {
     pub scan: LaserScan,
     /// The lines, on `/lines` (`None` when only scans are converted).
     pub lines: Option<SceneUpdate>,
-    /// `world -> base_link` and `base_link -> laser`, on `/tf` (empty without a pose).
+    /// `world -> base_link` and `base_link -> laser`, on `/tf` (empty without a pose); with
+    /// odometry `world -> odom -> base_link -> laser`.
     pub transforms: Vec<FrameTransform>,
 }
 
@@ -127,18 +128,41 @@ pub fn pose_transforms(pose: Pose2, time: f64) -> Vec<FrameTransform> {
     ]
 }
 
+/// The transforms of a robot at `pose` in `world` whose wheel odometry says `odometry`
+/// (REP 105): `world -> odom` (so that the chain places the robot at `pose`), `odom ->
+/// base_link` (the odometry) and the laser at the robot.
+#[must_use]
+pub fn odometry_transforms(pose: Pose2, odometry: Pose2, time: f64) -> Vec<FrameTransform> {
+    // The same pose and odometry place the odometry frame at the world's origin exactly, so
+    // that reading the chain back gives the pose bit for bit.
+    let world_from_odom = if pose == odometry {
+        Pose2::default()
+    } else {
+        let w = pose.to_isometry() * odometry.to_isometry().inverse();
+        let v = w.translation.vector;
+        Pose2::new(v.x, v.y, w.rotation.angle())
+    };
+    vec![
+        proto::transform_from_pose(WORLD_FRAME, ODOM_FRAME, world_from_odom, time),
+        proto::transform_from_pose(ODOM_FRAME, ROBOT_FRAME, odometry, time),
+        proto::transform_from_pose(ROBOT_FRAME, LASER_FRAME, Pose2::default(), time),
+    ]
+}
+
 /// The messages of one scan at `time` (s), with its lines when given.
 #[must_use]
 pub fn scene_messages(record: &ScanRecord, lines: Option<&[Line]>, time: f64) -> SceneMessages {
+    let finite = |p: Option<Pose2>| p.filter(|p| p.is_finite());
+    let transforms = match (finite(record.pose), finite(record.odometry)) {
+        (pose, Some(odometry)) => odometry_transforms(pose.unwrap_or(odometry), odometry, time),
+        (Some(pose), None) => pose_transforms(pose, time),
+        (None, None) => Vec::new(),
+    };
     SceneMessages {
         time,
         scan: proto::foxglove_from_scan(&record.scan, LASER_FRAME, time),
         lines: lines.map(|l| lines_update(l, time)),
-        transforms: record
-            .pose
-            .filter(|p| p.is_finite())
-            .map(|p| pose_transforms(p, time))
-            .unwrap_or_default(),
+        transforms,
     }
 }
 

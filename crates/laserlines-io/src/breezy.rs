@@ -6,7 +6,7 @@
 //! |---|---|---|
 //! | 0 | time stamp, integer microseconds | `scan.stamp` in seconds |
 //! | 1 | not used by BreezySLAM | not interpreted |
-//! | 2, 3 | left and right wheel encoder counts, cumulative | wheel odometry, `pose` |
+//! | 2, 3 | left and right wheel encoder counts, cumulative | wheel odometry: `odometry` and `pose` |
 //! | 4..=23 | 20 more fields BreezySLAM skips | not interpreted |
 //! | 24..=705 | the 682 ranges, integer millimetres | `scan.ranges` in metres |
 //! | 706 | one trailing value BreezySLAM's loaders drop | not interpreted (not a 683rd beam) |
@@ -18,9 +18,10 @@
 //! counter-clockwise as in ROS. `range_min = 0.02` m and `range_max = 5.6` m: the value 0
 //! (no echo) and the URG error codes 1..=19 mm are never measurements.
 //!
-//! **Pose.** Wheel odometry from the encoder counts with the robot's constants as the
-//! BreezySLAM repository's `Rover` class states them (wheel radius 77 mm, half axle 165 mm,
-//! 2000 ticks per wheel revolution): see [`WheelOdometry`]. The pose is the robot's (the
+//! **Pose.** Wheel odometry (the record's `odometry`, and its `pose` too) from the encoder
+//! counts with the robot's constants as the BreezySLAM repository's `Rover` class states
+//! them (wheel radius 77 mm, half axle 165 mm, 2000 ticks per wheel revolution): see
+//! [`WheelOdometry`]. The pose is the robot's (the
 //! middle of the wheel axle) in the odometry frame that starts at `(0, 0, 0)` at the first
 //! scan of the input. The laser sits [`LASER_OFFSET_X`] ahead of it (BreezySLAM's
 //! `MinesLaser`); the pose does not include that offset.
@@ -220,6 +221,7 @@ impl ScanSource for DatSource {
                     ScanRecord {
                         scan,
                         pose: Some(pose),
+                        odometry: Some(pose),
                         line: Some(line),
                     }
                 }),

@@ -22,7 +22,8 @@
 //!   as a measurement (narrow it with the extractor's range limits).
 //! - Comment lines start with `#`. Comments of the form `# key: value` with the keys
 //!   `angle_min`, `angle_increment` (rad), `range_min`, `range_max` (m), `stamp` (s),
-//!   `pose_x`, `pose_y` (m) and `pose_theta` (rad) set those values (the pose needs all
+//!   `pose_x`, `pose_y` (m), `pose_theta` (rad), and the same for the wheel odometry
+//!   `odometry_x`, `odometry_y`, `odometry_theta`, set those values (a pose needs all
 //!   three); other comments are ignored. The CSV writer writes them all, so that a scan
 //!   (even one of 0 or 1 beams) survives a round trip exactly.
 //!
@@ -57,6 +58,8 @@ struct Meta {
     angle_increment: Option<f64>,
     pose: [Option<f64>; 3],
     pose_line: usize,
+    odometry: [Option<f64>; 3],
+    odometry_line: usize,
 }
 
 /// Reads a CSV scan.
@@ -88,17 +91,8 @@ impl CsvSource {
         };
         let end_line = self.lines.line_number() + 1;
         let (angle_min, increment) = geometry(&name, &meta, &rows, end_line)?;
-        let pose = match meta.pose {
-            [None, None, None] => None,
-            [Some(x), Some(y), Some(theta)] => Some(Pose2::new(x, y, theta)),
-            _ => {
-                return Err(ReadError::Syntax {
-                    pos: SourcePos::line(&name, meta.pose_line),
-                    expected: "all of `# pose_x:`, `# pose_y:` and `# pose_theta:`".to_owned(),
-                    found: "only some of them".to_owned(),
-                });
-            }
-        };
+        let pose = triple(&name, "pose", meta.pose, meta.pose_line)?;
+        let odometry = triple(&name, "odometry", meta.odometry, meta.odometry_line)?;
         let first_line = rows.lines.first().copied().unwrap_or(header_line);
         let scan = Scan {
             angle_min,
@@ -116,6 +110,7 @@ impl CsvSource {
         Ok(ScanRecord {
             scan,
             pose,
+            odometry,
             line: Some(first_line),
         })
     }
@@ -320,6 +315,9 @@ fn parse_comment(name: &str, line: usize, comment: &str, meta: &mut Meta) -> Res
         "pose_x" => &mut meta.pose[0],
         "pose_y" => &mut meta.pose[1],
         "pose_theta" => &mut meta.pose[2],
+        "odometry_x" => &mut meta.odometry[0],
+        "odometry_y" => &mut meta.odometry[1],
+        "odometry_theta" => &mut meta.odometry[2],
         _ => return Ok(()),
     };
     let value = value.trim();
@@ -337,7 +335,28 @@ fn parse_comment(name: &str, line: usize, comment: &str, meta: &mut Meta) -> Res
     if key.starts_with("pose_") {
         meta.pose_line = line;
     }
+    if key.starts_with("odometry_") {
+        meta.odometry_line = line;
+    }
     Ok(())
+}
+
+/// The pose `{what}_x`, `{what}_y`, `{what}_theta` of the comments: all three or none.
+fn triple(
+    name: &str,
+    what: &str,
+    parts: [Option<f64>; 3],
+    line: usize,
+) -> Result<Option<Pose2>, ReadError> {
+    match parts {
+        [None, None, None] => Ok(None),
+        [Some(x), Some(y), Some(theta)] => Ok(Some(Pose2::new(x, y, theta))),
+        _ => Err(ReadError::Syntax {
+            pos: SourcePos::line(name, line),
+            expected: format!("all of `# {what}_x:`, `# {what}_y:` and `# {what}_theta:`"),
+            found: "only some of them".to_owned(),
+        }),
+    }
 }
 
 impl ScanSource for CsvSource {

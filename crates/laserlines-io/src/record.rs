@@ -7,8 +7,9 @@ use serde::{Deserialize, Serialize};
 /// A planar pose: position in metres and heading in radians (counter-clockwise from the
 /// frame's x axis).
 ///
-/// In a [`ScanRecord`] it is the robot's pose in the source's world or odometry frame
-/// (`world_from_robot`), when the source has one.
+/// In a [`ScanRecord`] it is a pose the source gives with the scan: [`ScanRecord::pose`]
+/// (the pose the log states, e.g. CARMEN's laser pose) and [`ScanRecord::odometry`] (the
+/// wheel odometry's).
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct Pose2 {
     /// x, m.
@@ -46,8 +47,18 @@ pub struct ScanRecord {
     /// The scan (validated by the reader with [`Scan::validate`]); `scan.stamp` is its time
     /// stamp in seconds when the source has one.
     pub scan: Scan,
-    /// The robot's pose (`world_from_robot`, metres and radians) when the source has one.
+    /// The pose the source states for the scan (`world_from_robot` in the source's world or
+    /// odometry frame, metres and radians), when it has one: CARMEN's laser pose (the first
+    /// pose triple of a laser line; SLAM-corrected in some published logs), BreezySLAM's
+    /// wheel odometry, an MCAP file's `base_link` transform from a frame other than `odom`,
+    /// a JSON scan's `pose`.
     pub pose: Option<Pose2>,
+    /// The wheel odometry's pose at the scan (`odom_from_robot`), when the source has one:
+    /// CARMEN's odometry triple (`odom_x odom_y odom_theta` of `FLASER`/`RLASER`, the robot
+    /// pose of `ROBOTLASER`, the last `ODOM` message for `RAWLASER`), BreezySLAM's wheel
+    /// odometry, an MCAP file's `odom` -> `base_link` transform, a JSON scan's `odometry`.
+    /// Never the log's laser pose: mapping with odometry reads this field only.
+    pub odometry: Option<Pose2>,
     /// The 1-based line of the input where the record starts, for text formats.
     pub line: Option<usize>,
 }
@@ -59,6 +70,7 @@ impl ScanRecord {
         Self {
             scan,
             pose: None,
+            odometry: None,
             line: None,
         }
     }

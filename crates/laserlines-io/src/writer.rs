@@ -286,7 +286,7 @@ impl LinesWriter<Output> {
 ///   object per line (`[]` for none). The layout is decided at [`ScanWriter::finish`], so
 ///   call it (or [`ScanWriter::close`]); dropping the writer finishes it too but cannot report
 ///   errors.
-/// - CSV: one scan per file; the range limits, stamp and pose go into `# key: value`
+/// - CSV: one scan per file; the range limits, stamp, pose and odometry go into `# key: value`
 ///   comments, intensities into a fourth column. A second scan is an error.
 ///
 /// Non-finite ranges are written as `null` (JSON) or `nan` (CSV): both mean "no return".
@@ -532,11 +532,19 @@ fn write_csv(out: &mut Vec<u8>, record: &ScanRecord) -> io::Result<()> {
         number(out, stamp)?;
         out.push(b'\n');
     }
-    if let Some(p) = record.pose {
-        for (key, v) in [("pose_x", p.x), ("pose_y", p.y), ("pose_theta", p.theta)] {
-            write!(out, "# {key}: ")?;
-            number(out, v)?;
-            out.push(b'\n');
+    for (pose, keys) in [
+        (record.pose, ["pose_x", "pose_y", "pose_theta"]),
+        (
+            record.odometry,
+            ["odometry_x", "odometry_y", "odometry_theta"],
+        ),
+    ] {
+        if let Some(p) = pose {
+            for (key, v) in keys.into_iter().zip([p.x, p.y, p.theta]) {
+                write!(out, "# {key}: ")?;
+                number(out, v)?;
+                out.push(b'\n');
+            }
         }
     }
     let intensities = s.intensities.as_deref();

@@ -35,6 +35,7 @@ fn tricky_record() -> ScanRecord {
             stamp: Some(1_700_000_000.123_456_7),
         },
         pose: Some(Pose2::new(1.0 / 7.0, -2.5, std::f64::consts::PI)),
+        odometry: Some(Pose2::new(-0.1, 1.0 / 3.0, -1.25)),
         line: None,
     }
 }
@@ -43,6 +44,7 @@ fn plain_record(k: usize) -> ScanRecord {
     ScanRecord {
         scan: Scan::new(0.5, -0.25, 0.0, 4.0, vec![k as f64, 1.5, f64::NAN]).unwrap(),
         pose: None,
+        odometry: None,
         line: None,
     }
 }
@@ -87,6 +89,7 @@ fn assert_same_scan(a: &ScanRecord, b: &ScanRecord) {
     }
     assert_eq!(x.stamp.map(f64::to_bits), y.stamp.map(f64::to_bits));
     assert_eq!(a.pose, b.pose);
+    assert_eq!(a.odometry, b.odometry);
 }
 
 #[test]

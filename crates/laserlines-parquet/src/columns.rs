@@ -288,9 +288,11 @@ impl ScanColumns {
             .pose
             .as_ref()
             .and_then(|[x, y, theta]| Some(Pose2::new(x.get(row)?, y.get(row)?, theta.get(row)?)));
+        // The scans table has no odometry columns (see the schema's docs).
         Ok(ScanRecord {
             scan,
             pose,
+            odometry: None,
             line: None,
         })
     }

@@ -32,7 +32,8 @@
 //! | `ranges` | list\<float32\> | no | ranges, m; NaN, inf or a null item = no return |
 //! | `intensities` | list\<float32\> | yes | intensities, one per range, when the source has them |
 //!
-//! A pose is present when all three of its columns are. The reader also takes `float32`
+//! A pose is present when all three of its columns are. The table has no columns for a
+//! record's wheel odometry (`ScanRecord::odometry`): a scan read back has none. The reader also takes `float32`
 //! for any `float64` column, `list<float64>` (and large or fixed-size lists) for the lists,
 //! nullable columns without nulls where this schema has none, and tables without the
 //! optional columns (`scan`, `stamp`, the pose, `intensities`); other columns are ignored.

@@ -12,7 +12,7 @@ use crate::world::Target;
 /// through such cells (4-neighbours) on a grid of `cols` columns stored row by row; the seeds
 /// themselves are marked whatever `ok` says of them.
 pub fn flood4(cols: usize, ok: &[bool], seeds: &[usize], reached: &mut [bool]) {
-    let rows = if cols == 0 { 0 } else { ok.len() / cols };
+    let rows = ok.len().checked_div(cols).unwrap_or(0);
     let mut stack: Vec<usize> = seeds.to_vec();
     for &s in seeds {
         reached[s] = true;

@@ -15,10 +15,10 @@ use laserlines_slam::{Mapper, MapperParams, Se2};
 use super::map_outputs::{self, Outputs};
 use crate::InputArgs;
 
-/// A switch: the log's poses as odometry, loop closure.
+/// A switch: the log's odometry, loop closure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum OnOff {
-    /// On (odometry: every scan must have a pose).
+    /// On (odometry: every scan must have the log's odometry).
     On,
     /// Off.
     Off,
@@ -32,7 +32,8 @@ pub struct MapArgs {
     /// Output directory: trajectory.tum, map.pgm, map.yaml, map.png, lines.json, map.svg.
     #[arg(short, long, default_value = "laserlines-map")]
     pub output: PathBuf,
-    /// Use the log's poses as odometry (`on`), or map from the scans alone (`off`).
+    /// Use the log's wheel odometry (`on`: CARMEN's odometry triple, never its laser pose),
+    /// or map from the scans alone (`off`).
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub odometry: OnOff,
     /// Search for loop closures (`off`: scan-to-submap matching alone).
@@ -69,19 +70,25 @@ pub fn run(args: &MapArgs) -> Result<()> {
     let mut lines = Vec::new();
     let mut stamps = Vec::new();
     let mut log_poses = Vec::new();
+    let mut log_odometry = Vec::new();
     let mut kept: Vec<(ScanRecord, Vec<laserlines::Line>)> = Vec::new();
     let progress = progress_bar();
     for item in reader.by_ref() {
         let record = item?;
         let k = stamps.len();
-        let odometry = match (args.odometry, record.pose) {
+        let odometry = match (args.odometry, record.odometry) {
             (OnOff::On, Some(p)) => Some(Se2::new(p.x, p.y, p.theta)),
             (OnOff::On, None) => bail!(
-                "{name}: scan {k}{}: no odometry pose; map it with --odometry off",
+                "{name}: scan {k}{}: no odometry (the log gives none for this scan{}); map it with --odometry off",
                 record
                     .line
                     .map(|l| format!(" (line {l})"))
-                    .unwrap_or_default()
+                    .unwrap_or_default(),
+                if record.pose.is_some() {
+                    ", only a pose, which is not used as odometry"
+                } else {
+                    ""
+                }
             ),
             (OnOff::Off, _) => None,
         };
@@ -91,6 +98,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
             .with_context(|| format!("{name}: scan {k}"))?;
         stamps.push(record.scan.stamp.unwrap_or(k as f64 * 0.1));
         log_poses.push(record.pose);
+        log_odometry.push(record.odometry);
         if args.mcap.is_some() {
             kept.push((record, lines.clone()));
         }
@@ -111,6 +119,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
         mapper: &mapper,
         stamps: &stamps,
         log_poses: &log_poses,
+        log_odometry: &log_odometry,
         resolution_m: args.resolution,
     };
     let files = map_outputs::write_all(&outputs)?;

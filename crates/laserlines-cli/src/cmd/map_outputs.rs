@@ -3,7 +3,8 @@
 //! | file | content |
 //! |---|---|
 //! | `trajectory.tum` | one line per scan, `t x y z qx qy qz qw`, stamped with the scan's time |
-//! | `log-poses.tum` | the log's own poses (odometry, or a log's corrected poses), when it has them |
+//! | `log-poses.tum` | the log's own poses (CARMEN's laser pose: a log's corrected poses), when every scan has one |
+//! | `odometry.tum` | the log's odometry, when every scan has it |
 //! | `map.pgm`, `map.yaml` | the occupancy grid in ROS `map_server` form |
 //! | `map.png` | the same grid as a PNG |
 //! | `lines.json` | the line map: `{"frame": "map", "lines": [{"start", "end", "r", "alpha", "scan_lines", "points"}]}` |
@@ -34,6 +35,8 @@ pub struct Outputs<'a> {
     pub stamps: &'a [f64],
     /// Each scan's pose in the log, when it had one.
     pub log_poses: &'a [Option<Pose2>],
+    /// Each scan's odometry in the log, when it had one.
+    pub log_odometry: &'a [Option<Pose2>],
     /// Occupancy grid cell, m.
     pub resolution_m: f64,
 }
@@ -52,16 +55,19 @@ pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
     files.push(write_file(o.dir, "trajectory.tum", |w| {
         write_tum(w, &traj)
     })?);
-    if o.log_poses.iter().all(Option::is_some) {
-        let logged: Vec<StampedPose> = o
-            .stamps
-            .iter()
-            .zip(o.log_poses.iter().flatten())
-            .map(|(&t, &pose)| StampedPose { t, pose })
-            .collect();
-        files.push(write_file(o.dir, "log-poses.tum", |w| {
-            write_tum(w, &logged)
-        })?);
+    for (poses, file) in [
+        (o.log_poses, "log-poses.tum"),
+        (o.log_odometry, "odometry.tum"),
+    ] {
+        if poses.iter().all(Option::is_some) {
+            let logged: Vec<StampedPose> = o
+                .stamps
+                .iter()
+                .zip(poses.iter().flatten())
+                .map(|(&t, &pose)| StampedPose { t, pose })
+                .collect();
+            files.push(write_file(o.dir, file, |w| write_tum(w, &logged))?);
+        }
     }
     let grid = o
         .mapper

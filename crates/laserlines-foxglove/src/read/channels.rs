@@ -2,16 +2,16 @@
 //! (LaserScans in three encodings, transforms for poses).
 
 use foxglove::messages::FrameTransform;
-use laserlines_io::{DecodeError, ReadError, ScanRecord, SkipCounts};
+use laserlines_io::{DecodeError, Pose2, ReadError, ScanRecord, SkipCounts};
 use prost::Message as _;
 
 use super::records::{Body, Loc};
 use super::{
     McapScanSource, SKIP_BAD_TRANSFORM, SKIP_OTHER_TOPIC, SKIP_UNKNOWN_CHANNEL, ScanEncoding,
 };
-use crate::ROBOT_FRAME;
 use crate::message::{self, MessageError};
 use crate::proto::{self, RangeLimits};
+use crate::{ODOM_FRAME, ROBOT_FRAME};
 
 /// What a channel carries, as far as this reader cares.
 #[derive(Debug, Clone, PartialEq)]
@@ -135,12 +135,7 @@ impl McapScanSource {
         match &channel.role {
             Role::Transform => {
                 match FrameTransform::decode(data) {
-                    Ok(t) if t.child_frame_id == ROBOT_FRAME => {
-                        if let Some(p) = proto::pose_from_transform(&t) {
-                            self.pose = Some(p);
-                        }
-                    }
-                    Ok(_) => {}
+                    Ok(t) => self.take_transform(&t),
                     Err(_) => skipped.add(SKIP_BAD_TRANSFORM),
                 }
                 Ok(())
@@ -202,7 +197,43 @@ impl McapScanSource {
         Ok(ScanRecord {
             scan,
             pose: self.pose,
+            odometry: self.odometry,
             line: None,
         })
+    }
+
+    /// Takes a transform of `/tf`: the odometry (`odom -> base_link`), the pose (any other
+    /// `X -> base_link`), or where the odometry frame lies (`X -> odom`).
+    fn take_transform(&mut self, t: &FrameTransform) {
+        let Some(p) = proto::pose_from_transform(t) else {
+            return;
+        };
+        // The odometry frame at the world's origin (as laserlines writes it when pose and
+        // odometry agree) gives the odometry back bit for bit.
+        let compose = |a: Pose2, b: Pose2| {
+            if a == Pose2::default() {
+                return b;
+            }
+            let c = a.to_isometry() * b.to_isometry();
+            Pose2::new(
+                c.translation.vector.x,
+                c.translation.vector.y,
+                c.rotation.angle(),
+            )
+        };
+        match (t.parent_frame_id.as_str(), t.child_frame_id.as_str()) {
+            (ODOM_FRAME, ROBOT_FRAME) => {
+                self.odometry = Some(p);
+                self.pose = Some(self.world_from_odom.map_or(p, |w| compose(w, p)));
+            }
+            (_, ROBOT_FRAME) => self.pose = Some(p),
+            (_, ODOM_FRAME) => {
+                self.world_from_odom = Some(p);
+                if let Some(o) = self.odometry {
+                    self.pose = Some(compose(p, o));
+                }
+            }
+            _ => {}
+        }
     }
 }

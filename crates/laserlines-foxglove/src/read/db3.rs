@@ -184,6 +184,7 @@ impl Db3File {
         Ok(ScanRecord {
             scan,
             pose: None,
+            odometry: None,
             line: None,
         })
     }

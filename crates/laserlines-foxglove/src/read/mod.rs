@@ -16,8 +16,10 @@
 //! One topic is read: [`McapReadOptions::topic`], or else the first topic whose channel
 //! carries a LaserScan. LaserScans on other topics are counted as skipped. The stamp is the
 //! message header's (`foxglove.LaserScan`: its `timestamp`), or the record's log time when the
-//! header stamp is zero. Poses: `foxglove.FrameTransform` messages whose child frame is
-//! `base_link` (as laserlines writes them on `/tf`) give the pose of the scans that follow.
+//! header stamp is zero. Poses: `foxglove.FrameTransform` messages give the pose and the
+//! odometry of the scans that follow (REP 105 frames): `odom -> base_link` is the odometry;
+//! any other `X -> base_link` is the pose, and so is `X -> odom` followed by the odometry
+//! (as laserlines writes them on `/tf`).
 //!
 //! Bad input gives errors naming the file and the byte offset of the record (for a record
 //! inside a compressed chunk: the chunk's offset, and the record's offset in the decompressed
@@ -113,8 +115,12 @@ pub struct McapScanSource {
     channels: HashMap<u16, ChannelInfo>,
     /// The topic being read, once known.
     topic: Option<String>,
-    /// Latest pose from `/tf`.
+    /// Latest pose from `/tf` (`X -> base_link`, or `X -> odom -> base_link`).
     pose: Option<Pose2>,
+    /// Latest odometry from `/tf` (`odom -> base_link`).
+    odometry: Option<Pose2>,
+    /// Latest `X -> odom` from `/tf`.
+    world_from_odom: Option<Pose2>,
     pending: VecDeque<Result<ScanRecord, ReadError>>,
     body: Vec<u8>,
     chunk: Vec<u8>,
@@ -146,6 +152,8 @@ impl McapScanSource {
             schemas: HashMap::new(),
             channels: HashMap::new(),
             pose: None,
+            odometry: None,
+            world_from_odom: None,
             pending: VecDeque::new(),
             body: Vec::new(),
             chunk: Vec::new(),

@@ -162,6 +162,7 @@ impl State {
         Ok(Some(ScanRecord {
             scan,
             pose: None,
+            odometry: None,
             line: None,
         }))
     }

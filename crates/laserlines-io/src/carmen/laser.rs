@@ -110,7 +110,7 @@ impl LaserParams {
 pub(super) fn record(
     name: &str,
     scan: Scan,
-    pose: Option<Pose2>,
+    (pose, odometry): (Option<Pose2>, Option<Pose2>),
     line: usize,
 ) -> Result<ScanRecord, ReadError> {
     scan.validate().map_err(|source| ReadError::InvalidScan {
@@ -120,14 +120,17 @@ pub(super) fn record(
     Ok(ScanRecord {
         scan,
         pose,
+        odometry,
         line: Some(line),
     })
 }
+
 /// Parses one laser line into a record; `params` give the angles of `FLASER` / `RLASER`
-/// lines. A pure function of its arguments, so that it may run on any thread.
+/// lines, `odom` the last `ODOM` message's pose (the odometry of `RAWLASER` lines, which
+/// carry none). A pure function of its arguments, so that it may run on any thread.
 pub(super) fn parse_laser(
     name: &str,
-    params: LaserParams,
+    (params, odom): (LaserParams, Option<Pose2>),
     laser: Laser,
     line: usize,
     text: &str,
@@ -136,7 +139,14 @@ pub(super) fn parse_laser(
     fields.skip(); // the name
     match laser {
         Laser::Front | Laser::Rear => parse_flaser(name, params, line, text, fields),
-        Laser::Robot(_) | Laser::Raw(_) => parse_robotlaser(name, laser, line, text, fields),
+        Laser::Robot(_) | Laser::Raw(_) => {
+            parse_robotlaser(name, laser, line, text, fields).map(|mut r| {
+                if matches!(laser, Laser::Raw(_)) {
+                    r.odometry = odom;
+                }
+                r
+            })
+        }
     }
 }
 
@@ -153,12 +163,12 @@ fn parse_flaser(
     // the wrong length is reported as such, whatever else is wrong.
     let parsed = fields.ranges(n).and_then(|ranges| {
         let pose = fields.pose("x", "y", "theta")?;
-        fields.pose("odom_x", "odom_y", "odom_theta")?;
+        let odometry = fields.pose("odom_x", "odom_y", "odom_theta")?;
         let stamp = fields.stamps()?;
         fields.end()?;
-        Ok((ranges, pose, stamp))
+        Ok((ranges, (pose, odometry), stamp))
     });
-    let (ranges, pose, stamp) = match parsed {
+    let (ranges, (pose, odometry), stamp) = match parsed {
         Ok(parsed) => parsed,
         Err(e) => {
             let count = text.split_ascii_whitespace().count();
@@ -178,7 +188,7 @@ fn parse_flaser(
         intensities: None,
         stamp,
     };
-    record(name, scan, Some(pose), line)
+    record(name, scan, (Some(pose), Some(odometry)), line)
 }
 
 /// A `ROBOTLASERk` or `RAWLASERk` line after its name: the laser's settings, ranges,
@@ -221,9 +231,9 @@ fn parse_robotlaser(
     for i in 0..m {
         remissions.push(fields.number_at(|| format!("remission {i}"))?);
     }
-    let pose = if robot {
+    let poses = if robot {
         let pose = fields.pose("laser_x", "laser_y", "laser_theta")?;
-        fields.pose("robot_x", "robot_y", "robot_theta")?;
+        let odometry = fields.pose("robot_x", "robot_y", "robot_theta")?;
         for what in [
             "tv",
             "rv",
@@ -233,9 +243,9 @@ fn parse_robotlaser(
         ] {
             fields.number(what)?;
         }
-        Some(pose)
+        (Some(pose), Some(odometry))
     } else {
-        None
+        (None, None)
     };
     let stamp = fields.stamps()?;
     let range_max = if maximum_range.is_finite() && maximum_range > 0.0 {
@@ -253,5 +263,5 @@ fn parse_robotlaser(
         intensities,
         stamp,
     };
-    record(name, scan, pose, line)
+    record(name, scan, poses, line)
 }

@@ -9,7 +9,7 @@
 //! | `FLASER`, `RLASER` | `n r_1 .. r_n x y theta odom_x odom_y odom_theta ipc_timestamp ipc_hostname logger_timestamp` | a scan of the front / rear laser; angles from `PARAM` (below) |
 //! | `ROBOTLASERk` | `laser_type start_angle fov angular_resolution maximum_range accuracy remission_mode n r_1 .. r_n m e_1 .. e_m laser_x laser_y laser_theta robot_x robot_y robot_theta tv rv forward_safety_dist side_safety_dist turn_axis ipc_timestamp ipc_hostname logger_timestamp` | a scan of laser `k` (0..=9); angles and `range_max` from the line, remissions as intensities |
 //! | `RAWLASERk` | `laser_type start_angle fov angular_resolution maximum_range accuracy remission_mode n r_1 .. r_n m e_1 .. e_m ipc_timestamp ipc_hostname logger_timestamp` | a scan of laser `k` without a pose |
-//! | `ODOM` | `x y theta tv rv accel ipc_timestamp ipc_hostname logger_timestamp` | recognised, not a scan: the laser lines carry their own pose |
+//! | `ODOM` | `x y theta tv rv accel ipc_timestamp ipc_hostname logger_timestamp` | not a scan: its pose is the odometry of the `RAWLASER` lines after it (the other laser lines carry their own) |
 //! | `PARAM` | `name value ...` | the laser settings below; other parameters are ignored |
 //! | anything else (`NEFF`, `TRUEPOS`, `SYNC`, ...) | | counted as skipped under `unknown message NAME` |
 //!
@@ -56,7 +56,12 @@
 //! have broken time stamps (all 0, or printed with six significant digits so that hundreds of
 //! scans share one value): the reader keeps them as written and never reorders, so records
 //! come in file order. `pose` is the line's first pose triple `x y theta` (CARMEN's
-//! `laser_pose`, in the log's world frame: metres, radians); `RAWLASER` lines have none.
+//! `laser_pose`, in the log's world frame: metres, radians; in published logs often corrected
+//! by SLAM); `RAWLASER` lines have none. `odometry` is the robot's odometry: the second
+//! triple `odom_x odom_y odom_theta` of `FLASER`/`RLASER`, `robot_x robot_y robot_theta` of
+//! `ROBOTLASER`, and for `RAWLASER` the pose of the last `ODOM` line before it (none before
+//! the first). Mapping with odometry (`laserlines map --odometry on`) reads `odometry`
+//! only, never the laser pose.
 //!
 //! **Bad lines.** A line with the wrong number of fields (e.g. fewer than `n + 11` tokens in
 //! an `FLASER` line), a field that is not a number, or a line that does not start with a
@@ -69,7 +74,7 @@ use std::sync::Arc;
 
 use crate::error::{ReadError, SourcePos, shown};
 use crate::reader::{Input, LineItem, Lines, Pending, ScanSource};
-use crate::record::ScanRecord;
+use crate::record::{Pose2, ScanRecord};
 use crate::skip::SkipCounts;
 
 mod fields;
@@ -133,6 +138,9 @@ struct State {
     selection: Selection,
     front: LaserParams,
     rear: LaserParams,
+    /// The pose of the last `ODOM` line (read only when the chosen laser is a `RAWLASER`,
+    /// whose lines carry no odometry).
+    odom: Option<Pose2>,
     /// A line of the chosen laser was seen (parsed or not).
     seen_selected: bool,
     /// Other lasers seen, for the message when none of the chosen one is found.
@@ -170,6 +178,7 @@ impl CarmenSource {
                 selection,
                 front: LaserParams::default(),
                 rear: LaserParams::default(),
+                odom: None,
                 seen_selected: false,
                 others: Vec::new(),
                 unknown_names: Vec::new(),
@@ -265,13 +274,39 @@ impl State {
         Ok(())
     }
 
-    /// The parameters that give the angles of `laser`'s lines.
-    fn params(&self, laser: Laser) -> LaserParams {
-        if laser == Laser::Rear {
+    /// The parameters that give the angles of `laser`'s lines, and the last `ODOM` pose.
+    fn params(&self, laser: Laser) -> (LaserParams, Option<Pose2>) {
+        let params = if laser == Laser::Rear {
             self.rear
         } else {
             self.front
+        };
+        (params, self.odom)
+    }
+
+    /// Reads the pose of an `ODOM` line (`ODOM x y theta tv rv accel ...`) when the chosen
+    /// laser's lines need it.
+    fn odom(&mut self, line: usize, text: &str) -> Result<(), ReadError> {
+        if !matches!(self.selection, Selection::One(Laser::Raw(_))) {
+            return Ok(());
         }
+        let mut tokens = text.split_ascii_whitespace();
+        tokens.next();
+        let mut parts = [0.0; 3];
+        for (part, field) in parts.iter_mut().zip(["x", "y", "theta"]) {
+            let token = tokens.next();
+            *part = token
+                .and_then(fields::parse_number)
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| ReadError::Field {
+                    pos: SourcePos::line(&self.name, line),
+                    field: format!("ODOM {field}"),
+                    expected: "a finite number".to_owned(),
+                    found: token.map_or_else(|| "the end of the line".to_owned(), shown),
+                })?;
+        }
+        self.odom = Some(Pose2::new(parts[0], parts[1], parts[2]));
+        Ok(())
     }
 }
 
@@ -334,7 +369,11 @@ impl CarmenSource {
                 continue;
             }
             match first {
-                "ODOM" => {}
+                "ODOM" => {
+                    if let Err(e) = state.odom(line, text) {
+                        return Some(Pending::Ready(Err(e)));
+                    }
+                }
                 "PARAM" => {
                     if let Err(e) = state.param(line, text) {
                         return Some(Pending::Ready(Err(e)));

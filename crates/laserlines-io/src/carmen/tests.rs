@@ -179,6 +179,7 @@ fn flaser_fields_pose_and_stamp() {
     assert_eq!(r.scan.len(), 181);
     assert_eq!(r.scan.stamp, Some(12.5));
     assert_eq!(r.pose, Some(Pose2::new(1.5, -2.0, 0.25)));
+    assert_eq!(r.odometry, Some(Pose2::new(1.5, -2.0, 0.25)));
     assert_eq!(r.line, Some(1));
     assert_eq!(r.scan.angle_min, -PI / 2.0);
     assert!((r.scan.angle_max() - PI / 2.0).abs() < 1e-12);
@@ -402,11 +403,13 @@ fn robotlaser_and_rawlaser_carry_their_geometry() {
     assert_eq!(r.scan.ranges[6], f64::INFINITY);
     assert_eq!(r.scan.intensities.as_deref().unwrap()[6], 70.0);
     assert_eq!(r.pose, Some(Pose2::new(1.0, 2.0, 0.5)));
+    assert_eq!(r.odometry, Some(Pose2::new(0.9, 1.9, 0.5)));
     assert_eq!(r.scan.stamp, Some(100.25));
     let raw = "RAWLASER2 0 -1.0 2.0 1.0 0 0.01 0 3 1 2 3 0 7.5 host 7.6\n";
     let (items, _) = read(raw, Some("RAWLASER2"));
     let r = items[0].as_ref().unwrap();
     assert_eq!(r.pose, None);
+    assert_eq!(r.odometry, None);
     assert_eq!(r.scan.range_max, RANGE_MAX);
     assert_eq!(r.scan.intensities, None);
     assert_eq!(r.scan.stamp, Some(7.5));
@@ -450,4 +453,87 @@ fn bad_utf8_is_an_error_and_reading_goes_on() {
     assert!(reader.next().unwrap().is_err());
     assert!(reader.next().unwrap().is_ok());
     assert!(reader.next().is_none());
+}
+
+/// The two pose triples of a laser line are kept apart: `pose` is the first (the laser pose,
+/// corrected in some published logs), `odometry` the robot's odometry, and a `RAWLASER`,
+/// which carries no pose, takes the last `ODOM` before it.
+#[test]
+fn odometry_is_the_odometry_triple_never_the_laser_pose() {
+    let text = format!(
+        "{}{}ODOM 5.0 6.0 0.7 0 0 0 1 h 1\n{}",
+        flaser(3, 2.0, "10.0 20.0 1.0 0.1 0.2 0.3 1.0 host 1.0"),
+        "ROBOTLASER1 0 -1.0 1.0 1.0 8.0 0.01 0 3 1 2 3 0 11.0 21.0 1.1 0.4 0.5 0.6 0 0 0 0 0 2.0 host 2.0\n",
+        flaser(3, 2.0, "12.0 22.0 1.2 0.7 0.8 0.9 3.0 host 3.0"),
+    );
+    let (items, _) = read(&text, None);
+    let got: Vec<(Option<Pose2>, Option<Pose2>)> = items
+        .iter()
+        .map(|r| {
+            let r = r.as_ref().unwrap();
+            (r.pose, r.odometry)
+        })
+        .collect();
+    assert_eq!(
+        got,
+        [
+            (
+                Some(Pose2::new(10.0, 20.0, 1.0)),
+                Some(Pose2::new(0.1, 0.2, 0.3))
+            ),
+            (
+                Some(Pose2::new(11.0, 21.0, 1.1)),
+                Some(Pose2::new(0.4, 0.5, 0.6))
+            ),
+            (
+                Some(Pose2::new(12.0, 22.0, 1.2)),
+                Some(Pose2::new(0.7, 0.8, 0.9))
+            ),
+        ]
+    );
+    // RAWLASER: the last ODOM before the line (none before the first ODOM).
+    let raw = |t: f64| format!("RAWLASER1 0 -1.0 1.0 1.0 8.0 0.01 0 3 1 2 3 0 {t} host {t}\n");
+    let text = format!(
+        "{}ODOM 1.0 2.0 0.5 0 0 0 1 h 1\nODOM 1.5 2.5 0.6 0 0 0 1.1 h 1.1\n{}{}ODOM 2.0 3.0 0.7 0 0 0 1.3 h 1.3\n{}",
+        raw(0.9),
+        raw(1.15),
+        raw(1.2),
+        raw(1.35)
+    );
+    let (items, _) = read(&text, Some("RAWLASER1"));
+    let odometry: Vec<Option<Pose2>> = items.iter().map(|r| r.as_ref().unwrap().odometry).collect();
+    assert_eq!(
+        odometry,
+        [
+            None,
+            Some(Pose2::new(1.5, 2.5, 0.6)),
+            Some(Pose2::new(1.5, 2.5, 0.6)),
+            Some(Pose2::new(2.0, 3.0, 0.7)),
+        ]
+    );
+    // The same on the deferred path `extract` takes.
+    let mut reader = from_reader_with(
+        "t.clf",
+        std::io::Cursor::new(text.clone()),
+        Format::Carmen,
+        Some("RAWLASER1"),
+    )
+    .unwrap();
+    let mut deferred = Vec::new();
+    while let Some(p) = reader.next_pending() {
+        deferred.push(p.parse().unwrap().odometry);
+    }
+    assert_eq!(deferred, odometry);
+    // A bad ODOM line is an error naming it, when the chosen laser needs it; reading goes
+    // on. The front laser does not read ODOM lines.
+    let text = format!("ODOM 1.0 nan 0.5 0 0 0 1 h 1\n{}", raw(1.0));
+    let (items, _) = read(&text, Some("RAWLASER1"));
+    let e = items[0].clone().unwrap_err();
+    assert!(
+        e.contains("t.clf:1: ODOM y: expected a finite number, found `nan`"),
+        "{e}"
+    );
+    assert!(items[1].is_ok());
+    let text = format!("ODOM 1.0 nan 0.5 0 0 0 1 h 1\n{}", flaser(3, 2.0, TAIL));
+    assert!(read(&text, None).0.iter().all(Result::is_ok));
 }

@@ -82,7 +82,7 @@ impl Element<'_> {
                 intensities: fast.intensities.map(|i| i.0),
                 stamp: fast.stamp,
             };
-            return self.checked(scan, fast.pose, fast.angle_max);
+            return self.checked(scan, (fast.pose, fast.odometry), fast.angle_max);
         }
         let value: Value = serde_json::from_str(self.text).map_err(|e| self.json_error(&e))?;
         let Value::Object(obj) = value else {
@@ -188,9 +188,10 @@ impl Element<'_> {
         Ok(out)
     }
 
-    fn pose(&self, obj: &Map<String, Value>) -> Result<Option<Pose2>, ReadError> {
+    /// The pose under `key` (`pose`, `odometry`).
+    fn pose(&self, obj: &Map<String, Value>, key: &str) -> Result<Option<Pose2>, ReadError> {
         let expected = "an object {\"x\": m, \"y\": m, \"theta\": rad} or null";
-        match obj.get("pose") {
+        match obj.get(key) {
             None | Some(Value::Null) => Ok(None),
             Some(Value::Object(p)) => {
                 let mut parts = [0.0; 3];
@@ -203,8 +204,8 @@ impl Element<'_> {
                                 None => "nothing (the field is missing)".to_owned(),
                             };
                             return Err(self.field_error(
-                                &format!("pose.{name}"),
-                                "pose",
+                                &format!("{key}.{name}"),
+                                key,
                                 "a number",
                                 found,
                             ));
@@ -213,7 +214,7 @@ impl Element<'_> {
                 }
                 Ok(Some(Pose2::new(parts[0], parts[1], parts[2])))
             }
-            Some(other) => Err(self.field_error("pose", "pose", expected, json_kind(other))),
+            Some(other) => Err(self.field_error(key, key, expected, json_kind(other))),
         }
     }
 
@@ -249,7 +250,7 @@ impl Element<'_> {
             Some(v) => Some(self.number_array(v, "intensities")?),
         };
         let stamp = self.opt_number(obj, "stamp")?;
-        let pose = self.pose(obj)?;
+        let poses = (self.pose(obj, "pose")?, self.pose(obj, "odometry")?);
         let angle_max = self.opt_number(obj, "angle_max")?;
         let scan = Scan {
             angle_min,
@@ -260,14 +261,14 @@ impl Element<'_> {
             intensities,
             stamp,
         };
-        self.checked(scan, pose, angle_max)
+        self.checked(scan, poses, angle_max)
     }
 
     /// Validates a parsed scan and checks `angle_max` against its beams.
     fn checked(
         &self,
         scan: Scan,
-        pose: Option<Pose2>,
+        (pose, odometry): (Option<Pose2>, Option<Pose2>),
         angle_max: Option<f64>,
     ) -> Result<ScanRecord, ReadError> {
         let angle_increment = scan.angle_increment;
@@ -307,6 +308,7 @@ impl Element<'_> {
         Ok(ScanRecord {
             scan,
             pose,
+            odometry,
             line: Some(self.line),
         })
     }
@@ -326,6 +328,8 @@ struct FastScan {
     stamp: Option<f64>,
     #[serde(default)]
     pose: Option<Pose2>,
+    #[serde(default)]
+    odometry: Option<Pose2>,
     #[serde(default)]
     angle_max: Option<f64>,
 }

@@ -12,7 +12,8 @@
 //! - Optional (absent or `null` = not given): `angle_max` (rad; when present and `ranges` is
 //!   not empty it must equal `angle_min + (n - 1) * angle_increment` within half an
 //!   increment), `intensities` (numbers or `null`, one per range), `stamp` (s), `pose`
-//!   (`{"x": m, "y": m, "theta": rad}`, the robot's pose).
+//!   (`{"x": m, "y": m, "theta": rad}`, the robot's pose), `odometry` (the same form: the
+//!   wheel odometry's pose, the one `laserlines map` uses).
 //! - Other fields (e.g. a ROS `header`, `scan_time`) are ignored.
 //! - `NaN` and `Infinity` are not JSON: write `null`. Writers write every non-finite number
 //!   as `null`.
@@ -437,6 +438,8 @@ pub(crate) struct ScanJson<'a> {
     pub(crate) stamp: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) pose: Option<Pose2>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub(crate) odometry: Option<Pose2>,
     pub(crate) ranges: &'a [f64],
     #[serde(skip_serializing_if = "Option::is_none")]
     pub(crate) intensities: Option<&'a [f64]>,
@@ -453,6 +456,7 @@ impl<'a> ScanJson<'a> {
             range_max: s.range_max,
             stamp: s.stamp,
             pose: record.pose,
+            odometry: record.odometry,
             ranges: &s.ranges,
             intensities: s.intensities.as_deref(),
         }

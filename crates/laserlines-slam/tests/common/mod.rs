@@ -61,3 +61,62 @@ pub fn cloud(scan: &Scan, pose: Se2) -> PointCloud {
     }
     c
 }
+
+/// A driver that bounces around a closed space: straight on at 0.4 m/s until something is
+/// within 0.7 m ahead (within 0.5 rad of the laser's axis), then on the spot, alternating
+/// sides, until the way is clear for 1.2 m.
+#[derive(Debug, Default)]
+pub struct Bounce {
+    turning: Option<f64>,
+    turns: u32,
+}
+
+impl Bounce {
+    /// The command for the latest scan.
+    pub fn command(&mut self, scan: &Scan) -> laserlines_sim::robot::VelocityCommand {
+        use laserlines_sim::robot::VelocityCommand;
+        let ahead = (0..scan.len())
+            .filter(|&i| scan.angle(i).abs() < 0.5)
+            .map(|i| scan.ranges[i])
+            .filter(|r| r.is_finite() && *r > scan.range_min)
+            .fold(f64::INFINITY, f64::min);
+        match self.turning {
+            Some(dir) if ahead < 1.2 => VelocityCommand {
+                linear_m_s: 0.0,
+                angular_rad_s: dir,
+            },
+            _ if ahead < 0.7 => {
+                self.turns += 1;
+                let dir = if self.turns.is_multiple_of(2) {
+                    0.8
+                } else {
+                    -0.8
+                };
+                self.turning = Some(dir);
+                VelocityCommand {
+                    linear_m_s: 0.0,
+                    angular_rad_s: dir,
+                }
+            }
+            _ => {
+                self.turning = None;
+                VelocityCommand {
+                    linear_m_s: 0.4,
+                    angular_rad_s: 0.0,
+                }
+            }
+        }
+    }
+}
+
+/// The bundled arena `inner_explore_test` and a start in its largest enclosed region.
+pub fn inner_explore_test() -> (World, Isometry2) {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/arenas/inner_explore_test.raf"
+    );
+    let arena =
+        laserlines_sim::arena::load_raf(std::path::Path::new(path), &Default::default()).unwrap();
+    let start = laserlines_sim::arena::interior_start(&arena.world, 0.4).unwrap();
+    (arena.world, start)
+}

@@ -213,7 +213,7 @@ impl Accumulator {
             // An isolated point votes nowhere: an empty span of rings (`first > last`), near
             // its own rings so that its sector's table stays where its other points vote.
             for (ring, pt) in self.rings[..n].iter_mut().zip(&points[..n]) {
-                if mixed::isolated(&scan.ranges, pt.idx, valid.window, noise) {
+                if mixed::isolated(scan.ranges, pt.idx, valid.window, noise) {
                     let first = ring.0.max(1);
                     *ring = (first, first - 1);
                 }
