@@ -32,3 +32,25 @@ fn a_short_run_covers_the_small_arena_without_a_collision() {
     assert!(curve.windows(2).all(|w| w[1].1 >= w[0].1));
     assert_eq!(curve.last().map(|c| c.1), Some(m.coverage));
 }
+
+/// Extraction on a second thread gives the same run as in line: every figure but the clocks.
+#[test]
+fn the_extraction_thread_changes_nothing_but_the_clock() {
+    let arena = arenas::bundled("inner_explore_test", &ArenaOptions::default())
+        .unwrap()
+        .unwrap();
+    let start = interior_start(&arena.world, Footprint::naji_v().circumradius()).unwrap();
+    let metrics = |extraction_thread| {
+        let config = RunConfig {
+            duration_s: 30.0,
+            extraction_thread,
+            ..RunConfig::default()
+        };
+        let mut m = run(&arena.world, start, &config).unwrap().metrics;
+        (m.wall_time_s, m.setup_time_s) = (0.0, 0.0);
+        m
+    };
+    let inline = metrics(false);
+    assert!(inline.lines > 0 && inline.path_length_m > 1.0, "{inline:?}");
+    assert_eq!(inline, metrics(true));
+}

@@ -170,6 +170,7 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
         snapshot_at_s: snapshot_time(args),
         // The lines of one scan in 30 for the map picture (every 3 s).
         record_lines_every: 30,
+        extraction_thread: false,
     };
     Ok(Setup {
         name,

@@ -1,8 +1,8 @@
-//! Line extraction beside the rest of the loop: on a machine with two cores or more the
-//! lines of a scan are extracted on a second thread while the robot side matches the same
-//! scan onto its map ([`laserlines_nav::Explorer::sense`]) and the ground truth marks it;
-//! on one core, in line. The lines are the same either way: the extractor keeps no state
-//! from scan to scan but its working memory.
+//! Line extraction in the loop: in line by default, or, with
+//! [`crate::RunConfig::extraction_thread`] on a machine with two cores or more, on a second
+//! thread while the robot side matches the same scan onto its map
+//! ([`laserlines_nav::Explorer::sense`]) and the ground truth marks it. The lines are the
+//! same either way: the extractor keeps no state from scan to scan but its working memory.
 
 use std::sync::mpsc::{Receiver, Sender, channel};
 
