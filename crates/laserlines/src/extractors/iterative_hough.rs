@@ -34,7 +34,7 @@ use super::ParamsError;
 use super::breakpoints::Breakpoints;
 use super::finish::{LineFilter, finish};
 use super::model::{Hypothesis, Scaled};
-use super::runs::{Run, fit_where, for_each_run, largest_run};
+use super::runs::{Run, fit_where, largest_run, runs_with_members};
 use crate::extractor::LineExtractor;
 use crate::hough::{HoughAccumulator, HoughGrid};
 use crate::hough_split::Weight;
@@ -224,21 +224,15 @@ impl IterativeHough {
     /// Takes every run of at least `min_members` inliers of `h` among the points not taken
     /// yet: its inliers become members, its points leave the vote.
     fn take_runs(&mut self, h: &Hypothesis, t: Scaled, rule: &Breakpoints, min_members: usize) {
-        self.found.clear();
-        let pts = &self.points;
-        let taken = &self.taken;
-        let found = &mut self.found;
-        for_each_run(
+        let (pts, taken) = (&self.points, &self.taken);
+        runs_with_members(
             pts,
             |i| !taken[i],
             |i| h.distance(pts[i].point) <= t.at(pts[i].range),
             rule,
             self.params.max_skipped,
-            |r, m| {
-                if m >= min_members {
-                    found.push(r);
-                }
-            },
+            min_members,
+            &mut self.found,
         );
         for &r in &self.found {
             for i in r.start..r.end {

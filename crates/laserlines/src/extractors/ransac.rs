@@ -24,7 +24,7 @@ use super::breakpoints::Breakpoints;
 use super::finish::{LineFilter, finish};
 use super::model::{Hypothesis, Scaled};
 use super::rng::SplitMix64;
-use super::runs::{Run, fit_where, for_each_run, largest_run};
+use super::runs::{Run, fit_where, largest_run, runs_with_members};
 use crate::extractor::LineExtractor;
 use crate::line::Line;
 use crate::params;
@@ -236,22 +236,15 @@ impl Ransac {
     /// Takes every run of at least `min_inliers` inliers of `h` among the points not taken
     /// yet; false when there is none.
     fn take_runs(&mut self, h: &Hypothesis, t: Scaled, rule: &Breakpoints) -> bool {
-        let min = self.params.min_inliers;
-        self.found.clear();
-        let pts = &self.points;
-        let taken = &self.taken;
-        let found = &mut self.found;
-        for_each_run(
+        let (pts, taken) = (&self.points, &self.taken);
+        runs_with_members(
             pts,
             |i| !taken[i],
             |i| h.distance(pts[i].point) <= t.at(pts[i].range),
             rule,
             self.params.max_skipped,
-            |r, m| {
-                if m >= min {
-                    found.push(r);
-                }
-            },
+            self.params.min_inliers,
+            &mut self.found,
         );
         if self.found.is_empty() {
             return false;

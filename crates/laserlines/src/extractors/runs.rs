@@ -87,6 +87,24 @@ pub(crate) fn largest_run(
     best
 }
 
+/// Every run with at least `min_members` members, into `found` (cleared first).
+pub(crate) fn runs_with_members(
+    points: &[ScanPoint],
+    usable: impl Fn(usize) -> bool,
+    member: impl Fn(usize) -> bool,
+    rule: &Breakpoints,
+    max_skip: usize,
+    min_members: usize,
+    found: &mut Vec<Run>,
+) {
+    found.clear();
+    for_each_run(points, usable, member, rule, max_skip, |run, m| {
+        if m >= min_members {
+            found.push(run);
+        }
+    });
+}
+
 /// Least-squares fit of the points of `run` that satisfy `member`.
 pub(crate) fn fit_where(
     points: &[ScanPoint],
