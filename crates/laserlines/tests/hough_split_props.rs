@@ -7,40 +7,19 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod common;
+
 use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, Scan, Weight};
 use proptest::prelude::*;
-
-fn any_range() -> impl Strategy<Value = f64> {
-    prop_oneof![
-        4 => 0.02f64..6.0,
-        1 => Just(f64::NAN),
-        1 => Just(f64::INFINITY),
-        1 => Just(f64::NEG_INFINITY),
-        1 => Just(0.0),
-        1 => -10.0f64..0.0,
-        1 => Just(1e300),
-        1 => Just(f64::MIN_POSITIVE),
-    ]
-}
-
-fn any_increment() -> impl Strategy<Value = f64> {
-    prop_oneof![
-        4 => 0.001f64..0.05,
-        2 => -0.05f64..-0.001,
-        1 => Just(0.0),
-        1 => Just(f64::NAN),
-        1 => Just(1e-300),
-    ]
-}
 
 /// Scans with arbitrary values in every public field, valid or not.
 fn any_scan() -> impl Strategy<Value = Scan> {
     (
         prop_oneof![4 => -3.2f64..3.2, 1 => Just(f64::NAN), 1 => Just(1e10)],
-        any_increment(),
+        common::any_increment(),
         prop_oneof![3 => Just(0.02), 1 => Just(0.0), 1 => Just(-1.0), 1 => Just(f64::NAN)],
         prop_oneof![3 => Just(5.6), 1 => Just(1e308), 1 => Just(f64::INFINITY), 1 => Just(0.01)],
-        prop::collection::vec(any_range(), 0..700),
+        prop::collection::vec(common::any_range(4), 0..700),
     )
         .prop_map(
             |(angle_min, angle_increment, range_min, range_max, ranges)| Scan {

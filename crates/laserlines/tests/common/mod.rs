@@ -39,3 +39,31 @@ pub fn angle_min() -> f64 {
 pub fn sigma(r: f64) -> f64 {
     0.002 * r.max(1.0)
 }
+
+/// Ranges of every kind a driver may hand over: valid ones (weight `valid`, against 1 for each
+/// other kind), NaN, both infinities, zero, negative, absurdly far and denormally near.
+pub fn any_range(valid: u32) -> impl proptest::strategy::Strategy<Value = f64> {
+    use proptest::prelude::*;
+    prop_oneof![
+        valid => 0.02f64..6.0,
+        1 => Just(f64::NAN),
+        1 => Just(f64::INFINITY),
+        1 => Just(f64::NEG_INFINITY),
+        1 => Just(0.0),
+        1 => -10.0f64..0.0,
+        1 => Just(1e300),
+        1 => Just(f64::MIN_POSITIVE),
+    ]
+}
+
+/// Beam increments of every kind: counter-clockwise, clockwise, zero, NaN, vanishing.
+pub fn any_increment() -> impl proptest::strategy::Strategy<Value = f64> {
+    use proptest::prelude::*;
+    prop_oneof![
+        4 => 0.001f64..0.05,
+        2 => -0.05f64..-0.001,
+        1 => Just(0.0),
+        1 => Just(f64::NAN),
+        1 => Just(1e-300),
+    ]
+}
