@@ -18,6 +18,7 @@ use laserlines_nav::ExplorerParams;
 use laserlines_render::{ExplorationMap, exploration_map_svg, sectors_svg};
 use laserlines_sim::World;
 use laserlines_sim::arena::{ArenaOptions, ArenaReport, WallLength, interior_start};
+use laserlines_sim::cells::extent;
 use laserlines_sim::maze::{MazeParams, generate};
 use laserlines_sim::robot::RobotParams;
 
@@ -405,13 +406,11 @@ fn snapshot_time(args: &SimulateArgs) -> f64 {
 /// A start given by hand must lie among the walls: within their bounding box.
 fn check_start_inside(name: &str, world: &World, start: Isometry2) -> Result<()> {
     let ends = world.walls.iter().flat_map(|w| [w.a, w.b]);
-    let (lo, hi) = ends.fold(
-        (
-            Point2::new(f64::INFINITY, f64::INFINITY),
-            Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-        ),
-        |(lo, hi), p| (lo.inf(&p), hi.sup(&p)),
-    );
+    // No walls: nothing is among them.
+    let (lo, hi) = extent(ends).unwrap_or((
+        Point2::new(f64::INFINITY, f64::INFINITY),
+        Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+    ));
     let p = start.translation.vector;
     let inside = lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y;
     if !inside {

@@ -5,6 +5,7 @@ use laserlines::math::{Isometry2, Point2, Vector2};
 
 use super::outline::ArenaOutline;
 use super::{ARENA_GRID, cell_centre};
+use crate::cells::extent;
 use crate::index::WorldIndex;
 use crate::world::{Target, World};
 
@@ -87,22 +88,8 @@ pub fn interior_start(world: &World, clearance: f64) -> Option<Isometry2> {
 
 /// The bounding box of the world's walls and disc centres; `None` for an empty world.
 fn bounds(world: &World) -> Option<(Point2, Point2)> {
-    let mut lo = Point2::new(f64::INFINITY, f64::INFINITY);
-    let mut hi = Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY);
-    let mut grow = |p: Point2| {
-        if p.x.is_finite() && p.y.is_finite() {
-            lo = Point2::new(lo.x.min(p.x), lo.y.min(p.y));
-            hi = Point2::new(hi.x.max(p.x), hi.y.max(p.y));
-        }
-    };
-    for w in &world.walls {
-        grow(w.a);
-        grow(w.b);
-    }
-    for d in &world.discs {
-        grow(d.centre);
-    }
-    (lo.x.is_finite() && hi.x.is_finite()).then_some((lo, hi))
+    let ends = world.walls.iter().flat_map(|w| [w.a, w.b]);
+    extent(ends.chain(world.discs.iter().map(|d| d.centre)))
 }
 
 /// The search grid: [`START_SEARCH_CELL`] cells over the world's bounding box and 1 m
