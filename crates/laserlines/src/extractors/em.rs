@@ -15,8 +15,10 @@
 //!    whole wall.
 //! 5. Points with `w_i >= inlier_probability` are cut into runs of consecutive free beams
 //!    (broken at breakpoints and after more than `max_skipped` non-members); each run with at
-//!    least `filter.min_points` members becomes a line and its beams are taken. A hypothesis that
-//!    yields none is a failure.
+//!    least `filter.min_points` members, and at least `filter.min_length` from its first member
+//!    to its last, becomes a line and its beams are taken. A hypothesis that yields none is a
+//!    failure, and leaves its points free for the next: a hypothesis that converged across two
+//!    walls, and so cut both into short runs, does not take them from the lines that fit them.
 //!
 //! The loop ends after `max_trials` hypotheses, or `max_failures` failures in a row. Then the
 //! common final step. The generator is SplitMix64 seeded with `seed` at the start of every
@@ -315,15 +317,19 @@ impl LineExtractor for Em {
             self.found.clear();
             if line.is_some() {
                 let member = |i: usize| self.weight[i] >= p.inlier_probability;
-                let found = &mut self.found;
+                let (found, points) = (&mut self.found, &self.points);
+                // Runs start and end at members, so their ends give the line's length.
+                let long_enough = |r: Run| {
+                    (points[r.end - 1].point - points[r.start].point).norm() >= p.filter.min_length
+                };
                 for_each_run(
-                    &self.points,
+                    points,
                     |i| !self.taken[i],
                     member,
                     &rule,
                     p.max_skipped,
                     |r, m| {
-                        if m >= min_members {
+                        if m >= min_members && long_enough(r) {
                             found.push(r);
                         }
                     },
