@@ -3,16 +3,18 @@
 //! Navigation as on the NAJI V rescue robot (section III of the paper): the lines extracted
 //! from each scan describe the robot's surroundings in three sectors, and a wall-following
 //! explorer drives through a maze-like rescue arena on them. It depends on the core crate
-//! alone: it reads what a real robot has (each scan, its lines, the wheel odometry) and
-//! describes the robot with [`laserlines::robot::RobotDescription`]. The closed loop in the
-//! simulator, scored against ground truth, is `laserlines-harness`.
+//! and the mapping crate `laserlines-slam` alone (both without I/O): it reads what a real
+//! robot has (each scan, its lines, the wheel odometry) and describes the robot with
+//! [`laserlines::robot::RobotDescription`]. The closed loop in the simulator, scored
+//! against ground truth, is `laserlines-harness`.
 //!
 //! - [`sectors`]: the three sectors (left 70 deg, front 100 deg, right 70 deg) and the
 //!   "biggest and nearest" object in each, with its distance, width and angle;
 //! - [`explorer`]: the wall-following explorer with loop detection, frontier travel and a
 //!   safety layer; it reads only the scan, the extracted lines and the odometry;
-//! - [`map`]: the robot's own map (free / occupied / unknown, and wall lines for scan
-//!   matching) and the scan matching that corrects its odometry;
+//! - [`map`]: the robot's own map (free / occupied / unknown), its scans placed by the scan
+//!   matching of `laserlines-slam` ([`laserlines_slam::Tracker`]), which corrects the
+//!   odometry;
 //! - [`planner`]: the nearest frontier on that map and the path there;
 //! - [`raster`]: scan-line filling of a scan's fan, shared by the map and the ground-truth
 //!   coverage of `laserlines-harness`.
@@ -42,9 +44,9 @@ pub mod raster;
 pub mod sectors;
 
 pub use explorer::{
-    Decision, Explorer, ExplorerParams, FollowParams, LoopParams, MapParams, Mode, SafetyParams,
-    TravelParams, WallSide,
+    Decision, Explorer, ExplorerParams, FollowParams, LoopParams, MapParams, MatchParams, Mode,
+    SafetyParams, TravelParams, WallSide,
 };
-pub use map::{CellState, MatchParams, MatchPoint, RobotMap};
+pub use map::{CellState, RobotMap};
 pub use planner::{Plan, Planner, PlannerParams};
 pub use sectors::{Sector, SectorObject, SectorObjects, SectorParams, select_objects};

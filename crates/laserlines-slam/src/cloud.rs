@@ -111,6 +111,31 @@ fn orient_toward(normal: Vector2, point: Point2) -> Vector2 {
     }
 }
 
+/// A reference for point-to-line matching ([`crate::icp::match_points`]): the surface point
+/// nearest to a query point.
+pub trait NearestSurface {
+    /// The surface point nearest to `q` within `max_distance` (m), if any; `normal` is the
+    /// query's own unit normal (a reference may use it to tell apart the two faces of a thin
+    /// wall; the matcher checks agreement itself).
+    fn nearest_surface(
+        &self,
+        q: Point2,
+        normal: Vector2,
+        max_distance: f64,
+    ) -> Option<SurfacePoint>;
+}
+
+impl NearestSurface for PointCloud {
+    fn nearest_surface(
+        &self,
+        q: Point2,
+        _normal: Vector2,
+        max_distance: f64,
+    ) -> Option<SurfacePoint> {
+        self.nearest(q, max_distance).map(|(p, _)| *p)
+    }
+}
+
 /// Points with normals in one frame, thinned to one per voxel, with a grid index for nearest
 /// neighbour queries.
 #[derive(Debug, Clone)]

@@ -20,10 +20,10 @@
 //! tests, 294 errors, 5 true poses and 1 wrong pose (a room's parallel walls can pair more
 //! than half of the points in a wrong minimum, which no check here tells from the right one).
 
-use laserlines::math::{Point2, wrap_angle};
+use laserlines::math::{Point2, Vector2, wrap_angle};
 use nalgebra::{Matrix3, Vector3};
 
-use crate::cloud::{PointCloud, SurfacePoint};
+use crate::cloud::{NearestSurface, SurfacePoint};
 use crate::se2::Se2;
 
 /// Settings of [`match_points`].
@@ -131,16 +131,17 @@ pub enum IcpError {
     },
 }
 
-/// Matches `scan` (points with normals in the scan's frame) onto `reference`, starting from
-/// the guess `reference_from_scan`.
+/// Matches `scan` (points with normals in the scan's frame) onto `reference` (a submap's
+/// [`PointCloud`](crate::cloud::PointCloud), a [`SurfaceMap`](crate::surface_map::SurfaceMap)),
+/// starting from the guess `reference_from_scan`.
 ///
 /// `prior`, when given, is an information matrix (on `x, y, theta` in the reference frame)
 /// pulling the pose toward the guess, for directions the surfaces cannot fix.
 ///
 /// # Errors
 /// [`IcpError`] when the match cannot be vouched for.
-pub fn match_points(
-    reference: &PointCloud,
+pub fn match_points<R: NearestSurface + ?Sized>(
+    reference: &R,
     scan: &[SurfacePoint],
     guess: Se2,
     prior: Option<&Matrix3<f64>>,
@@ -203,8 +204,8 @@ pub fn match_points(
 }
 
 /// The inlier statistics and covariance of the final pose.
-fn assess(
-    reference: &PointCloud,
+fn assess<R: NearestSurface + ?Sized>(
+    reference: &R,
     scan: &[SurfacePoint],
     pose: Se2,
     prior: Option<&Matrix3<f64>>,
@@ -264,8 +265,8 @@ fn assess(
 
 /// Calls `f(jacobian, error)` for every scan point paired with a reference point within
 /// `reach` whose normal agrees with its own.
-fn for_each_pair(
-    reference: &PointCloud,
+fn for_each_pair<R: NearestSurface + ?Sized>(
+    reference: &R,
     scan: &[SurfacePoint],
     pose: &Se2,
     reach: f64,
@@ -277,14 +278,14 @@ fn for_each_pair(
         let rx = c * sp.point.x - s * sp.point.y;
         let ry = s * sp.point.x + c * sp.point.y;
         let q = Point2::new(rx + pose.x, ry + pose.y);
-        let Some((r, _)) = reference.nearest(q, reach) else {
-            continue;
-        };
-        let nq = (
+        let nq = Vector2::new(
             c * sp.normal.x - s * sp.normal.y,
             s * sp.normal.x + c * sp.normal.y,
         );
-        if nq.0 * r.normal.x + nq.1 * r.normal.y < cos_normal {
+        let Some(r) = reference.nearest_surface(q, nq, reach) else {
+            continue;
+        };
+        if nq.x * r.normal.x + nq.y * r.normal.y < cos_normal {
             continue;
         }
         let n = r.normal;

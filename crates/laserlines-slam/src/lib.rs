@@ -13,6 +13,9 @@
 //! - **Mapping**: [`submap`]s of consecutive scans, [`loops`] (loop closure: correlative
 //!   search verified by ICP), the SE(2) pose [`graph`] with robust kernels, and the online
 //!   [`Mapper`] that ties them together.
+//! - **Tracking**: the [`Tracker`], a pose at every scan that never moves afterwards, by
+//!   matching each scan onto one growing [`SurfaceMap`] of everything seen (for a robot that
+//!   plans on its own map as it drives).
 //! - **Maps**: the [`occupancy`] grid and the [`linemap`] (lines of all scans in the map
 //!   frame, merged where they are one wall).
 //! - **Evaluation**: [`eval`], the relations metric of the Freiburg SLAM benchmark.
@@ -92,6 +95,8 @@ pub mod occupancy;
 pub mod params;
 pub mod se2;
 pub mod submap;
+pub mod surface_map;
+pub mod tracker;
 
 pub use eval::{Relation, RelationsScore, score_relations};
 pub use graph::{Edge, PoseGraph, RobustKernel};
@@ -101,3 +106,5 @@ pub use mapper::{Mapper, MapperError, MapperStats, ScanNode, ScanUpdate};
 pub use occupancy::{OccupancyGrid, OccupancyParams};
 pub use params::{LoopParams, MapperParams};
 pub use se2::Se2;
+pub use surface_map::SurfaceMap;
+pub use tracker::{TrackUpdate, Tracker, TrackerError, TrackerParams};

@@ -4,6 +4,8 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod common;
+
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, Scan};
 use laserlines_sim::World;
@@ -180,47 +182,9 @@ fn closing_the_loop_corrects_the_odometry_drift() {
     ignore = "whole simulated runs need optimisations: cargo test --release (.ci/run does)"
 )]
 fn a_run_in_a_bundled_arena_stays_near_the_truth() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../data/arenas/inner_explore_test.raf"
-    );
-    let arena =
-        laserlines_sim::arena::load_raf(std::path::Path::new(path), &Default::default()).unwrap();
-    let start = laserlines_sim::arena::interior_start(&arena.world, 0.4).unwrap();
-    // Bounce: straight on until something is within 0.7 m ahead, then turn on the spot
-    // (alternating sides) until the way is clear for 1.2 m.
-    let mut turning: Option<f64> = None;
-    let mut turns = 0;
-    let bounce = |scan: &Scan, _: &Se2| {
-        let ahead = (0..scan.len())
-            .filter(|&i| scan.angle(i).abs() < 0.5)
-            .map(|i| scan.ranges[i])
-            .filter(|r| r.is_finite() && *r > scan.range_min)
-            .fold(f64::INFINITY, f64::min);
-        match turning {
-            Some(dir) if ahead < 1.2 => VelocityCommand {
-                linear_m_s: 0.0,
-                angular_rad_s: dir,
-            },
-            _ if ahead < 0.7 => {
-                turns += 1;
-                let dir = if turns % 2 == 0 { 0.8 } else { -0.8 };
-                turning = Some(dir);
-                VelocityCommand {
-                    linear_m_s: 0.0,
-                    angular_rad_s: dir,
-                }
-            }
-            _ => {
-                turning = None;
-                VelocityCommand {
-                    linear_m_s: 0.4,
-                    angular_rad_s: 0.0,
-                }
-            }
-        }
-    };
-    let r = run(&arena.world, start, 120.0, true, bounce);
+    let (world, start) = common::inner_explore_test();
+    let mut bounce = common::Bounce::default();
+    let r = run(&world, start, 120.0, true, |scan, _| bounce.command(scan));
     if std::env::var("TRACE").is_ok() {
         for k in (0..r.truth.len())
             .filter(|&k| k % 50 == 0 || r.estimate[k].distance(&r.truth[k]) > 0.08)

@@ -22,14 +22,15 @@
 //! the spot away from the followed side until the way ahead is free again: 90 deg at a
 //! corner, 180 deg in a dead end.
 //!
-//! **The robot's own map.** Every scan is fitted onto the map built from the scans before
-//! it ([`RobotMap::match_scan`], point-to-line ICP pulled toward the odometry's prediction)
-//! and every `map.every`-th scan is added to it ([`RobotMap::insert_scan`]): the map frame
-//! is the odometry frame at the start, corrected by the matching, so that the map stays
-//! true while the wheel odometry drifts (the simulator's default odometry drifts by about
-//! a metre in two minutes; the map pose stays within a few decimetres over a run). From
-//! here on the explorer works in the map frame. It never reads the world: only its scans,
-//! lines and odometry.
+//! **The robot's own map.** Every scan is fitted onto everything mapped before it by
+//! `laserlines-slam`'s [`Tracker`] (point-to-line ICP onto a map of surface points, pulled
+//! toward the odometry's prediction; settings in `matching`) and every `map.every`-th scan
+//! is added to the tracker's map and to the explorer's grid ([`RobotMap::insert_scan`]):
+//! the map frame is the odometry frame at the start, corrected by the matching, so that the
+//! map stays true while the wheel odometry drifts (the simulator's default odometry drifts
+//! by about a metre in two minutes; the map pose stays within a few decimetres over a run).
+//! From here on the explorer works in the map frame. It never reads the world: only its
+//! scans, lines and odometry.
 //!
 //! **Leaving a wall followed all the way round.** Every 0.5 m of travel the map pose is
 //! dropped as a breadcrumb. Coming back within `loops.match_radius_m` of a breadcrumb laid at least
@@ -133,10 +134,13 @@ mod safety;
 mod travel;
 
 pub use params::{
-    ExplorerParams, FollowParams, LoopParams, MapParams, SafetyParams, TravelParams, WallSide,
+    ExplorerParams, FollowParams, LoopParams, MapParams, MatchParams, SafetyParams, TravelParams,
+    WallSide,
 };
 
-use crate::map::{MatchPoint, RobotMap};
+use laserlines_slam::Tracker;
+
+use crate::map::RobotMap;
 use crate::planner::Planner;
 use crate::raster::BeamTable;
 use crate::sectors::{SectorObjects, select_objects};
@@ -224,10 +228,9 @@ pub struct Explorer {
     blind: (Vector2, Vector2, bool),
     map: RobotMap,
     planner: Planner,
-    map_from_odom: Isometry2,
+    /// The pose estimate: scan matching onto its own map of surface points.
+    tracker: Tracker,
     map_from_robot: Isometry2,
-    /// Scans the map could not place (the odometry's prediction was kept).
-    unmatched: u64,
     /// Time the map last gained `map.new_cells` from one scan (wall following goes stale).
     last_new: f64,
     /// Time the map last gained any cell (the idle timeout).
@@ -251,7 +254,6 @@ pub struct Explorer {
     /// Frontiers reached or seen on the way.
     frontiers: usize,
     explored: bool,
-    match_points: Vec<MatchPoint>,
     /// The scan's beam directions, laser frame.
     beams: BeamTable,
 }
@@ -284,9 +286,12 @@ impl Explorer {
             blind: (Vector2::zeros(), Vector2::zeros(), false),
             map: RobotMap::new(),
             planner: Planner::new(),
-            map_from_odom: Isometry2::identity(),
+            tracker: Tracker::new(
+                params
+                    .matching
+                    .tracker(&robot.laser.robot_from_laser(), params.map.every),
+            ),
             map_from_robot: Isometry2::identity(),
-            unmatched: 0,
             last_new: 0.0,
             last_gain: 0.0,
             known: 0,
@@ -299,7 +304,6 @@ impl Explorer {
             retries: 0,
             frontiers: 0,
             explored: false,
-            match_points: Vec::new(),
             beams: BeamTable::default(),
         }
     }
@@ -337,7 +341,13 @@ impl Explorer {
     /// Scans the map could not place, whose pose came from the odometry alone.
     #[must_use]
     pub fn unmatched_scans(&self) -> u64 {
-        self.unmatched
+        self.tracker.unmatched() as u64
+    }
+
+    /// The tracker that places each scan, with the map of surface points it matches onto.
+    #[must_use]
+    pub fn tracker(&self) -> &Tracker {
+        &self.tracker
     }
 
     /// The frontiers given up so far, map frame.

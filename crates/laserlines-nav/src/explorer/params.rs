@@ -4,9 +4,10 @@
 //! With the `serde` feature they are the `[explorer]` table of a params file, groups as
 //! dotted keys or sub-tables (`follow.distance = 0.6`, `[explorer.travel]`).
 
+use laserlines::math::Isometry2;
 use laserlines::params::{self, ParamsError};
+use laserlines_slam::{Se2, TrackerParams};
 
-use crate::map::MatchParams;
 use crate::planner::PlannerParams;
 use crate::sectors::{Sector, SectorParams};
 
@@ -257,6 +258,79 @@ impl Default for TravelParams {
     }
 }
 
+/// The scan matching that places each scan on the robot's map (`laserlines-slam`'s
+/// [`Tracker`](laserlines_slam::Tracker): point-to-line ICP onto everything mapped so far,
+/// held toward the odometry's prediction).
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(default, deny_unknown_fields)
+)]
+pub struct MatchParams {
+    /// Every this many beams give a point to the matching. Default 4 (about 170 points of
+    /// a URG-04LX scan).
+    pub beam_stride: usize,
+    /// Most rounds of pairing and Gauss-Newton step per scan. Default 5.
+    pub iterations: usize,
+    /// A point pairs only with a mapped surface point within this distance, m. Default 0.1.
+    pub gate_m: f64,
+    /// Standard deviation of the odometry's translation over one scan, m: the weight of the
+    /// prior toward the odometry's prediction. Default 0.003.
+    pub odometry_sigma_m: f64,
+    /// The same for the heading, rad. Default 0.009.
+    pub odometry_sigma_rad: f64,
+    /// A match that moves the pose farther than this from the prediction is refused, m.
+    /// Default 0.1 (the odometry errs by millimetres over one scan).
+    pub max_shift_m: f64,
+    /// The same for the heading, rad. Default 0.1.
+    pub max_turn_rad: f64,
+    /// Fewer points within 5 cm of mapped surfaces than this and the match is refused.
+    /// Default 20.
+    pub min_support: usize,
+}
+
+impl Default for MatchParams {
+    fn default() -> Self {
+        let t = TrackerParams::default();
+        Self {
+            beam_stride: t.beam_stride,
+            iterations: t.icp.max_iterations,
+            gate_m: t.icp.max_correspondence_m,
+            odometry_sigma_m: t.odometry_sigma_m,
+            odometry_sigma_rad: t.odometry_sigma_rad,
+            max_shift_m: t.icp.basin_translation_m,
+            max_turn_rad: t.icp.basin_rotation_rad,
+            min_support: t.icp.min_inliers,
+        }
+    }
+}
+
+impl MatchParams {
+    /// The tracker's settings for a laser at `robot_from_laser`, a scan in every `every`
+    /// entering the map.
+    #[must_use]
+    pub fn tracker(&self, robot_from_laser: &Isometry2, every: usize) -> TrackerParams {
+        let t = TrackerParams::default();
+        TrackerParams {
+            robot_from_sensor: Se2::from_isometry(robot_from_laser),
+            beam_stride: self.beam_stride,
+            insert_every: every,
+            odometry_sigma_m: self.odometry_sigma_m,
+            odometry_sigma_rad: self.odometry_sigma_rad,
+            icp: laserlines_slam::IcpParams {
+                max_iterations: self.iterations,
+                max_correspondence_m: self.gate_m,
+                basin_translation_m: self.max_shift_m,
+                basin_rotation_rad: self.max_turn_rad,
+                min_inliers: self.min_support,
+                ..t.icp
+            },
+            ..t
+        }
+    }
+}
+
 /// Parameters of the explorer, in groups (see the [module docs](self)).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(
@@ -373,18 +447,19 @@ impl ExplorerParams {
         params::non_negative("sectors.min_width", self.sectors.min_width)?;
         params::positive("sectors.distance_floor", self.sectors.distance_floor)?;
         params::at_least("matching.iterations", m.iterations, 1)?;
+        params::at_least("matching.beam_stride", m.beam_stride, 1)?;
         for (field, v) in [
             ("matching.gate_m", m.gate_m),
             ("matching.max_shift_m", m.max_shift_m),
             ("matching.max_turn_rad", m.max_turn_rad),
+            ("matching.odometry_sigma_m", m.odometry_sigma_m),
+            ("matching.odometry_sigma_rad", m.odometry_sigma_rad),
             ("planner.clearance_m", pl.clearance_m),
             ("planner.max_range_m", pl.max_range_m),
         ] {
             params::positive(field, v)?;
         }
         for (field, v) in [
-            ("matching.prior_xy", m.prior_xy),
-            ("matching.prior_theta", m.prior_theta),
             ("planner.escape_clearance_m", pl.escape_clearance_m),
             ("planner.escape_radius_m", pl.escape_radius_m),
             ("planner.preferred_clearance_m", pl.preferred_clearance_m),

@@ -1,73 +1,9 @@
-//! The growable grids of the map and the line of a surface cell.
+//! The growable grids of the map.
 
 use laserlines::math::Point2;
 
-use super::{GROW_STEP, LINEARITY, MAX_EXTENT, SURFACE_WINDOW};
+use super::{GROW_STEP, MAX_EXTENT};
 use crate::raster::floor_i64;
-
-/// The points of one surface cell: sums of their offsets from the cell's centre, and the
-/// line fitted to them.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub(super) struct Surface {
-    pub(super) n: f32,
-    pub(super) sx: f32,
-    pub(super) sy: f32,
-    pub(super) sxx: f32,
-    pub(super) sxy: f32,
-    pub(super) syy: f32,
-    /// The scan that last touched the cell (1-based; 0: none).
-    pub(super) stamp: u32,
-}
-
-impl Surface {
-    /// Adds a point (offset from the cell's centre) of weight `w` (the inverse variance of
-    /// its range noise relative to [`NOISE_FLOOR`]'s).
-    pub(super) fn add(&mut self, dx: f32, dy: f32, w: f32) {
-        if self.n >= SURFACE_WINDOW {
-            return;
-        }
-        self.n += w;
-        self.sx += w * dx;
-        self.sy += w * dy;
-        self.sxx += w * dx * dx;
-        self.sxy += w * dx * dy;
-        self.syy += w * dy * dy;
-    }
-
-    /// The line fitted to the points (see the [module docs](self)) for a cell centred at
-    /// `centre`: its unit normal `(nx, ny)` and offset `d`, the line being `n . p = d` in
-    /// the map frame; `[0, 0, 0]` when the points do not lie along a line.
-    pub(super) fn line(&self, centre: Point2) -> [f32; 3] {
-        const NONE: [f32; 3] = [0.0; 3];
-        if self.n < 2.0 {
-            return NONE;
-        }
-        let (mx, my) = (self.sx / self.n, self.sy / self.n);
-        let a = self.sxx / self.n - mx * mx;
-        let b = self.sxy / self.n - mx * my;
-        let c = self.syy / self.n - my * my;
-        let half_sum = 0.5 * (a + c);
-        let root = (0.25 * (a - c) * (a - c) + b * b).sqrt();
-        let (big, small) = (half_sum + root, half_sum - root);
-        if !(big > 1e-6 && small <= LINEARITY * big) {
-            return NONE;
-        }
-        // The eigenvector of the smaller eigenvalue, from whichever row is better
-        // conditioned.
-        let (u, v) = if (a - small).abs() >= (c - small).abs() {
-            (b, small - a)
-        } else {
-            (small - c, b)
-        };
-        let norm = u.hypot(v);
-        if !(norm > 0.0 && norm.is_finite()) {
-            return NONE;
-        }
-        let (nx, ny) = (f64::from(u / norm), f64::from(v / norm));
-        let d = nx * (centre.x + f64::from(mx)) + ny * (centre.y + f64::from(my));
-        [nx as f32, ny as f32, d as f32]
-    }
-}
 
 /// A growable grid over the map frame; cell `(i, j)` spans `origin + cell * [i, i + 1] x
 /// [j, j + 1]`.

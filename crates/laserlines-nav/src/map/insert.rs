@@ -1,12 +1,10 @@
 //! Inserting a scan into the map: the fan it sweeps frees cells, the ends of its beams
-//! mark them occupied and feed the surface lines.
+//! mark them occupied.
 
 use laserlines::Scan;
 use laserlines::math::{Isometry2, Point2, Vector2};
 
-use super::{
-    FREE_STEP, HIT_STEP, MAP_STRIDE, NEUTRAL, NO_RETURN_FREE, NOISE_FLOOR, RobotMap, SURFACE_RANGE,
-};
+use super::{FREE_STEP, HIT_STEP, MAP_STRIDE, NEUTRAL, NO_RETURN_FREE, RobotMap};
 
 impl RobotMap {
     /// Inserts a scan taken with the laser at `map_from_laser` (see the [module
@@ -23,8 +21,6 @@ impl RobotMap {
             20.0
         } + 0.5;
         let r = Vector2::new(reach, reach);
-        self.surfaces.ensure(o - r, o + r);
-        self.lines.ensure(o - r, o + r);
         self.knowledge.ensure(o - r, o + r);
         self.centroids.ensure(o - r, o + r);
         if self.knowledge.cols == 0 {
@@ -41,7 +37,7 @@ impl RobotMap {
 
     /// The scan's fan in knowledge-grid cell units (the laser, then every
     /// [`MAP_STRIDE`]-th beam's end, and the last) into `poly`, and the ends of the beams
-    /// with a return, with their ranges, into `ends`.
+    /// with a return into `ends`.
     fn trace_fan(&mut self, o: Point2, yaw: f64, scan: &Scan) {
         let window = scan.range_window(None);
         let mut poly = std::mem::take(&mut self.poly);
@@ -62,7 +58,7 @@ impl RobotMap {
             if window.contains(range) {
                 let p = o + dir * range;
                 poly.push(self.knowledge.to_cells(p));
-                ends.push((p, range));
+                ends.push(p);
             } else {
                 let free = NO_RETURN_FREE.min(scan.range_max.max(0.0));
                 poly.push(self.knowledge.to_cells(o + dir * free));
@@ -108,13 +104,9 @@ impl RobotMap {
         self.extent = Some((lo, hi));
     }
 
-    /// Moves the knowledge cells the beams end in toward occupied (with their centroids),
-    /// and adds the near ends to the surface cells, refitting the lines of those touched.
+    /// Moves the knowledge cells the beams end in toward occupied (with their centroids).
     fn mark_hits(&mut self) {
-        let stamp = u32::try_from(self.scans).unwrap_or(u32::MAX);
-        self.touched.clear();
-        let ends = std::mem::take(&mut self.ends);
-        for &(p, range) in &ends {
+        for &p in &self.ends {
             if let Some(c) = self.knowledge.index(p) {
                 let v = &mut self.knowledge.cells[c];
                 if *v == 0 {
@@ -130,26 +122,6 @@ impl RobotMap {
                     sum[2] += 1.0;
                 }
             }
-            if range <= SURFACE_RANGE
-                && let Some(c) = self.surfaces.index(p)
-            {
-                let centre = self.surfaces.centre(c);
-                let cell = &mut self.surfaces.cells[c];
-                // Weighted by the inverse variance of the URG-04LX's range noise (5 mm to
-                // 1 m, 0.5 % of the range beyond), relative to the nearest points: a
-                // cell's line comes mostly from its nearest views.
-                let sigma = NOISE_FLOOR * range.max(1.0);
-                let w = (NOISE_FLOOR / sigma).powi(2);
-                cell.add((p.x - centre.x) as f32, (p.y - centre.y) as f32, w as f32);
-                if cell.stamp != stamp {
-                    cell.stamp = stamp;
-                    self.touched.push(c);
-                }
-            }
         }
-        for &c in &self.touched {
-            self.lines.cells[c] = self.surfaces.cells[c].line(self.surfaces.centre(c));
-        }
-        self.ends = ends;
     }
 }

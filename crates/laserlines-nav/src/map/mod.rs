@@ -1,63 +1,34 @@
-//! The robot's own map, built from its scans placed by its own pose estimate, and the scan
-//! matching that keeps that estimate from drifting.
+//! The robot's own map, built from its scans placed by its own pose estimate (the scan
+//! matching of `laserlines-slam`'s [`Tracker`](laserlines_slam::Tracker)), for the explorer's
+//! frontiers, planner and safety layer.
 //!
 //! A real robot has its scans and its wheel odometry, nothing else; so does this map. It
 //! lives in the *map frame*: the odometry frame at the start, corrected by scan matching as
 //! the run goes on (the odometry drifts, about 1 m in a few minutes with the simulator's
 //! default noise, more than a 1.2 m corridor allows).
 //!
-//! Every [`MAP_STRIDE`]-th beam of a scan enters the map. Two grids, both grown on demand
-//! in steps of [`GROW_STEP`] up to [`MAX_EXTENT`]:
-//!
-//! - **Knowledge** ([`MAP_CELL`] = 0.1 m): each cell is [`CellState::Unknown`] until a scan
-//!   says something about it, then holds evidence that moves toward *occupied* by
-//!   [`HIT_STEP`] for every beam ending in it and toward *free* by [`FREE_STEP`] for every
-//!   scan whose fan covers its centre (the fan from the laser through the end points of
-//!   consecutive beams; a beam without a return saw nothing within its range, and its end
-//!   is taken [`NO_RETURN_FREE`] along it). Cells at [`OCCUPIED_AT`] or more
-//!   are occupied. The explorer's frontiers and paths come from this grid.
-//! - **Surfaces** ([`SURFACE_CELL`] = 0.2 m): the end points of beams shorter than
-//!   [`SURFACE_RANGE`] (where the URG-04LX's noise is under 2 cm), summed per cell (weight,
-//!   mean, second moments, weighted by the inverse variance of the range noise, until the
-//!   weights add up to [`SURFACE_WINDOW`]); a cell
-//!   whose points lie along a line (smaller spread at most a tenth of the larger) holds that
-//!   line. [`RobotMap::match_scan`] fits a scan onto these lines: point-to-line ICP, each
-//!   point paired with the nearest line among its cell and the eight around it, a few
-//!   Gauss-Newton rounds on the pose, with a weak prior toward the odometry's prediction so
-//!   that directions a scan cannot fix (along a featureless corridor) stay with the
-//!   odometry. Lines fitted to the points themselves place walls to a few millimetres
-//!   wherever they fall in a cell, which a grid of cell values cannot.
+//! Every [`MAP_STRIDE`]-th beam of a scan enters the map, a grid of [`MAP_CELL`] = 0.1 m
+//! cells grown on demand in steps of [`GROW_STEP`] up to [`MAX_EXTENT`]. Each cell is
+//! [`CellState::Unknown`] until a scan says something about it, then holds evidence that
+//! moves toward *occupied* by [`HIT_STEP`] for every beam ending in it and toward *free* by
+//! [`FREE_STEP`] for every scan whose fan covers its centre (the fan from the laser through
+//! the end points of consecutive beams; a beam without a return saw nothing within its
+//! range, and its end is taken [`NO_RETURN_FREE`] along it). Cells at [`OCCUPIED_AT`] or
+//! more are occupied. Each cell also sums the end points in it, so that walls are known
+//! better than to a cell ([`RobotMap::occupied_near`]).
 
 mod grid;
 mod insert;
-mod matching;
 
 use laserlines::math::{Point2, Vector2};
 
 use crate::raster::{BeamTable, FanRaster, floor_i64};
 pub(crate) use grid::Grid;
-use grid::Surface;
-pub use matching::{MatchParams, MatchPoint};
 
-/// Side of a cell of the surface grid, m.
-pub const SURFACE_CELL: f64 = 0.2;
-/// End points of beams longer than this do not enter the surface grid, m.
-pub const SURFACE_RANGE: f64 = 3.0;
-/// The range noise the robot assumes for its URG-04LX, m: 5 mm up to 1 m, growing as
-/// 0.5 % of the range beyond (the data sheet's +-1 % read as two standard deviations).
-pub const NOISE_FLOOR: f64 = 0.005;
-/// A surface cell takes points until their weights (1 for a point at most 1 m away,
-/// `1 / range^2` beyond) add up to this, and no more.
-pub const SURFACE_WINDOW: f32 = 40.0;
-/// A surface cell holds a line when the smaller spread of its points is at most this
-/// fraction of the larger (variances).
-pub const LINEARITY: f32 = 0.05;
-/// A scan point pairs only with a line whose normal is within 30 deg of its own: the cosine.
-const NORMAL_AGREEMENT: f64 = 0.866;
-/// Side of a cell of the knowledge grid, m.
+/// Side of a cell of the map, m.
 pub const MAP_CELL: f64 = 0.1;
-/// The grids grow in whole steps of this many metres (a multiple of both cell sizes, so that
-/// the grids stay aligned).
+/// The grids grow in whole steps of this many metres (a multiple of the cell size, so that
+/// the knowledge grid and its centroids stay aligned).
 pub const GROW_STEP: f64 = 4.0;
 /// Largest extent of the map along either axis, m: scan points beyond are not mapped.
 pub const MAX_EXTENT: f64 = 200.0;
@@ -101,11 +72,6 @@ impl CellState {
 /// The robot's map (see the [module docs](self)).
 #[derive(Debug, Clone, PartialEq)]
 pub struct RobotMap {
-    surfaces: Grid<Surface>,
-    /// The line of each surface cell, `[nx, ny, d]` (see [`Surface::line`]), apart from the
-    /// sums so that the matching reads 12 bytes a cell.
-    lines: Grid<[f32; 3]>,
-    touched: Vec<usize>,
     knowledge: Grid<u8>,
     /// Per knowledge cell: the sum of the end points in it (offsets from its centre) and
     /// their count, so that walls are known better than to a cell.
@@ -116,8 +82,8 @@ pub struct RobotMap {
     extent: Option<(Point2, Point2)>,
     raster: FanRaster,
     poly: Vec<(f64, f64)>,
-    /// Scratch: the end points of a scan and their ranges.
-    ends: Vec<(Point2, f64)>,
+    /// Scratch: the end points of a scan.
+    ends: Vec<Point2>,
     /// The scan's beam directions, laser frame.
     beams: BeamTable,
 }
@@ -133,9 +99,6 @@ impl RobotMap {
     #[must_use]
     pub fn new() -> Self {
         Self {
-            surfaces: Grid::new(SURFACE_CELL, Surface::default()),
-            lines: Grid::new(SURFACE_CELL, [0.0; 3]),
-            touched: Vec::new(),
             knowledge: Grid::new(MAP_CELL, 0),
             centroids: Grid::new(MAP_CELL, [0.0; 3]),
             known: 0,
@@ -275,8 +238,6 @@ mod tests {
         assert_eq!(map.state(Point2::new(1.0, 0.0)), CellState::Free);
         assert!(wall.iter().any(|&p| map.state(p) == CellState::Occupied));
         map.knowledge
-            .ensure(Point2::new(-30.0, -30.0), Point2::new(30.0, 30.0));
-        map.surfaces
             .ensure(Point2::new(-30.0, -30.0), Point2::new(30.0, 30.0));
         assert_eq!(map.state(Point2::new(1.0, 0.0)), CellState::Free);
         assert!(wall.iter().any(|&p| map.state(p) == CellState::Occupied));
