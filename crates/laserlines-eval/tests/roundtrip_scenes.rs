@@ -32,7 +32,7 @@ const TOLERANCE: &[(&str, f64, f64)] = &[
     ("incremental", 0.98, 0.02),
     ("line-regression", 0.98, 0.01),
     ("ransac", 0.98, 0.01),
-    ("em", 0.97, 0.05),
+    ("em", 0.97, 0.04),
 ];
 
 fn scans() -> Vec<(String, SimScan)> {

@@ -27,7 +27,10 @@ pub struct MapperParams {
     /// Submap points are thinned to one per square voxel of this side, m (default 0.03;
     /// 0.01..0.1).
     pub voxel_m: f64,
-    /// Scan-to-submap matching.
+    /// Scan-to-submap matching. Defaults: [`IcpParams`]'s, with the match allowed to move
+    /// 0.5 m and 0.35 rad from its guess (the matches are retried from guesses turned by up
+    /// to twice [`MapperParams::retry_rotation_rad`], and the motion's correlative search and
+    /// the odometry's prior guard them; the line match is gated by the same bounds).
     pub icp: IcpParams,
     /// A match fitting at least this share of the scan's points is taken at once; a weaker
     /// one is tried again from other seeds (default 0.8).
@@ -67,7 +70,11 @@ impl Default for MapperParams {
             insert_distance_m: 0.1,
             insert_rotation_rad: 0.05,
             voxel_m: 0.03,
-            icp: IcpParams::default(),
+            icp: IcpParams {
+                basin_translation_m: 0.5,
+                basin_rotation_rad: 0.35,
+                ..IcpParams::default()
+            },
             confident_fraction: 0.8,
             retry_rotation_rad: 0.15,
             motion_window_m: 1.5,

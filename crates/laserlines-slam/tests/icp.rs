@@ -97,15 +97,14 @@ proptest! {
     }
 }
 
-/// From outside the basin (0.3-1.5 m and 0.2-1.2 rad off) the matcher mostly fails or finds
-/// the true pose; in a room with parallel walls it can, rarely, settle in a wrong minimum that
-/// pairs more than half of the points and so passes every check. Over 300 seeded cases, a
-/// wrong pose is returned for at most 2 % of them (counts printed).
+/// From outside the basin (0.3-1.5 m and 0.2-1.2 rad off) the matcher fails or finds the true
+/// pose, never a wrong one, over 1000 seeded cases (counts printed; today all 1000 fail). With the gate on the match's move at 0.5 m and 0.35 rad instead of 0.35 m and
+/// 0.25 rad, 1 of the first 300 was a wrong pose between a room's parallel walls.
 #[test]
-fn outside_the_basin_a_wrong_pose_is_rare() {
+fn outside_the_basin_no_wrong_pose() {
     let mut rng = Rng::new(20_260_101);
     let (mut cases, mut right, mut failed, mut wrong) = (0, 0, 0, 0);
-    while cases < 300 {
+    while cases < 1000 {
         let (x, y, yaw) = (
             rng.range(-3.5, 0.0),
             rng.range(-2.0, 2.0),
@@ -126,9 +125,12 @@ fn outside_the_basin_a_wrong_pose_is_rare() {
             {
                 right += 1;
             }
-            Ok(_) => wrong += 1,
+            Ok(m) => {
+                wrong += 1;
+                println!("wrong: {m:?}, truth {truth:?}");
+            }
         }
     }
     println!("outside the basin: {cases} cases, {right} right, {failed} failed, {wrong} wrong");
-    assert!(wrong * 50 <= cases, "{wrong} wrong poses in {cases} cases");
+    assert_eq!(wrong, 0, "{wrong} wrong poses in {cases} cases");
 }
