@@ -11,11 +11,19 @@
 //! single new cell did; and with a frontier always left to try, none of the plans came back
 //! empty. Now six different frontiers given up while the map grows by less than 1 m^2
 //! (`TravelParams::fruitless_give_ups`, `fruitless_gain_m2`) complete the exploration: the
-//! same run stops at 497 s, explored.
+//! same run stopped at 497 s, explored.
+//!
+//! The barrels' gaps are not all closed to the robot, though, and neither is the arena: the
+//! loader of the time left the outer edge of cell (0, 0) open (its half ramps were not
+//! modelled). With the explorer's pose from `laserlines-slam`'s tracker, which holds to
+//! within 0.1 m here, the robot found a way past the barrels (its least clearance in the run: 7.5 cm), reached that
+//! opening and drove out of the arena at 700 s, losing its map. Here the opening is closed by
+//! a wall where the ramps stand, so the region the robot can reach is bounded: it explores
+//! what lies beyond the barrels and stops at 680 s, explored, before the 15-minute limit.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use laserlines::math::{Isometry2, Vector2};
+use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines_harness::{RunConfig, StopReason, arenas, run};
 use laserlines_sim::World;
 use laserlines_sim::arena::{WallLength, cell_centre, wall_segment};
@@ -51,12 +59,15 @@ fn walls_and_barrels(text: &str) -> World {
     ignore = "slow without optimisations: run with --release"
 )]
 fn a_region_seen_whole_ends_the_run_though_more_lies_beyond_gaps() {
-    let world = walls_and_barrels(arenas::RC_2015_ARENA_BIG);
+    let mut world = walls_and_barrels(arenas::RC_2015_ARENA_BIG);
+    // The outer edge of cell (0, 0), where the arena's half ramps stand.
+    world.add_segment(Point2::new(-0.6, -0.6), Point2::new(0.6, -0.6));
     let start = Isometry2::new(Vector2::new(2.4, 2.4), 0.0);
     let record = run(&world, start, &RunConfig::default()).unwrap();
     let m = record.metrics;
     assert_eq!(m.collisions, 0, "{m:?}");
     assert!(m.reachable_coverage > 0.99, "{m:?}");
     assert_eq!(m.stop, StopReason::Explored, "{m:?}");
-    assert!(m.sim_time_s < 700.0, "{m:?}");
+    assert!(!m.left_arena, "{m:?}");
+    assert!(m.sim_time_s < 800.0, "{m:?}");
 }
