@@ -4,28 +4,12 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use laserlines::extractors::ALGORITHMS;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_laserlines"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("laserlines-bench-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn run(cmd: &mut Command) -> Output {
-    cmd.output().expect("the laserlines binary runs")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+mod common;
+use common::{bin, excerpt, run, text, tmp};
 
 fn assert_clean_error(o: &Output, needles: &[&str]) {
     let err = text(&o.stderr);
@@ -34,12 +18,6 @@ fn assert_clean_error(o: &Output, needles: &[&str]) {
         assert!(err.contains(n), "error does not say {n:?}: {err}");
     }
     assert!(!err.contains("panicked"), "panic: {err}");
-}
-
-fn excerpt() -> PathBuf {
-    let dat = tmp("excerpt.dat.gz");
-    std::fs::write(&dat, laserlines_io::demo::URG04LX_EXCERPT).unwrap();
-    dat
 }
 
 #[test]

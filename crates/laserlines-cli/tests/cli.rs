@@ -3,32 +3,10 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_laserlines"))
-}
-
-fn fixture(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../laserlines-io/tests/fixtures")
-        .join(name)
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("laserlines-cli-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn run(cmd: &mut Command) -> Output {
-    cmd.output().expect("the laserlines binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+mod common;
+use common::{bin, io_fixture, run, stderr, tmp};
 
 /// Asserts a clean failure: exit code 2, a message naming `file` and `needle`, no panic.
 fn assert_clean_error(o: &Output, file: &str, needle: &str) {
@@ -41,7 +19,9 @@ fn assert_clean_error(o: &Output, file: &str, needle: &str) {
 
 #[test]
 fn malformed_json_names_file_and_line() {
-    let o = run(bin().args(["extract"]).arg(fixture("bad_malformed.json")));
+    let o = run(bin()
+        .args(["extract"])
+        .arg(io_fixture("bad_malformed.json")));
     assert_clean_error(&o, "bad_malformed.json", ":3");
 }
 
@@ -49,7 +29,7 @@ fn malformed_json_names_file_and_line() {
 fn ranges_of_the_wrong_type_name_the_field() {
     let o = run(bin()
         .args(["extract"])
-        .arg(fixture("bad_ranges_type.jsonl")));
+        .arg(io_fixture("bad_ranges_type.jsonl")));
     assert_clean_error(&o, "bad_ranges_type.jsonl", "ranges");
 }
 
@@ -57,7 +37,7 @@ fn ranges_of_the_wrong_type_name_the_field() {
 fn zero_angle_increment_is_rejected() {
     let o = run(bin()
         .args(["extract"])
-        .arg(fixture("bad_increment_zero.json")));
+        .arg(io_fixture("bad_increment_zero.json")));
     assert_clean_error(&o, "bad_increment_zero.json", "angle_increment");
 }
 
@@ -65,13 +45,13 @@ fn zero_angle_increment_is_rejected() {
 fn csv_row_with_a_missing_column_names_the_line() {
     let o = run(bin()
         .args(["extract"])
-        .arg(fixture("bad_missing_column.csv")));
+        .arg(io_fixture("bad_missing_column.csv")));
     assert_clean_error(&o, "bad_missing_column.csv", "column");
 }
 
 #[test]
 fn truncated_dat_line_names_the_line() {
-    let o = run(bin().args(["extract"]).arg(fixture("bad_truncated.dat")));
+    let o = run(bin().args(["extract"]).arg(io_fixture("bad_truncated.dat")));
     assert_clean_error(&o, "bad_truncated.dat", "707 tokens");
 }
 
@@ -83,7 +63,7 @@ fn unknown_extension_and_algorithm_are_errors() {
     assert_clean_error(&o, "scan.xyz", "format");
     let o = run(bin()
         .args(["extract", "--algorithm", "nope"])
-        .arg(fixture("scans.jsonl")));
+        .arg(io_fixture("scans.jsonl")));
     // clap checks the name against the registry's list, and gives the list.
     assert_clean_error(&o, "invalid value 'nope'", "possible values: hough-split");
 }
@@ -93,7 +73,7 @@ fn skip_bad_counts_what_it_skipped() {
     let o = run(bin()
         .args(["extract", "--skip-bad", "-o"])
         .arg(tmp("skip.jsonl"))
-        .arg(fixture("bad_ranges_type.jsonl")));
+        .arg(io_fixture("bad_ranges_type.jsonl")));
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let err = stderr(&o);
     assert!(

@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 use std::io::{BufRead, BufReader};
 use std::net::TcpStream;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -17,21 +17,10 @@ use prost::Message as _;
 use tungstenite::client::IntoClientRequest;
 use tungstenite::{Message, WebSocket};
 
+mod common;
+use common::{bin, excerpt, tmp};
+
 const EXCERPT_SCANS: usize = 40;
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_laserlines"))
-}
-
-fn excerpt() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/urg04lx-exp1-excerpt.dat.gz")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("laserlines-fox-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
 
 fn run(cmd: &mut Command) -> Output {
     let o = cmd.output().expect("the laserlines binary runs");

@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use std::io::{BufRead, BufReader};
 use std::net::TcpStream;
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
+use std::process::Stdio;
 use std::time::{Duration, Instant};
 
 use foxglove::messages::SceneUpdate;
@@ -20,11 +20,10 @@ use prost::Message as _;
 use tungstenite::Message;
 use tungstenite::client::IntoClientRequest;
 
-const DEADLINE: Duration = Duration::from_secs(60);
+mod common;
+use common::bin;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_laserlines"))
-}
+const DEADLINE: Duration = Duration::from_secs(60);
 
 /// A child process killed when the test ends, however it ends.
 struct Child(std::process::Child);

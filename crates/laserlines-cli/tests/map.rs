@@ -5,31 +5,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_laserlines"))
-}
-
-fn repo(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join(path)
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("laserlines-map-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn run(cmd: &mut Command) -> Output {
-    cmd.output().expect("the laserlines binary runs")
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
+mod common;
+use common::{bin, repo, run, shared_data, text, tmp};
 
 /// Asserts a clean failure: exit code 2, a message naming `file` and `needle`, no panic.
 fn assert_clean_error(o: &Output, file: &str, needle: &str) {
@@ -339,22 +318,15 @@ fn maps_a_carmen_log_by_its_odometry_triple_never_its_laser_pose() {
 /// The Freiburg benchmark's MIT CSAIL log with its ground-truth relations, or `None` (with a
 /// notice; a failure when `LASERLINES_REQUIRE_SHARED=1`) when `../shared` is absent.
 fn mit_csail() -> Option<(PathBuf, PathBuf)> {
-    let real = repo("../shared/data/real");
-    let log = real.join("mit-csail-clf/mit-csail.clf.gz");
-    let rel = real.join("freiburg-slam-benchmark-relations/mit-csail.relations");
-    if log.is_file() && rel.is_file() {
-        return Some((log, rel));
-    }
-    assert!(
-        std::env::var("LASERLINES_REQUIRE_SHARED").as_deref() != Ok("1"),
-        "LASERLINES_REQUIRE_SHARED=1 but {} is absent",
-        real.display()
-    );
-    eprintln!(
-        "notice: {} is absent; skipping the MIT CSAIL mapping test",
-        real.display()
-    );
-    None
+    let real = shared_data::path("real");
+    let what = "the MIT CSAIL mapping test";
+    Some((
+        shared_data::available(real.join("mit-csail-clf/mit-csail.clf.gz"), what)?,
+        shared_data::available(
+            real.join("freiburg-slam-benchmark-relations/mit-csail.relations"),
+            what,
+        )?,
+    ))
 }
 
 #[test]

@@ -3,7 +3,6 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use arrow_array::RecordBatch;
@@ -12,19 +11,8 @@ use arrow_array::types::{Float64Type, Int64Type};
 use laserlines_io::LinesReader;
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_laserlines"))
-}
-
-fn excerpt() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/urg04lx-exp1-excerpt.dat.gz")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("laserlines-parquet-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
+mod common;
+use common::{bin, excerpt, tmp};
 
 fn run_ok(cmd: &mut Command) -> Output {
     let o = cmd.output().expect("the laserlines binary runs");

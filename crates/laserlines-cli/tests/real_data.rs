@@ -9,16 +9,11 @@ use std::path::PathBuf;
 
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
 
+mod common;
+use common::shared_data;
+
 fn shared(rel: &str) -> Option<PathBuf> {
-    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/real")
-        .join(rel);
-    if p.exists() {
-        Some(p)
-    } else {
-        skip_notice(&p, "the real-data test");
-        None
-    }
+    shared_data::available(shared_data::path("real").join(rel), "the real-data test")
 }
 
 #[test]
@@ -50,22 +45,4 @@ fn every_breezyslam_scan_gives_lines() {
             "{file}: {mean} lines per scan"
         );
     }
-}
-
-/// Says that `what` is skipped because `path` is absent, on the terminal even when the test
-/// passes (libtest captures only `print!` and `eprint!`, not writes to the stream itself); in
-/// CI (`LASERLINES_REQUIRE_SHARED=1`, where `../shared` is there) the absence fails instead.
-fn skip_notice(path: &std::path::Path, what: &str) {
-    use std::io::Write as _;
-    let required = std::env::var_os("LASERLINES_REQUIRE_SHARED").is_some_and(|v| v == "1");
-    assert!(
-        !required,
-        "{} is absent, and LASERLINES_REQUIRE_SHARED=1 requires it",
-        path.display()
-    );
-    let _ = writeln!(
-        std::io::stderr(),
-        "notice: {} is absent; skipping {what}",
-        path.display()
-    );
 }

@@ -4,11 +4,9 @@
 
 use std::ffi::OsStr;
 use std::path::Path;
-use std::process::Command;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_laserlines"))
-}
+mod common;
+use common::bin;
 
 /// Runs `laserlines simulate` in the bundled `inner_explore_test` for `duration` seconds into
 /// `dir`, with `extra` arguments; asserts that it succeeds and returns its `metrics.json`

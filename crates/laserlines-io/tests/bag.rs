@@ -13,6 +13,9 @@ use laserlines_io::bag::{SKIP_OTHER_TOPIC, SKIP_OTHER_TYPE};
 use laserlines_io::{Format, ReadError, ReadOptions, ScanRecord, from_reader_with, open_with};
 use serde_json::Value;
 
+#[path = "../../../tests/shared_data.rs"]
+mod shared_data;
+
 const BAGS: &str = "tests/fixtures/bags";
 
 fn expected() -> Value {
@@ -352,14 +355,10 @@ fn a_message_that_does_not_decode_is_an_error_and_the_next_one_is_read() {
 // ---- the real demo.bag ----
 
 fn demo_bag() -> Option<PathBuf> {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/real/ccny-scan-tools-urg-bag/demo.bag");
-    if path.is_file() {
-        Some(path)
-    } else {
-        skip_notice(&path, "the demo.bag test");
-        None
-    }
+    shared_data::available(
+        shared_data::path("real/ccny-scan-tools-urg-bag/demo.bag"),
+        "the demo.bag test",
+    )
 }
 
 fn check_demo(records: &[ScanRecord]) {
@@ -444,22 +443,4 @@ fn chunks_over_the_limit_are_errors_and_skipped() {
             "{e}"
         );
     }
-}
-
-/// Says that `what` is skipped because `path` is absent, on the terminal even when the test
-/// passes (libtest captures only `print!` and `eprint!`, not writes to the stream itself); in
-/// CI (`LASERLINES_REQUIRE_SHARED=1`, where `../shared` is there) the absence fails instead.
-fn skip_notice(path: &std::path::Path, what: &str) {
-    use std::io::Write as _;
-    let required = std::env::var_os("LASERLINES_REQUIRE_SHARED").is_some_and(|v| v == "1");
-    assert!(
-        !required,
-        "{} is absent, and LASERLINES_REQUIRE_SHARED=1 requires it",
-        path.display()
-    );
-    let _ = writeln!(
-        std::io::stderr(),
-        "notice: {} is absent; skipping {what}",
-        path.display()
-    );
 }

@@ -13,6 +13,9 @@ use std::path::{Path, PathBuf};
 use laserlines_io::carmen::{NO_RETURN_BANDS, RANGE_MAX, default_geometry, is_no_return};
 use laserlines_io::{Format, ReadOptions, ScanRecord, open, open_with};
 
+#[path = "../../../tests/shared_data.rs"]
+mod shared_data;
+
 const FIXTURES: &str = "tests/fixtures/carmen";
 
 fn read_all(path: &Path, topic: Option<&str>) -> (Vec<ScanRecord>, String) {
@@ -166,13 +169,11 @@ fn no_return_bands_are_narrow() {
 // ---- real logs ----
 
 fn real_dir() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/real");
-    if dir.join("carmen-radish-corrected").is_dir() && dir.join("mit-csail-clf").is_dir() {
-        Some(dir)
-    } else {
-        skip_notice(&dir, "the real CARMEN log tests");
-        None
+    let dir = shared_data::path("real");
+    for sub in ["carmen-radish-corrected", "mit-csail-clf"] {
+        shared_data::available(dir.join(sub), "the real CARMEN log tests")?;
     }
+    Some(dir)
 }
 
 /// One log: its path under the real-data folder, the scans and beams PROVENANCE.md states,
@@ -480,22 +481,4 @@ fn real_log_geometry_and_time_stamps() {
     .map(|r| r.unwrap().scan.stamp.unwrap())
     .collect();
     assert_eq!(campus, vec![0.0; 5]);
-}
-
-/// Says that `what` is skipped because `path` is absent, on the terminal even when the test
-/// passes (libtest captures only `print!` and `eprint!`, not writes to the stream itself); in
-/// CI (`LASERLINES_REQUIRE_SHARED=1`, where `../shared` is there) the absence fails instead.
-fn skip_notice(path: &std::path::Path, what: &str) {
-    use std::io::Write as _;
-    let required = std::env::var_os("LASERLINES_REQUIRE_SHARED").is_some_and(|v| v == "1");
-    assert!(
-        !required,
-        "{} is absent, and LASERLINES_REQUIRE_SHARED=1 requires it",
-        path.display()
-    );
-    let _ = writeln!(
-        std::io::stderr(),
-        "notice: {} is absent; skipping {what}",
-        path.display()
-    );
 }

@@ -7,15 +7,13 @@ use std::path::PathBuf;
 
 use laserlines_io::{ScanRecord, open};
 
+#[path = "../../../tests/shared_data.rs"]
+mod shared_data;
+
 fn real_dir() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/real/breezyslam-urg04lx");
-    if dir.join("exp1.dat.gz").is_file() {
-        Some(dir)
-    } else {
-        skip_notice(&dir, "the real BreezySLAM data test");
-        None
-    }
+    let dir = shared_data::path("real/breezyslam-urg04lx");
+    shared_data::available(dir.join("exp1.dat.gz"), "the real BreezySLAM data test")?;
+    Some(dir)
 }
 
 fn read_run(name: &str) -> Option<Vec<ScanRecord>> {
@@ -130,22 +128,4 @@ fn exp1_reads_completely() {
 fn exp2_reads_completely() {
     // PROVENANCE.md: 437,162 values, 241,623 zeros, 10,789 error codes.
     check_run("exp2.dat.gz", 641, 437_162 - 241_623 - 10_789);
-}
-
-/// Says that `what` is skipped because `path` is absent, on the terminal even when the test
-/// passes (libtest captures only `print!` and `eprint!`, not writes to the stream itself); in
-/// CI (`LASERLINES_REQUIRE_SHARED=1`, where `../shared` is there) the absence fails instead.
-fn skip_notice(path: &std::path::Path, what: &str) {
-    use std::io::Write as _;
-    let required = std::env::var_os("LASERLINES_REQUIRE_SHARED").is_some_and(|v| v == "1");
-    assert!(
-        !required,
-        "{} is absent, and LASERLINES_REQUIRE_SHARED=1 requires it",
-        path.display()
-    );
-    let _ = writeln!(
-        std::io::stderr(),
-        "notice: {} is absent; skipping {what}",
-        path.display()
-    );
 }

@@ -18,25 +18,31 @@ pub fn flood4(cols: usize, ok: &[bool], seeds: &[usize], reached: &mut [bool]) {
         reached[s] = true;
     }
     while let Some(c) = stack.pop() {
-        let (x, y) = (c % cols, c / cols);
-        let mut push = |m: usize| {
+        for_each_neighbour4(c, cols, rows, |m| {
             if ok[m] && !reached[m] {
                 reached[m] = true;
                 stack.push(m);
             }
-        };
-        if x > 0 {
-            push(c - 1);
-        }
-        if x + 1 < cols {
-            push(c + 1);
-        }
-        if y > 0 {
-            push(c - cols);
-        }
-        if y + 1 < rows {
-            push(c + cols);
-        }
+        });
+    }
+}
+
+/// Calls `f` with each of the (up to four) edge neighbours of cell `c` on a grid of `cols`
+/// columns and `rows` rows stored row by row: left, right, below, above.
+#[inline]
+pub fn for_each_neighbour4(c: usize, cols: usize, rows: usize, mut f: impl FnMut(usize)) {
+    let (x, y) = (c % cols, c / cols);
+    if x > 0 {
+        f(c - 1);
+    }
+    if x + 1 < cols {
+        f(c + 1);
+    }
+    if y > 0 {
+        f(c - cols);
+    }
+    if y + 1 < rows {
+        f(c + cols);
     }
 }
 

@@ -149,25 +149,14 @@ impl FitSums {
         let n = self.n as f64;
         let cx = self.sx / n;
         let cy = self.sy / n;
-        // Central second moments (scatter matrix entries).
-        let mxx = (self.sxx - self.sx * cx).max(0.0);
-        let myy = (self.syy - self.sy * cy).max(0.0);
-        let mxy = self.sxy - self.sx * cy;
-        if !(cx.is_finite()
-            && cy.is_finite()
-            && mxx.is_finite()
-            && myy.is_finite()
-            && mxy.is_finite())
-        {
-            return None;
-        }
-        let half_tr = 0.5 * (mxx + myy);
-        let disc = (0.25 * (mxx - myy) * (mxx - myy) + mxy * mxy).sqrt();
-        let spread = half_tr + disc; // along the line
-        let sse = (half_tr - disc).max(0.0); // across the line
-        if spread <= f64::EPSILON * (1.0 + cx.abs() + cy.abs()) {
-            return None;
-        }
+        let Scatter {
+            mxx,
+            myy,
+            mxy,
+            spread,
+            sse,
+            ..
+        } = self.scatter(cx, cy)?;
         let mut alpha = 0.5 * (-2.0 * mxy).atan2(myy - mxx);
         // One sine and cosine: turning the normal by pi only flips their signs.
         let (mut sin, mut cos) = alpha.sin_cos();
@@ -199,19 +188,26 @@ impl FitSums {
     }
 }
 
+/// The scatter matrix of a point set about its centroid and its eigenvalues
+/// ([`FitSums::scatter`]).
+struct Scatter {
+    mxx: f64,
+    myy: f64,
+    mxy: f64,
+    /// The larger eigenvalue: the spread along the line.
+    spread: f64,
+    /// The smaller eigenvalue, at least 0: the squared residuals across the line.
+    sse: f64,
+    /// The smaller eigenvalue as computed (it may round below 0).
+    lambda: f64,
+}
+
 impl FitSums {
-    /// The same line as [`FitSums::fit`] without its angle: the unit normal is the
-    /// eigenvector of the scatter matrix's smaller eigenvalue (one square root more than the
-    /// eigenvalues), so no trigonometry is needed. `None` in the same cases as
-    /// [`FitSums::fit`]. The normal agrees with `fit`'s to rounding.
-    #[must_use]
-    pub fn normal_fit(&self) -> Option<NormalFit> {
-        if self.n < 2 {
-            return None;
-        }
-        let n = self.n as f64;
-        let inv = 1.0 / n;
-        let (cx, cy) = (self.sx * inv, self.sy * inv);
+    /// The central second moments about the centroid `(cx, cy)` and their eigenvalues;
+    /// `None` when any is not finite or the points do not spread (all at one place, to
+    /// rounding).
+    #[inline]
+    fn scatter(&self, cx: f64, cy: f64) -> Option<Scatter> {
         let mxx = (self.sxx - self.sx * cx).max(0.0);
         let myy = (self.syy - self.sy * cy).max(0.0);
         let mxy = self.sxy - self.sx * cy;
@@ -226,13 +222,44 @@ impl FitSums {
         let half_tr = 0.5 * (mxx + myy);
         let disc = (0.25 * (mxx - myy) * (mxx - myy) + mxy * mxy).sqrt();
         let spread = half_tr + disc;
-        let sse = (half_tr - disc).max(0.0);
+        let lambda = half_tr - disc;
         if spread <= f64::EPSILON * (1.0 + cx.abs() + cy.abs()) {
             return None;
         }
+        Some(Scatter {
+            mxx,
+            myy,
+            mxy,
+            spread,
+            sse: lambda.max(0.0),
+            lambda,
+        })
+    }
+}
+
+impl FitSums {
+    /// The same line as [`FitSums::fit`] without its angle: the unit normal is the
+    /// eigenvector of the scatter matrix's smaller eigenvalue (one square root more than the
+    /// eigenvalues), so no trigonometry is needed. `None` in the same cases as
+    /// [`FitSums::fit`]. The normal agrees with `fit`'s to rounding.
+    #[must_use]
+    pub fn normal_fit(&self) -> Option<NormalFit> {
+        if self.n < 2 {
+            return None;
+        }
+        let n = self.n as f64;
+        let inv = 1.0 / n;
+        let (cx, cy) = (self.sx * inv, self.sy * inv);
+        let Scatter {
+            mxx,
+            myy,
+            mxy,
+            spread,
+            sse,
+            lambda,
+        } = self.scatter(cx, cy)?;
         // (M - lambda I) v = 0 for the smaller eigenvalue lambda, from the row whose diagonal
         // term is farther from lambda (no cancellation: both terms have one sign).
-        let lambda = half_tr - disc;
         let (vx, vy) = if mxx >= myy {
             (mxy, lambda - mxx)
         } else {

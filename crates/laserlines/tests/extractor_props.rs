@@ -518,7 +518,7 @@ fn em_keeps_walls_a_hypothesis_across_two_walls_cut_short() {
         1.0443,
         1.0451,
         1.0460,
-        1.0472,
+        1.04716,
         1.0466,
         1.0459,
         1.0483,

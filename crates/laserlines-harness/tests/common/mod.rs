@@ -8,36 +8,13 @@ use laserlines_sim::World;
 use laserlines_sim::arena::{ArenaOutline, interior_start};
 use laserlines_sim::robot::RobotParams;
 
+#[path = "../../../../tests/shared_data.rs"]
+mod shared_data;
+
 /// The arena file `name` of `../shared/data/arenas`, or `None` (with a notice) when
 /// `../shared` is not there.
 pub fn shared_arena(name: &str) -> Option<std::path::PathBuf> {
-    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/arenas")
-        .join(name);
-    if p.exists() {
-        Some(p)
-    } else {
-        skip_notice(&p, "this arena's test");
-        None
-    }
-}
-
-/// Says that `what` is skipped because `path` is absent, on the terminal even when the test
-/// passes (libtest captures only `print!` and `eprint!`, not writes to the stream itself); in
-/// CI (`LASERLINES_REQUIRE_SHARED=1`, where `../shared` is there) the absence fails instead.
-fn skip_notice(path: &std::path::Path, what: &str) {
-    use std::io::Write as _;
-    let required = std::env::var_os("LASERLINES_REQUIRE_SHARED").is_some_and(|v| v == "1");
-    assert!(
-        !required,
-        "{} is absent, and LASERLINES_REQUIRE_SHARED=1 requires it",
-        path.display()
-    );
-    let _ = writeln!(
-        std::io::stderr(),
-        "notice: {} is absent; skipping {what}",
-        path.display()
-    );
+    shared_data::available(shared_data::path("arenas").join(name), "this arena's test")
 }
 
 /// Every element of an arena is counted once: in the laser's plane, out of it, or

@@ -16,7 +16,7 @@
 use laserlines::geometry::distance_to_segment;
 use laserlines::math::{Point2, Vector2};
 
-use crate::cells::{clear_of, extent, flood4};
+use crate::cells::{clear_of, extent, flood4, for_each_neighbour4};
 use crate::index::WorldIndex;
 use crate::world::World;
 
@@ -148,19 +148,14 @@ impl ArenaOutline {
             .collect();
         let mut outside = reached.clone();
         for c in 0..cols * rows {
-            let (x, y) = ((c % cols) as i64, (c / cols) as i64);
-            let edge = reached[c]
-                && [(-1, 0), (1, 0), (0, -1), (0, 1)].iter().any(|&(dx, dy)| {
-                    let (nx, ny) = (x + dx, y + dy);
-                    nx >= 0
-                        && ny >= 0
-                        && nx < cols as i64
-                        && ny < rows as i64
-                        && !reached[ny as usize * cols + nx as usize]
-                });
+            let mut edge = false;
+            if reached[c] {
+                for_each_neighbour4(c, cols, rows, |n| edge |= !reached[n]);
+            }
             if !edge {
                 continue;
             }
+            let (x, y) = ((c % cols) as i64, (c / cols) as i64);
             for &(dx, dy) in &stencil {
                 let (nx, ny) = (x + dx, y + dy);
                 if nx >= 0 && ny >= 0 && nx < cols as i64 && ny < rows as i64 {

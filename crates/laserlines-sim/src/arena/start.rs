@@ -5,7 +5,7 @@ use laserlines::math::{Isometry2, Point2, Vector2};
 
 use super::outline::ArenaOutline;
 use super::{ARENA_GRID, cell_centre};
-use crate::cells::extent;
+use crate::cells::{extent, for_each_neighbour4};
 use crate::index::WorldIndex;
 use crate::world::{Target, World};
 
@@ -172,25 +172,12 @@ impl<'a> SearchGrid<'a> {
             stack.push(seed);
             while let Some(c) = stack.pop() {
                 size += 1;
-                let (x, y) = (c % cols, c / cols);
-                let mut visit = |n: usize| {
+                for_each_neighbour4(c, cols, rows, |n| {
                     if free[n] && region[n] == usize::MAX {
                         region[n] = id;
                         stack.push(n);
                     }
-                };
-                if x > 0 {
-                    visit(c - 1);
-                }
-                if x + 1 < cols {
-                    visit(c + 1);
-                }
-                if y > 0 {
-                    visit(c - cols);
-                }
-                if y + 1 < rows {
-                    visit(c + cols);
-                }
+                });
             }
             regions.push(size);
         }

@@ -1,0 +1,58 @@
+//! What the command's end-to-end tests share: the binary, the repository's files, a
+//! temporary folder per test binary, and the larger data of `../shared`.
+
+#![allow(dead_code, clippy::expect_used, clippy::unwrap_used)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+#[path = "../../../../tests/shared_data.rs"]
+pub mod shared_data;
+
+/// The `laserlines` binary of this build.
+pub fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_laserlines"))
+}
+
+/// A file of the repository, by its path from the repository's root.
+pub fn repo(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(rel)
+}
+
+/// The bundled URG-04LX excerpt (40 scans of BreezySLAM's `exp1`).
+pub fn excerpt() -> PathBuf {
+    repo("data/urg04lx-exp1-excerpt.dat.gz")
+}
+
+/// A fixture of the readers' tests (`crates/laserlines-io/tests/fixtures`).
+pub fn io_fixture(name: &str) -> PathBuf {
+    repo("crates/laserlines-io/tests/fixtures").join(name)
+}
+
+/// `name` in this test binary's own temporary folder (created).
+pub fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "laserlines-{}-test-{}",
+        env!("CARGO_CRATE_NAME"),
+        std::process::id()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Runs the command to its end.
+pub fn run(cmd: &mut Command) -> Output {
+    cmd.output().expect("the laserlines binary runs")
+}
+
+/// Bytes of an output stream as text.
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+/// The command's standard error as text.
+pub fn stderr(o: &Output) -> String {
+    text(&o.stderr)
+}
