@@ -23,6 +23,8 @@ pub(super) struct Travel {
     pub(super) best_from: Point2,
     /// Planned with [`ExplorerParams::tight_clearance_m`].
     pub(super) tight: bool,
+    /// Per path point: how far the robot may pass from it ([`Explorer::path_slack`]).
+    pub(super) slack: Vec<f64>,
 }
 
 impl Explorer {
@@ -70,7 +72,9 @@ impl Explorer {
         };
         self.failed_plans = 0;
         let best = plan.length_m;
+        let slack = self.path_slack(&plan.path);
         self.travel = Some(Travel {
+            slack,
             plan,
             along: 0,
             planned_at: time_s,
@@ -247,10 +251,34 @@ impl Explorer {
             // Another frontier: its path is measured from here on, but the clock runs on.
             travel.best = plan.length_m;
         }
+        travel.slack = self.path_slack(&plan.path);
         travel.plan = plan;
         travel.along = 0;
         travel.planned_at = time_s;
         Some(())
+    }
+
+    /// Per point of `path`: how far from it the robot's centre may pass on its way. The
+    /// footprint turned any way needs its circumradius and the safety margin of room around
+    /// its centre; where the point has more room than that to the nearest occupied cell the
+    /// difference may be taken (up to [`MAX_SLACK`]), and at least [`CHORD_TOLERANCE`].
+    fn path_slack(&mut self, path: &[Point2]) -> Vec<f64> {
+        let need = self.footprint.circumradius() + self.params.safety.margin;
+        let mut near = std::mem::take(&mut self.scratch_points);
+        let slack = path
+            .iter()
+            .map(|&q| {
+                near.clear();
+                self.map.occupied_near(q, need + MAX_SLACK, &mut near);
+                let room = near
+                    .iter()
+                    .map(|o| (o - q).norm())
+                    .fold(need + MAX_SLACK, f64::min);
+                (room - need).max(CHORD_TOLERANCE)
+            })
+            .collect();
+        self.scratch_points = near;
+        slack
     }
 
     /// The command that steers toward `target` (map frame): on the spot when it lies more
@@ -273,8 +301,10 @@ impl Explorer {
 }
 
 /// Pure pursuit: the path point nearest the robot (searched ahead of the last one), then the
-/// first one at least `lookahead` away (the path's end when none is); `None` for an empty
-/// path.
+/// first one at least `lookahead` away (the path's end when none is), or the last one before
+/// it whose chord from the robot passes each path point in between within that point's
+/// slack, so that the robot does not cut a bend of the path toward what the bend goes round;
+/// `None` for an empty path.
 fn pursuit_target(travel: &mut Travel, from: Point2, lookahead: f64) -> Option<Point2> {
     let path = &travel.plan.path;
     let mut along = travel.along.min(path.len().saturating_sub(1));
@@ -287,11 +317,42 @@ fn pursuit_target(travel: &mut Travel, from: Point2, lookahead: f64) -> Option<P
         }
     }
     travel.along = along;
-    path.iter()
-        .skip(along)
-        .find(|q| (*q - from).norm() >= lookahead)
-        .or(path.last())
-        .copied()
+    let ahead = path.get(along..)?;
+    let slack = travel.slack.get(along..).unwrap_or(&[]);
+    let mut target = *ahead.first()?;
+    for (k, &q) in ahead.iter().enumerate().skip(1) {
+        let between = ahead.get(1..k).unwrap_or(&[]);
+        if !chord_follows(from, q, between, slack.get(1..k).unwrap_or(&[])) {
+            break;
+        }
+        target = q;
+        if (q - from).norm() >= lookahead {
+            break;
+        }
+    }
+    Some(target)
+}
+
+/// The least slack of a path point, m: half a map cell, the most a path of cell centres
+/// strays from the line it stands for.
+const CHORD_TOLERANCE: f64 = 0.05;
+
+/// The most slack of a path point, m.
+const MAX_SLACK: f64 = 0.3;
+
+/// True when every point of `between` lies within its slack (the same index of `slack`;
+/// [`CHORD_TOLERANCE`] where `slack` ends) of the segment from `from` to `to`.
+fn chord_follows(from: Point2, to: Point2, between: &[Point2], slack: &[f64]) -> bool {
+    let d = to - from;
+    let len2 = d.norm_squared();
+    between.iter().enumerate().all(|(k, q)| {
+        let t = if len2 > 0.0 {
+            ((q - from).dot(&d) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (from + d * t - q).norm() <= slack.get(k).copied().unwrap_or(CHORD_TOLERANCE)
+    })
 }
 
 /// The length of `path` left from point `along` on, plus the way from `from` to that point.
@@ -299,4 +360,59 @@ fn remaining(path: &[Point2], along: usize, from: Point2) -> f64 {
     let rest = path.get(along..).unwrap_or(&[]);
     let to_path = rest.first().map_or(0.0, |p| (p - from).norm());
     to_path + rest.windows(2).map(|s| (s[1] - s[0]).norm()).sum::<f64>()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A path of cell centres 0.1 m apart going up x = 0 to (0, 0.3), then right along
+    /// y = 0.3, with `slack` at every point.
+    fn bend(slack: f64) -> Travel {
+        let mut path: Vec<Point2> = (0..=3)
+            .map(|k| Point2::new(0.0, 0.1 * f64::from(k)))
+            .collect();
+        path.extend((1..=8).map(|k| Point2::new(0.1 * f64::from(k), 0.3)));
+        Travel {
+            slack: vec![slack; path.len()],
+            plan: Plan {
+                goal: *path.last().unwrap_or(&Point2::origin()),
+                length_m: 1.1,
+                path,
+            },
+            along: 0,
+            planned_at: 0.0,
+            best: 1.1,
+            best_at: 0.0,
+            best_from: Point2::origin(),
+            tight: false,
+        }
+    }
+
+    #[test]
+    fn the_target_stays_on_the_near_side_of_a_tight_bend() {
+        // The chord to (0.1, 0.3) passes (0, 0.2) 6.3 cm off, beyond 5 cm of slack: the
+        // target is the bend, (0, 0.3), not (0.4, 0.3) a lookahead away.
+        let mut travel = bend(CHORD_TOLERANCE);
+        let target = pursuit_target(&mut travel, Point2::origin(), 0.5).unwrap();
+        assert!((target - Point2::new(0.0, 0.3)).norm() < 1e-12, "{target}");
+    }
+
+    #[test]
+    fn with_room_round_the_bend_the_target_lies_a_lookahead_away() {
+        let mut travel = bend(MAX_SLACK);
+        let target = pursuit_target(&mut travel, Point2::origin(), 0.5).unwrap();
+        assert!((target - Point2::new(0.4, 0.3)).norm() < 1e-12, "{target}");
+    }
+
+    #[test]
+    fn a_chord_within_each_points_slack_follows_the_path() {
+        let from = Point2::origin();
+        let to = Point2::new(1.0, 0.0);
+        let between = [Point2::new(0.5, 0.04), Point2::new(0.7, -0.2)];
+        assert!(!chord_follows(from, to, &between, &[0.05, 0.1]));
+        assert!(chord_follows(from, to, &between, &[0.05, 0.25]));
+        // Past the slacks given, the least slack.
+        assert!(!chord_follows(from, to, &between, &[0.05]));
+    }
 }
