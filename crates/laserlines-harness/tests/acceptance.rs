@@ -151,10 +151,12 @@ fn acceptance_no_collisions_elsewhere() {
         let t = runs(&format!("`{name}`"), &arena.world, start, 0..3);
         assert_eq!(t.collisions, 0, "{name}");
     }
-    // The mazes the explorer's settings were chosen on, twenty it has not seen, and ten
-    // with corners cut at 45 degrees.
+    // The mazes the explorer's settings were chosen on, twenty more (held out until the
+    // travel's bend rule, whose variants were compared on them too; `scripts/maze_sweep.sh
+    // 110 189` runs a set held out from every choice), and ten with corners cut at 45
+    // degrees.
     mazes("mazes 0-9", 0..10, 0..2, Shape::Islands);
-    mazes("mazes 10-29 (held out)", 10..30, 0..1, Shape::Islands);
+    mazes("mazes 10-29", 10..30, 0..1, Shape::Islands);
     mazes("mazes 0-9", 0..10, 0..2, Shape::Diagonals);
 }
 

@@ -40,7 +40,10 @@
 //! the explorer leaves the wall: it plans on its own map to the nearest *frontier* (a cell
 //! where the robot fits at the edge of what it has seen, see [`crate::planner`]) not given
 //! up before, drives there along the path (pure pursuit, re-planned every `travel.replan_s`, so
-//! that the plan always starts from where the robot is), and when it gets there, or the
+//! that the plan always starts from where the robot is; the target `travel.lookahead_m` ahead
+//! is brought nearer where the chord to it would pass a path point farther than that point's
+//! room beyond the footprint's circumradius and the safety margin, so that a bend round a
+//! post or a wall end is followed, not cut), and when it gets there, or the
 //! frontier has been seen meanwhile, resumes wall following on the wall it finds there.
 //! Wall following that finds no wall for `travel.seek_s` leaves the same way. This is how it
 //! reaches islands, wall groups that a pure wall follower never reaches. A frontier whose
