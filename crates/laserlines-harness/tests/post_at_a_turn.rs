@@ -53,7 +53,8 @@ fn the_robot_passes_a_post_at_a_turn_on_its_way_out() {
     let world = start_with_post();
     let start = Isometry2::new(Vector2::new(0.6, 0.6), 0.0);
     // Ten seeds of the laser and odometry noise. With the bend cut, none of the ten runs
-    // reached the corridor's upper end (coverage 0.653-0.681, stopped by 193 s); now six do.
+    // reached the corridor's upper end (coverage 0.653-0.681, stopped by 193 s); now six do
+    // (at least five asserted).
     // In the other four the robot passes the post and sees the corridor's lower end, and
     // the wall follower, back in charge once that frontier is seen, turns it back up past
     // the post, where the next way out needs a turn on the spot beside it.

@@ -22,7 +22,8 @@
 //! what lies beyond the barrels and stopped at 680 s, explored, before the 15-minute limit.
 //! Since the robot follows the bends of its path round posts (see `post_at_a_turn.rs`) it
 //! has seen the whole region (57.9 m^2) by 215 s and stops at 335 s, nothing new seen for
-//! the idle timeout: either way the run ends once there is nothing left to learn.
+//! the idle timeout: either way the run ends once there is nothing left to learn. (The
+//! rule of frontiers given up without gain has its own test, in the explorer's `travel`.)
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -61,7 +62,7 @@ fn walls_and_barrels(text: &str) -> World {
     debug_assertions,
     ignore = "slow without optimisations: run with --release"
 )]
-fn a_region_seen_whole_ends_the_run_though_more_lies_beyond_gaps() {
+fn the_run_ends_once_the_closed_region_is_seen() {
     let mut world = walls_and_barrels(arenas::RC_2015_ARENA_BIG);
     // The outer edge of cell (0, 0), where the arena's half ramps stand.
     world.add_segment(Point2::new(-0.6, -0.6), Point2::new(0.6, -0.6));
@@ -72,5 +73,6 @@ fn a_region_seen_whole_ends_the_run_though_more_lies_beyond_gaps() {
     assert!(m.reachable_coverage > 0.99, "{m:?}");
     assert_ne!(m.stop, StopReason::TimeLimit, "{m:?}");
     assert!(!m.left_arena, "{m:?}");
-    assert!(m.sim_time_s < 800.0, "{m:?}");
+    // 335 s now, 680 s before the bend rule; the 15-minute limit is 900 s.
+    assert!(m.sim_time_s < 450.0, "{m:?}");
 }

@@ -198,8 +198,9 @@ pub struct TravelParams {
     pub seek_s: f64,
     /// Time between plans on the way to a frontier, s. Default 2.
     pub replan_s: f64,
-    /// Distance ahead along the path that the path follower steers to, m (nearer at a
-    /// bend with little room, see the module docs). Default 0.5.
+    /// Distance from the robot to the path point the path follower steers to (the first
+    /// one this far), m; nearer at a bend with little room (see the module docs). Default
+    /// 0.5.
     pub lookahead_m: f64,
     /// Speed on the way to a frontier, m/s. Default 0.5.
     pub speed: f64,

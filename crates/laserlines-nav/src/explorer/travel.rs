@@ -300,11 +300,12 @@ impl Explorer {
     }
 }
 
-/// Pure pursuit: the path point nearest the robot (searched ahead of the last one), then the
-/// first one at least `lookahead` away (the path's end when none is), or the last one before
-/// it whose chord from the robot passes each path point in between within that point's
-/// slack, so that the robot does not cut a bend of the path toward what the bend goes round;
-/// `None` for an empty path.
+/// Pure pursuit: the path point nearest the robot (searched ahead of the last one), then,
+/// from the point after it on, the first one at least `lookahead` away (the path's end when
+/// none is), or the last one before it whose chord from the robot passes each path point in
+/// between within that point's slack, so that the robot does not cut a bend of the path
+/// toward what the bend goes round (a robot standing off a tight path steers to the next
+/// point, back onto the path); `None` for an empty path.
 fn pursuit_target(travel: &mut Travel, from: Point2, lookahead: f64) -> Option<Point2> {
     let path = &travel.plan.path;
     let mut along = travel.along.min(path.len().saturating_sub(1));
@@ -318,11 +319,13 @@ fn pursuit_target(travel: &mut Travel, from: Point2, lookahead: f64) -> Option<P
     }
     travel.along = along;
     let ahead = path.get(along..)?;
+    debug_assert_eq!(travel.slack.len(), path.len());
     let slack = travel.slack.get(along..).unwrap_or(&[]);
     let mut target = *ahead.first()?;
     for (k, &q) in ahead.iter().enumerate().skip(1) {
         let between = ahead.get(1..k).unwrap_or(&[]);
-        if !chord_follows(from, q, between, slack.get(1..k).unwrap_or(&[])) {
+        let room = slack.get(1..k.min(slack.len())).unwrap_or(&[]);
+        if !chord_follows(from, q, between, room) {
             break;
         }
         target = q;
@@ -337,7 +340,8 @@ fn pursuit_target(travel: &mut Travel, from: Point2, lookahead: f64) -> Option<P
 /// strays from the line it stands for.
 const CHORD_TOLERANCE: f64 = 0.05;
 
-/// The most slack of a path point, m.
+/// The most slack of a path point, m: more than a chord 0.5 m long (the default lookahead)
+/// passes from the path it cuts, so that only the room near the path counts.
 const MAX_SLACK: f64 = 0.3;
 
 /// True when every point of `between` lies within its slack (the same index of `slack`;
@@ -401,8 +405,52 @@ mod tests {
     #[test]
     fn with_room_round_the_bend_the_target_lies_a_lookahead_away() {
         let mut travel = bend(MAX_SLACK);
-        let target = pursuit_target(&mut travel, Point2::origin(), 0.5).unwrap();
+        let target = pursuit_target(&mut travel, Point2::origin(), 0.45).unwrap();
         assert!((target - Point2::new(0.4, 0.3)).norm() < 1e-12, "{target}");
+    }
+
+    #[test]
+    fn each_point_is_checked_against_its_own_slack_past_the_nearest() {
+        // Along the bend's second leg from (0.1, 0.3), room everywhere but at (0.5, 0.3),
+        // moved 8 cm off the line to (0.5, 0.38): the chord to (0.6, 0.3) passes it 8 cm
+        // off, beyond its 5 cm, so the target stops there. A slack read one point off would
+        // put the 5 cm on a point of the line and let the chord through.
+        let mut travel = bend(MAX_SLACK);
+        travel.plan.path[8] = Point2::new(0.5, 0.38);
+        travel.slack[8] = CHORD_TOLERANCE;
+        travel.along = 4;
+        let from = Point2::new(0.1, 0.3);
+        let target = pursuit_target(&mut travel, from, 0.45).unwrap();
+        assert_eq!(travel.along, 4);
+        assert!((target - Point2::new(0.5, 0.38)).norm() < 1e-12, "{target}");
+        // With room there too, a lookahead away.
+        travel.slack[8] = MAX_SLACK;
+        let target = pursuit_target(&mut travel, from, 0.45).unwrap();
+        assert!((target - Point2::new(0.6, 0.3)).norm() < 1e-12, "{target}");
+    }
+
+    #[test]
+    fn six_frontiers_given_up_while_the_map_stands_still_end_the_exploration() {
+        use crate::explorer::ExplorerParams;
+        use laserlines::robot::RobotDescription;
+        let params = ExplorerParams::default();
+        assert_eq!(params.travel.fruitless_give_ups, 6);
+        let mut e = Explorer::new(params, &RobotDescription::default());
+        // Five different frontiers (1 m apart), and the same one again: not yet.
+        for k in 0..5 {
+            e.give_up(Point2::new(f64::from(k), 0.0));
+        }
+        e.give_up(Point2::new(0.1, 0.0));
+        assert!(!e.explored);
+        // The map grows by 1 m^2 (100 cells of 0.1 m): the count starts again.
+        e.known += 100;
+        for k in 0..5 {
+            e.give_up(Point2::new(f64::from(k), 5.0));
+        }
+        assert!(!e.explored);
+        // A sixth with no growth: complete.
+        e.give_up(Point2::new(9.0, 9.0));
+        assert!(e.explored);
     }
 
     #[test]
