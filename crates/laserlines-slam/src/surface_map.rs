@@ -294,26 +294,21 @@ impl NearestSurface for SurfaceMap {
         }
         let (i, j) = self.lattice(q);
         let cell = &self.near[self.index(i, j)?];
-        let f = facing(normal);
-        // The facing's centre direction, and the neighbour the normal leans toward.
-        let (cx, cy) = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)][usize::from(f)];
-        let lean = if cx * normal.y - cy * normal.x >= 0.0 {
-            (f + 1) % 4
-        } else {
-            (f + 3) % 4
-        };
-        let mut best: Option<(f64, SurfacePoint)> = None;
-        for slot in [cell[usize::from(f)], cell[usize::from(lean)]] {
+        let (f, lean) = facings(normal);
+        let r2 = max_distance * max_distance;
+        let mut best = NONE;
+        let mut best_d2 = f64::INFINITY;
+        for slot in [cell[f], cell[lean]] {
             if slot == NONE {
                 continue;
             }
-            let p = self.points[slot as usize];
-            let d2 = (p.point - q).norm_squared();
-            if d2 <= max_distance * max_distance && best.is_none_or(|(b, _)| d2 < b) {
-                best = Some((d2, p));
+            let d2 = (self.points[slot as usize].point - q).norm_squared();
+            if d2 <= r2 && (best == NONE || d2 < best_d2) {
+                best = slot;
+                best_d2 = d2;
             }
         }
-        best.map(|(_, p)| p)
+        (best != NONE).then(|| self.points[best as usize])
     }
 }
 
@@ -330,6 +325,22 @@ fn facing(n: Vector2) -> u8 {
     }
 }
 
+/// The normal's [`facing`] and the neighbouring facing it leans toward: the next one
+/// counter-clockwise when the normal lies on or counter-clockwise of its facing's centre
+/// direction, else the previous one.
+#[inline]
+fn facings(n: Vector2) -> (usize, usize) {
+    let f = usize::from(facing(n));
+    // The cross product of the facing's centre direction (+x, +y, -x, -y) with the normal.
+    let ccw = match f {
+        0 => n.y >= 0.0,
+        1 => n.x <= 0.0,
+        2 => n.y <= 0.0,
+        _ => n.x >= 0.0,
+    };
+    (f, if ccw { (f + 1) % 4 } else { (f + 3) % 4 })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -338,6 +349,38 @@ mod tests {
         SurfacePoint {
             point: Point2::new(x, y),
             normal: Vector2::new(nx, ny).normalize(),
+        }
+    }
+
+    #[test]
+    fn the_lean_is_the_side_of_the_facings_centre_the_normal_lies_on() {
+        // Every degree, and the axes' signed zeros.
+        let mut normals: Vec<Vector2> = (0..360)
+            .map(|d| {
+                let a = f64::from(d).to_radians();
+                Vector2::new(a.cos(), a.sin())
+            })
+            .collect();
+        normals.extend([
+            Vector2::new(1.0, 0.0),
+            Vector2::new(1.0, -0.0),
+            Vector2::new(0.0, 1.0),
+            Vector2::new(-0.0, 1.0),
+            Vector2::new(-1.0, 0.0),
+            Vector2::new(-1.0, -0.0),
+            Vector2::new(0.0, -1.0),
+            Vector2::new(-0.0, -1.0),
+        ]);
+        for n in normals {
+            let (f, lean) = facings(n);
+            let (cx, cy): (f64, f64) = [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)][f];
+            let expected = if cx * n.y - cy * n.x >= 0.0 {
+                (f + 1) % 4
+            } else {
+                (f + 3) % 4
+            };
+            assert_eq!(lean, expected, "{n:?}");
+            assert_eq!(f, usize::from(facing(n)));
         }
     }
 
