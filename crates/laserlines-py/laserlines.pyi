@@ -50,6 +50,7 @@ class Scan:
         range_max: float = float("inf"),
         stamp: Optional[float] = None,
         pose: Optional[Tuple[float, float, float]] = None,
+        odometry: Optional[Tuple[float, float, float]] = None,
     ) -> None:
         """A scan; ``range_max=inf`` means no upper limit. ValueError for broken geometry."""
     @property
@@ -70,6 +71,8 @@ class Scan:
     """Time stamp, s, when the source has one."""
     pose: Optional[Tuple[float, float, float]]
     """The robot's pose (x, y, theta) in m, m, rad, when the source has one."""
+    odometry: Optional[Tuple[float, float, float]]
+    """The wheel odometry's pose (x, y, theta) in m, m, rad at the scan, when the source has it."""
     def __len__(self) -> int: ...
 
 class ScanIterator(Iterator[Scan]):

@@ -137,6 +137,33 @@ fn maps_the_bundled_excerpt_with_every_output() {
     );
 }
 
+/// A log converted to Parquet keeps its wheel odometry: it maps with `--odometry on`, along
+/// the same odometry, to the same trajectory but for the ranges' rounding to float32.
+#[test]
+fn a_log_converted_to_parquet_maps_by_its_odometry_as_the_log_does() {
+    let log = repo("data/urg04lx-exp1-excerpt.dat.gz");
+    let parquet = tmp("excerpt-scans.parquet");
+    let o = run(bin().arg("convert").arg(&log).arg(&parquet));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let (from_log, from_parquet) = (tmp("excerpt-log"), tmp("excerpt-parquet"));
+    for (input, dir) in [(&log, &from_log), (&parquet, &from_parquet)] {
+        let o = run(bin().arg("map").arg(input).arg("-o").arg(dir));
+        assert!(o.status.success(), "{}", text(&o.stderr));
+    }
+    let odometry = |d: &Path| std::fs::read_to_string(d.join("odometry.tum")).unwrap();
+    assert_eq!(odometry(&from_log), odometry(&from_parquet));
+    let (a, b) = (
+        tum_rows(&from_log.join("trajectory.tum")),
+        tum_rows(&from_parquet.join("trajectory.tum")),
+    );
+    assert_eq!(a.len(), 40);
+    assert_eq!(a.len(), b.len());
+    for (p, q) in a.iter().zip(&b) {
+        assert_eq!(p[0], q[0]);
+        assert!((p[1] - q[1]).hypot(p[2] - q[2]) < 0.01, "{p:?} {q:?}");
+    }
+}
+
 #[test]
 fn bad_input_ends_in_a_clear_error() {
     // A scan without a pose, mapped with odometry.

@@ -10,8 +10,8 @@ use laserlines::Scan;
 use laserlines_io::{Pose2, ReadError, ScanRecord, SourcePos};
 
 use crate::schema::{
-    ANGLE_INCREMENT, ANGLE_MIN, INTENSITIES, POSE_THETA, POSE_X, POSE_Y, RANGE_MAX, RANGE_MIN,
-    RANGES, SCAN, STAMP,
+    ANGLE_INCREMENT, ANGLE_MIN, INTENSITIES, ODOMETRY_THETA, ODOMETRY_X, ODOMETRY_Y, POSE_THETA,
+    POSE_X, POSE_Y, RANGE_MAX, RANGE_MIN, RANGES, SCAN, STAMP,
 };
 
 /// A column that does not hold what the reader needs.
@@ -50,7 +50,17 @@ fn is_float_list(t: &DataType) -> bool {
 /// The first column missing or of another type.
 pub fn check_schema(schema: &Schema) -> Result<(), ColumnError> {
     let required = [ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX, RANGES];
-    let optional = [SCAN, STAMP, POSE_X, POSE_Y, POSE_THETA, INTENSITIES];
+    let optional = [
+        SCAN,
+        STAMP,
+        POSE_X,
+        POSE_Y,
+        POSE_THETA,
+        ODOMETRY_X,
+        ODOMETRY_Y,
+        ODOMETRY_THETA,
+        INTENSITIES,
+    ];
     for (names, needed) in [(&required[..], true), (&optional[..], false)] {
         for &name in names {
             let list = name == RANGES || name == INTENSITIES;
@@ -198,6 +208,8 @@ pub struct ScanColumns {
     pub stamp: Option<Numbers>,
     /// x, y, theta, when the table has all three.
     pub pose: Option<[Numbers; 3]>,
+    /// The wheel odometry's x, y, theta, when the table has all three.
+    pub odometry: Option<[Numbers; 3]>,
     /// The intensities, when the table has them.
     pub intensities: Option<Lists>,
 }
@@ -214,10 +226,12 @@ impl ScanColumns {
             numbers(RANGE_MIN)?,
             numbers(RANGE_MAX)?,
         ];
-        let pose = match (numbers(POSE_X), numbers(POSE_Y), numbers(POSE_THETA)) {
-            (Some(x), Some(y), Some(theta)) => Some([x, y, theta]),
+        let triple = |names: [&str; 3]| match names.map(numbers) {
+            [Some(x), Some(y), Some(theta)] => Some([x, y, theta]),
             _ => None,
         };
+        let pose = triple([POSE_X, POSE_Y, POSE_THETA]);
+        let odometry = triple([ODOMETRY_X, ODOMETRY_Y, ODOMETRY_THETA]);
         let index = batch
             .column_by_name(SCAN)
             .filter(|c| *c.data_type() == DataType::Int64)
@@ -228,6 +242,7 @@ impl ScanColumns {
             ranges: lists(RANGES)?,
             stamp: numbers(STAMP),
             pose,
+            odometry,
             intensities: lists(INTENSITIES),
         })
     }
@@ -284,15 +299,15 @@ impl ScanColumns {
             pos: pos.clone(),
             source,
         })?;
-        let pose = self
-            .pose
-            .as_ref()
-            .and_then(|[x, y, theta]| Some(Pose2::new(x.get(row)?, y.get(row)?, theta.get(row)?)));
-        // The scans table has no odometry columns (see the schema's docs).
+        let at = |columns: &Option<[Numbers; 3]>| {
+            columns.as_ref().and_then(|[x, y, theta]| {
+                Some(Pose2::new(x.get(row)?, y.get(row)?, theta.get(row)?))
+            })
+        };
         Ok(ScanRecord {
             scan,
-            pose,
-            odometry: None,
+            pose: at(&self.pose),
+            odometry: at(&self.odometry),
             line: None,
         })
     }

@@ -1,7 +1,7 @@
 //! The scans table: one row per scan ([`crate::schema::scans_schema`]), filled record by
 //! record ([`ScansColumns`]) and written to Parquet ([`ScansParquetWriter`]). Ranges and
 //! intensities are stored as `float32`, as `sensor_msgs/LaserScan` holds them; geometry,
-//! limits, stamp and pose keep all 64 bits.
+//! limits, stamp, pose and odometry keep all 64 bits.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -74,6 +74,7 @@ pub struct ScansColumns {
     scan: Vec<i64>,
     stamp: Vec<Option<f64>>,
     pose: [Vec<Option<f64>>; 3],
+    odometry: [Vec<Option<f64>>; 3],
     /// angle_min, angle_increment, range_min, range_max.
     geometry: [Vec<f64>; 4],
     ranges: F32Lists,
@@ -109,9 +110,14 @@ impl ScansColumns {
         self.intensities.push(s.intensities.as_deref())?;
         self.scan.push(i64::try_from(scan).unwrap_or(i64::MAX));
         self.stamp.push(s.stamp);
-        let pose = record.pose.map(|p| [p.x, p.y, p.theta]);
-        for (k, column) in self.pose.iter_mut().enumerate() {
-            column.push(pose.map(|p| p[k]));
+        for (columns, pose) in [
+            (&mut self.pose, record.pose),
+            (&mut self.odometry, record.odometry),
+        ] {
+            let pose = pose.map(|p| [p.x, p.y, p.theta]);
+            for (k, column) in columns.iter_mut().enumerate() {
+                column.push(pose.map(|p| p[k]));
+            }
         }
         let geometry = [s.angle_min, s.angle_increment, s.range_min, s.range_max];
         for (column, v) in self.geometry.iter_mut().zip(geometry) {
@@ -131,6 +137,7 @@ impl ScansColumns {
         let mut columns: Vec<ArrayRef> =
             vec![Arc::new(Int64Array::from(taken.scan)), opt(taken.stamp)];
         columns.extend(taken.pose.map(opt));
+        columns.extend(taken.odometry.map(opt));
         columns.extend(
             taken
                 .geometry

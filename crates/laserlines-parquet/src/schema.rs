@@ -26,17 +26,18 @@
 //! | `scan` | int64 | no | 0-based index of the scan in the input |
 //! | `stamp` | float64 | yes | time stamp, s |
 //! | `pose_x`, `pose_y`, `pose_theta` | float64 | yes | the robot's pose, m, m, rad |
+//! | `odometry_x`, `odometry_y`, `odometry_theta` | float64 | yes | the wheel odometry's pose at the scan, m, m, rad |
 //! | `angle_min` | float64 | no | angle of the first beam, rad |
 //! | `angle_increment` | float64 | no | angle between beams, rad (negative: clockwise) |
 //! | `range_min`, `range_max` | float64 | no | valid ranges, m |
 //! | `ranges` | list\<float32\> | no | ranges, m; NaN, inf or a null item = no return |
 //! | `intensities` | list\<float32\> | yes | intensities, one per range, when the source has them |
 //!
-//! A pose is present when all three of its columns are. The table has no columns for a
-//! record's wheel odometry (`ScanRecord::odometry`): a scan read back has none. The reader also takes `float32`
-//! for any `float64` column, `list<float64>` (and large or fixed-size lists) for the lists,
-//! nullable columns without nulls where this schema has none, and tables without the
-//! optional columns (`scan`, `stamp`, the pose, `intensities`); other columns are ignored.
+//! A pose, or the odometry, is present when all three of its columns are (`ScanRecord::pose`
+//! and `ScanRecord::odometry`). The reader also takes `float32` for any `float64` column,
+//! `list<float64>` (and large or fixed-size lists) for the lists, nullable columns without
+//! nulls where this schema has none, and tables without the optional columns (`scan`,
+//! `stamp`, the pose, the odometry, `intensities`); other columns are ignored.
 
 use std::sync::Arc;
 
@@ -52,6 +53,12 @@ pub const POSE_X: &str = "pose_x";
 pub const POSE_Y: &str = "pose_y";
 /// The robot's heading, rad.
 pub const POSE_THETA: &str = "pose_theta";
+/// The wheel odometry's x at the scan, m (scans table).
+pub const ODOMETRY_X: &str = "odometry_x";
+/// The wheel odometry's y at the scan, m (scans table).
+pub const ODOMETRY_Y: &str = "odometry_y";
+/// The wheel odometry's heading at the scan, rad (scans table).
+pub const ODOMETRY_THETA: &str = "odometry_theta";
 /// Angle of the first beam, rad.
 pub const ANGLE_MIN: &str = "angle_min";
 /// Angle between beams, rad.
@@ -113,6 +120,9 @@ pub fn lines_schema() -> SchemaRef {
 #[must_use]
 pub fn scans_schema() -> SchemaRef {
     let mut fields = scan_columns();
+    for name in [ODOMETRY_X, ODOMETRY_Y, ODOMETRY_THETA] {
+        fields.push(Field::new(name, DataType::Float64, true));
+    }
     for name in [ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX] {
         fields.push(Field::new(name, DataType::Float64, false));
     }
@@ -136,8 +146,8 @@ mod tests {
         );
         assert_eq!(
             names(scans_schema()).join(","),
-            "scan,stamp,pose_x,pose_y,pose_theta,angle_min,angle_increment,range_min,\
-             range_max,ranges,intensities"
+            "scan,stamp,pose_x,pose_y,pose_theta,odometry_x,odometry_y,odometry_theta,\
+             angle_min,angle_increment,range_min,range_max,ranges,intensities"
         );
     }
 }

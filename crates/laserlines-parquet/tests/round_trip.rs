@@ -47,7 +47,8 @@ fn scans_read_back_as_written_with_ranges_as_float32() {
         );
         assert_eq!(s.stamp, t.stamp);
         assert_eq!(a.pose, b.pose);
-        assert!(a.pose.is_some() && s.stamp.is_some());
+        assert_eq!(a.odometry, b.odometry);
+        assert!(a.pose.is_some() && a.odometry.is_some() && s.stamp.is_some());
         let rounded: Vec<u64> = s
             .ranges
             .iter()
@@ -175,6 +176,9 @@ fn other_writers_shapes_read_the_same() {
             ("pose_x", f64s(&[Some(1.0), Some(2.0)])),
             ("pose_y", f64s(&[Some(1.0), None])),
             ("pose_theta", f64s(&[Some(0.0), Some(0.0)])),
+            ("odometry_x", f64s(&[None, Some(4.0)])),
+            ("odometry_y", f64s(&[Some(1.0), Some(5.0)])),
+            ("odometry_theta", f64s(&[Some(0.5), Some(-0.5)])),
             ("other", f64s(&[None, None])),
         ]);
         let scans: Vec<ScanRecord> = read::from_bytes("t.parquet", bytes)
@@ -188,6 +192,9 @@ fn other_writers_shapes_read_the_same() {
         assert_eq!(scans[1].scan.angle_increment, -0.1);
         assert_eq!(scans[0].scan.range_min, 0.25);
         assert!(scans[0].pose.is_some() && scans[1].pose.is_none()); // pose_y null
+        assert!(scans[0].odometry.is_none()); // odometry_x null
+        let odometry = scans[1].odometry.unwrap();
+        assert_eq!((odometry.x, odometry.y, odometry.theta), (4.0, 5.0, -0.5));
         assert!(scans[0].scan.stamp.is_none() && scans[0].scan.intensities.is_none());
     }
 }

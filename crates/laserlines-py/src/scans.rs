@@ -1,4 +1,4 @@
-//! Scans in Python: the `Scan` class (a scan with its stamp and pose, ranges as a numpy
+//! Scans in Python: the `Scan` class (a scan with its stamp, pose and odometry, ranges as a numpy
 //! array) and `read(path, topic=None)`, which iterates the scans of any file the command line
 //! reads.
 
@@ -34,6 +34,10 @@ pub struct Scan {
     /// The robot's pose `(x, y, theta)` (m, m, rad) when the source has one.
     #[pyo3(get)]
     pub pose: Option<(f64, f64, f64)>,
+    /// The wheel odometry's pose `(x, y, theta)` (m, m, rad) at the scan, when the source
+    /// has it.
+    #[pyo3(get)]
+    pub odometry: Option<(f64, f64, f64)>,
     intensities: Option<Py<PyArray1<f64>>>,
 }
 
@@ -54,6 +58,7 @@ impl Scan {
             range_max: s.range_max,
             stamp: s.stamp,
             pose: record.pose.map(|p| (p.x, p.y, p.theta)),
+            odometry: record.odometry.map(|p| (p.x, p.y, p.theta)),
             intensities: s.intensities.map(|v| PyArray1::from_vec(py, v).unbind()),
         }
     }
@@ -62,7 +67,7 @@ impl Scan {
 #[pymethods]
 impl Scan {
     #[new]
-    #[pyo3(signature = (ranges, angle_min, angle_increment, range_min = 0.0, range_max = f64::INFINITY, stamp = None, pose = None))]
+    #[pyo3(signature = (ranges, angle_min, angle_increment, range_min = 0.0, range_max = f64::INFINITY, stamp = None, pose = None, odometry = None))]
     // The Python signature: a scan's fields as keyword arguments.
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -74,6 +79,7 @@ impl Scan {
         range_max: f64,
         stamp: Option<f64>,
         pose: Option<(f64, f64, f64)>,
+        odometry: Option<(f64, f64, f64)>,
     ) -> PyResult<Self> {
         let values = crate::arrays::ranges(ranges)?;
         crate::config::checked_view(
@@ -97,6 +103,7 @@ impl Scan {
             range_max,
             stamp,
             pose,
+            odometry,
             intensities: None,
         })
     }

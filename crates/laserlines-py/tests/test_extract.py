@@ -139,3 +139,12 @@ def test_no_range_limit_by_default():
     assert lines["r"][0] == pytest.approx(2.0, abs=1e-9)
     assert lines["alpha"][0] == pytest.approx(0.0, abs=1e-9)
     assert (lines["first"][0], lines["last"][0]) == (0, 180)
+
+
+def test_a_scan_keeps_its_pose_and_odometry():
+    s = laserlines.Scan(
+        np.full(10, 2.0), 0.0, 0.01, pose=(1.0, 2.0, 0.5), odometry=(3.0, 4.0, -0.5)
+    )
+    assert s.pose == (1.0, 2.0, 0.5) and s.odometry == (3.0, 4.0, -0.5)
+    bare = laserlines.Scan(np.ones(3), 0.0, 0.1)
+    assert bare.pose is None and bare.odometry is None

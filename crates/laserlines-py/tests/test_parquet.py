@@ -37,6 +37,9 @@ SCANS_SCHEMA = pa.schema(
         pa.field("pose_x", F64),
         pa.field("pose_y", F64),
         pa.field("pose_theta", F64),
+        pa.field("odometry_x", F64),
+        pa.field("odometry_y", F64),
+        pa.field("odometry_theta", F64),
     ]
     + [
         pa.field(n, F64, nullable=False)
@@ -104,6 +107,9 @@ def test_scans_parquet_holds_the_scans_as_float32(written):
         row = t.slice(k, 1).to_pylist()[0]
         assert row["scan"] == k and row["stamp"] == s.stamp
         assert (row["pose_x"], row["pose_y"], row["pose_theta"]) == s.pose
+        # The excerpt's wheel odometry (BreezySLAM encoders), kept as well.
+        assert s.odometry is not None
+        assert (row["odometry_x"], row["odometry_y"], row["odometry_theta"]) == s.odometry
         assert row["angle_increment"] == s.angle_increment
         assert np.array_equal(
             np.array(row["ranges"], dtype=np.float32), s.ranges.astype(np.float32)
@@ -111,6 +117,7 @@ def test_scans_parquet_holds_the_scans_as_float32(written):
         assert row["intensities"] is None
     # Read back by the bindings, as by the CLI: the float32 values, widened.
     back = list(laserlines.read(written / "scans.parquet"))
+    assert [b.odometry for b in back] == [s.odometry for s in scans]
     assert np.array_equal(back[3].ranges, scans[3].ranges.astype(np.float32).astype(np.float64))
 
 
