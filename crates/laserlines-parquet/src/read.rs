@@ -5,16 +5,18 @@
 //! The file is read one batch of rows at a time, so memory stays bounded by a row group.
 //! A row that is not a valid scan (a null where a number is required, limits out of order)
 //! is an error naming the file, the row and the column; reading goes on with the next row.
-//! A file that is not Parquet, lacks a column or holds one of another type is an error at
-//! opening; a page that cannot be decoded ends the reader with an error naming the first row
+//! A file that is not Parquet, lacks a column or holds one of another type, or whose
+//! metadata places a column chunk outside the file, is an error at opening; a page that cannot be decoded ends the reader with an error naming the first row
 //! of its batch.
 
 use std::fs::File;
+use std::panic::AssertUnwindSafe;
 use std::path::Path;
 
 use bytes::Bytes;
 use laserlines_io::{Format, ReadError, ScanReader, ScanRecord, ScanSource, SkipCounts, SourcePos};
 use parquet::arrow::arrow_reader::{ParquetRecordBatchReader, ParquetRecordBatchReaderBuilder};
+use parquet::file::metadata::ParquetMetaData;
 use parquet::file::reader::ChunkReader;
 
 use crate::columns::{ScanColumns, check_schema};
@@ -50,7 +52,13 @@ fn from_chunks<T: ChunkReader + 'static>(name: &str, input: T) -> Result<ScanRea
         expected: "a Parquet file".to_owned(),
         found: e.to_string(),
     };
+    let file_len = input.len();
     let builder = ParquetRecordBatchReaderBuilder::try_new(input).map_err(not_parquet)?;
+    check_chunks(builder.metadata(), file_len).map_err(|(offset, found)| ReadError::Syntax {
+        pos: SourcePos::byte(name, offset),
+        expected: "column chunks within the file (metadata)".to_owned(),
+        found,
+    })?;
     check_schema(builder.schema()).map_err(|e| ReadError::Field {
         pos: SourcePos::row(name, 0),
         field: e.column.to_owned(),
@@ -76,6 +84,45 @@ fn from_chunks<T: ChunkReader + 'static>(name: &str, input: T) -> Result<ScanRea
     ))
 }
 
+/// The message of a caught panic.
+fn panic_text(panic: &(dyn std::any::Any + Send)) -> String {
+    panic
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_owned())
+        .or_else(|| panic.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic".to_owned())
+}
+
+/// Checks that every column chunk the metadata names lies within the file (`file_len`
+/// bytes): the decoder takes those offsets and sizes on trust, and panics on a negative
+/// one. The error gives the chunk's claimed offset (0 when negative) and what is wrong.
+fn check_chunks(metadata: &ParquetMetaData, file_len: u64) -> Result<(), (u64, String)> {
+    for (g, group) in metadata.row_groups().iter().enumerate() {
+        for (c, chunk) in group.columns().iter().enumerate() {
+            let start = chunk
+                .dictionary_page_offset()
+                .unwrap_or_else(|| chunk.data_page_offset());
+            let size = chunk.compressed_size();
+            let end = u64::try_from(start)
+                .ok()
+                .zip(u64::try_from(size).ok())
+                .and_then(|(a, b)| a.checked_add(b));
+            if !end.is_some_and(|end| end <= file_len) {
+                return Err((
+                    u64::try_from(start).unwrap_or(0),
+                    format!(
+                        "row group {g}, column {} ({}): {size} bytes at offset {start} in a file \
+                         of {file_len} bytes",
+                        c,
+                        chunk.column_path()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The [`ScanSource`] of a Parquet table.
 struct ParquetScanSource {
     name: String,
@@ -92,15 +139,31 @@ impl ParquetScanSource {
     /// Decodes the next batch; `None` at the end, an error when it cannot be decoded.
     fn next_batch(&mut self) -> Option<Result<(), ReadError>> {
         let batches = self.batches.as_mut()?;
-        let batch = match batches.next()? {
-            Ok(batch) => batch,
-            Err(e) => {
+        // The `parquet` crate's decoder panics on some malformed pages (a data page that
+        // refers to a dictionary the chunk lacks, levels past the page's end) where it
+        // should return an error: its panic is caught here and reported as one, and the
+        // reader (whose state the panic left undefined) is dropped.
+        let next = std::panic::catch_unwind(AssertUnwindSafe(|| batches.next()));
+        let failed = |found: String| ReadError::Syntax {
+            pos: SourcePos::row(&self.name, self.row),
+            expected: "a readable row group".to_owned(),
+            found,
+        };
+        let batch = match next {
+            Ok(None) => return None,
+            Ok(Some(Ok(batch))) => batch,
+            Ok(Some(Err(e))) => {
+                let e = failed(e.to_string());
                 self.batches = None;
-                return Some(Err(ReadError::Syntax {
-                    pos: SourcePos::row(&self.name, self.row),
-                    expected: "a readable row group".to_owned(),
-                    found: e.to_string(),
-                }));
+                return Some(Err(e));
+            }
+            Err(panic) => {
+                let e = failed(format!(
+                    "the Parquet decoder failed: {}",
+                    panic_text(&*panic)
+                ));
+                self.batches = None;
+                return Some(Err(e));
             }
         };
         self.row_in_batch = 0;

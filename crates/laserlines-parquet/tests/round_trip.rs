@@ -267,3 +267,47 @@ fn a_bad_row_is_an_error_naming_it_and_reading_goes_on() {
          range_max (finite), got 3..2"
     );
 }
+
+/// A file the fuzzer made from `laserlines convert crates/laserlines-io/tests/fixtures/two_scans.dat`
+/// (`fuzz_targets/parquet.rs`): among its changes, byte 2228 is 0x77 where the writer put
+/// 0x76, which makes the `range_min` column chunk's compressed size -60 in the metadata. The
+/// decoder panicked on it; it is an error at opening, naming the file and the chunk (files
+/// that are fine pass the same check in every other test here).
+#[test]
+fn a_column_chunk_outside_the_file_is_an_error_not_a_panic() {
+    let bytes = std::fs::read("tests/fixtures/negative_chunk_size.parquet").unwrap();
+    assert_eq!((bytes.len(), bytes[2228]), (3711, 0x77));
+    let Err(e) = read::from_bytes("negative_chunk_size.parquet", bytes) else {
+        panic!("a file with a negative chunk size opened");
+    };
+    let text = e.to_string();
+    assert!(text.starts_with("negative_chunk_size.parquet"), "{text}");
+    assert!(text.contains("column chunks within the file"), "{text}");
+    assert!(
+        text.contains("range_min") && text.contains("-60 bytes"),
+        "{text}"
+    );
+}
+
+/// Another file the fuzzer made from the same table: its pages pass the metadata's checks but
+/// make the `parquet` crate's decoder panic (definition levels read past the page's end).
+/// The reader catches that and ends with an error naming the file and the row.
+#[test]
+fn a_page_the_decoder_panics_on_is_an_error() {
+    let bytes = std::fs::read("tests/fixtures/levels_past_the_page.parquet").unwrap();
+    let items: Vec<Result<ScanRecord, ReadError>> =
+        read::from_bytes("levels_past_the_page.parquet", bytes)
+            .unwrap()
+            .collect();
+    let errors: Vec<String> = items
+        .iter()
+        .filter_map(|r| r.as_ref().err().map(ToString::to_string))
+        .collect();
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].starts_with("levels_past_the_page.parquet: row 0")
+            && errors[0].contains("the Parquet decoder failed"),
+        "{}",
+        errors[0]
+    );
+}
