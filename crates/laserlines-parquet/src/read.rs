@@ -107,7 +107,7 @@ fn check_chunks(metadata: &ParquetMetaData, file_len: u64) -> Result<(), (u64, S
                 .ok()
                 .zip(u64::try_from(size).ok())
                 .and_then(|(a, b)| a.checked_add(b));
-            if !end.is_some_and(|end| end <= file_len) {
+            if end.is_none_or(|end| end > file_len) {
                 return Err((
                     u64::try_from(start).unwrap_or(0),
                     format!(
