@@ -29,7 +29,7 @@ use super::breakpoints::Breakpoints;
 use super::finish::{LineFilter, finish};
 use super::model::Hypothesis;
 use super::rng::SplitMix64;
-use super::runs::{Run, for_each_run};
+use super::runs::{Run, runs_with_members};
 use crate::extractor::LineExtractor;
 use crate::fit::FitSums;
 use crate::line::Line;
@@ -316,24 +316,20 @@ impl LineExtractor for Em {
             let line = init.and_then(|fit| self.converge(Hypothesis::from_fit(&fit)));
             self.found.clear();
             if line.is_some() {
-                let member = |i: usize| self.weight[i] >= p.inlier_probability;
-                let (found, points) = (&mut self.found, &self.points);
-                // Runs start and end at members, so their ends give the line's length.
-                let long_enough = |r: Run| {
-                    (points[r.end - 1].point - points[r.start].point).norm() >= p.filter.min_length
-                };
-                for_each_run(
+                let (points, taken, weight) = (&self.points, &self.taken, &self.weight);
+                runs_with_members(
                     points,
-                    |i| !self.taken[i],
-                    member,
+                    |i| !taken[i],
+                    |i| weight[i] >= p.inlier_probability,
                     &rule,
                     p.max_skipped,
-                    |r, m| {
-                        if m >= min_members && long_enough(r) {
-                            found.push(r);
-                        }
-                    },
+                    min_members,
+                    &mut self.found,
                 );
+                // Runs start and end at members, so their ends give the line's length.
+                self.found.retain(|r| {
+                    (points[r.end - 1].point - points[r.start].point).norm() >= p.filter.min_length
+                });
             }
             if self.found.is_empty() {
                 failures += 1;
