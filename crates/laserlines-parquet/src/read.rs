@@ -123,6 +123,9 @@ fn check_chunks(metadata: &ParquetMetaData, file_len: u64) -> Result<(), (u64, S
     Ok(())
 }
 
+/// What a batch that cannot be decoded was expected to be.
+const READABLE: &str = "a readable row group";
+
 /// The [`ScanSource`] of a Parquet table.
 struct ParquetScanSource {
     name: String,
@@ -136,6 +139,17 @@ struct ParquetScanSource {
 }
 
 impl ParquetScanSource {
+    /// Ends reading: the error of a batch that was not what was `expected`, at its first
+    /// row.
+    fn end_with(&mut self, expected: &str, found: String) -> ReadError {
+        self.batches = None;
+        ReadError::Syntax {
+            pos: SourcePos::row(&self.name, self.row),
+            expected: expected.to_owned(),
+            found,
+        }
+    }
+
     /// Decodes the next batch; `None` at the end, an error when it cannot be decoded.
     fn next_batch(&mut self) -> Option<Result<(), ReadError>> {
         let batches = self.batches.as_mut()?;
@@ -144,26 +158,13 @@ impl ParquetScanSource {
         // should return an error: its panic is caught here and reported as one, and the
         // reader (whose state the panic left undefined) is dropped.
         let next = std::panic::catch_unwind(AssertUnwindSafe(|| batches.next()));
-        let failed = |found: String| ReadError::Syntax {
-            pos: SourcePos::row(&self.name, self.row),
-            expected: "a readable row group".to_owned(),
-            found,
-        };
         let batch = match next {
             Ok(None) => return None,
             Ok(Some(Ok(batch))) => batch,
-            Ok(Some(Err(e))) => {
-                let e = failed(e.to_string());
-                self.batches = None;
-                return Some(Err(e));
-            }
+            Ok(Some(Err(e))) => return Some(Err(self.end_with(READABLE, e.to_string()))),
             Err(panic) => {
-                let e = failed(format!(
-                    "the Parquet decoder failed: {}",
-                    panic_text(&*panic)
-                ));
-                self.batches = None;
-                return Some(Err(e));
+                let found = format!("the Parquet decoder failed: {}", panic_text(&*panic));
+                return Some(Err(self.end_with(READABLE, found)));
             }
         };
         self.row_in_batch = 0;
@@ -172,12 +173,8 @@ impl ParquetScanSource {
         if self.current.is_none() {
             // The schema was checked at opening: a batch of another schema is a defect of
             // the file or of the decoder, not of one row.
-            self.batches = None;
-            return Some(Err(ReadError::Syntax {
-                pos: SourcePos::row(&self.name, self.row),
-                expected: "rows of the file's schema".to_owned(),
-                found: "a batch of another schema".to_owned(),
-            }));
+            let found = "a batch of another schema".to_owned();
+            return Some(Err(self.end_with("rows of the file's schema", found)));
         }
         Some(Ok(()))
     }
