@@ -492,7 +492,7 @@ mod tests {
              `noise_floor`, `bridge_beams`, `bridge_incidence`, `bridge_sigmas`, \
              `bridge_max_gap`, `min_segment_points`, `split_sigmas`, `split_significance`, \
              `merge_collinear`, `refine_ends`, `min_line_points`, `min_line_length`, \
-             `max_rms_sigmas`, `max_alpha_sd`, `remove_mixed_pixels`, `min_range`, \
+             `max_rms_sigmas`, `max_alpha_sd`, `max_r_sd`, `remove_mixed_pixels`, `min_range`, \
              `range_limits`"
         );
         assert_eq!(

@@ -179,7 +179,7 @@ impl Pieces<'_> {
 
     /// The line of `seg[a..z]`, when it passes the filters: enough points, long enough, an
     /// RMS residual within `max_rms_sigmas` of the noise, a direction known to
-    /// `max_alpha_sd`. Its covariance takes the point noise as the larger of the residual
+    /// `max_alpha_sd` and a distance from the sensor known to `max_r_sd`. Its covariance takes the point noise as the larger of the residual
     /// variance and the model's noise across the line.
     fn line(&self, a: usize, z: usize) -> Option<Line> {
         if z <= a || z - a < self.p.min_line_points.max(2) {
@@ -208,7 +208,10 @@ impl Pieces<'_> {
         if across * across > residual {
             line.covariance = fit.covariance_for(across * across);
         }
-        (line.covariance[(1, 1)] <= self.p.max_alpha_sd * self.p.max_alpha_sd).then_some(line)
+        let (var_r, var_alpha) = (line.covariance[(0, 0)], line.covariance[(1, 1)]);
+        (var_alpha <= self.p.max_alpha_sd * self.p.max_alpha_sd
+            && var_r <= self.p.max_r_sd * self.p.max_r_sd)
+            .then_some(line)
     }
 }
 

@@ -112,6 +112,12 @@ pub struct HoughSplitParams {
     /// from their covariance), rad, are dropped: a short far piece under heavy noise gives a
     /// line whose direction says little. Default 5 deg. `inf` turns it off.
     pub max_alpha_sd: f64,
+    /// Lines whose distance from the sensor is known worse than this (one standard deviation
+    /// of `r` from their covariance), m, are dropped. A short piece seen far off or at a
+    /// glancing angle gives a line whose `r` (its direction's error times the lever arm from
+    /// its points to the foot of the normal) says little, though the segment lies where its
+    /// points are. Default `inf` (off); [`walls`](Self::walls) sets 0.05.
+    pub max_r_sd: f64,
     /// Leave out points that lie on neither neighbouring surface (mixed pixels at depth
     /// edges, spikes): more than three standard deviations from the extrapolations of both
     /// neighbouring pairs of beams. Not in the paper. Default `true`.
@@ -148,6 +154,7 @@ impl Default for HoughSplitParams {
             min_line_length: 0.15,
             max_rms_sigmas: 2.5,
             max_alpha_sd: 5f64.to_radians(),
+            max_r_sd: f64::INFINITY,
             remove_mixed_pixels: true,
             min_range: 0.0,
             range_limits: None,
@@ -176,6 +183,7 @@ impl HoughSplitParams {
             min_line_length: 0.0,
             max_rms_sigmas: f64::INFINITY,
             max_alpha_sd: f64::INFINITY,
+            max_r_sd: f64::INFINITY,
             remove_mixed_pixels: false,
             range_limits: Some(RangeWindow::PAPER),
             ..Self::default()
@@ -194,7 +202,21 @@ impl HoughSplitParams {
         }
     }
 
-    /// Checks every field.
+    /// The defaults for a map of walls, where a line must be right rather than there: only
+    /// lines whose standard errors lie within the tolerances of a user who wants walls (a
+    /// line within 5 cm and 3 deg of its wall) are kept (`max_r_sd = 0.05`, `max_alpha_sd` =
+    /// 3 deg). Short pieces seen far off or at a glancing angle, which no fit can place that
+    /// well under heavy noise, give no line.
+    #[must_use]
+    pub fn walls() -> Self {
+        Self {
+            max_alpha_sd: 3f64.to_radians(),
+            max_r_sd: 0.05,
+            ..Self::default()
+        }
+    }
+
+        /// Checks every field.
     ///
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
@@ -225,6 +247,7 @@ impl HoughSplitParams {
         for (field, value) in [
             ("max_rms_sigmas", self.max_rms_sigmas),
             ("max_alpha_sd", self.max_alpha_sd),
+            ("max_r_sd", self.max_r_sd),
         ] {
             if value.is_nan() || value <= 0.0 {
                 return Err(ParamsError::NotPositive { field, value });

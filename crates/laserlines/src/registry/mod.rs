@@ -165,6 +165,7 @@ pub static HOUGH_SPLIT: Algorithm<HoughSplitParams> = Algorithm {
     presets: &[
         ("paper", HoughSplitParams::paper),
         ("navigation", HoughSplitParams::navigation),
+        ("walls", HoughSplitParams::walls),
     ],
     build: |p| boxed(HoughSplit::new(p)),
     knobs: knobs::HOUGH_SPLIT,
