@@ -216,7 +216,7 @@ impl HoughSplitParams {
         }
     }
 
-        /// Checks every field.
+    /// Checks every field.
     ///
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
