@@ -154,6 +154,43 @@ fn params_file_changes_the_result_and_bad_keys_are_errors() {
 }
 
 #[test]
+fn preset_option_starts_from_the_preset_and_names_the_presets_it_knows() {
+    let dat = tmp("excerpt-preset.dat.gz");
+    std::fs::write(&dat, laserlines_io::demo::URG04LX_EXCERPT).unwrap();
+    let params = tmp("paper-preset.toml");
+    std::fs::write(&params, "[hough-split]\npaper = true\n").unwrap();
+    let by_file = run(bin().args(["extract", "--params"]).arg(&params).arg(&dat));
+    let by_option = run(bin().args(["extract", "--preset", "paper"]).arg(&dat));
+    assert!(by_option.status.success(), "{}", stderr(&by_option));
+    assert_eq!(by_file.stdout, by_option.stdout);
+    // The walls preset keeps a subset of the defaults' lines: those known to 5 cm and 3 deg.
+    let count = |o: &std::process::Output| {
+        String::from_utf8_lossy(&o.stdout)
+            .lines()
+            .map(|row| {
+                let v: serde_json::Value = serde_json::from_str(row).unwrap();
+                v["lines"].as_array().unwrap().len()
+            })
+            .sum::<usize>()
+    };
+    let plain = run(bin().arg("extract").arg(&dat));
+    let walls = run(bin().args(["extract", "--preset", "walls"]).arg(&dat));
+    assert!(walls.status.success(), "{}", stderr(&walls));
+    let (n_plain, n_walls) = (count(&plain), count(&walls));
+    assert!(n_walls > 0 && n_walls < n_plain, "{n_walls} of {n_plain}");
+    let o = run(bin().args(["extract", "--preset", "wall"]).arg(&dat));
+    assert_clean_error(
+        &o,
+        "unknown preset \"wall\" of hough-split",
+        "paper, navigation, walls",
+    );
+    let o = run(bin()
+        .args(["extract", "--algorithm", "iepf", "--preset", "walls"])
+        .arg(&dat));
+    assert_clean_error(&o, "of iepf", "no presets");
+}
+
+#[test]
 fn render_draws_four_panels() {
     let dat = tmp("excerpt3.dat.gz");
     std::fs::write(&dat, laserlines_io::demo::URG04LX_EXCERPT).unwrap();

@@ -91,6 +91,16 @@ pub enum ParamsFileError {
         /// the field and its range
         problem: ParamsError,
     },
+    /// A preset the algorithm does not have (`--preset`).
+    #[error("unknown preset {preset:?} of {algorithm}: expected {}", if expected.is_empty() { "none (it has no presets)".to_owned() } else { format!("one of {}", expected.join(", ")) })]
+    UnknownPreset {
+        /// the algorithm
+        algorithm: String,
+        /// the preset asked for
+        preset: String,
+        /// the presets it has
+        expected: Vec<&'static str>,
+    },
     /// An algorithm the registry does not have.
     #[error("unknown algorithm {0:?}: expected one of {list}", list = registry::ALGORITHMS.join(", "))]
     UnknownAlgorithm(String),
@@ -187,6 +197,37 @@ impl ParamsFile {
     #[must_use]
     pub fn has(&self, table: &str) -> bool {
         self.tables.contains_key(table)
+    }
+
+    /// The file with `algorithm`'s table starting from its preset called `preset`, as if the
+    /// table held `preset = true` in place of any preset it names (the table is created when
+    /// the file has none; what the table sets is still laid over the preset). The `--preset`
+    /// option of the commands.
+    ///
+    /// # Errors
+    /// [`ParamsFileError::UnknownAlgorithm`], or [`ParamsFileError::UnknownPreset`] naming
+    /// the algorithm's presets.
+    pub fn with_preset(mut self, algorithm: &str, preset: &str) -> Result<Self, ParamsFileError> {
+        let known = registry::presets(algorithm)
+            .ok_or_else(|| ParamsFileError::UnknownAlgorithm(algorithm.to_owned()))?;
+        if !known.contains(&preset) {
+            return Err(ParamsFileError::UnknownPreset {
+                algorithm: algorithm.to_owned(),
+                preset: preset.to_owned(),
+                expected: known,
+            });
+        }
+        let table = self
+            .tables
+            .entry(algorithm)
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        if let toml::Value::Table(t) = table {
+            for other in known.iter().filter(|&&n| n != preset) {
+                t.remove(*other);
+            }
+            t.insert(preset.to_owned(), toml::Value::Boolean(true));
+        }
+        Ok(self)
     }
 
     /// The table `table` laid over `preset` (see the [module docs](self)); `preset` itself
@@ -405,6 +446,46 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("noise.sigma_min"), "{e}");
+    }
+
+    #[test]
+    fn a_preset_by_option_replaces_the_tables_preset_and_keeps_its_keys() {
+        let none = ParamsFile::default()
+            .with_preset("hough-split", "walls")
+            .unwrap();
+        assert_eq!(
+            none.algorithm_params(&registry::HOUGH_SPLIT).unwrap(),
+            HoughSplitParams::walls()
+        );
+        let f = file("[hough-split]\npaper = true\nmin_range = 0.3\n")
+            .with_preset("hough-split", "walls")
+            .unwrap();
+        let p = f.algorithm_params(&registry::HOUGH_SPLIT).unwrap();
+        assert_eq!(
+            p,
+            HoughSplitParams {
+                min_range: 0.3,
+                ..HoughSplitParams::walls()
+            }
+        );
+        let e = ParamsFile::default()
+            .with_preset("hough-split", "wall")
+            .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "unknown preset \"wall\" of hough-split: expected one of paper, navigation, walls"
+        );
+        let e = ParamsFile::default()
+            .with_preset("iepf", "walls")
+            .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "unknown preset \"walls\" of iepf: expected none (it has no presets)"
+        );
+        assert!(matches!(
+            ParamsFile::default().with_preset("nope", "walls"),
+            Err(ParamsFileError::UnknownAlgorithm(_))
+        ));
     }
 
     #[test]

@@ -49,9 +49,8 @@ pub struct ExtractArgs {
     /// Line extraction algorithm.
     #[arg(long, default_value = "hough-split", value_parser = super::algorithm_parser())]
     algorithm: String,
-    /// TOML file of parameters (one table per algorithm, e.g. `[hough-split]`).
-    #[arg(long)]
-    params: Option<PathBuf>,
+    #[command(flatten)]
+    params: super::ParamsArgs,
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.
     #[arg(long)]
     skip_bad: bool,
@@ -108,9 +107,9 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
         .thread_name(|i| format!("extract-{i}"))
         .build()
         .context("cannot start the extraction threads")?;
-    super::note_unused_tables(args.params.as_deref(), &[&args.algorithm], "extract")?;
+    super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "extract")?;
     let extractors: Extractors = (0..jobs)
-        .map(|_| super::make_extractor(&args.algorithm, args.params.as_deref()).map(Mutex::new))
+        .map(|_| super::make_extractor(&args.algorithm, &args.params).map(Mutex::new))
         .collect::<Result<_>>()?;
     let reader = super::open_input(&args.input)?;
     let name = reader.name().to_owned();

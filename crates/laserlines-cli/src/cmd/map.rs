@@ -42,9 +42,8 @@ pub struct MapArgs {
     /// Also write the run for Foxglove: the map as foxglove.Grid, poses, scans and lines.
     #[arg(long)]
     pub mcap: Option<PathBuf>,
-    /// Parameter file for the line extractor (its [hough-split] table).
-    #[arg(long)]
-    pub params: Option<PathBuf>,
+    #[command(flatten)]
+    pub params: super::ParamsArgs,
     /// Side of an occupancy grid cell, m.
     #[arg(long, default_value_t = 0.05)]
     pub resolution: f64,
@@ -61,7 +60,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
         );
     }
     let mut reader = super::open_input(&args.input)?;
-    let mut extractor = super::make_hough_split(args.params.as_deref())?;
+    let mut extractor = super::make_hough_split(&args.params)?;
     let mut params = MapperParams::default();
     if args.loop_closure == OnOff::Off {
         params.loops.every_scans = 0;

@@ -13,7 +13,7 @@ pub mod render;
 pub mod simulate;
 pub mod view;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow};
 use laserlines::HoughSplit;
@@ -42,15 +42,43 @@ pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
     Ok(laserlines_foxglove::open_scans(&input.input, &options)?)
 }
 
-/// The extractor named `algorithm` (one of [`ALGORITHMS`]), with parameters from its table
-/// in `params` when given.
-pub fn make_extractor(algorithm: &str, params: Option<&Path>) -> Result<BoxedExtractor> {
-    Ok(ParamsFile::load_or_default(params)?.extractor(algorithm)?)
+/// `--params` and `--preset`: where the commands that run one extractor take its parameters.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct ParamsArgs {
+    /// TOML file of parameters (one table per algorithm, e.g. `[hough-split]`).
+    #[arg(long)]
+    pub params: Option<PathBuf>,
+    /// Start the extractor from one of its presets instead of its defaults (hough-split:
+    /// paper, navigation, walls); the params file's table is laid over it.
+    #[arg(long)]
+    pub preset: Option<String>,
 }
 
-/// A HoughSplit extractor with parameters from `params` when given.
-pub fn make_hough_split(params: Option<&Path>) -> Result<HoughSplit> {
-    let file = ParamsFile::load_or_default(params)?;
+impl ParamsArgs {
+    /// The params file, if one is given.
+    pub fn file_path(&self) -> Option<&Path> {
+        self.params.as_deref()
+    }
+
+    /// The params file (empty when none is given) with `--preset` applied to `algorithm`.
+    pub fn file(&self, algorithm: &str) -> Result<ParamsFile> {
+        let file = ParamsFile::load_or_default(self.file_path())?;
+        Ok(match &self.preset {
+            Some(preset) => file.with_preset(algorithm, preset)?,
+            None => file,
+        })
+    }
+}
+
+/// The extractor named `algorithm` (one of [`ALGORITHMS`]), with its parameters from
+/// `params` ([`ParamsArgs::file`]).
+pub fn make_extractor(algorithm: &str, params: &ParamsArgs) -> Result<BoxedExtractor> {
+    Ok(params.file(algorithm)?.extractor(algorithm)?)
+}
+
+/// A HoughSplit extractor with its parameters from `params` ([`ParamsArgs::file`]).
+pub fn make_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
+    let file = params.file(registry::HOUGH_SPLIT.name)?;
     let p = file.algorithm_params(&registry::HOUGH_SPLIT)?;
     HoughSplit::new(p).context("hough-split parameters")
 }

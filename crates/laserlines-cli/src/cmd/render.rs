@@ -26,9 +26,8 @@ pub struct RenderArgs {
     /// other algorithm draws its lines over the scan.
     #[arg(long, default_value = "hough-split", value_parser = super::algorithm_parser())]
     algorithm: String,
-    /// TOML file of parameters (one table per algorithm).
-    #[arg(long)]
-    params: Option<PathBuf>,
+    #[command(flatten)]
+    params: super::ParamsArgs,
     /// Width of the figure, pixels, from 400 to 8000: the panels are sized to it, and the
     /// SVG comes out up to 5 % narrower, as wide as its axis labels need (the `--sectors`
     /// figure has a plot 560 px wide).
@@ -48,7 +47,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if !(400.0..=8000.0).contains(&args.width) {
         anyhow::bail!("--width must lie from 400 to 8000 px, got {}", args.width);
     }
-    super::note_unused_tables(args.params.as_deref(), &[&args.algorithm], "render")?;
+    super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "render")?;
     let to_stdout = args.output == Path::new("-");
     let mut reader = super::open_input(&args.input)?;
     let record = reader.by_ref().nth(args.scan).ok_or_else(|| {
@@ -64,7 +63,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         ..RenderOptions::default()
     };
     let svg = if args.sectors {
-        let mut ex = super::make_extractor(&args.algorithm, args.params.as_deref())?;
+        let mut ex = super::make_extractor(&args.algorithm, &args.params)?;
         let lines = ex.extract(&record.scan);
         let objects = select_objects(&lines, &Isometry2::identity(), &SectorParams::default());
         for sector in Sector::ALL {
@@ -104,11 +103,11 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         );
         laserlines_render::sectors_svg(&title, &points, &segments, &objects)
     } else if args.algorithm == "hough-split" {
-        let mut hs = super::make_hough_split(args.params.as_deref())?;
+        let mut hs = super::make_hough_split(&args.params)?;
         let lines = hs.extract(&record.scan);
         render_hough_split(&record.scan, &hs, &lines, &opts)
     } else {
-        let mut ex = super::make_extractor(&args.algorithm, args.params.as_deref())?;
+        let mut ex = super::make_extractor(&args.algorithm, &args.params)?;
         let lines = ex.extract(&record.scan);
         render_scan_lines(&record.scan, &lines, &opts)
     };

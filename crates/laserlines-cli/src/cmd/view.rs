@@ -1,6 +1,5 @@
 //! `laserlines view`: replay a log with its lines on a Foxglove WebSocket.
 
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::{Result, bail};
@@ -19,9 +18,8 @@ pub struct ViewArgs {
     /// Line extraction algorithm.
     #[arg(long, default_value = "hough-split", value_parser = super::algorithm_parser())]
     algorithm: String,
-    /// TOML file of parameters (one table per algorithm, e.g. `[hough-split]`).
-    #[arg(long)]
-    params: Option<PathBuf>,
+    #[command(flatten)]
+    params: super::ParamsArgs,
     /// Replay speed: 1.0 is real time (scan stamps, or 10 scans/s without), 2.0 twice as
     /// fast, 0 as fast as possible.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
@@ -48,8 +46,8 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             args.rate
         );
     }
-    super::note_unused_tables(args.params.as_deref(), &[&args.algorithm], "view")?;
-    let mut extractor = super::make_extractor(&args.algorithm, args.params.as_deref())?;
+    super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "view")?;
+    let mut extractor = super::make_extractor(&args.algorithm, &args.params)?;
     // Open once before serving, so that a bad input fails at once.
     let mut reader = super::open_input(&args.input)?;
     let server = LiveServer::start("127.0.0.1", args.port)?;

@@ -318,6 +318,20 @@ registry!(
     EM,
 );
 
+/// The names of the presets of the algorithm called `name` (empty when it has none), or
+/// `None` for an unknown name.
+#[must_use]
+pub fn presets(name: &str) -> Option<Vec<&'static str>> {
+    struct Names;
+    impl Visitor for Names {
+        type Output = Vec<&'static str>;
+        fn visit<P: Params>(self, algorithm: &'static Algorithm<P>) -> Vec<&'static str> {
+            algorithm.presets.iter().map(|(n, _)| *n).collect()
+        }
+    }
+    visit(name, Names)
+}
+
 /// The summary of the algorithm called `name`.
 #[must_use]
 pub fn summary(name: &str) -> Option<&'static str> {
@@ -368,6 +382,12 @@ mod tests {
         assert!(by_name("no-such-algorithm").is_none());
         assert_eq!(ALGORITHMS.len(), 8);
         assert_eq!(HOUGH_SPLIT.preset("paper"), Some(HoughSplitParams::paper()));
+        assert_eq!(
+            presets("hough-split"),
+            Some(vec!["paper", "navigation", "walls"])
+        );
+        assert_eq!(presets("iepf"), Some(vec![]));
+        assert_eq!(presets("no-such-algorithm"), None);
         assert!(HOUGH_SPLIT.preset("none").is_none());
     }
 

@@ -32,9 +32,8 @@ pub struct LiveArgs {
     /// Line extraction algorithm.
     #[arg(long, default_value = "hough-split")]
     algorithm: String,
-    /// TOML file of parameters (one table per algorithm, e.g. `[hough-split]`).
-    #[arg(long)]
-    params: Option<PathBuf>,
+    #[command(flatten)]
+    params: super::ParamsArgs,
     /// Serve the scans and lines live to Foxglove on ws://127.0.0.1:PORT.
     #[arg(long)]
     view: bool,
@@ -171,7 +170,7 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         })
         .transpose()?;
     let duration = seconds(args.duration, "--duration")?;
-    let mut extractor = super::make_extractor(&args.algorithm, args.params.as_deref())?;
+    let mut extractor = super::make_extractor(&args.algorithm, &args.params)?;
     let stop = Arc::new(AtomicBool::new(false));
     let s = stop.clone();
     ctrlc::set_handler(move || s.store(true, Ordering::Relaxed)).context("cannot catch Ctrl-C")?;
