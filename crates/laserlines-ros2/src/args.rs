@@ -1,5 +1,6 @@
 //! The command line of `laserlines-ros2`: the extractor as the `laserlines` CLI chooses it
-//! (`--algorithm`, `--params FILE.toml`), the topics, the frame, the DDS domain and network.
+//! (`--algorithm`, `--params FILE.toml`, `--preset NAME`), the topics, the frame, the DDS
+//! domain and network.
 
 use std::net::{IpAddr, Ipv4Addr};
 use std::path::PathBuf;
@@ -27,6 +28,10 @@ pub struct Ros2Args {
     /// `laserlines extract --params`.
     #[arg(long)]
     pub params: Option<PathBuf>,
+    /// Start the extractor from one of its presets instead of its defaults (hough-split:
+    /// paper, navigation, walls), as `laserlines extract --preset`.
+    #[arg(long)]
+    pub preset: Option<String>,
     /// Topic of the `sensor_msgs/msg/LaserScan` input.
     #[arg(long, default_value = "/scan")]
     pub scan_topic: String,
@@ -156,11 +161,44 @@ impl Ros2Args {
         })
     }
 
-    /// The extractor, with the parameters file read exactly as `laserlines extract` reads it.
+    /// The extractor, with the parameters file and the preset read exactly as
+    /// `laserlines extract` reads them.
     ///
     /// # Errors
-    /// An unknown algorithm or a bad params file (naming file, table and key).
+    /// An unknown algorithm or preset, or a bad params file (naming file, table and key).
     pub fn extractor(&self) -> Result<BoxedExtractor> {
-        Ok(ParamsFile::load_or_default(self.params.as_deref())?.extractor(&self.algorithm)?)
+        let mut file = ParamsFile::load_or_default(self.params.as_deref())?;
+        if let Some(preset) = &self.preset {
+            file = file.with_preset(&self.algorithm, preset)?;
+        }
+        Ok(file.extractor(&self.algorithm)?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn extractor(args: &[&str]) -> Result<BoxedExtractor> {
+        let argv = std::iter::once("laserlines-ros2").chain(args.iter().copied());
+        Ros2Args::try_parse_from(argv)?.extractor()
+    }
+
+    #[test]
+    fn the_preset_option_is_read_as_the_cli_reads_it() {
+        assert_eq!(
+            extractor(&["--preset", "walls"]).unwrap().name(),
+            "hough-split"
+        );
+        let e = extractor(&["--preset", "wall"]).err().unwrap().to_string();
+        assert_eq!(
+            e,
+            "unknown preset \"wall\" of hough-split: expected one of paper, navigation, walls"
+        );
+        let e = extractor(&["--algorithm", "ransac", "--preset", "paper"])
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("of ransac: expected none"), "{e}");
     }
 }
