@@ -2,6 +2,7 @@
 for bit, for every algorithm; a contiguous float64 array is read in place."""
 
 import json
+import math
 
 import numpy as np
 import pytest
@@ -86,6 +87,9 @@ def test_parameters_lay_over_the_defaults_like_a_params_file(cli, tmp_path):
     iepf = laserlines.Extractor("iepf", breakpoints={"noise": 0.02})
     assert iepf.params["breakpoints"]["noise"] == 0.02
     assert laserlines.Extractor(paper=True).params["range_limits"] == [0.03, 3.0]
+    walls = laserlines.Extractor(walls=True).params
+    assert (walls["max_r_sd"], walls["max_alpha_sd"]) == (0.05, math.radians(3.0))
+    assert laserlines.Extractor().params["max_r_sd"] == math.inf
     noise = laserlines.Extractor(noise={"sigma_min": 0.004, "fraction": 0.002})
     assert noise.params["noise"] == {"sigma_min": 0.004, "fraction": 0.002}
 
