@@ -161,9 +161,19 @@ fn preset_option_starts_from_the_preset_and_names_the_presets_it_knows() {
     std::fs::write(&params, "[hough-split]\npaper = true\n").unwrap();
     let by_file = run(bin().args(["extract", "--params"]).arg(&params).arg(&dat));
     let by_option = run(bin().args(["extract", "--preset", "paper"]).arg(&dat));
+    assert!(by_file.status.success(), "{}", stderr(&by_file));
     assert!(by_option.status.success(), "{}", stderr(&by_option));
     assert_eq!(by_file.stdout, by_option.stdout);
-    // The walls preset keeps a subset of the defaults' lines: those known to 5 cm and 3 deg.
+    // A params table is laid over the preset: the paper's range limits changed back.
+    let wide = tmp("wide-preset.toml");
+    std::fs::write(&wide, "[hough-split]\nrange_limits = [0.03, 5.0]\n").unwrap();
+    let over = run(bin()
+        .args(["extract", "--preset", "paper", "--params"])
+        .arg(&wide)
+        .arg(&dat));
+    assert!(over.status.success(), "{}", stderr(&over));
+    assert_ne!(over.stdout, by_option.stdout);
+    // The walls preset keeps fewer lines than the defaults: those known to 5 cm and 3 deg.
     let count = |o: &std::process::Output| {
         String::from_utf8_lossy(&o.stdout)
             .lines()
@@ -178,6 +188,15 @@ fn preset_option_starts_from_the_preset_and_names_the_presets_it_knows() {
     assert!(walls.status.success(), "{}", stderr(&walls));
     let (n_plain, n_walls) = (count(&plain), count(&walls));
     assert!(n_walls > 0 && n_walls < n_plain, "{n_walls} of {n_plain}");
+    // render takes the hough-split path with its stages, map the extractor of its own.
+    let svg = tmp("walls.svg");
+    let o = run(bin()
+        .args(["render", "--preset", "walls", "--scan", "5", "-o"])
+        .arg(&svg)
+        .arg(&dat));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = run(bin().args(["map", "--preset", "wall"]).arg(&dat));
+    assert_clean_error(&o, "unknown preset \"wall\" of hough-split", "walls");
     let o = run(bin().args(["extract", "--preset", "wall"]).arg(&dat));
     assert_clean_error(
         &o,

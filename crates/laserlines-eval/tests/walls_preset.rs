@@ -61,8 +61,15 @@ fn the_walls_preset_keeps_only_lines_known_to_its_limits() {
     assert!((p.max_alpha_sd - 3f64.to_radians()).abs() < 1e-15);
     let scans = suite_scans("all", 5, 4, &sensor("urg04lx-1.5x").unwrap()).unwrap();
     let mut hs = HoughSplit::new(p.clone()).unwrap();
-    let mut kept = 0;
+    let mut defaults = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    let (mut kept, mut beyond) = (0, 0);
     for s in &scans {
+        // The limit bites: the defaults give lines whose `r` is known worse.
+        beyond += defaults
+            .extract(&s.scan)
+            .iter()
+            .filter(|l| l.covariance[(0, 0)].sqrt() > p.max_r_sd)
+            .count();
         for l in hs.extract(&s.scan) {
             assert!(
                 l.covariance[(0, 0)].sqrt() <= p.max_r_sd,
@@ -78,4 +85,5 @@ fn the_walls_preset_keeps_only_lines_known_to_its_limits() {
         }
     }
     assert!(kept > 100, "{kept} lines");
+    assert!(beyond > 0, "no default line beyond the preset's limit of r");
 }

@@ -92,7 +92,10 @@ pub enum ParamsFileError {
         problem: ParamsError,
     },
     /// A preset the algorithm does not have (`--preset`).
-    #[error("unknown preset {preset:?} of {algorithm}: expected {}", if expected.is_empty() { "none (it has no presets)".to_owned() } else { format!("one of {}", expected.join(", ")) })]
+    #[error(
+        "unknown preset {preset:?} of {algorithm}: expected {}",
+        known_presets(expected)
+    )]
     UnknownPreset {
         /// the algorithm
         algorithm: String,
@@ -106,6 +109,15 @@ pub enum ParamsFileError {
     UnknownAlgorithm(String),
 }
 
+/// What an [`ParamsFileError::UnknownPreset`] says was expected.
+fn known_presets(expected: &[&str]) -> String {
+    if expected.is_empty() {
+        "none (it has no presets)".to_owned()
+    } else {
+        format!("one of {}", expected.join(", "))
+    }
+}
+
 /// A parsed params file (see the [module docs](self)).
 #[derive(Debug, Clone, Default)]
 pub struct ParamsFile {
@@ -114,6 +126,23 @@ pub struct ParamsFile {
 }
 
 impl ParamsFile {
+    /// [`ParamsFile::load_or_default`], then [`ParamsFile::with_preset`] for `algorithm`
+    /// when `preset` is given: how the commands read `--params` and `--preset`.
+    ///
+    /// # Errors
+    /// As those two.
+    pub fn load_with_preset(
+        path: Option<&Path>,
+        algorithm: &str,
+        preset: Option<&str>,
+    ) -> Result<Self, ParamsFileError> {
+        let file = Self::load_or_default(path)?;
+        match preset {
+            Some(preset) => file.with_preset(algorithm, preset),
+            None => Ok(file),
+        }
+    }
+
     /// Reads and parses `path`.
     ///
     /// # Errors
@@ -200,9 +229,10 @@ impl ParamsFile {
     }
 
     /// The file with `algorithm`'s table starting from its preset called `preset`, as if the
-    /// table held `preset = true` in place of any preset it names (the table is created when
-    /// the file has none; what the table sets is still laid over the preset). The `--preset`
-    /// option of the commands.
+    /// table held `preset = true` in place of any preset it names with `true` or `false` (the
+    /// table is created when the file has none; what the table sets is still laid over the
+    /// preset; a preset key with a value of another type stays, and is an error when read).
+    /// The `--preset` option of the commands: see [`ParamsFile::load_with_preset`].
     ///
     /// # Errors
     /// [`ParamsFileError::UnknownAlgorithm`], or [`ParamsFileError::UnknownPreset`] naming
@@ -223,7 +253,9 @@ impl ParamsFile {
             .or_insert_with(|| toml::Value::Table(toml::Table::new()));
         if let toml::Value::Table(t) = table {
             for other in known.iter().filter(|&&n| n != preset) {
-                t.remove(*other);
+                if matches!(t.get(*other), Some(toml::Value::Boolean(_))) {
+                    t.remove(*other);
+                }
             }
             t.insert(preset.to_owned(), toml::Value::Boolean(true));
         }
@@ -400,211 +432,4 @@ fn merge(base: &mut toml::Table, over: &toml::Table) {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use laserlines::extractors::SplitMergeParams;
-    use laserlines::{HoughSplitParams, RangeWindow, Weight};
-
-    fn file(text: &str) -> ParamsFile {
-        ParamsFile::parse(text, "p.toml").unwrap()
-    }
-
-    fn error(text: &str, algorithm: &str) -> String {
-        match ParamsFile::parse(text, "p.toml") {
-            Ok(f) => f.extractor(algorithm).err().unwrap().to_string(),
-            Err(e) => e.to_string(),
-        }
-    }
-
-    #[test]
-    fn hough_split_noise_is_auto_a_preset_or_a_model() {
-        use laserlines::{NoiseModel, RangeNoise};
-        let p = |text: &str| file(text).algorithm_params(&registry::HOUGH_SPLIT);
-        assert_eq!(p("").unwrap().noise, NoiseModel::Auto);
-        assert_eq!(
-            p("[hough-split]\nnoise = \"ydlidar-x4\"\n").unwrap().noise,
-            NoiseModel::Fixed(RangeNoise::preset("ydlidar-x4").unwrap())
-        );
-        assert_eq!(
-            p("[hough-split]\nnoise = { sigma_min = 0.004, fraction = 0.002 }\n")
-                .unwrap()
-                .noise,
-            NoiseModel::Fixed(RangeNoise::new(0.004, 0.002))
-        );
-        assert_eq!(
-            p("[hough-split]\nnoise = \"auto\"\n").unwrap().noise,
-            NoiseModel::Auto
-        );
-        let e = p("[hough-split]\nnoise = \"cheap\"\n")
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("unknown noise \"cheap\"") && e.contains("urg-04lx"),
-            "{e}"
-        );
-        let e = p("[hough-split]\nnoise = { sigma_min = -0.01, fraction = 0.0 }\n")
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("noise.sigma_min"), "{e}");
-    }
-
-    #[test]
-    fn a_preset_by_option_replaces_the_tables_preset_and_keeps_its_keys() {
-        let none = ParamsFile::default()
-            .with_preset("hough-split", "walls")
-            .unwrap();
-        assert_eq!(
-            none.algorithm_params(&registry::HOUGH_SPLIT).unwrap(),
-            HoughSplitParams::walls()
-        );
-        let f = file("[hough-split]\npaper = true\nmin_range = 0.3\n")
-            .with_preset("hough-split", "walls")
-            .unwrap();
-        let p = f.algorithm_params(&registry::HOUGH_SPLIT).unwrap();
-        assert_eq!(
-            p,
-            HoughSplitParams {
-                min_range: 0.3,
-                ..HoughSplitParams::walls()
-            }
-        );
-        let e = ParamsFile::default()
-            .with_preset("hough-split", "wall")
-            .unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "unknown preset \"wall\" of hough-split: expected one of paper, navigation, walls"
-        );
-        let e = ParamsFile::default()
-            .with_preset("iepf", "walls")
-            .unwrap_err();
-        assert_eq!(
-            e.to_string(),
-            "unknown preset \"walls\" of iepf: expected none (it has no presets)"
-        );
-        assert!(matches!(
-            ParamsFile::default().with_preset("nope", "walls"),
-            Err(ParamsFileError::UnknownAlgorithm(_))
-        ));
-    }
-
-    #[test]
-    fn tables_lay_over_defaults_and_presets() {
-        let f =
-            file("[hough-split]\nring_step = 0.05\nweight = \"one\"\nrange_limits = [0.1, 2.0]\n");
-        let p = f.algorithm_params(&registry::HOUGH_SPLIT).unwrap();
-        assert_eq!(p.ring_step, 0.05);
-        assert_eq!(p.weight, Weight::One);
-        assert_eq!(p.range_limits, Some(RangeWindow::new(0.1, 2.0)));
-        assert_eq!(p.criterion, HoughSplitParams::default().criterion);
-        // No table: the defaults; the paper preset.
-        let none = ParamsFile::default();
-        assert_eq!(
-            none.algorithm_params(&registry::HOUGH_SPLIT).unwrap(),
-            HoughSplitParams::default()
-        );
-        let paper = file("[hough-split]\npaper = true\n");
-        assert_eq!(
-            paper.algorithm_params(&registry::HOUGH_SPLIT).unwrap(),
-            HoughSplitParams::paper()
-        );
-        // iepf and split-and-merge start from their own defaults.
-        let f = file("[iepf]\nsplit_distance = 0.02\n[split-and-merge]\nmin_cluster_points = 5\n");
-        let iepf = f.algorithm_params(&registry::IEPF).unwrap();
-        assert_eq!(iepf.split_distance, 0.02);
-        assert_eq!(iepf.breakpoints.noise, 0.01);
-        let sam = f.algorithm_params(&registry::SPLIT_AND_MERGE).unwrap();
-        assert_eq!(sam.min_cluster_points, 5);
-        assert_eq!(
-            sam.breakpoints,
-            SplitMergeParams::split_and_merge().breakpoints
-        );
-        // Nested keys, dotted or as a sub-table.
-        let dotted = file("[iepf]\nbreakpoints.max_gap = 4\nfilter.min_length = 0.3\n");
-        let table = file("[iepf.breakpoints]\nmax_gap = 4\n[iepf.filter]\nmin_length = 0.3\n");
-        for f in [dotted, table] {
-            let p = f.algorithm_params(&registry::IEPF).unwrap();
-            assert_eq!((p.breakpoints.max_gap, p.filter.min_length), (4, 0.3));
-            assert_eq!(p.breakpoints.incidence, 10f64.to_radians());
-        }
-    }
-
-    #[test]
-    fn every_field_of_every_params_struct_is_a_key() {
-        // The defaults written out as a table read back as the defaults.
-        struct RoundTrip;
-        impl Visitor for RoundTrip {
-            type Output = ();
-            fn visit<P: Params>(self, entry: &'static Algorithm<P>) {
-                let start = (entry.defaults)();
-                let mut tables = toml::Table::new();
-                tables.insert(
-                    entry.name.to_owned(),
-                    toml::Value::Table(toml::Table::try_from(&start).unwrap()),
-                );
-                let text = toml::to_string(&tables).unwrap();
-                let f = ParamsFile::parse(&text, "all.toml").unwrap();
-                assert_eq!(f.algorithm_params(entry).unwrap(), start, "{text}");
-                let bad = format!("[{}]\nno_such_key = 1\n", entry.name);
-                let e = ParamsFile::parse(&bad, "bad.toml")
-                    .unwrap()
-                    .extractor(entry.name)
-                    .err()
-                    .unwrap()
-                    .to_string();
-                assert!(e.contains("no_such_key") && e.contains(entry.name), "{e}");
-            }
-        }
-        for name in registry::ALGORITHMS {
-            registry::visit(name, RoundTrip);
-        }
-    }
-
-    #[test]
-    fn errors_name_the_file_the_table_and_the_key() {
-        assert_eq!(
-            error("[em]\ninlier_probability = 2.0\n", "em"),
-            "p.toml: [em] inlier_probability must lie in (0, 1), got 2"
-        );
-        assert_eq!(
-            error("[hough-split]\nring_stp = 1.0\n", "hough-split"),
-            "p.toml: [hough-split]: unknown field `ring_stp`, expected one of `ring_step`, \
-             `sector_step`, `window`, `weight`, `criterion`, `group_gap`, `noise`, \
-             `noise_floor`, `bridge_beams`, `bridge_incidence`, `bridge_sigmas`, \
-             `bridge_max_gap`, `min_segment_points`, `split_sigmas`, `split_significance`, \
-             `merge_collinear`, `refine_ends`, `min_line_points`, `min_line_length`, \
-             `max_rms_sigmas`, `max_alpha_sd`, `max_r_sd`, `remove_mixed_pixels`, `min_range`, \
-             `range_limits`"
-        );
-        assert_eq!(
-            error("[iepf]\nbreakpoints.noise = \"x\"\n", "iepf"),
-            "p.toml: [iepf] breakpoints.noise: invalid type: string \"x\", expected f64"
-        );
-        assert_eq!(
-            error("[iepf]\nbreakpoints.incidence = 2\n", "iepf"),
-            "p.toml: [iepf] breakpoints.incidence must lie in (0, 1.5707963267948966), got 2"
-        );
-        assert_eq!(
-            error("[hough-split]\nweight = \"square\"\n", "hough-split"),
-            "p.toml: [hough-split] weight: unknown variant `square`, expected `one` or `range`"
-        );
-        assert_eq!(
-            error("[hough-split]\npaper = 1\n", "hough-split"),
-            "p.toml: [hough-split] paper: expected true or false, found 1"
-        );
-        assert!(error("[no-such-algorithm]\n", "iepf").starts_with("p.toml: unknown table"));
-        assert!(error("[iepf\n", "iepf").starts_with("p.toml: invalid params file"));
-        assert_eq!(
-            ParamsFile::default()
-                .extractor("nope")
-                .err()
-                .unwrap()
-                .to_string(),
-            "unknown algorithm \"nope\": expected one of hough-split, iterative-hough, \
-             split-and-merge, iepf, incremental, line-regression, ransac, em"
-        );
-        // The tables of the simulator are accepted and left alone.
-        let f = file("[robot]\nwhatever = 1\n[hough-split]\n");
-        assert!(f.has("robot") && f.extractor("hough-split").is_ok());
-    }
-}
+mod tests;

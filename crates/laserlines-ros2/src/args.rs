@@ -29,7 +29,8 @@ pub struct Ros2Args {
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// Start the extractor from one of its presets instead of its defaults (hough-split:
-    /// paper, navigation, walls), as `laserlines extract --preset`.
+    /// paper, navigation, walls), in place of any preset its table names, as
+    /// `laserlines extract --preset`.
     #[arg(long)]
     pub preset: Option<String>,
     /// Topic of the `sensor_msgs/msg/LaserScan` input.
@@ -167,11 +168,17 @@ impl Ros2Args {
     /// # Errors
     /// An unknown algorithm or preset, or a bad params file (naming file, table and key).
     pub fn extractor(&self) -> Result<BoxedExtractor> {
-        let mut file = ParamsFile::load_or_default(self.params.as_deref())?;
-        if let Some(preset) = &self.preset {
-            file = file.with_preset(&self.algorithm, preset)?;
-        }
-        Ok(file.extractor(&self.algorithm)?)
+        Ok(self.params_file()?.extractor(&self.algorithm)?)
+    }
+
+    /// The params file with the preset applied, read as `laserlines extract` reads them
+    /// ([`ParamsFile::load_with_preset`]).
+    ///
+    /// # Errors
+    /// An unknown algorithm or preset, or a params file that cannot be read.
+    pub fn params_file(&self) -> Result<ParamsFile> {
+        let (path, preset) = (self.params.as_deref(), self.preset.as_deref());
+        Ok(ParamsFile::load_with_preset(path, &self.algorithm, preset)?)
     }
 }
 
@@ -186,6 +193,13 @@ mod tests {
 
     #[test]
     fn the_preset_option_is_read_as_the_cli_reads_it() {
+        let argv = ["laserlines-ros2", "--preset", "walls"];
+        let file = Ros2Args::try_parse_from(argv)
+            .unwrap()
+            .params_file()
+            .unwrap();
+        let p = file.algorithm_params(&laserlines::registry::HOUGH_SPLIT);
+        assert_eq!(p.unwrap(), laserlines::HoughSplitParams::walls());
         assert_eq!(
             extractor(&["--preset", "walls"]).unwrap().name(),
             "hough-split"

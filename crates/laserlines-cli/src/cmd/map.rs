@@ -60,6 +60,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
         );
     }
     let mut reader = super::open_input(&args.input)?;
+    super::note_unused_tables(args.params.file_path(), &["hough-split"], "map")?;
     let mut extractor = super::make_hough_split(&args.params)?;
     let mut params = MapperParams::default();
     if args.loop_closure == OnOff::Off {
@@ -75,22 +76,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
     for item in reader.by_ref() {
         let record = item?;
         let k = stamps.len();
-        let odometry = match (args.odometry, record.odometry) {
-            (OnOff::On, Some(p)) => Some(Se2::new(p.x, p.y, p.theta)),
-            (OnOff::On, None) => bail!(
-                "{name}: scan {k}{}: no odometry (the log gives none for this scan{}); map it with --odometry off",
-                record
-                    .line
-                    .map(|l| format!(" (line {l})"))
-                    .unwrap_or_default(),
-                if record.pose.is_some() {
-                    ", only a pose, which is not used as odometry"
-                } else {
-                    ""
-                }
-            ),
-            (OnOff::Off, _) => None,
-        };
+        let odometry = odometry_of(&record, args.odometry, &name, k)?;
         extractor.extract_into(&record.scan, &mut lines);
         mapper
             .add_scan(&record.scan, &lines, odometry)
@@ -133,6 +119,27 @@ pub fn run(args: &MapArgs) -> Result<()> {
         &files,
     );
     Ok(())
+}
+
+/// The odometry of scan `k` the mapper takes: the record's with `--odometry on` (an error
+/// naming the scan when it has none), none with `--odometry off`.
+fn odometry_of(record: &ScanRecord, mode: OnOff, name: &str, k: usize) -> Result<Option<Se2>> {
+    Ok(match (mode, record.odometry) {
+        (OnOff::On, Some(p)) => Some(Se2::new(p.x, p.y, p.theta)),
+        (OnOff::On, None) => bail!(
+            "{name}: scan {k}{}: no odometry (the log gives none for this scan{}); map it with --odometry off",
+            record
+                .line
+                .map(|l| format!(" (line {l})"))
+                .unwrap_or_default(),
+            if record.pose.is_some() {
+                ", only a pose, which is not used as odometry"
+            } else {
+                ""
+            }
+        ),
+        (OnOff::Off, _) => None,
+    })
 }
 
 fn progress_bar() -> ProgressBar {

@@ -49,7 +49,8 @@ pub struct ParamsArgs {
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// Start the extractor from one of its presets instead of its defaults (hough-split:
-    /// paper, navigation, walls); the params file's table is laid over it.
+    /// paper, navigation, walls), in place of any preset its table names; the table's other
+    /// keys are laid over it.
     #[arg(long)]
     pub preset: Option<String>,
 }
@@ -60,13 +61,15 @@ impl ParamsArgs {
         self.params.as_deref()
     }
 
-    /// The params file (empty when none is given) with `--preset` applied to `algorithm`.
+    /// The params file (empty when none is given) with `--preset` applied to `algorithm`
+    /// ([`ParamsFile::load_with_preset`]).
     pub fn file(&self, algorithm: &str) -> Result<ParamsFile> {
-        let file = ParamsFile::load_or_default(self.file_path())?;
-        Ok(match &self.preset {
-            Some(preset) => file.with_preset(algorithm, preset)?,
-            None => file,
-        })
+        let preset = self.preset.as_deref();
+        Ok(ParamsFile::load_with_preset(
+            self.file_path(),
+            algorithm,
+            preset,
+        )?)
     }
 }
 

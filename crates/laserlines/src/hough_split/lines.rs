@@ -179,8 +179,9 @@ impl Pieces<'_> {
 
     /// The line of `seg[a..z]`, when it passes the filters: enough points, long enough, an
     /// RMS residual within `max_rms_sigmas` of the noise, a direction known to
-    /// `max_alpha_sd` and a distance from the sensor known to `max_r_sd`. Its covariance takes the point noise as the larger of the residual
-    /// variance and the model's noise across the line.
+    /// `max_alpha_sd` and a distance from the sensor known to `max_r_sd`. Its covariance
+    /// takes the point noise as the larger of the residual variance and the model's noise
+    /// across the line.
     fn line(&self, a: usize, z: usize) -> Option<Line> {
         if z <= a || z - a < self.p.min_line_points.max(2) {
             return None;

@@ -170,6 +170,7 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         })
         .transpose()?;
     let duration = seconds(args.duration, "--duration")?;
+    super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "live")?;
     let mut extractor = super::make_extractor(&args.algorithm, &args.params)?;
     let stop = Arc::new(AtomicBool::new(false));
     let s = stop.clone();
