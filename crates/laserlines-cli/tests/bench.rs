@@ -165,6 +165,46 @@ fn tuning_prints_a_params_table_that_bench_accepts() {
 }
 
 #[test]
+fn a_preset_applies_to_the_extractors_that_have_it() {
+    // The walls preset keeps fewer lines on the same scans; iepf, without presets, the same.
+    let lines = |extra: &[&str]| {
+        let dir = tmp(&format!("out-preset-{}", extra.len()));
+        let o = run(bin()
+            .args([
+                "bench",
+                "--suite",
+                "clutter",
+                "--scans",
+                "6",
+                "--algorithms",
+            ])
+            .arg("hough-split,iepf")
+            .args(extra)
+            .arg("-o")
+            .arg(&dir));
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("results.json")).unwrap())
+                .unwrap();
+        let per_scan = |name: &str| {
+            json["overall"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|m| m["algorithm"] == name)
+                .map(|m| m["lines_per_scan"].as_f64().unwrap())
+                .unwrap()
+        };
+        (per_scan("hough-split"), per_scan("iepf"))
+    };
+    let (plain, walls) = (lines(&[]), lines(&["--preset", "walls"]));
+    assert!(walls.0 < plain.0, "{walls:?} against {plain:?}");
+    assert_eq!(walls.1, plain.1);
+    let o = run(bin().args(["bench", "--algorithms", "iepf", "--preset", "walls"]));
+    assert_clean_error(&o, &["--preset walls", "none of the extractors"]);
+}
+
+#[test]
 fn unknown_algorithm_suite_and_sensor_are_clean_errors() {
     let out = tmp("out-bad");
     let o = run(bin()

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use laserlines::LineExtractor;
+use laserlines::{LineExtractor, registry};
 use laserlines_eval::{
     BenchOptions, BenchReport, BenchScan, DEFAULT_SCANS_PER_SUITE, MatchParams, SENSORS,
     SpeedRatio, TEST_SEED, TRAIN_SEED, plain_scans, sensor, suite_scans,
@@ -62,6 +62,11 @@ pub struct BenchArgs {
     /// TOML file of parameters (one table per algorithm), as for `extract`.
     #[arg(long)]
     params: Option<PathBuf>,
+    /// Start every compared extractor that has a preset of this name from it (hough-split:
+    /// paper, navigation, walls), as `extract --preset` does; the others keep their
+    /// defaults.
+    #[arg(long, conflicts_with = "tune")]
+    preset: Option<String>,
     /// Output folder for results.json, results.csv and accuracy-speed.svg.
     #[arg(short, long, default_value = "laserlines-bench")]
     output: PathBuf,
@@ -80,13 +85,36 @@ fn matching(args: &BenchArgs) -> MatchParams {
     }
 }
 
+/// `file` with `preset` applied to each of `names` that has it; an error when none has.
+fn with_preset(mut file: ParamsFile, names: &[String], preset: &str) -> Result<ParamsFile> {
+    let mut applied = false;
+    for name in names {
+        if registry::presets(name).is_some_and(|p| p.contains(&preset)) {
+            file = file.with_preset(name, preset)?;
+            applied = true;
+        }
+    }
+    if !applied {
+        bail!(
+            "--preset {preset}: none of the extractors compared has it (hough-split's: {})",
+            registry::presets("hough-split")
+                .unwrap_or_default()
+                .join(", ")
+        );
+    }
+    Ok(file)
+}
+
 /// Runs the command.
 pub fn run(args: &BenchArgs) -> Result<()> {
     if let Some(algorithm) = &args.tune {
         return tune(args, algorithm);
     }
     let names = selected(&args.algorithms)?;
-    let file = ParamsFile::load_or_default(args.params.as_deref())?;
+    let mut file = ParamsFile::load_or_default(args.params.as_deref())?;
+    if let Some(preset) = &args.preset {
+        file = with_preset(file, &names, preset)?;
+    }
     if let Some(p) = &args.params {
         for name in names.iter().filter(|n| !file.has(n)) {
             eprintln!("{}: no [{name}] table, defaults used", p.display());
