@@ -109,7 +109,7 @@ pub enum ParamsFileError {
     UnknownAlgorithm(String),
 }
 
-/// What an [`ParamsFileError::UnknownPreset`] says was expected.
+/// What a [`ParamsFileError::UnknownPreset`] says was expected.
 fn known_presets(expected: &[&str]) -> String {
     if expected.is_empty() {
         "none (it has no presets)".to_owned()

@@ -6,8 +6,8 @@
 //! A row that is not a valid scan (a null where a number is required, limits out of order)
 //! is an error naming the file, the row and the column; reading goes on with the next row.
 //! A file that is not Parquet, lacks a column or holds one of another type, or whose
-//! metadata places a column chunk outside the file, is an error at opening; a page that cannot be decoded ends the reader with an error naming the first row
-//! of its batch.
+//! metadata places a column chunk outside the file, is an error at opening; a page that
+//! cannot be decoded ends the reader with an error naming the first row of its batch.
 
 use std::fs::File;
 use std::panic::AssertUnwindSafe;
