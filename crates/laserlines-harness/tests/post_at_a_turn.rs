@@ -53,11 +53,12 @@ fn the_robot_passes_a_post_at_a_turn_on_its_way_out() {
     let world = start_with_post();
     let start = Isometry2::new(Vector2::new(0.6, 0.6), 0.0);
     // Ten seeds of the laser and odometry noise. With the bend cut, none of the ten runs
-    // reached the corridor's upper end (coverage 0.653-0.681, stopped by 193 s); now six do
-    // (at least five asserted).
-    // In the other four the robot passes the post and sees the corridor's lower end, and
-    // the wall follower, back in charge once that frontier is seen, turns it back up past
-    // the post, where the next way out needs a turn on the spot beside it.
+    // reached the corridor's upper end (coverage 0.653-0.681, stopped by 193 s); following
+    // the bend, six did. In the other four the robot passed the post and saw the corridor's
+    // lower end, and the wall follower, back in charge once that frontier was seen, turned it
+    // back up past the post, where the next way out needs a turn on the spot beside it. Since
+    // the escape from a tight spot also weighs the room to turn on the spot
+    // (`turn_beside_a_post.rs`), eight do (at least seven asserted).
     let mut through = 0;
     for seed in 0..10 {
         let config = RunConfig {
@@ -74,5 +75,5 @@ fn the_robot_passes_a_post_at_a_turn_on_its_way_out() {
             through += 1;
         }
     }
-    assert!(through >= 5, "{through} of 10 runs got through");
+    assert!(through >= 7, "{through} of 10 runs got through");
 }

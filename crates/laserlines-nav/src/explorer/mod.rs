@@ -68,9 +68,11 @@
 //! nearer (and keeps 2 cm), so that it can leave a tight spot. Otherwise slower versions,
 //! turning on the spot, creeping turns and turning the other way are tried, in that order;
 //! a robot whose wanted motion stays blocked for about a second *escapes*: of short straight
-//! and curved motions forward and back, it drives the safe one that leaves the most room
-//! around the footprint for 1.2 s. This layer has the last word over the wall follower and
-//! the path follower alike.
+//! and curved motions forward and back, it drives for 1.2 s the safe one that ends with the
+//! most room: the footprint's clearance plus the room to turn on the spot (the least distance
+//! from the robot's centre to a point, less the footprint's circumradius), so that a robot
+//! that cannot turn where it stands moves to where it can. This layer has the last word over
+//! the wall follower and the path follower alike.
 //!
 //! **Stopping.** The explorer reports that it is done when no frontier is left (the whole
 //! reachable area has been seen), when it has given up `travel.fruitless_give_ups`

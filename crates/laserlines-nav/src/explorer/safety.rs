@@ -174,7 +174,9 @@ impl Explorer {
     }
 
     /// Of short straight and curved motions either way, the safe one that ends with the most
-    /// room around the footprint after `ESCAPE_S`.
+    /// room after `ESCAPE_S` ([`Explorer::room_after`]): clear sides, and room to turn on the
+    /// spot, so that a robot stuck where it cannot turn (a post beside a corner, a wall end)
+    /// moves to where it can.
     fn escape_motion(&self, pts: &[Point2], rule: &SafeRule) -> Option<VelocityCommand> {
         let mut best: Option<(f64, VelocityCommand)> = None;
         for v in [0.15, -0.15] {
@@ -183,7 +185,7 @@ impl Explorer {
                 if !rule.safe(c, self.sweep_clearance(pts, c, 1.0)) {
                     continue;
                 }
-                let end = self.clearance_after(pts, c, ESCAPE_S);
+                let end = self.room_after(pts, c, ESCAPE_S);
                 if best.is_none_or(|(b, _)| end > b + 1e-9) {
                     best = Some((end, c));
                 }
@@ -192,24 +194,32 @@ impl Explorer {
         best.map(|(_, c)| c)
     }
 
-    /// The least distance between the footprint and the points `pts` (robot frame) after
-    /// driving `c` for `t` seconds (the points out of view counting `BLIND_MARGIN` nearer).
-    fn clearance_after(&self, pts: &[Point2], c: VelocityCommand, t: f64) -> f64 {
+    /// The room around the robot after driving `c` for `t` seconds: the least distance
+    /// between the footprint and the points `pts` (robot frame), plus the room to turn on the
+    /// spot (the least distance from the robot's centre to a point, less the footprint's
+    /// circumradius). Points out of view count `BLIND_MARGIN` nearer in both.
+    fn room_after(&self, pts: &[Point2], c: VelocityCommand, t: f64) -> f64 {
         let half = self.footprint.half();
         let inv = arc(c.linear_m_s * t, c.angular_rad_s * t).inverse();
-        let gap = |q: &Point2| {
+        // (distance to the footprint, distance to the centre) of a point.
+        let gaps = |q: &Point2| {
             let l = inv * q;
             let dx = (l.x.abs() - half.x).max(0.0);
             let dy = (l.y.abs() - half.y).max(0.0);
-            (dx * dx + dy * dy).sqrt()
+            ((dx * dx + dy * dy).sqrt(), l.coords.norm())
         };
-        let seen = pts.iter().map(gap).fold(1.0, f64::min);
+        let least = |(a, b): (f64, f64), (c, d): (f64, f64)| (a.min(c), b.min(d));
+        let seen = pts.iter().map(gaps).fold((1.0, 1.5), least);
         let blind = self
             .scratch_blind
             .iter()
-            .map(|q| gap(q) - BLIND_MARGIN)
-            .fold(1.0, f64::min);
-        seen.min(blind)
+            .map(|q| {
+                let (side, centre) = gaps(q);
+                (side - BLIND_MARGIN, centre - BLIND_MARGIN)
+            })
+            .fold((1.0, 1.5), least);
+        let (side, centre) = least(seen, blind);
+        side + centre - self.footprint.circumradius()
     }
 
     /// The least distance between the footprint and the points `pts` (robot frame) while
