@@ -24,10 +24,11 @@
 //! has seen the whole region (57.9 m^2) by 215 s, and stopped at 335 s, nothing new seen for
 //! the idle timeout. Since its escape from a tight spot also weighs the room to turn on the
 //! spot (see `turn_beside_a_post.rs`), it gets between more of the barrels: it went on
-//! exploring the ground among them and, at 459 s, left the arena through a gap of one wall
-//! element in its west edge (x = -4.2 m, y = 6.6-7.8 m; nothing stands there in the file).
-//! That gap is closed here too. The run now stops at 797 s, explored: the ground among the
-//! barrels seen, no frontier left. Either way the run ends once there is nothing left to
+//! exploring the ground among them (outside the region, which counts only where the
+//! footprint's circle fits) and, at 459 s, left the arena through a gap of one wall element
+//! in its west edge (x = -4.2 m, y = 6.6-7.8 m; nothing stands there in the file). That gap
+//! is closed here too. The run now stops at 797 s, explored: the ground among the barrels
+//! seen too, no frontier left. Either way the run ends once there is nothing left to
 //! learn. (The rule of frontiers given up without gain has its own test, in the explorer's
 //! `travel`.)
 
@@ -82,6 +83,7 @@ fn the_run_ends_once_the_closed_region_is_seen() {
     assert_ne!(m.stop, StopReason::TimeLimit, "{m:?}");
     assert!(!m.left_arena, "{m:?}");
     // On its own, before the 15-minute limit (900 s): 797 s now; 335 s with the escape that
-    // kept the sides clearest, 680 s before the bend rule.
+    // kept the footprint clearest, 680 s before the bend rule.
     assert_eq!(m.stop, StopReason::Explored, "{m:?}");
+    assert!(m.sim_time_s < 850.0, "{m:?}");
 }

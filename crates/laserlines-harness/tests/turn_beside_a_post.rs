@@ -3,15 +3,16 @@
 //!
 //! The world is the start of seeded maze 103 with islands (`laserlines simulate --maze 103
 //! --islands`), closed above its third row of cells: from the start cell the way leads right,
-//! up, and back left into a cell with a post of 8.1 cm radius near its lower right corner, 0.43
-//! m from the wall beside it; the way on leads up past the post. Going round it, the robot
-//! stood beside the post facing the wall, too near it to turn on the spot (the footprint's
+//! up, and back left into the cell above the start, with a post of 8.1 cm radius near its
+//! lower right corner (its centre 0.33 m above the wall below it); the way on leads up past
+//! the post. Going round it, the robot stood facing the outer wall with its centre 0.45 m
+//! from the post's (0.37 m from its edge), too near to turn on the spot (the footprint's
 //! circumradius is 0.32 m, the safety margin 8 cm); the wanted turn and the safety layer's
 //! turn the other way alternated, and the escape, which chose the motion that left the
-//! footprint's sides clearest, moved it along the wall and back: the maze's run ended at
+//! footprint clearest all round, moved it along the wall and back: the maze's run ended at
 //! 152 s, nothing new seen, with coverage 0.051. The escape now adds the room to turn on the
 //! spot (the least distance from the robot's centre to a point, less the circumradius) to the
-//! sides' clearance.
+//! footprint's clearance.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 

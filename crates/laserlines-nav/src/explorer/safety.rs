@@ -174,9 +174,9 @@ impl Explorer {
     }
 
     /// Of short straight and curved motions either way, the safe one that ends with the most
-    /// room after `ESCAPE_S` ([`Explorer::room_after`]): clear sides, and room to turn on the
-    /// spot, so that a robot stuck where it cannot turn (a post beside a corner, a wall end)
-    /// moves to where it can.
+    /// room after `ESCAPE_S` ([`Explorer::room_after`]): clearance all round the footprint,
+    /// and room to turn on the spot, so that a robot stuck where it cannot turn (a post beside
+    /// a corner, a wall end) moves to where it can.
     fn escape_motion(&self, pts: &[Point2], rule: &SafeRule) -> Option<VelocityCommand> {
         let mut best: Option<(f64, VelocityCommand)> = None;
         for v in [0.15, -0.15] {
@@ -197,7 +197,11 @@ impl Explorer {
     /// The room around the robot after driving `c` for `t` seconds: the least distance
     /// between the footprint and the points `pts` (robot frame), plus the room to turn on the
     /// spot (the least distance from the robot's centre to a point, less the footprint's
-    /// circumradius). Points out of view count `BLIND_MARGIN` nearer in both.
+    /// circumradius). Points out of view count `BLIND_MARGIN` nearer in both. Only the near
+    /// points the safety layer holds count (within 0.5 m of the footprint's circle where the
+    /// robot stands now): a motion of up to 0.18 m can end with the nearest obstacle beyond
+    /// them, where the room is taken as at most 1 m and 1.5 m, so it ranks the motions that
+    /// end near an obstacle, which is what an escape has to tell apart.
     fn room_after(&self, pts: &[Point2], c: VelocityCommand, t: f64) -> f64 {
         let half = self.footprint.half();
         let inv = arc(c.linear_m_s * t, c.angular_rad_s * t).inverse();
@@ -303,7 +307,7 @@ fn floor_i32(x: f64) -> i32 {
 const ESCAPE_S: f64 = 1.2;
 
 /// Extra margin the safety layer keeps from points it remembers but does not see in this
-/// scan when turning or backing, m.
+/// scan when turning or backing (and counts in the room an escape ends with), m.
 const BLIND_MARGIN: f64 = 0.06;
 
 /// True for a command that turns or backs: toward points out of the laser's view.
