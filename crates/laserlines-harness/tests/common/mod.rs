@@ -37,3 +37,26 @@ pub fn arena_start(world: &World) -> Isometry2 {
 pub fn outline_of(world: &World) -> ArenaOutline {
     ArenaOutline::new(world)
 }
+
+/// Runs `world` from `start` with each of the laser and odometry noise seeds 0-9 for at most
+/// `duration_s`, asserting no collision and never leaving the arena, and counts the runs that
+/// got beyond `y` (m) and saw at least 95 % of the arena.
+pub fn runs_beyond(world: &World, start: Isometry2, duration_s: f64, y: f64) -> usize {
+    let mut through = 0;
+    for seed in 0..10 {
+        let config = laserlines_harness::RunConfig {
+            seed,
+            duration_s,
+            ..laserlines_harness::RunConfig::default()
+        };
+        let record = laserlines_harness::run(world, start, &config).expect("the run starts");
+        let m = &record.metrics;
+        assert_eq!(m.collisions, 0, "seed {seed}");
+        assert!(!m.left_arena, "seed {seed}");
+        let farthest = record.path.iter().map(|q| q.y).fold(f64::MIN, f64::max);
+        if farthest > y && m.coverage >= 0.95 {
+            through += 1;
+        }
+    }
+    through
+}
