@@ -4,14 +4,22 @@
 # error and stop reason, then per kind the mean coverage, the runs below 0.90 and below
 # 1.000, and the mean largest pose error.
 #
-#   scripts/maze_sweep.sh 30 109 [path/to/laserlines] > sweep.txt
+#   scripts/maze_sweep.sh 30 109 [path/to/laserlines] [-- SIMULATE OPTIONS] > sweep.txt
 #
-# The binary defaults to the release build of this checkout (cargo build --release).
+# The binary defaults to the release build of this checkout (cargo build --release). Options
+# after `--` go to every `laserlines simulate` run, e.g. `-- --params explorer.toml`.
 set -euo pipefail
 first=${1:?first maze seed}
 last=${2:?last maze seed}
+shift 2
 root=$(cd "$(dirname "$0")/.." && pwd)
-bin=${3:-$root/target/release/laserlines}
+bin=$root/target/release/laserlines
+if [ $# -gt 0 ] && [ "$1" != "--" ]; then
+  bin=$1
+  shift
+fi
+[ $# -gt 0 ] && [ "$1" = "--" ] && shift
+extra=("$@")
 [ -x "$bin" ] || { echo "maze_sweep: no laserlines binary at $bin (cargo build --release)" >&2; exit 2; }
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
@@ -27,7 +35,7 @@ for kind in islands diagonals; do
   n=0 sum_c=0 sum_e=0 low=0 short=0
   for m in $(seq "$first" "$last"); do
     if [ "$kind" = islands ]; then args=(--islands); else args=(--diagonals 8); fi
-    "$bin" simulate --maze "$m" "${args[@]}" -o "$out/run" > /dev/null
+    "$bin" simulate --maze "$m" "${args[@]}" ${extra[@]+"${extra[@]}"} -o "$out/run" > /dev/null
     c=$(number coverage "$out/run/metrics.json")
     e=$(number max_pose_error_m "$out/run/metrics.json")
     s=$(sed -n 's/^  "stop": "\([a-z_]*\)",\{0,1\}$/\1/p' "$out/run/metrics.json")
