@@ -205,7 +205,8 @@ pub struct TravelParams {
     /// Speed on the way to a frontier, m/s. Default 0.5.
     pub speed: f64,
     /// A frontier whose path the robot has not shortened by 0.2 m for this long is given up, s.
-    /// Default 12.
+    /// Default 30: at a post in a corridor the robot may need a few escapes and a turn before
+    /// its path gets shorter.
     pub give_up_s: f64,
     /// A re-plan keeps its frontier while its path is at most this much longer than the
     /// path to the nearest one, m. Default 1.
@@ -226,7 +227,7 @@ pub struct TravelParams {
     /// given up while the map grew by less than [`TravelParams::fruitless_gain_m2`], the
     /// exploration is complete: what is left lies beyond gaps the robot sees through but
     /// cannot pass, and the few cells each scan through them adds would keep it trying for
-    /// ever. Default 6; 0 never.
+    /// ever. Default 3 (about 90 s of fruitless trying with the default `give_up_s`); 0 never.
     pub fruitless_give_ups: usize,
     /// Growth of the map's known area that starts the count of fruitless give-ups afresh,
     /// m^2. Default 1.
@@ -247,13 +248,13 @@ impl Default for TravelParams {
             replan_s: 2.0,
             lookahead_m: 0.5,
             speed: 0.5,
-            give_up_s: 12.0,
+            give_up_s: 30.0,
             hysteresis_m: 1.0,
             avoid_radius_m: 0.6,
             retries: 2,
             blocked_radius_m: 0.3,
             blocked_s: 90.0,
-            fruitless_give_ups: 6,
+            fruitless_give_ups: 3,
             fruitless_gain_m2: 1.0,
             tight_clearance_m: 0.2,
         }
