@@ -109,7 +109,23 @@ fn simulate_reports_the_arena_and_a_robot_out_of_it() {
     );
     assert_eq!(out["left_arena"], false);
     assert_eq!(out["coverage_region"], "bounds");
-    assert!(out["coverage"].as_f64().unwrap() < 0.25, "{out}");
+    assert!(out["coverage"].as_f64().unwrap() < 0.25, "{out}"); // --fence: the arena's bounds as the explorer's fence (its effect: tests of
+    // laserlines-harness, fence.rs).
+    let fenced = simulate_args(
+        "fence",
+        &["--arena", "rc_2015_arena_big", "--fence", "--duration", "5"],
+    );
+    assert_eq!(fenced["collisions"], 0);
+    assert_eq!(fenced["left_arena"], false);
+    // Its bounds, x -9.0..9.0 and y -0.6..16.2 m, seen from the start at the origin.
+    let fence = &fenced["fence"];
+    assert_eq!(
+        fence["half_extent"],
+        serde_json::json!([9.0, 8.4]),
+        "{fence}"
+    );
+    assert_eq!(fence["centre"], serde_json::json!([0.0, 7.8]), "{fence}");
+    assert!(m["fence"].is_null());
 }
 
 #[test]
@@ -261,6 +277,10 @@ fn simulate_takes_robot_and_explorer_settings_from_a_params_file() {
             "[simulator] physics_dt_s",
         ),
         ("[robot]\nfootprint_width = 0.4\n", "footprint_width"),
+        (
+            "[explorer.fence]\ncentre = [0.0, 0.0]\nhalf_extent = [0.0, 3.0]\nyaw = 0.0\n",
+            "fence.half_extent",
+        ),
     ] {
         std::fs::write(&params, body).unwrap();
         let o = bin()

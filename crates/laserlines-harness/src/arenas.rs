@@ -9,7 +9,10 @@
 
 use std::path::Path;
 
-use laserlines_sim::arena::{Arena, ArenaError, ArenaOptions, load_raf, parse_raf};
+use laserlines::math::Isometry2;
+use laserlines_nav::Fence;
+use laserlines_sim::World;
+use laserlines_sim::arena::{Arena, ArenaError, ArenaOptions, ArenaOutline, load_raf, parse_raf};
 
 /// `maze_10m_x_14m.raf`: a pure maze of 113 wall elements.
 pub const MAZE_10M_X_14M: &str = include_str!("../../../data/arenas/maze_10m_x_14m.raf");
@@ -83,4 +86,13 @@ pub fn load(which: &str, options: &ArenaOptions) -> Result<Arena, LoadError> {
         Some(arena) => Ok(arena?),
         None => Err(LoadError::NotFound(which.to_owned())),
     }
+}
+
+/// The fence an operator who knows the arena's extent gives the explorer: the bounds of the
+/// world's largest group of walls ([`ArenaOutline::bounds`]) in the map frame of a robot
+/// starting at `start` (world frame); `None` for a world without walls.
+#[must_use]
+pub fn fence_of(world: &World, start: &Isometry2) -> Option<Fence> {
+    let (lo, hi) = ArenaOutline::new(world).bounds()?;
+    Some(Fence::from_box(lo, hi, start))
 }

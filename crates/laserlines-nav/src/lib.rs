@@ -38,6 +38,7 @@
 //! ```
 
 pub mod explorer;
+pub mod fence;
 pub mod map;
 pub mod planner;
 pub mod raster;
@@ -47,6 +48,7 @@ pub use explorer::{
     Decision, Explorer, ExplorerParams, FollowParams, LoopParams, MapParams, MatchParams, Mode,
     SafetyParams, TravelParams, WallSide,
 };
+pub use fence::Fence;
 pub use map::{CellState, RobotMap};
 pub use planner::{Plan, Planner, PlannerParams};
 pub use sectors::{Sector, SectorObject, SectorObjects, SectorParams, select_objects};

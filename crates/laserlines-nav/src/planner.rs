@@ -30,6 +30,7 @@ use std::collections::BinaryHeap;
 
 use laserlines::math::Point2;
 
+use crate::fence::Fence;
 use crate::map::{CellState, RobotMap};
 use crate::raster::floor_i64;
 
@@ -135,6 +136,8 @@ pub struct Planner {
     /// Spots the robot could not pass (map frame) and the radius closed around each, m.
     blocked: Vec<Point2>,
     blocked_radius: f64,
+    /// The fence the paths keep inside (see [`crate::fence`]).
+    fence: Option<Fence>,
 }
 
 impl Planner {
@@ -160,6 +163,12 @@ impl Planner {
         };
     }
 
+    /// Keeps the paths planned from now on inside `fence` (none: no fence): the cells beyond
+    /// it count as walls, not as unknown ground. A robot outside the fence plans without it.
+    pub fn set_fence(&mut self, fence: Option<Fence>) {
+        self.fence = fence;
+    }
+
     /// The path from `from` (map frame) to the nearest frontier of `map` that is farther
     /// than `avoid_radius` from every point of `avoid`; `None` when no such frontier can be
     /// reached. When `keep` is a frontier within `hysteresis_m` of path length of the
@@ -175,6 +184,9 @@ impl Planner {
         params: &PlannerParams,
     ) -> Option<Plan> {
         let win = self.load_window(map)?;
+        if let Some(fence) = self.fence.filter(|f| f.contains(from)) {
+            self.close_outside(map, &win, &fence);
+        }
         self.chamfer_clearance(&win);
         self.count_unknowns(&win);
         let start = win.cell_of(map, from)?;
@@ -214,6 +226,15 @@ impl Planner {
                 .extend((row..row + win.w).map(|c| map.state_at(c) as u8));
         }
         Some(win)
+    }
+
+    /// The window's cells whose centres lie outside `fence` become walls.
+    fn close_outside(&mut self, map: &RobotMap, win: &Window, fence: &Fence) {
+        for k in 0..self.state.len() {
+            if !fence.contains(win.centre(map, k)) {
+                self.state[k] = OCCUPIED;
+            }
+        }
     }
 
     /// Clearance: chamfer distance transform from the occupied cells, two passes.

@@ -66,6 +66,12 @@ pub struct SimulateArgs {
     /// `[hough-split]` (the line extractor); keys as in the README.
     #[arg(long, value_name = "FILE.toml")]
     params: Option<PathBuf>,
+    /// Keep the robot inside the arena's bounds (the bounding box of its largest group of
+    /// walls), as an operator who knows the arena's extent would: a virtual wall that the
+    /// explorer follows and does not cross (`[explorer.fence]` in the params file sets any
+    /// other rectangle). For arenas open at their entrance or with gaps in the outer wall.
+    #[arg(long)]
+    pub fence: bool,
     /// Also record the run as MCAP for Foxglove: arena, true and estimated poses, scans,
     /// lines, sector objects and the explorer's goal.
     #[arg(long, value_name = "FILE")]
@@ -157,7 +163,7 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
         }
         None => default_start,
     };
-    let config = RunConfig {
+    let mut config = RunConfig {
         robot,
         explorer: file.read_valid(
             "explorer",
@@ -173,6 +179,12 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
         record_lines_every: 30,
         extraction_thread: false,
     };
+    if args.fence {
+        config.explorer.fence = Some(
+            arenas::fence_of(&world, &start)
+                .with_context(|| format!("--fence: {name} has no walls to take bounds from"))?,
+        );
+    }
     Ok(Setup {
         name,
         world,
@@ -316,6 +328,9 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
             .as_ref()
             .map_or_else(String::new, |p| format!(", {}", p.display()))
     );
+    if m.left_arena && setup.config.explorer.fence.is_none() {
+        outln!("  the robot left the arena: --fence keeps it inside the arena's bounds");
+    }
 }
 
 /// The simulated robot: its description from `[robot]`, the simulator's settings from
@@ -463,6 +478,10 @@ fn metrics_json(
         map.insert("world".to_owned(), name.into());
         map.insert("seed".to_owned(), args.seed.into());
         map.insert("params".to_owned(), params.into());
+        map.insert(
+            "fence".to_owned(),
+            serde_json::to_value(setup.config.explorer.fence)?,
+        );
         map.insert(
             "start".to_owned(),
             serde_json::json!([s.x, s.y, start.rotation.angle().to_degrees()]),

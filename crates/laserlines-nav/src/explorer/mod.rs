@@ -80,6 +80,11 @@
 //! rest lies beyond gaps it cannot pass), or when its map has gained nothing for
 //! `idle_timeout_s`.
 //!
+//! **Fence.** With [`ExplorerParams::fence`] set, the rectangle is one more wall wherever
+//! the laser would see it: its lines join the scan's for the sectors and the wall follower,
+//! its points near the robot join the safety layer's, and the planner closes the ground
+//! beyond it (see [`crate::fence`]).
+//!
 //! **On a real robot** the loop is the simulator's without the simulator: for each scan of
 //! the laser, the odometry pose at its time, the lines, one decision, one velocity command
 //! to the drive. [`RobotDescription`] describes the robot (footprint, limits, the laser's mount).
@@ -130,6 +135,8 @@ use laserlines::Line;
 use laserlines::Scan;
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines::robot::{Footprint, RobotDescription, VelocityCommand};
+
+use crate::fence::fence_lines;
 
 mod follow;
 mod loops;
@@ -261,6 +268,8 @@ pub struct Explorer {
     explored: bool,
     /// The scan's beam directions, laser frame.
     beams: BeamTable,
+    /// The fence as the last scan sees it, laser frame (see [`crate::fence`]).
+    fence_lines: Vec<Line>,
 }
 
 impl Explorer {
@@ -290,7 +299,11 @@ impl Explorer {
             scratch_blind: Vec::new(),
             blind: (Vector2::zeros(), Vector2::zeros(), false),
             map: RobotMap::new(),
-            planner: Planner::new(),
+            planner: {
+                let mut planner = Planner::new();
+                planner.set_fence(params.fence);
+                planner
+            },
             tracker: Tracker::new(
                 params
                     .matching
@@ -310,6 +323,7 @@ impl Explorer {
             frontiers: 0,
             explored: false,
             beams: BeamTable::default(),
+            fence_lines: Vec::new(),
         }
     }
 
@@ -390,6 +404,11 @@ impl Explorer {
         self.localise_and_map(scan, odom_from_robot, time_s);
         let map_from_robot = self.map_from_robot;
         self.remember(scan, &map_from_robot);
+        self.fence_lines.clear();
+        if let Some(fence) = &self.params.fence {
+            let map_from_laser = map_from_robot * self.robot_from_laser;
+            fence_lines(fence, scan, &map_from_laser, &mut self.fence_lines);
+        }
     }
 
     /// The second half of [`Explorer::on_scan`], after [`Explorer::sense`] of the scan
@@ -399,6 +418,14 @@ impl Explorer {
         // From here on the robot works in its map frame: the scan-matched pose is true to
         // the millimetre where the odometry slips by centimetres (turning on the spot).
         let map_from_robot = self.map_from_robot;
+        // The fence, where the laser would see it, is one more wall.
+        let fenced: Vec<Line>;
+        let lines = if self.fence_lines.is_empty() {
+            lines
+        } else {
+            fenced = lines.iter().chain(&self.fence_lines).copied().collect();
+            &fenced
+        };
         let objects = select_objects(lines, &self.robot_from_laser, &self.params.sectors);
         let robot_lines: Vec<(Point2, Point2)> = lines
             .iter()

@@ -8,6 +8,7 @@ use laserlines::math::Isometry2;
 use laserlines::params::{self, ParamsError};
 use laserlines_slam::{Se2, TrackerParams};
 
+use crate::fence::Fence;
 use crate::planner::PlannerParams;
 use crate::sectors::{Sector, SectorParams};
 
@@ -362,6 +363,10 @@ pub struct ExplorerParams {
     pub matching: MatchParams,
     /// The planner.
     pub planner: PlannerParams,
+    /// A rectangle in the map frame that the robot keeps inside (see [`crate::fence`]).
+    /// Default none.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub fence: Option<Fence>,
 }
 
 impl Default for ExplorerParams {
@@ -377,6 +382,7 @@ impl Default for ExplorerParams {
             sectors: SectorParams::default(),
             matching: MatchParams::default(),
             planner: PlannerParams::default(),
+            fence: None,
         }
     }
 }
@@ -416,6 +422,9 @@ impl ExplorerParams {
             params::non_negative(field, v)?;
         }
         params::at_least("map.every", self.map.every, 1)?;
+        if let Some(fence) = &self.fence {
+            fence.validate()?;
+        }
         self.validate_travel()?;
         self.validate_parts()
     }

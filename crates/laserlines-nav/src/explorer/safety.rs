@@ -138,6 +138,15 @@ impl Explorer {
                 }
             }
         }
+        // The fence is exact: its points count as seen.
+        let at = Point2::from(map_from_robot.translation.vector);
+        if let Some(fence) = self.params.fence.filter(|f| f.contains(at)) {
+            let start = pts.len();
+            fence.points_near(at, reach, MEMORY_CELL, &mut pts);
+            for q in &mut pts[start..] {
+                *q = robot_from_map * *q;
+            }
+        }
         self.scratch_blind = blind;
         pts
     }
