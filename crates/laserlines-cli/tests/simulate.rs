@@ -126,6 +126,13 @@ fn simulate_reports_the_arena_and_a_robot_out_of_it() {
     );
     assert_eq!(fence["centre"], serde_json::json!([0.0, 7.8]), "{fence}");
     assert!(m["fence"].is_null());
+    // The map picture draws it (and only when there is one).
+    let picture = |tag: &str| {
+        let dir = std::env::temp_dir().join(format!("laserlines-{tag}-{}", std::process::id()));
+        std::fs::read_to_string(dir.join("map.svg")).unwrap()
+    };
+    assert!(picture("fence").contains("class=\"fence\""));
+    assert!(!picture("go2011").contains("class=\"fence\""));
 }
 
 #[test]

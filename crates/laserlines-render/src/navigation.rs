@@ -34,6 +34,8 @@ pub struct ExplorationMap<'a> {
     pub robot_map: &'a [Point2],
     /// Centres of the arena's free coverage cells (0.1 m) never seen.
     pub unseen: &'a [Point2],
+    /// The corners of the explorer's fence, in order (none: no fence).
+    pub fence: &'a [Point2],
 }
 
 const WALL: Color = Color::INK;
@@ -43,6 +45,7 @@ const SEEN: Color = Color::BLUE;
 const SELECTED: Color = Color::rgb(0x10, 0x3c, 0xd6);
 const ROBOT_MAP: Color = Color::rgb(0xf5, 0xa6, 0x23);
 const UNSEEN: Color = Color::rgb(0xe0, 0x40, 0x40);
+const FENCE: Color = Color::rgb(0x8e, 0x44, 0xad);
 
 /// A path drawn with points at least 15 cm apart (and its last point): a third of the
 /// scans' points at full speed, no visible corner cut at the picture's scale.
@@ -102,6 +105,15 @@ fn exploration_panel(map: &ExplorationMap<'_>) -> Panel {
         cell_px,
         &Style::fill(UNSEEN).with_opacity(0.6).with_class("unseen"),
     );
+    if let Some(&first) = map.fence.first() {
+        let closed: Vec<Point2> = map.fence.iter().copied().chain([first]).collect();
+        panel.polyline(
+            &closed,
+            &Style::stroke(FENCE, 1.6)
+                .with_dash(8.0, 4.0)
+                .with_class("fence"),
+        );
+    }
     let wall = Style::stroke(WALL, 2.2).with_class("wall");
     for &(a, b) in map.walls {
         panel.line(a, b, &wall);
@@ -170,6 +182,12 @@ fn exploration_legend(canvas: &mut Canvas, map: &ExplorationMap<'_>) {
         canvas.add_legend(LegendEntry::new(
             Swatch::Marker(Marker::Square, 8.0, Style::fill(UNSEEN)),
             "arena cells never seen",
+        ));
+    }
+    if !map.fence.is_empty() {
+        canvas.add_legend(LegendEntry::new(
+            Swatch::Line(Style::stroke(FENCE, 1.6).with_dash(8.0, 4.0)),
+            "fence the robot keeps inside, placed by its start",
         ));
     }
     canvas.add_legend(LegendEntry::new(

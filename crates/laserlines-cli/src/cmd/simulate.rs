@@ -264,7 +264,7 @@ fn write_outputs(args: &SimulateArgs, setup: &Setup, record: &RunRecord) -> Resu
         format!("{:#}\n", metrics_json(name, args, setup, record)?),
     )?;
     let map = args.output.join("map.svg");
-    write(&map, map_figure(name, &setup.world, setup.start, record))?;
+    write(&map, map_figure(name, setup, record))?;
     let sectors = match &record.snapshot {
         Some(snap) => {
             let path = args.output.join("sectors.svg");
@@ -507,7 +507,8 @@ fn metrics_json(
 }
 
 /// The paper's Fig. 8 of the run.
-fn map_figure(name: &str, world: &World, start: Isometry2, record: &RunRecord) -> String {
+fn map_figure(name: &str, setup: &Setup, record: &RunRecord) -> String {
+    let (world, start) = (&setup.world, setup.start);
     let m = &record.metrics;
     let title = format!(
         "{name}: coverage {:.1} %, {} collisions, {:.0} m in {:.0} s",
@@ -524,6 +525,13 @@ fn map_figure(name: &str, world: &World, start: Isometry2, record: &RunRecord) -
         .into_iter()
         .map(|p| start * p)
         .collect();
+    // The fence, placed by the start pose as the robot's map is.
+    let fence: Vec<Point2> = setup
+        .config
+        .explorer
+        .fence
+        .map(|f| f.corners().map(|c| start * c).to_vec())
+        .unwrap_or_default();
     exploration_map_svg(&ExplorationMap {
         title: &title,
         walls: &walls,
@@ -535,6 +543,7 @@ fn map_figure(name: &str, world: &World, start: Isometry2, record: &RunRecord) -
         lines_seen: &record.lines_seen,
         robot_map: &robot_map,
         unseen: &record.unseen,
+        fence: &fence,
     })
 }
 
