@@ -90,9 +90,11 @@ pub fn load(which: &str, options: &ArenaOptions) -> Result<Arena, LoadError> {
 
 /// The fence an operator who knows the arena's extent gives the explorer: the bounds of the
 /// world's largest group of walls ([`ArenaOutline::bounds`]) in the map frame of a robot
-/// starting at `start` (world frame); `None` for a world without walls.
+/// starting at `start` (world frame); `None` for a world without walls, or whose walls lie
+/// on one straight line.
 #[must_use]
 pub fn fence_of(world: &World, start: &Isometry2) -> Option<Fence> {
     let (lo, hi) = ArenaOutline::new(world).bounds()?;
-    Some(Fence::from_box(lo, hi, start))
+    let fence = Fence::from_box(lo, hi, start);
+    fence.validate().is_ok().then_some(fence)
 }

@@ -10,8 +10,13 @@
 //! - its points near the robot join the safety layer's ([`Fence::points_near`]);
 //! - the planner closes the cells beyond it and never takes them for unknown ground.
 //!
-//! The map is the laser's alone: the fence is never written into it. A robot that finds
-//! itself outside the fence (it started there) is not held by it.
+//! The map is the laser's alone: the fence is never written into it. The fence acts while the
+//! robot's own estimate of where it stands lies inside it: a robot whose estimate is outside
+//! (it started there, or its estimate drifted across) is not held by it. The lines it adds may
+//! cover beams that a real line of the same scan covers too (a beam whose return lies beyond
+//! the fence).
+
+use std::f64::consts::PI;
 
 use laserlines::Line;
 use laserlines::Scan;
@@ -22,7 +27,8 @@ use laserlines::params::{self, ParamsError};
 /// (a real wall standing on the fence is not doubled by it).
 const NEARER_BY: f64 = 0.05;
 
-/// A rectangle in the map frame (the frame of the robot's start pose), m and rad.
+/// A rectangle in the explorer's map frame, m and rad: the odometry frame at the first scan,
+/// which is the robot's start pose when its odometry starts at zero (as in the simulator).
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(
     feature = "serde",
@@ -39,8 +45,9 @@ pub struct Fence {
 }
 
 impl Fence {
-    /// The axis-aligned box `lo`..`hi` of a frame `world` as a fence in the map frame,
-    /// where the robot starts at `world_from_start` (its start pose in `world`).
+    /// The axis-aligned box `lo`..`hi` of a frame `world` as a fence in the map frame of a
+    /// robot that starts at `world_from_start` (its start pose in `world`) with its odometry
+    /// at zero.
     #[must_use]
     pub fn from_box(lo: Point2, hi: Point2, world_from_start: &Isometry2) -> Self {
         let centre = world_from_start.inverse() * Point2::from((lo.coords + hi.coords) * 0.5);
@@ -65,16 +72,28 @@ impl Fence {
 
     /// `p` (map frame) in the rectangle's own axes, from its centre.
     fn local(&self, p: Point2) -> Vector2 {
+        self.local_with(p, self.yaw.sin_cos())
+    }
+
+    /// [`Fence::local`] with the yaw's sine and cosine given.
+    fn local_with(&self, p: Point2, (s, c): (f64, f64)) -> Vector2 {
         let d = Vector2::new(p.x - self.centre[0], p.y - self.centre[1]);
-        let (s, c) = self.yaw.sin_cos();
         Vector2::new(c * d.x + s * d.y, -s * d.x + c * d.y)
     }
 
     /// True when `p` (map frame) lies inside the fence.
     #[must_use]
     pub fn contains(&self, p: Point2) -> bool {
-        let q = self.local(p);
-        q.x.abs() < self.half_extent[0] && q.y.abs() < self.half_extent[1]
+        self.inside_test()(p)
+    }
+
+    /// [`Fence::contains`] as a function, for many points (the yaw's sine and cosine once).
+    pub fn inside_test(&self) -> impl Fn(Point2) -> bool + '_ {
+        let sc = self.yaw.sin_cos();
+        move |p| {
+            let q = self.local_with(p, sc);
+            q.x.abs() < self.half_extent[0] && q.y.abs() < self.half_extent[1]
+        }
     }
 
     /// The corners, map frame, counter-clockwise; side `k` runs from corner `k` to `k + 1`.
@@ -90,8 +109,9 @@ impl Fence {
         })
     }
 
-    /// Where a ray from `origin` (map frame, inside the fence) along the unit vector `dir`
-    /// leaves it: the distance, m, and the side. `None` from outside the fence.
+    /// Where a ray from `origin` (map frame, inside the fence) along `dir` leaves it: the
+    /// distance in lengths of `dir` (m for a unit vector), and the side. `None` from outside
+    /// the fence, or for a `dir` that is zero or not finite.
     #[must_use]
     pub fn ray_exit(&self, origin: Point2, dir: Vector2) -> Option<(f64, usize)> {
         if !self.contains(origin) {
@@ -205,11 +225,13 @@ fn exact_line(first: usize, a: Point2, last: usize, b: Point2) -> Line {
         n = -n;
         r = -r;
     }
+    // `Line`'s angles lie in (-pi, pi]: -0.0 from a negated normal would give -pi.
+    let alpha = n.y.atan2(n.x);
     Line {
         start: a,
         end: b,
         r,
-        alpha: n.y.atan2(n.x),
+        alpha: if alpha <= -PI { PI } else { alpha },
         first,
         last,
         points: last - first + 1,
@@ -233,7 +255,7 @@ mod tests {
 
     #[test]
     fn a_box_seen_from_a_turned_start_is_the_same_rectangle() {
-        let start = Isometry2::new(Vector2::new(1.0, 1.0), std::f64::consts::FRAC_PI_2);
+        let start = Isometry2::new(Vector2::new(1.0, 1.0), 0.3);
         let f = Fence::from_box(Point2::new(0.0, 0.0), Point2::new(4.0, 2.0), &start);
         // The world point (3.9, 1.9) is inside, (4.1, 1.0) and (2.0, -0.1) are not.
         let inv = start.inverse();
@@ -329,5 +351,61 @@ mod tests {
         let outside = Isometry2::new(Vector2::new(4.0, 0.0), 0.0);
         fence_lines(&f, &scan, &outside, &mut lines);
         assert!(lines.is_empty());
+    }
+    #[test]
+    fn lines_of_a_turned_fence_seen_from_a_moved_laser_lie_on_it() {
+        let f = Fence {
+            centre: [0.5, -0.3],
+            half_extent: [2.5, 1.5],
+            yaw: 0.4,
+        };
+        let map_from_laser = Isometry2::new(Vector2::new(0.3, -0.2), 0.7);
+        // All round, no returns: every side is seen, each as one line or (where the scan's
+        // first and last beams meet) two.
+        let n = 360;
+        let scan = Scan::new(-PI, 2.0 * PI / n as f64, 0.02, 5.6, vec![f64::NAN; n]).unwrap();
+        let mut lines = Vec::new();
+        fence_lines(&f, &scan, &map_from_laser, &mut lines);
+        assert!((4..=5).contains(&lines.len()), "{lines:?}");
+        let at = f.local(Point2::from(map_from_laser.translation.vector));
+        let mut sides = [false; 4];
+        for l in &lines {
+            let (a, b) = (
+                f.local(map_from_laser * l.start),
+                f.local(map_from_laser * l.end),
+            );
+            // Both ends on one side; `r` is the laser's distance to that side's line.
+            let side = [
+                (a.x - 2.5, b.x - 2.5, 2.5 - at.x),
+                (a.y - 1.5, b.y - 1.5, 1.5 - at.y),
+                (a.x + 2.5, b.x + 2.5, at.x + 2.5),
+                (a.y + 1.5, b.y + 1.5, at.y + 1.5),
+            ]
+            .iter()
+            .position(|&(da, db, _)| da.abs() < 1e-9 && db.abs() < 1e-9)
+            .unwrap_or_else(|| panic!("{l:?} off the fence"));
+            sides[side] = true;
+            let expected = [2.5 - at.x, 1.5 - at.y, at.x + 2.5, at.y + 1.5][side];
+            assert!((l.r - expected).abs() < 1e-9, "{l:?}: r {expected}");
+            let normal = Vector2::new(l.alpha.cos(), l.alpha.sin());
+            assert!((l.start.coords.dot(&normal) - l.r).abs() < 1e-9, "{l:?}");
+            assert!(l.alpha > -PI && l.alpha <= PI);
+        }
+        assert_eq!(sides, [true; 4]);
+    }
+
+    #[test]
+    fn a_side_straight_behind_the_laser_has_alpha_pi() {
+        let f = room();
+        // Facing +x, the side x = -1 seen by beams round 180 deg.
+        let n = 361;
+        let scan = Scan::new(-PI, 2.0 * PI / 360.0, 0.02, 5.6, vec![f64::NAN; n]).unwrap();
+        let mut lines = Vec::new();
+        fence_lines(&f, &scan, &Isometry2::identity(), &mut lines);
+        let behind: Vec<&Line> = lines.iter().filter(|l| (l.r - 1.0).abs() < 1e-9).collect();
+        assert!(!behind.is_empty(), "{lines:?}");
+        for l in behind {
+            assert_eq!(l.alpha, PI, "{l:?}");
+        }
     }
 }

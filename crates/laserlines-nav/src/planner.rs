@@ -230,8 +230,9 @@ impl Planner {
 
     /// The window's cells whose centres lie outside `fence` become walls.
     fn close_outside(&mut self, map: &RobotMap, win: &Window, fence: &Fence) {
+        let inside = fence.inside_test();
         for k in 0..self.state.len() {
-            if !fence.contains(win.centre(map, k)) {
+            if !inside(win.centre(map, k)) {
                 self.state[k] = OCCUPIED;
             }
         }

@@ -69,7 +69,8 @@ pub struct SimulateArgs {
     /// Keep the robot inside the arena's bounds (the bounding box of its largest group of
     /// walls), as an operator who knows the arena's extent would: a virtual wall that the
     /// explorer follows and does not cross (`[explorer.fence]` in the params file sets any
-    /// other rectangle). For arenas open at their entrance or with gaps in the outer wall.
+    /// other rectangle; this flag replaces it). For arenas open at their entrance or with gaps
+    /// in the outer wall.
     #[arg(long)]
     pub fence: bool,
     /// Also record the run as MCAP for Foxglove: arena, true and estimated poses, scans,
@@ -180,10 +181,9 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
         extraction_thread: false,
     };
     if args.fence {
-        config.explorer.fence = Some(
-            arenas::fence_of(&world, &start)
-                .with_context(|| format!("--fence: {name} has no walls to take bounds from"))?,
-        );
+        config.explorer.fence = Some(arenas::fence_of(&world, &start).with_context(|| {
+            format!("--fence: {name} has no walls that bound an area to take as the fence")
+        })?);
     }
     Ok(Setup {
         name,
