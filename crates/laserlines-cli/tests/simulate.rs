@@ -172,7 +172,11 @@ fn simulate_records_the_run_as_mcap() {
 
     let dir = std::env::temp_dir().join(format!("laserlines-simulate-mcap-{}", std::process::id()));
     let mcap_path = dir.join("run.mcap");
-    let (m, _) = simulate_ok(&dir, "3", &["--mcap".as_ref(), mcap_path.as_os_str()]);
+    let (m, _) = simulate_ok(
+        &dir,
+        "3",
+        &["--mcap".as_ref(), mcap_path.as_os_str(), "--fence".as_ref()],
+    );
     let scans = m["scans"].as_u64().unwrap();
     assert_eq!(scans, 30, "3 s at 10 Hz");
 
@@ -205,7 +209,20 @@ fn simulate_records_the_run_as_mcap() {
         .unwrap()
         .unwrap();
     let walls = SceneUpdate::decode(by_topic["/arena"][0].as_slice()).unwrap();
-    assert_eq!(by_topic["/arena"].len(), 1);
+    assert_eq!(by_topic["/arena"].len(), 2);
+    // Then the fence (--fence): the arena's bounds as a closed line of four sides.
+    let fence = SceneUpdate::decode(by_topic["/arena"][1].as_slice()).unwrap();
+    assert_eq!(fence.entities[0].id, "fence");
+    let corners = &fence.entities[0].lines[0].points;
+    assert_eq!(corners.len(), 8);
+    let (lo, hi) = laserlines_sim::arena::ArenaOutline::new(&arena.world)
+        .bounds()
+        .unwrap();
+    for p in corners {
+        let on_x = (p.x - lo.x).abs() < 1e-9 || (p.x - hi.x).abs() < 1e-9;
+        let on_y = (p.y - lo.y).abs() < 1e-9 || (p.y - hi.y).abs() < 1e-9;
+        assert!(on_x && on_y, "{p:?}");
+    }
     assert_eq!(
         walls.entities[0].lines[0].points.len(),
         2 * arena.world.walls.len()

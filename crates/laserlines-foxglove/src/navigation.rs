@@ -148,6 +148,30 @@ impl NavRecorder {
         })
     }
 
+    /// Writes the explorer's fence (its corners in order, world frame) to the arena topic as
+    /// the entity `fence`: a closed purple line.
+    ///
+    /// # Errors
+    /// When the file cannot be written.
+    pub fn write_fence(&mut self, corners: &[Point2]) -> Result<(), WriteError> {
+        let points = corners
+            .iter()
+            .zip(corners.iter().cycle().skip(1))
+            .flat_map(|(&a, &b)| [point3(a), point3(b)])
+            .collect();
+        let update = SceneUpdate {
+            deletions: Vec::new(),
+            entities: vec![SceneEntity {
+                timestamp: Some(timestamp(0.0)),
+                frame_id: WORLD_FRAME.to_owned(),
+                id: "fence".to_owned(),
+                lines: vec![line_list(points, color(0.56, 0.27, 0.68, 1.0), 2.0)],
+                ..SceneEntity::default()
+            }],
+        };
+        self.writer.write_message(ARENA_TOPIC, &update, 0.0)
+    }
+
     /// Writes the summary; returns the first error of the recording, if any, and the number
     /// of scans written.
     ///

@@ -214,16 +214,23 @@ fn progress_bar(duration_s: f64) -> ProgressBar {
 fn explore(args: &SimulateArgs, setup: &Setup) -> Result<(RunRecord, Option<u64>)> {
     let progress = progress_bar(args.duration);
     let mcap = match &args.mcap {
-        Some(path) => Some(
-            NavRecorder::create(
+        Some(path) => {
+            let mut recorder = NavRecorder::create(
                 path,
                 &walls_of(&setup.world),
                 &discs_of(&setup.world),
                 setup.config.robot.robot.footprint,
                 setup.start,
             )
-            .with_context(|| format!("cannot record the run to {}", path.display()))?,
-        ),
+            .with_context(|| format!("cannot record the run to {}", path.display()))?;
+            let fence = fence_corners(setup);
+            if !fence.is_empty() {
+                recorder
+                    .write_fence(&fence)
+                    .with_context(|| format!("cannot record the run to {}", path.display()))?;
+            }
+            Some(recorder)
+        }
         None => None,
     };
     let mut watch = Watch {
@@ -525,13 +532,7 @@ fn map_figure(name: &str, setup: &Setup, record: &RunRecord) -> String {
         .into_iter()
         .map(|p| start * p)
         .collect();
-    // The fence, placed by the start pose as the robot's map is.
-    let fence: Vec<Point2> = setup
-        .config
-        .explorer
-        .fence
-        .map(|f| f.corners().map(|c| start * c).to_vec())
-        .unwrap_or_default();
+    let fence = fence_corners(setup);
     exploration_map_svg(&ExplorationMap {
         title: &title,
         walls: &walls,
@@ -545,6 +546,17 @@ fn map_figure(name: &str, setup: &Setup, record: &RunRecord) -> String {
         unseen: &record.unseen,
         fence: &fence,
     })
+}
+
+/// The explorer's fence as corners in the world frame, placed by the start pose as the
+/// robot's map is (none without a fence).
+fn fence_corners(setup: &Setup) -> Vec<Point2> {
+    setup
+        .config
+        .explorer
+        .fence
+        .map(|f| f.corners().map(|c| setup.start * c).to_vec())
+        .unwrap_or_default()
 }
 
 /// The world's walls by their end points.
