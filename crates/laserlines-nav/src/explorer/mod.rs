@@ -64,7 +64,10 @@
 //! field of view, and the ends of thin walls seen end-on, are not forgotten. Points not seen
 //! in this scan count 6 cm nearer when the robot turns or backs (an obstacle's far side
 //! may reach nearer than the side that was seen). A command is safe when the footprint
-//! stays `safety.margin` clear; where the robot already stands nearer, when it comes no
+//! stays `safety.margin` clear (`safety.turn_margin`, by default the same, for a turn on the
+//! spot, whose corners sweep a circle about the centre: with a smaller one the robot beside a
+//! wall or a post can still turn where it stands); where the robot already stands nearer,
+//! when it comes no
 //! nearer (and keeps 2 cm), so that it can leave a tight spot. Otherwise slower versions,
 //! turning on the spot, creeping turns and turning the other way are tried, in that order;
 //! a robot whose wanted motion stays blocked for about a second *escapes*: of short straight

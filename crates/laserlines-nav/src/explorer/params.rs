@@ -115,6 +115,12 @@ impl Default for FollowParams {
 pub struct SafetyParams {
     /// Margin the safety layer keeps around the footprint, m. Default 0.08.
     pub margin: f64,
+    /// Margin kept while turning on the spot, m (at most `margin`). The footprint's corners
+    /// then sweep a circle about its centre, with nothing carried ahead, so that with a
+    /// smaller margin a robot beside a wall or a post (its centre less than its circumradius
+    /// and `margin` away) can still turn where it stands. Default 0.08, as `margin`; see the
+    /// README for 0.05.
+    pub turn_margin: f64,
     /// Scan points within this of the robot are remembered for the safety layer, m.
     /// Default 1.5.
     pub memory_range_m: f64,
@@ -124,6 +130,7 @@ impl Default for SafetyParams {
     fn default() -> Self {
         Self {
             margin: 0.08,
+            turn_margin: 0.08,
             memory_range_m: 1.5,
         }
     }
@@ -417,6 +424,7 @@ impl ExplorerParams {
             ("travel.fruitless_gain_m2", self.travel.fruitless_gain_m2),
             ("follow.front_band_margin", f.front_band_margin),
             ("safety.margin", self.safety.margin),
+            ("safety.turn_margin", self.safety.turn_margin),
             ("loops.min_path_m", self.loops.min_path_m),
         ] {
             params::non_negative(field, v)?;

@@ -8,9 +8,9 @@ use laserlines::robot::{VelocityCommand, arc};
 use super::{Explorer, Mode};
 
 /// When a command is safe: the footprint stays the safety margin clear of everything along
-/// its sweep; or, where the robot already stands closer than that, the sweep never comes
-/// closer than the robot is now (and keeps 2 cm), so that it can turn or back out of a
-/// tight spot.
+/// its sweep (the turning margin for a turn on the spot); or, where the robot already stands
+/// closer than that, the sweep never comes closer than the robot is now (and keeps 2 cm), so
+/// that it can turn or back out of a tight spot.
 #[derive(Debug, Clone, Copy)]
 struct SafeRule {
     /// The clearance where the robot stands, as a command that keeps no extra margin for
@@ -20,6 +20,8 @@ struct SafeRule {
     now_turning: f64,
     /// The safety margin, m.
     margin: f64,
+    /// The margin of a turn on the spot, m (at most `margin`).
+    turn_margin: f64,
 }
 
 impl SafeRule {
@@ -29,8 +31,12 @@ impl SafeRule {
         } else {
             self.now_plain
         };
-        clearance >= self.margin
-            || (clearance >= now.min(self.margin) - 1e-3 && clearance >= now.min(0.02))
+        let margin = if c.linear_m_s == 0.0 {
+            self.turn_margin
+        } else {
+            self.margin
+        };
+        clearance >= margin || (clearance >= now.min(margin) - 1e-3 && clearance >= now.min(0.02))
     }
 }
 
@@ -92,6 +98,11 @@ impl Explorer {
             now_plain: self.sweep_clearance(&pts, VelocityCommand::STOP, 0.0),
             now_turning: self.sweep_clearance(&pts, VelocityCommand::new(0.0, 1.0), 0.0),
             margin: self.params.safety.margin,
+            turn_margin: self
+                .params
+                .safety
+                .turn_margin
+                .min(self.params.safety.margin),
         };
         let (mut chosen, blocked) = self.first_safe(wanted, &pts, &rule);
         // Stuck: the wanted motion blocked (nothing safe, or only a way round it) for about
@@ -322,4 +333,34 @@ const BLIND_MARGIN: f64 = 0.06;
 /// True for a command that turns or backs: toward points out of the laser's view.
 fn toward_blind(c: VelocityCommand) -> bool {
     c.linear_m_s < 0.0 || c.angular_rad_s.abs() > 0.05
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_turn_on_the_spot_keeps_the_turning_margin_and_other_motions_the_full_one() {
+        // The robot stands 0.18 m clear (its centre 0.38 m from a wall beside it); turning
+        // brings a corner to 6 cm of the wall.
+        let rule = SafeRule {
+            now_plain: 0.18,
+            now_turning: 0.18,
+            margin: 0.08,
+            turn_margin: 0.05,
+        };
+        assert!(rule.safe(VelocityCommand::new(0.0, 1.0), 0.06));
+        assert!(!rule.safe(VelocityCommand::new(0.0, 1.0), 0.04));
+        assert!(!rule.safe(VelocityCommand::new(0.1, 0.5), 0.06));
+        assert!(!rule.safe(VelocityCommand::new(-0.1, 0.0), 0.06));
+        assert!(rule.safe(VelocityCommand::new(0.1, 0.5), 0.08));
+        // Already nearer than the turning margin: a turn may not come nearer still.
+        let tight = SafeRule {
+            now_plain: 0.035,
+            now_turning: 0.035,
+            ..rule
+        };
+        assert!(tight.safe(VelocityCommand::new(0.0, 1.0), 0.035));
+        assert!(!tight.safe(VelocityCommand::new(0.0, 1.0), 0.03));
+    }
 }
