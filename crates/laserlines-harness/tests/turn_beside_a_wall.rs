@@ -27,7 +27,7 @@ fn with_a_turning_margin_a_robot_beside_a_wall_turns_where_it_stands() {
     };
     let maze = generate(&params, 134);
     let mut config = RunConfig::default();
-    config.explorer.safety.turn_margin = 0.05;
+    config.explorer.safety.turn_margin = Some(0.05);
     let record = run(&maze.world, maze.start, &config).unwrap();
     let m = &record.metrics;
     assert_eq!(m.collisions, 0, "{m:?}");

@@ -115,12 +115,13 @@ impl Default for FollowParams {
 pub struct SafetyParams {
     /// Margin the safety layer keeps around the footprint, m. Default 0.08.
     pub margin: f64,
-    /// Margin kept while turning on the spot, m (at most `margin`). The footprint's corners
-    /// then sweep a circle about its centre, with nothing carried ahead, so that with a
-    /// smaller margin a robot beside a wall or a post (its centre less than its circumradius
-    /// and `margin` away) can still turn where it stands. Default 0.08, as `margin`; see the
-    /// README for 0.05.
-    pub turn_margin: f64,
+    /// Margin kept while turning on the spot (a command of zero linear speed), m, at most
+    /// `margin`. The footprint's corners then sweep a circle about its centre, with nothing
+    /// carried ahead, so that with a smaller margin a robot beside a wall or a post (its
+    /// centre less than its circumradius and `margin` away) can still turn where it stands.
+    /// Default none: `margin`. See the README for 0.05.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub turn_margin: Option<f64>,
     /// Scan points within this of the robot are remembered for the safety layer, m.
     /// Default 1.5.
     pub memory_range_m: f64,
@@ -130,7 +131,7 @@ impl Default for SafetyParams {
     fn default() -> Self {
         Self {
             margin: 0.08,
-            turn_margin: 0.08,
+            turn_margin: None,
             memory_range_m: 1.5,
         }
     }
@@ -424,10 +425,12 @@ impl ExplorerParams {
             ("travel.fruitless_gain_m2", self.travel.fruitless_gain_m2),
             ("follow.front_band_margin", f.front_band_margin),
             ("safety.margin", self.safety.margin),
-            ("safety.turn_margin", self.safety.turn_margin),
             ("loops.min_path_m", self.loops.min_path_m),
         ] {
             params::non_negative(field, v)?;
+        }
+        if let Some(m) = self.safety.turn_margin {
+            params::non_negative("safety.turn_margin", m)?;
         }
         params::at_least("map.every", self.map.every, 1)?;
         if let Some(fence) = &self.fence {
@@ -534,5 +537,15 @@ mod tests {
         let mut p = ExplorerParams::default();
         p.safety.margin = 0.0;
         assert!(p.validate().is_ok(), "no margin is allowed");
+        for bad in [f64::NAN, -0.01] {
+            let mut p = ExplorerParams::default();
+            p.safety.turn_margin = Some(bad);
+            assert!(
+                p.validate()
+                    .unwrap_err()
+                    .to_string()
+                    .starts_with("safety.turn_margin")
+            );
+        }
     }
 }

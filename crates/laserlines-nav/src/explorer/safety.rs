@@ -5,10 +5,11 @@ use laserlines::Scan;
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines::robot::{VelocityCommand, arc};
 
-use super::{Explorer, Mode};
+use super::{Explorer, Mode, SafetyParams};
 
 /// When a command is safe: the footprint stays the safety margin clear of everything along
-/// its sweep (the turning margin for a turn on the spot); or, where the robot already stands
+/// its sweep (the turning margin for a turn on the spot: zero linear speed, `STOP` included,
+/// where it changes nothing); or, where the robot already stands
 /// closer than that, the sweep never comes closer than the robot is now (and keeps 2 cm), so
 /// that it can turn or back out of a tight spot.
 #[derive(Debug, Clone, Copy)]
@@ -25,6 +26,20 @@ struct SafeRule {
 }
 
 impl SafeRule {
+    /// The rule for a robot whose clearance where it stands is `now_plain` and `now_turning`
+    /// (see the fields), with the margins of `safety` (the turning margin at most the other).
+    fn new(now_plain: f64, now_turning: f64, safety: &SafetyParams) -> Self {
+        Self {
+            now_plain,
+            now_turning,
+            margin: safety.margin,
+            turn_margin: safety
+                .turn_margin
+                .unwrap_or(safety.margin)
+                .min(safety.margin),
+        }
+    }
+
     fn safe(&self, c: VelocityCommand, clearance: f64) -> bool {
         let now = if toward_blind(c) {
             self.now_turning
@@ -94,16 +109,11 @@ impl Explorer {
         let pts = self.near_points(map_from_robot);
         // Where the robot stands now, as a command that keeps the extra margin for points
         // out of view sees it, and as one that does not.
-        let rule = SafeRule {
-            now_plain: self.sweep_clearance(&pts, VelocityCommand::STOP, 0.0),
-            now_turning: self.sweep_clearance(&pts, VelocityCommand::new(0.0, 1.0), 0.0),
-            margin: self.params.safety.margin,
-            turn_margin: self
-                .params
-                .safety
-                .turn_margin
-                .min(self.params.safety.margin),
-        };
+        let rule = SafeRule::new(
+            self.sweep_clearance(&pts, VelocityCommand::STOP, 0.0),
+            self.sweep_clearance(&pts, VelocityCommand::new(0.0, 1.0), 0.0),
+            &self.params.safety,
+        );
         let (mut chosen, blocked) = self.first_safe(wanted, &pts, &rule);
         // Stuck: the wanted motion blocked (nothing safe, or only a way round it) for about
         // a second: escape.
@@ -343,12 +353,12 @@ mod tests {
     fn a_turn_on_the_spot_keeps_the_turning_margin_and_other_motions_the_full_one() {
         // The robot stands 0.18 m clear (its centre 0.38 m from a wall beside it); turning
         // brings a corner to 6 cm of the wall.
-        let rule = SafeRule {
-            now_plain: 0.18,
-            now_turning: 0.18,
+        let safety = SafetyParams {
             margin: 0.08,
-            turn_margin: 0.05,
+            turn_margin: Some(0.05),
+            ..SafetyParams::default()
         };
+        let rule = SafeRule::new(0.18, 0.18, &safety);
         assert!(rule.safe(VelocityCommand::new(0.0, 1.0), 0.06));
         assert!(!rule.safe(VelocityCommand::new(0.0, 1.0), 0.04));
         assert!(!rule.safe(VelocityCommand::new(0.1, 0.5), 0.06));
@@ -362,5 +372,18 @@ mod tests {
         };
         assert!(tight.safe(VelocityCommand::new(0.0, 1.0), 0.035));
         assert!(!tight.safe(VelocityCommand::new(0.0, 1.0), 0.03));
+        // By default, and never above the other margin, the turning margin is the margin.
+        for turn_margin in [None, Some(0.2)] {
+            let rule = SafeRule::new(
+                0.18,
+                0.18,
+                &SafetyParams {
+                    turn_margin,
+                    ..safety
+                },
+            );
+            assert_eq!(rule.turn_margin, 0.08);
+            assert!(!rule.safe(VelocityCommand::new(0.0, 1.0), 0.06));
+        }
     }
 }
