@@ -306,6 +306,10 @@ fn simulate_takes_robot_and_explorer_settings_from_a_params_file() {
             "[explorer.fence]\ncentre = [0.0, 0.0]\nhalf_extent = [0.0, 3.0]\nyaw = 0.0\n",
             "fence.half_extent",
         ),
+        (
+            "[explorer]\nsafety.turn_margin = -0.01\n",
+            "[explorer] safety.turn_margin",
+        ),
     ] {
         std::fs::write(&params, body).unwrap();
         let o = bin()
