@@ -53,10 +53,15 @@ fn simulate_writes_metrics_and_pictures() {
     assert!(sectors.contains("sector-front") && sectors.contains("selected-object"));
 }
 
+/// The output folder of [`simulate_args`] for `tag`.
+fn tagged_dir(tag: &str) -> std::path::PathBuf {
+    std::env::temp_dir().join(format!("laserlines-{tag}-{}", std::process::id()))
+}
+
 /// Runs `laserlines simulate` with `args` into a fresh folder named after `tag`; its
 /// `metrics.json`.
 fn simulate_args(tag: &str, args: &[&str]) -> serde_json::Value {
-    let dir = std::env::temp_dir().join(format!("laserlines-{tag}-{}", std::process::id()));
+    let dir = tagged_dir(tag);
     let o = bin()
         .arg("simulate")
         .args(args)
@@ -128,10 +133,7 @@ fn simulate_reports_the_arena_and_a_robot_out_of_it() {
     assert_eq!(fence["centre"], serde_json::json!([0.0, 7.8]), "{fence}");
     assert_eq!(m.get("fence"), Some(&serde_json::Value::Null));
     // The map picture draws it (and only when there is one).
-    let picture = |tag: &str| {
-        let dir = std::env::temp_dir().join(format!("laserlines-{tag}-{}", std::process::id()));
-        std::fs::read_to_string(dir.join("map.svg")).unwrap()
-    };
+    let picture = |tag: &str| std::fs::read_to_string(tagged_dir(tag).join("map.svg")).unwrap();
     assert!(picture("fence").contains("class=\"fence\""));
     assert!(!picture("go2011").contains("class=\"fence\""));
 }

@@ -16,10 +16,9 @@
 //! cover beams that a real line of the same scan covers too (a beam whose return lies beyond
 //! the fence).
 
-use std::f64::consts::PI;
-
 use laserlines::Line;
 use laserlines::Scan;
+use laserlines::geometry::polar_line;
 use laserlines::math::{Isometry2, Matrix2, Point2, Vector2};
 use laserlines::params::{self, ParamsError};
 
@@ -117,8 +116,12 @@ impl Fence {
         if !self.contains(origin) {
             return None;
         }
-        let o = self.local(origin);
-        let (s, c) = self.yaw.sin_cos();
+        self.exit_local(self.local(origin), dir, self.yaw.sin_cos())
+    }
+
+    /// [`Fence::ray_exit`] from a point inside, given in the rectangle's own axes (`o`), with
+    /// the yaw's sine and cosine.
+    fn exit_local(&self, o: Vector2, dir: Vector2, (s, c): (f64, f64)) -> Option<(f64, usize)> {
         let d = Vector2::new(c * dir.x + s * dir.y, -s * dir.x + c * dir.y);
         // Sides: 0 at +x, 1 at +y, 2 at -x, 3 at -y (of the rectangle's axes).
         let mut best: Option<(f64, usize)> = None;
@@ -182,67 +185,61 @@ pub fn fence_lines(fence: &Fence, scan: &Scan, map_from_laser: &Isometry2, out: 
     }
     let window = scan.range_window(None);
     let yaw = map_from_laser.rotation.angle();
+    // The laser's place in the rectangle's axes, once for all beams.
+    let (o, sc) = (fence.local(origin), fence.yaw.sin_cos());
     // The current run: its side, first beam and point (laser frame), last beam and point.
     let mut run: Option<(usize, usize, Point2, usize, Point2)> = None;
     let close = |run: Option<(usize, usize, Point2, usize, Point2)>, out: &mut Vec<Line>| {
         if let Some((_, first, a, last, b)) = run
             && last > first
+            && let Some(line) = exact_line(first, a, last, b)
         {
-            out.push(exact_line(first, a, last, b));
+            out.push(line);
         }
     };
     for (i, &r) in scan.ranges.iter().enumerate() {
         let phi = scan.angle_min + scan.angle_increment * i as f64;
         let (s, c) = (phi + yaw).sin_cos();
         let hit = fence
-            .ray_exit(origin, Vector2::new(c, s))
+            .exit_local(o, Vector2::new(c, s), sc)
             .filter(|&(d, _)| d <= scan.range_max && (!window.contains(r) || d < r - NEARER_BY));
-        match (hit, run) {
-            (Some((d, side)), Some((run_side, first, a, _, _))) if side == run_side => {
-                let p = Point2::new(d * phi.cos(), d * phi.sin());
-                run = Some((side, first, a, i, p));
-            }
-            (Some((d, side)), _) => {
+        let Some((d, side)) = hit else {
+            close(run.take(), out);
+            continue;
+        };
+        let p = Point2::new(d * phi.cos(), d * phi.sin());
+        run = match run {
+            Some((run_side, first, a, _, _)) if run_side == side => Some((side, first, a, i, p)),
+            _ => {
                 close(run, out);
-                let p = Point2::new(d * phi.cos(), d * phi.sin());
-                run = Some((side, i, p, i, p));
+                Some((side, i, p, i, p))
             }
-            (None, _) => {
-                close(run, out);
-                run = None;
-            }
-        }
+        };
     }
     close(run, out);
 }
 
-/// A noise-free line from `a` (beam `first`) to `b` (beam `last`), laser frame.
-fn exact_line(first: usize, a: Point2, last: usize, b: Point2) -> Line {
-    let u = (b - a).normalize();
-    let mut n = Vector2::new(-u.y, u.x);
-    let mut r = a.coords.dot(&n);
-    if r < 0.0 {
-        n = -n;
-        r = -r;
-    }
-    // `Line`'s angles lie in (-pi, pi]: -0.0 from a negated normal would give -pi.
-    let alpha = n.y.atan2(n.x);
-    Line {
+/// A noise-free line from `a` (beam `first`) to `b` (beam `last`), laser frame; `None` when
+/// the two points coincide.
+fn exact_line(first: usize, a: Point2, last: usize, b: Point2) -> Option<Line> {
+    let (r, alpha) = polar_line(a, b)?;
+    Some(Line {
         start: a,
         end: b,
         r,
-        alpha: if alpha <= -PI { PI } else { alpha },
+        alpha,
         first,
         last,
         points: last - first + 1,
         rms: 0.0,
         covariance: Matrix2::zeros(),
-    }
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     fn room() -> Fence {
         // x in -1..3, y in -2..2.

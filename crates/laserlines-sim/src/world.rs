@@ -7,7 +7,7 @@
 use std::ops::Range;
 
 use laserlines::geometry::{circle_ray_hit, distance_to_segment, segment_ray_hit_prepared};
-use laserlines::math::{Isometry2, Point2, Vector2, wrap_angle};
+use laserlines::math::{Isometry2, Point2, Vector2};
 
 /// Hits closer to each other than this (m) are a tie, won by the earlier obstacle.
 const TIE_TOLERANCE: f64 = 1e-12;
@@ -60,24 +60,9 @@ impl Wall {
     }
 }
 
-/// The infinite line through `a` and `b` in normal form `x cos(alpha) + y sin(alpha) = r`,
-/// in the frame the points are given in: `(r, alpha)` with `r >= 0` (m) and `alpha` in
-/// `(-pi, pi]` (rad). `None` when `a == b` or a coordinate is not finite.
-#[must_use]
-pub fn polar_line(a: Point2, b: Point2) -> Option<(f64, f64)> {
-    let e = b - a;
-    let len = e.norm();
-    if !(len > 0.0 && len.is_finite() && a.x.is_finite() && a.y.is_finite()) {
-        return None;
-    }
-    let mut n = Vector2::new(e.y, -e.x) / len;
-    let mut r = n.dot(&a.coords);
-    if r < 0.0 {
-        n = -n;
-        r = -r;
-    }
-    Some((r, wrap_angle(n.y.atan2(n.x))))
-}
+/// The normal form of the line through two points (the core's, where the simulator's
+/// callers have always found it).
+pub use laserlines::geometry::polar_line;
 
 /// A small round obstacle (a table or chair leg, a person's leg, a barrel): a circle,
 /// metres, world frame. Discs with a radius that is not positive and finite are never hit.
@@ -472,13 +457,8 @@ mod tests {
     }
 
     #[test]
-    fn polar_form_has_positive_r_and_wrapped_alpha() {
-        // The line x = -2 seen from the origin: normal points to -x.
-        let (r, alpha) = polar_line(p(-2.0, -1.0), p(-2.0, 1.0)).unwrap();
-        assert!(close(r, 2.0) && close(alpha, PI));
-        let (r, alpha) = polar_line(p(1.0, -1.0), p(3.0, 1.0)).unwrap();
-        assert!(close(r, SQRT_2) && close(alpha, -FRAC_PI_4));
-        assert!(polar_line(p(1.0, 1.0), p(1.0, 1.0)).is_none());
+    fn a_wall_in_a_moved_frame_has_its_polar_form_there() {
+        // (The normal form itself is tested in the core's `geometry::polar`.)
         // In a frame rotated by 90 deg and moved to (0, -1), the wall y = 1 is 2 m ahead.
         let wall = Wall::new(p(-5.0, 1.0), p(5.0, 1.0));
         let frame_from_world = Isometry2::new(Vector2::new(0.0, -1.0), FRAC_PI_2).inverse();
