@@ -197,9 +197,9 @@ fn a_preset_applies_to_the_extractors_that_have_it() {
         };
         (per_scan("hough-split"), per_scan("iepf"))
     };
-    let (plain, walls) = (lines(&[]), lines(&["--preset", "walls"]));
-    assert!(walls.0 < plain.0, "{walls:?} against {plain:?}");
-    assert_eq!(walls.1, plain.1);
+    let (plain, complete) = (lines(&[]), lines(&["--preset", "complete"]));
+    assert!(complete.0 > plain.0, "{complete:?} against {plain:?}");
+    assert_eq!(complete.1, plain.1);
     let o = run(bin().args(["bench", "--algorithms", "iepf", "--preset", "walls"]));
     assert_clean_error(&o, &["--preset walls", "none of the extractors"]);
 }

@@ -184,10 +184,16 @@ fn preset_option_starts_from_the_preset_and_names_the_presets_it_knows() {
             .sum::<usize>()
     };
     let plain = run(bin().arg("extract").arg(&dat));
+    let complete = run(bin().args(["extract", "--preset", "complete"]).arg(&dat));
+    assert!(complete.status.success(), "{}", stderr(&complete));
+    let (n_plain, n_complete) = (count(&plain), count(&complete));
+    assert!(
+        n_plain > 0 && n_complete > n_plain,
+        "{n_complete} and {n_plain}"
+    );
+    // `walls` names the defaults.
     let walls = run(bin().args(["extract", "--preset", "walls"]).arg(&dat));
-    assert!(walls.status.success(), "{}", stderr(&walls));
-    let (n_plain, n_walls) = (count(&plain), count(&walls));
-    assert!(n_walls > 0 && n_walls < n_plain, "{n_walls} of {n_plain}");
+    assert_eq!(count(&walls), n_plain);
     // render takes the hough-split path with its stages, map the extractor of its own.
     let svg = tmp("walls.svg");
     let o = run(bin()
@@ -201,7 +207,7 @@ fn preset_option_starts_from_the_preset_and_names_the_presets_it_knows() {
     assert_clean_error(
         &o,
         "unknown preset \"wall\" of hough-split",
-        "paper, navigation, walls",
+        "paper, navigation, walls, complete",
     );
     let o = run(bin()
         .args(["extract", "--algorithm", "iepf", "--preset", "walls"])

@@ -1,6 +1,9 @@
-//! HoughSplit on every scan of the real BreezySLAM URG-04LX runs (the paper's sensor): lines
-//! from nearly every scan (a few sparse scans, with a few dozen valid beams in short runs,
-//! hold no surface of 0.15 m), a plausible number per scan.
+//! HoughSplit on every scan of the real BreezySLAM URG-04LX runs (the paper's sensor): with
+//! the `complete` preset, lines from nearly every scan (a few sparse scans, with a few dozen
+//! valid beams in short runs, hold no surface of 0.15 m), a plausible number per scan; with
+//! the defaults, whose gates keep only lines known to 5 cm and 3 deg, a few more scans hold
+//! no such line (exp1: 18 of 756, exp2: 39 of 641, where the robot sees short pieces of wall
+//! at glancing angles).
 //! Skips with a notice when the shared data folder is absent.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -22,27 +25,44 @@ fn every_breezyslam_scan_gives_lines() {
         let Some(path) = shared(&format!("breezyslam-urg04lx/{file}")) else {
             return;
         };
-        let reader = laserlines_io::open(&path, None).unwrap();
-        let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
-        let mut lines = Vec::new();
-        let (mut scans, mut total, mut empty) = (0usize, 0usize, 0usize);
-        for rec in reader {
-            let rec = rec.unwrap();
-            hs.extract_into(&rec.scan, &mut lines);
-            empty += usize::from(lines.is_empty());
-            scans += 1;
-            total += lines.len();
+        for (params, most_empty) in [
+            (HoughSplitParams::complete(), 3),
+            (HoughSplitParams::default(), 8),
+        ] {
+            check_run(&path, file, expected, params, most_empty);
         }
-        assert_eq!(scans, expected, "{file}");
-        let mean = total as f64 / scans as f64;
-        println!("{file}: {scans} scans, {mean:.1} lines per scan, {empty} without a line");
-        assert!(
-            empty * 100 <= 3 * scans,
-            "{file}: {empty} scans without a line"
-        );
-        assert!(
-            (3.0..=40.0).contains(&mean),
-            "{file}: {mean} lines per scan"
-        );
     }
+}
+
+/// Lines of every scan of `path` (`expected` scans) with `params`: at most `most_empty` % of
+/// the scans without a line, 3 to 40 lines per scan on average.
+fn check_run(
+    path: &std::path::Path,
+    file: &str,
+    expected: usize,
+    params: HoughSplitParams,
+    most_empty: usize,
+) {
+    let reader = laserlines_io::open(path, None).unwrap();
+    let mut hs = HoughSplit::new(params).unwrap();
+    let mut lines = Vec::new();
+    let (mut scans, mut total, mut empty) = (0usize, 0usize, 0usize);
+    for rec in reader {
+        let rec = rec.unwrap();
+        hs.extract_into(&rec.scan, &mut lines);
+        empty += usize::from(lines.is_empty());
+        scans += 1;
+        total += lines.len();
+    }
+    assert_eq!(scans, expected, "{file}");
+    let mean = total as f64 / scans as f64;
+    println!("{file}: {scans} scans, {mean:.1} lines per scan, {empty} without a line");
+    assert!(
+        empty * 100 <= most_empty * scans,
+        "{file}: {empty} scans without a line"
+    );
+    assert!(
+        (3.0..=40.0).contains(&mean),
+        "{file}: {mean} lines per scan"
+    );
 }

@@ -6,11 +6,13 @@
 //! FIELD=1 cargo run --release -p laserlines-eval --example diagnose -- all urg04lx-full 100
 //! ```
 //!
-//! `FIELD=1` judges by the field criteria. At the end it prints the TP rate an ideal
+//! `FIELD=1` judges by the field criteria; `PRESET=NAME` starts from a preset of
+//! `hough-split` (`complete`, ...) instead of its defaults. At the end it prints the TP rate an ideal
 //! least-squares fit of exactly each significant piece's beams would reach on average: the
 //! chance that its `r` and angle land within the tolerances, from the piece's standard errors
 //! under the simulated noise (independent normal errors). No extractor can expect more.
 
+use laserlines::registry;
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
 use laserlines_eval::workload::{TEST_SEED, sensor, suite_scans};
 use laserlines_eval::{MatchParams, match_lines};
@@ -31,7 +33,17 @@ fn main() {
             std::process::exit(2);
         }
     };
-    let Ok(mut hs) = HoughSplit::new(HoughSplitParams::default()) else {
+    let params = match std::env::var("PRESET") {
+        Ok(name) => match registry::HOUGH_SPLIT.preset(&name) {
+            Some(p) => p,
+            None => {
+                eprintln!("unknown preset {name} of hough-split");
+                std::process::exit(2);
+            }
+        },
+        Err(_) => HoughSplitParams::default(),
+    };
+    let Ok(mut hs) = HoughSplit::new(params) else {
         return;
     };
     let params = if std::env::var("FIELD").is_ok() {

@@ -10,9 +10,10 @@
 //! ratchet**: each is set just under what the extractor measures on these scenes today (the
 //! README lists both), so that a change that makes any extractor worse here fails; they are
 //! not targets, and are raised when an extractor improves. The requirements every extractor
-//! must meet on every suite are in `suites.rs`. `hough-split` is held to finding 99 % of the
-//! pieces here (where a line ends is a decision at the 1 % level: a corner leg of three beams
-//! at 4 m can stay on the wall's line) and, by `crates/laserlines/tests/roundtrip.rs`, to end points as well. On the bench scan every extractor must find all six pieces with no false line, except
+//! must meet on every suite are in `suites.rs`. `hough-split` is held to finding 97 % of the
+//! pieces here: its line gates drop the lines of far or glancing pieces whose `r` is known
+//! worse than 5 cm (10 of the 356 pieces, at 1.9-4.4 m; its `complete` preset, without those
+//! gates, is held to end points as well by `crates/laserlines/tests/roundtrip.rs`). On the bench scan every extractor must find all six pieces with no false line, except
 //! EM, which may get one of them wrong.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -25,7 +26,7 @@ use laserlines_sim::{LaserModel, Rng, SimScan};
 /// `(algorithm, least true-positive rate, largest false-positive rate)` on the round-trip
 /// scenes: a ratchet, just under today's measured figures (see the module docs).
 const TOLERANCE: &[(&str, f64, f64)] = &[
-    ("hough-split", 0.99, 0.01),
+    ("hough-split", 0.97, 0.01),
     ("iterative-hough", 0.98, 0.01),
     ("split-and-merge", 0.98, 0.03),
     ("iepf", 0.98, 0.02),

@@ -29,7 +29,7 @@ pub struct Ros2Args {
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// Start the extractor from one of its presets instead of its defaults (hough-split:
-    /// paper, navigation, walls), in place of any preset its table names, as
+    /// paper, navigation, walls, complete), in place of any preset its table names, as
     /// `laserlines extract --preset`.
     #[arg(long)]
     pub preset: Option<String>,
@@ -207,7 +207,7 @@ mod tests {
         let e = extractor(&["--preset", "wall"]).err().unwrap().to_string();
         assert_eq!(
             e,
-            "unknown preset \"wall\" of hough-split: expected one of paper, navigation, walls"
+            "unknown preset \"wall\" of hough-split: expected one of paper, navigation, walls, complete"
         );
         let e = extractor(&["--algorithm", "ransac", "--preset", "paper"])
             .err()

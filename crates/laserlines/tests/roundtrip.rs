@@ -5,6 +5,11 @@
 //! exactly one line with r within 1 cm, alpha within 0.5 deg and end points within 3 cm; and
 //! no line may stand where no wall is: both ends of every line lie on a wall its beams hit.
 //!
+//! The geometry is checked with [`HoughSplitParams::complete`]: the defaults differ from it
+//! only by their line gates (a line's standard errors within 5 cm and 3 deg), which drop the
+//! lines of far or glancing pieces whose `r` no fit can know that well; that they drop exactly
+//! those lines and nothing else is `the_defaults_are_complete_less_the_gated_lines`.
+//!
 //! Where the sensor's noise makes a figure unreachable for any least-squares fit (short or
 //! far pieces, end points seen at grazing incidence), the tolerance is widened to four times
 //! the standard error an ideal fit of the piece's own beams would have under the simulated
@@ -276,7 +281,7 @@ fn run_scenes(make: fn(&mut Rng) -> Scene, seeds: std::ops::Range<u64>) {
 /// Checks the scenes of `make` with `seeds`; prints and returns the pieces and the failures.
 fn check_scenes(make: fn(&mut Rng) -> Scene, seeds: std::ops::Range<u64>) -> (usize, Vec<String>) {
     let model = LaserModel::urg04lx();
-    let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    let mut hs = HoughSplit::new(HoughSplitParams::complete()).unwrap();
     let mut failures = Vec::new();
     let mut pieces = 0;
     let mut widened = 0;
@@ -334,6 +339,48 @@ fn bench_scan_gives_its_six_pieces() {
         .extract(&sim.scan);
     let (errors, _) = check_scan(&scene, &model, &sim, &lines);
     assert!(errors.is_empty(), "{}", errors.join("\n"));
+}
+
+/// The defaults give `complete`'s lines less those whose standard errors exceed their gates,
+/// on every round-trip scene kind: the gates are a filter on fitted lines (before corners are
+/// shared), and they bite.
+#[test]
+fn the_defaults_are_complete_less_the_gated_lines() {
+    let model = LaserModel::urg04lx();
+    let p = HoughSplitParams::default();
+    let mut defaults = HoughSplit::new(p.clone()).unwrap();
+    let mut complete = HoughSplit::new(HoughSplitParams::complete()).unwrap();
+    let kinds: [fn(&mut Rng) -> Scene; 5] = [
+        scenes::rectangular_room,
+        scenes::corridor_with_door_gap,
+        scenes::corner,
+        scenes::boxes_in_room,
+        scenes::grazing_wall,
+    ];
+    let mut gated = 0;
+    for make in kinds {
+        for seed in 0..20 {
+            let mut rng = Rng::new(seed);
+            let sim = make(&mut rng).simulate(&model, &mut rng);
+            let all = complete.extract(&sim.scan);
+            let kept: Vec<Line> = all
+                .iter()
+                .filter(|l| {
+                    l.covariance[(0, 0)] <= p.max_r_sd * p.max_r_sd
+                        && l.covariance[(1, 1)] <= p.max_alpha_sd * p.max_alpha_sd
+                })
+                .cloned()
+                .collect();
+            gated += all.len() - kept.len();
+            // The same lines; only an end point may differ, where a gated neighbour would
+            // have met it at their corner.
+            let key = |l: &Line| (l.first, l.last, l.points, l.r, l.alpha, l.rms, l.covariance);
+            let got: Vec<_> = defaults.extract(&sim.scan).iter().map(key).collect();
+            assert_eq!(got, kept.iter().map(key).collect::<Vec<_>>(), "seed {seed}");
+        }
+    }
+    // Measured: 10 of about 450 lines.
+    assert!(gated >= 3, "{gated} lines gated");
 }
 
 /// The same check on 60 further seeds of every scene kind, seeds the defaults were never

@@ -63,7 +63,7 @@ pub struct BenchArgs {
     #[arg(long)]
     params: Option<PathBuf>,
     /// Start every compared extractor that has a preset of this name from it (hough-split:
-    /// paper, navigation, walls), as `extract --preset` does; the others keep their
+    /// paper, navigation, walls, complete), as `extract --preset` does; the others keep their
     /// defaults.
     #[arg(long, conflicts_with = "tune")]
     preset: Option<String>,

@@ -49,7 +49,7 @@ pub struct ParamsArgs {
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// Start the extractor from one of its presets instead of its defaults (hough-split:
-    /// paper, navigation, walls), in place of any preset its table names; the table's other
+    /// paper, navigation, walls, complete), in place of any preset its table names; the table's other
     /// keys are laid over it.
     #[arg(long)]
     pub preset: Option<String>,

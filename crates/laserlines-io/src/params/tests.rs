@@ -89,7 +89,7 @@ fn a_preset_by_option_replaces_the_tables_preset_and_keeps_its_keys() {
         .unwrap_err();
     assert_eq!(
         e.to_string(),
-        "unknown preset \"wall\" of hough-split: expected one of paper, navigation, walls"
+        "unknown preset \"wall\" of hough-split: expected one of paper, navigation, walls, complete"
     );
     let e = ParamsFile::default()
         .with_preset("iepf", "walls")

@@ -166,6 +166,7 @@ pub static HOUGH_SPLIT: Algorithm<HoughSplitParams> = Algorithm {
         ("paper", HoughSplitParams::paper),
         ("navigation", HoughSplitParams::navigation),
         ("walls", HoughSplitParams::walls),
+        ("complete", HoughSplitParams::complete),
     ],
     build: |p| boxed(HoughSplit::new(p)),
     knobs: knobs::HOUGH_SPLIT,
@@ -384,7 +385,7 @@ mod tests {
         assert_eq!(HOUGH_SPLIT.preset("paper"), Some(HoughSplitParams::paper()));
         assert_eq!(
             presets("hough-split"),
-            Some(vec!["paper", "navigation", "walls"])
+            Some(vec!["paper", "navigation", "walls", "complete"])
         );
         assert_eq!(presets("iepf"), Some(vec![]));
         assert_eq!(presets("no-such-algorithm"), None);
