@@ -4,7 +4,8 @@
 //! `DUMP_SCANS`), the bundled real URG-04LX excerpt and, when it is there, the Intel Research
 //! Lab log from `../shared`, and any logs named as arguments. With `DUMP_STAGES=1` also each
 //! scan's data segments, removed beams, split points and noise estimate; with
-//! `DUMP_PARAMS=paper` or `navigation` the extractor has that preset instead of the defaults.
+//! `DUMP_PARAMS=paper`, `complete` or `navigation` the extractor has that preset instead of
+//! the defaults.
 //!
 //! ```sh
 //! cargo run --release -p laserlines-benches --example dump_lines > before.txt
@@ -79,7 +80,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let params = match std::env::var("DUMP_PARAMS").as_deref() {
         Ok("paper") => HoughSplitParams::paper(),
         Ok("navigation") => HoughSplitParams::navigation(),
-        Ok(other) => return Err(format!("DUMP_PARAMS: paper or navigation, not {other}").into()),
+        Ok("complete") => HoughSplitParams::complete(),
+        Ok(other) => {
+            return Err(format!("DUMP_PARAMS: paper, complete or navigation, not {other}").into());
+        }
         Err(_) => HoughSplitParams::default(),
     };
     let mut hs = HoughSplit::new(params)?;

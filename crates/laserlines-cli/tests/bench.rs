@@ -166,7 +166,7 @@ fn tuning_prints_a_params_table_that_bench_accepts() {
 
 #[test]
 fn a_preset_applies_to_the_extractors_that_have_it() {
-    // The walls preset keeps fewer lines on the same scans; iepf, without presets, the same.
+    // `complete` keeps more lines on the same scans; iepf, without presets, the same.
     let lines = |extra: &[&str]| {
         let dir = tmp(&format!("out-preset-{}", extra.len()));
         let o = run(bin()

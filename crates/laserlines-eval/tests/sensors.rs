@@ -98,13 +98,22 @@ fn run(
     what: &str,
 ) -> (usize, usize, usize) {
     let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    // The presets without the defaults' line gates keep the same bounds, with no phantom.
+    let mut ungated = [HoughSplitParams::complete(), HoughSplitParams::navigation()]
+        .map(|p| HoughSplit::new(p).unwrap());
     let (mut found, mut pieces, mut lines_seen) = (0, 0, 0);
     for seed in 0..count {
         let mut rng = Rng::new(seed);
         let scene = make(&mut rng);
         let sim: SimScan = scene.simulate(model, &mut rng);
-        let lines = hs.extract(&sim.scan);
         let name = format!("{what} seed {seed}");
+        for other in &mut ungated {
+            let lines = other.extract(&sim.scan);
+            check_bounds(other, &sim.scan, &lines, &name);
+            let ghosts = phantoms(&scene, &model.noise, &lines);
+            assert!(ghosts.is_empty(), "{name}: lines on no surface: {ghosts:?}");
+        }
+        let lines = hs.extract(&sim.scan);
         check_bounds(&hs, &sim.scan, &lines, &name);
         let ghosts = phantoms(&scene, &model.noise, &lines);
         assert!(ghosts.is_empty(), "{name}: lines on no surface: {ghosts:?}");
@@ -132,10 +141,16 @@ fn the_field_conditions_keep_every_bound_at_three_noise_levels() {
     for (name, _) in FIELD_LEVELS {
         let s = sensor(name).unwrap();
         let scans = suite_scans("all", 5, 6, &s).unwrap();
-        let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
-        for bs in &scans {
-            let lines = hs.extract(&bs.scan);
-            check_bounds(&hs, &bs.scan, &lines, &bs.name);
+        for params in [
+            HoughSplitParams::default(),
+            HoughSplitParams::complete(),
+            HoughSplitParams::navigation(),
+        ] {
+            let mut hs = HoughSplit::new(params).unwrap();
+            for bs in &scans {
+                let lines = hs.extract(&bs.scan);
+                check_bounds(&hs, &bs.scan, &lines, &bs.name);
+            }
         }
     }
 }

@@ -193,13 +193,17 @@ mod tests {
 
     #[test]
     fn the_preset_option_is_read_as_the_cli_reads_it() {
-        let argv = ["laserlines-ros2", "--preset", "walls"];
+        let argv = ["laserlines-ros2", "--preset", "complete"];
         let file = Ros2Args::try_parse_from(argv)
             .unwrap()
             .params_file()
             .unwrap();
         let p = file.algorithm_params(&laserlines::registry::HOUGH_SPLIT);
-        assert_eq!(p.unwrap(), laserlines::HoughSplitParams::walls());
+        assert_eq!(p.unwrap(), laserlines::HoughSplitParams::complete());
+        assert_ne!(
+            laserlines::HoughSplitParams::complete(),
+            laserlines::HoughSplitParams::default()
+        );
         assert_eq!(
             extractor(&["--preset", "walls"]).unwrap().name(),
             "hough-split"

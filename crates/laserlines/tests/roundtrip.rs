@@ -363,27 +363,34 @@ fn the_defaults_are_complete_less_the_gated_lines() {
             let mut rng = Rng::new(seed);
             let sim = make(&mut rng).simulate(&model, &mut rng);
             let all = complete.extract(&sim.scan);
-            let kept: Vec<Line> = all
-                .iter()
-                .filter(|l| {
-                    l.covariance[(0, 0)] <= p.max_r_sd * p.max_r_sd
-                        && l.covariance[(1, 1)] <= p.max_alpha_sd * p.max_alpha_sd
-                })
-                .cloned()
-                .collect();
+            let passes = |l: &Line| {
+                l.covariance[(0, 0)] <= p.max_r_sd * p.max_r_sd
+                    && l.covariance[(1, 1)] <= p.max_alpha_sd * p.max_alpha_sd
+            };
+            let kept: Vec<usize> = (0..all.len()).filter(|&i| passes(&all[i])).collect();
             gated += all.len() - kept.len();
-            // The same lines; only an end point may differ, where a gated neighbour would
-            // have met it at their corner.
+            let got = defaults.extract(&sim.scan);
+            assert_eq!(got.len(), kept.len(), "seed {seed}");
+            // The same lines; an end point may differ only beside a gated line, where the
+            // lines around it meet at their corner instead.
             let key = |l: &Line| (l.first, l.last, l.points, l.r, l.alpha, l.rms, l.covariance);
-            let got: Vec<_> = defaults.extract(&sim.scan).iter().map(key).collect();
-            assert_eq!(got, kept.iter().map(key).collect::<Vec<_>>(), "seed {seed}");
+            for (g, &i) in got.iter().zip(&kept) {
+                assert_eq!(key(g), key(&all[i]), "seed {seed}");
+                let beside_gated =
+                    (i > 0 && !passes(&all[i - 1])) || all.get(i + 1).is_some_and(|l| !passes(l));
+                assert!(
+                    beside_gated || (g.start == all[i].start && g.end == all[i].end),
+                    "seed {seed}: {g:?} against {:?}",
+                    all[i]
+                );
+            }
         }
     }
-    // Measured: 10 of about 450 lines.
+    // Measured: 10 of 362 lines.
     assert!(gated >= 3, "{gated} lines gated");
 }
 
-/// The same check on 60 further seeds of every scene kind, seeds the defaults were never
+/// The same check on 60 further seeds of every scene kind, seeds the parameters were never
 /// looked at on: at most 2 % of the pieces miss (the figure in the README); run with
 /// `cargo test --release -p laserlines --test roundtrip -- --ignored --nocapture`.
 #[test]

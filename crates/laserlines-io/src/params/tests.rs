@@ -50,25 +50,26 @@ fn hough_split_noise_is_auto_a_preset_or_a_model() {
 #[test]
 fn a_preset_by_option_replaces_the_tables_preset_and_keeps_its_keys() {
     let none = ParamsFile::default()
-        .with_preset("hough-split", "walls")
+        .with_preset("hough-split", "complete")
         .unwrap();
     assert_eq!(
         none.algorithm_params(&registry::HOUGH_SPLIT).unwrap(),
-        HoughSplitParams::walls()
+        HoughSplitParams::complete()
     );
+    assert_ne!(HoughSplitParams::complete(), HoughSplitParams::default());
     let f = file("[hough-split]\npaper = true\nmin_range = 0.3\n")
-        .with_preset("hough-split", "walls")
+        .with_preset("hough-split", "complete")
         .unwrap();
     let p = f.algorithm_params(&registry::HOUGH_SPLIT).unwrap();
     assert_eq!(
         p,
         HoughSplitParams {
             min_range: 0.3,
-            ..HoughSplitParams::walls()
+            ..HoughSplitParams::complete()
         }
     );
     // The option replaces the table's preset whichever comes first in the registry.
-    let f = file("[hough-split]\nwalls = true\n")
+    let f = file("[hough-split]\ncomplete = true\n")
         .with_preset("hough-split", "paper")
         .unwrap();
     assert_eq!(

@@ -260,7 +260,11 @@ pub(crate) fn emit_lines(pieces: &Pieces<'_>, breaks: &mut Vec<u32>, out: &mut V
 /// Neighbouring lines of one segment that meet at a corner share their end point, as in the
 /// paper: the intersection of the two fitted lines, when it lies near both ends (within
 /// `split_sigmas * sigma(r)` plus the gap between them, which within one data segment is at
-/// most the breakpoint distance) and the lines are not nearly parallel.
+/// most the breakpoint distance) and the lines are not nearly parallel. Where a piece between
+/// them gave no line (too short, too rough or too uncertain for the filters of
+/// `Pieces::line`), the lines around it are neighbours and the gap is that piece's length:
+/// they meet at their intersection when it lies within it, as at a corner whose short leg gave
+/// no line.
 fn join_corners(lines: &mut [Line], p: &HoughSplitParams, noise: &RangeNoise) {
     for k in 1..lines.len() {
         let (a, b) = (lines[k - 1], lines[k]);
