@@ -88,9 +88,8 @@ class Extractor:
     """A line extractor chosen by name (one of :data:`ALGORITHMS`), with its parameters as
     keyword arguments laid over the algorithm's defaults, exactly as a ``[name]`` table of a
     ``laserlines --params`` file: nested parameters as dicts (``breakpoints={"noise": 0.02}``),
-    a preset by name (``paper=True``, ``complete=True``, ``navigation=True``, ``walls=True`` for
-    hough-split),
-    ``noise="auto"``, a preset name such as ``"urg-04lx"`` or
+    a preset by name for hough-split (``paper=True``, ``complete=True``, ``navigation=True``,
+    ``walls=True``), ``noise="auto"``, a preset name such as ``"urg-04lx"`` or
     ``{"sigma_min": 0.01, "fraction": 0.01}`` for hough-split. An unknown algorithm or
     parameter, or a value of the wrong type or out of range, raises ValueError naming it.
 

@@ -7,10 +7,11 @@
 //! ```
 //!
 //! `FIELD=1` judges by the field criteria; `PRESET=NAME` starts from a preset of
-//! `hough-split` (`complete`, ...) instead of its defaults. At the end it prints the TP rate an ideal
-//! least-squares fit of exactly each significant piece's beams would reach on average: the
-//! chance that its `r` and angle land within the tolerances, from the piece's standard errors
-//! under the simulated noise (independent normal errors). No extractor can expect more.
+//! `hough-split` (`complete`, ...) instead of its defaults. At the end it prints the TP rate
+//! an ideal least-squares fit of exactly each significant piece's beams would reach on
+//! average: the chance that its `r` and angle land within the tolerances, from the piece's
+//! standard errors under the simulated noise (independent normal errors). No extractor can
+//! expect more.
 
 use laserlines::registry;
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};

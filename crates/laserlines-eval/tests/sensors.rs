@@ -89,8 +89,24 @@ fn phantoms<'a>(scene: &Scene, noise: &Noise, lines: &'a [Line]) -> Vec<&'a Line
         .collect()
 }
 
+/// The lines of `hs` on `sim`, checked against the documented bounds and for phantoms.
+fn checked_lines(
+    hs: &mut HoughSplit,
+    scene: &Scene,
+    sim: &SimScan,
+    noise: &Noise,
+    name: &str,
+) -> Vec<Line> {
+    let lines = hs.extract(&sim.scan);
+    check_bounds(hs, &sim.scan, &lines, name);
+    let ghosts = phantoms(scene, noise, &lines);
+    assert!(ghosts.is_empty(), "{name}: lines on no surface: {ghosts:?}");
+    lines
+}
+
 /// Runs `hough-split` (defaults) on `count` scenes of `make` with `model`; checks bounds and
-/// phantoms; returns (significant pieces found under the field criteria, pieces, lines).
+/// phantoms, also for `complete` and `navigation`, which have no line gates; returns the
+/// defaults' (significant pieces found under the field criteria, pieces, lines).
 fn run(
     model: &LaserModel,
     make: &dyn Fn(&mut Rng) -> Scene,
@@ -98,7 +114,6 @@ fn run(
     what: &str,
 ) -> (usize, usize, usize) {
     let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
-    // The presets without the defaults' line gates keep the same bounds, with no phantom.
     let mut ungated = [HoughSplitParams::complete(), HoughSplitParams::navigation()]
         .map(|p| HoughSplit::new(p).unwrap());
     let (mut found, mut pieces, mut lines_seen) = (0, 0, 0);
@@ -108,15 +123,9 @@ fn run(
         let sim: SimScan = scene.simulate(model, &mut rng);
         let name = format!("{what} seed {seed}");
         for other in &mut ungated {
-            let lines = other.extract(&sim.scan);
-            check_bounds(other, &sim.scan, &lines, &name);
-            let ghosts = phantoms(&scene, &model.noise, &lines);
-            assert!(ghosts.is_empty(), "{name}: lines on no surface: {ghosts:?}");
+            checked_lines(other, &scene, &sim, &model.noise, &name);
         }
-        let lines = hs.extract(&sim.scan);
-        check_bounds(&hs, &sim.scan, &lines, &name);
-        let ghosts = phantoms(&scene, &model.noise, &lines);
-        assert!(ghosts.is_empty(), "{name}: lines on no surface: {ghosts:?}");
+        let lines = checked_lines(&mut hs, &scene, &sim, &model.noise, &name);
         let truth: Vec<ExpectedPiece> = expected_pieces(&sim, &model.noise);
         let m = match_lines(&lines, &truth, &MatchParams::field());
         found += m.found;

@@ -260,6 +260,15 @@ pub fn check_scan(
     (errors, widened)
 }
 
+/// The round-trip scene kinds.
+const KINDS: [fn(&mut Rng) -> Scene; 5] = [
+    scenes::rectangular_room,
+    scenes::corridor_with_door_gap,
+    scenes::corner,
+    scenes::boxes_in_room,
+    scenes::grazing_wall,
+];
+
 /// Checks 20 seeded scenes of one kind. Every piece must come out as one line; within their
 /// tolerances, except that one piece in a hundred (plus one) may miss them by at most twice
 /// (a "near miss"): where a line ends is a statistical decision (an end point is trimmed when
@@ -350,15 +359,8 @@ fn the_defaults_are_complete_less_the_gated_lines() {
     let p = HoughSplitParams::default();
     let mut defaults = HoughSplit::new(p.clone()).unwrap();
     let mut complete = HoughSplit::new(HoughSplitParams::complete()).unwrap();
-    let kinds: [fn(&mut Rng) -> Scene; 5] = [
-        scenes::rectangular_room,
-        scenes::corridor_with_door_gap,
-        scenes::corner,
-        scenes::boxes_in_room,
-        scenes::grazing_wall,
-    ];
     let mut gated = 0;
-    for make in kinds {
+    for make in KINDS {
         for seed in 0..20 {
             let mut rng = Rng::new(seed);
             let sim = make(&mut rng).simulate(&model, &mut rng);
@@ -397,13 +399,7 @@ fn the_defaults_are_complete_less_the_gated_lines() {
 #[ignore = "held-out measurement for the README: run in release with --ignored"]
 fn held_out_seeds() {
     let (mut pieces, mut failures) = (0, Vec::new());
-    for make in [
-        scenes::rectangular_room,
-        scenes::corridor_with_door_gap,
-        scenes::corner,
-        scenes::boxes_in_room,
-        scenes::grazing_wall,
-    ] {
+    for make in KINDS {
         let (p, f) = check_scenes(make, 100..160);
         pieces += p;
         failures.extend(f);

@@ -49,8 +49,8 @@ pub struct ParamsArgs {
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// Start the extractor from one of its presets instead of its defaults (hough-split:
-    /// paper, navigation, walls, complete), in place of any preset its table names; the table's other
-    /// keys are laid over it.
+    /// paper, navigation, walls, complete), in place of any preset its table names; the
+    /// table's other keys are laid over it.
     #[arg(long)]
     pub preset: Option<String>,
 }
