@@ -7,6 +7,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 use serde_json::Value;
 
 mod common;
@@ -107,12 +108,36 @@ fn a_bad_record_without_skip_bad_stops_after_the_scans_before_it() {
     let o = run(bin().args(["extract", "-o"]).arg(&out).arg(&input));
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let err = stderr(&o);
-    // The first bad line follows scan 50 (lines: comment, then FLASER + ODOM per scan).
+    // The first bad line follows 51 scans (lines: comment, then FLASER + ODOM per scan).
     assert!(
         err.contains("stop.clf:104: expected 192 tokens for FLASER"),
         "{err}"
     );
     assert!(!err.contains("panicked"), "{err}");
+    // Every output keeps the lines of the 51 scans before the bad line, readable: the JSONL,
+    // the MCAP and the Parquet table (closed with its footer despite the error).
+    assert_eq!(jsonl(&out).len(), 51);
+    let lines = jsonl(&out)
+        .iter()
+        .map(|r| r["lines"].as_array().unwrap().len())
+        .sum::<usize>();
+    let mcap = tmp("stop.mcap");
+    let o = run(bin().args(["extract", "-o"]).arg(&mcap).arg(&input));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let back = run(bin().args(["extract", "-o", "-"]).arg(&mcap));
+    assert!(back.status.success(), "{}", stderr(&back));
+    assert!(stderr(&back).contains("51 scans"), "{}", stderr(&back));
+    let table = tmp("stop.parquet");
+    let o = run(bin().args(["extract", "-o"]).arg(&table).arg(&input));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let file = std::fs::File::open(&table).unwrap();
+    let rows = ParquetRecordBatchReaderBuilder::try_new(file)
+        .expect("a Parquet file with its footer")
+        .build()
+        .unwrap()
+        .map(|b| b.unwrap().num_rows())
+        .sum::<usize>();
+    assert_eq!(rows, lines, "one row per line of the 51 scans");
 }
 
 #[test]

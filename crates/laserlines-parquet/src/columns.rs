@@ -290,7 +290,12 @@ impl ScanColumns {
             angle_min,
             angle_increment,
             range_min,
-            range_max,
+            // `inf` is no limit, which a scan writes as the largest finite number.
+            range_max: if range_max == f64::INFINITY {
+                f64::MAX
+            } else {
+                range_max
+            },
             ranges,
             intensities,
             stamp: self.stamp.as_ref().and_then(|s| s.get(row)),

@@ -29,7 +29,7 @@
 //! | `odometry_x`, `odometry_y`, `odometry_theta` | float64 | yes | the wheel odometry's pose at the scan, m, m, rad |
 //! | `angle_min` | float64 | no | angle of the first beam, rad |
 //! | `angle_increment` | float64 | no | angle between beams, rad (negative: clockwise) |
-//! | `range_min`, `range_max` | float64 | no | valid ranges, m |
+//! | `range_min`, `range_max` | float64 | no | valid ranges, m (`range_max` = inf: no limit) |
 //! | `ranges` | list\<float32\> | no | ranges, m; NaN, inf or a null item = no return |
 //! | `intensities` | list\<float32\> | yes | intensities, one per range, when the source has them |
 //!

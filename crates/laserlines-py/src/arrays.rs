@@ -31,9 +31,16 @@ impl Ranges<'_> {
 /// no return).
 ///
 /// # Errors
-/// `TypeError` for anything but a numpy array of those types, `ValueError` for an array that
-/// is not 1-D.
+/// `TypeError` for anything but a numpy array of those types (a masked array too: its mask
+/// would be lost), `ValueError` for an array that is not 1-D.
 pub fn ranges<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Ranges<'py>> {
+    // A masked array is an ndarray whose mask the buffer does not show.
+    if obj.hasattr("mask").unwrap_or(false) && obj.hasattr("filled").unwrap_or(false) {
+        return Err(PyTypeError::new_err(
+            "ranges is a masked array, whose mask would be ignored: \
+             numpy.ma.filled(ranges, numpy.nan) makes the masked beams no return",
+        ));
+    }
     if let Ok(a) = obj.cast::<PyArray1<f64>>() {
         let ro = a
             .try_readonly()
@@ -57,6 +64,17 @@ pub fn ranges<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Ranges<'py>> {
                 "ranges must be a 1-D array, got shape {:?}",
                 a.shape()
             )));
+        }
+        // Floats in the other byte order: their native float64 copy.
+        let kind = obj.getattr("dtype").and_then(|d| d.getattr("kind"));
+        if kind.is_ok_and(|k| k.extract::<String>().is_ok_and(|k| k == "f"))
+            && let Ok(native) = obj.call_method1("astype", ("float64",))
+            && let Ok(native) = native.cast::<PyArray1<f64>>()
+        {
+            let ro = native
+                .try_readonly()
+                .map_err(|e| PyValueError::new_err(e.to_string()))?;
+            return Ok(Ranges::Owned(ro.as_array().iter().copied().collect()));
         }
         let dtype = a
             .dtype()

@@ -5,7 +5,7 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 
 use laserlines::registry::BoxedExtractor;
 use laserlines::{Line, ScanView};
-use pyo3::exceptions::PyTypeError;
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -99,21 +99,32 @@ impl Extractor {
         self.working().last_address
     }
 
-    /// The lines of one scan (see the module docs of `laserlines.extract`).
-    #[pyo3(signature = (ranges, angle_min = None, angle_increment = None, range_min = 0.0, range_max = f64::INFINITY))]
+    /// The lines of one scan, a `Scan` or a 1-D float64/float32 array of ranges (m) with
+    /// `angle_min` and `angle_increment` (rad) and, optionally, the valid range limits
+    /// `range_min` (default 0) and `range_max` (default `inf`, no limit); a `Scan` brings its
+    /// own geometry and limits. Returns a numpy structured array, one record per line
+    /// (`start`, `end`, `r`, `alpha`, `first`, `last`, `points`, `rms`, `covariance`).
+    #[pyo3(signature = (ranges, angle_min = None, angle_increment = None, range_min = None, range_max = None))]
     fn extract<'py>(
         &self,
         py: Python<'py>,
         ranges: &Bound<'py, PyAny>,
         angle_min: Option<f64>,
         angle_increment: Option<f64>,
-        range_min: f64,
-        range_max: f64,
+        range_min: Option<f64>,
+        range_max: Option<f64>,
     ) -> PyResult<Bound<'py, PyAny>> {
         if let Ok(scan) = ranges.cast::<Scan>() {
             if angle_min.is_some() || angle_increment.is_some() {
                 return Err(PyTypeError::new_err(
                     "extract(scan) takes its geometry from the scan: give no angle_min or angle_increment",
+                ));
+            }
+            if range_min.is_some() || range_max.is_some() {
+                return Err(PyTypeError::new_err(
+                    "extract(scan) takes its range limits from the scan: give no range_min or \
+                     range_max (Scan(ranges, angle_min, angle_increment, range_min, range_max) \
+                     makes a scan with others)",
                 ));
             }
             let scan = scan.get();
@@ -138,8 +149,8 @@ impl Extractor {
             values.as_slice(),
             angle_min,
             angle_increment,
-            range_min,
-            range_max,
+            range_min.unwrap_or(0.0),
+            range_max.unwrap_or(f64::INFINITY),
         )
         .map_err(value_error)?;
         self.extract_view(py, view).into_array(py)
@@ -159,8 +170,14 @@ impl Extractor {
         angle_increment: f64,
         range_min: f64,
         range_max: f64,
-        repeat: u32,
+        repeat: i64,
     ) -> PyResult<f64> {
+        let repeat = u32::try_from(repeat)
+            .ok()
+            .filter(|&r| r >= 1)
+            .ok_or_else(|| {
+                PyValueError::new_err(format!("repeat must be 1 to {}, got {repeat}", u32::MAX))
+            })?;
         let values = read_ranges(ranges)?;
         let view = config::checked_view(
             values.as_slice(),
@@ -170,7 +187,6 @@ impl Extractor {
             range_max,
         )
         .map_err(value_error)?;
-        let repeat = repeat.max(1);
         Ok(py.detach(|| {
             let mut w = self.working();
             let Working {
@@ -208,15 +224,16 @@ impl Extractor {
 
     /// The lines of every scan of the file `path` (any format the command line reads) as a
     /// `pyarrow.Table` of the lines schema.
-    #[pyo3(signature = (path, topic = None, skip_bad = false))]
+    #[pyo3(signature = (path, topic = None, skip_bad = false, format = None))]
     fn extract_file<'py>(
         &self,
         py: Python<'py>,
         path: std::path::PathBuf,
         topic: Option<String>,
         skip_bad: bool,
+        format: Option<&str>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        tables::extract_path(self, py, &path, topic, skip_bad)
+        tables::extract_path(self, py, &path, format, topic, skip_bad)
     }
 
     fn __repr__(&self) -> String {
@@ -224,9 +241,12 @@ impl Extractor {
     }
 }
 
-/// The lines of one scan with a fresh extractor of `algorithm` (see `Extractor.extract`).
+/// The lines of one scan with a fresh extractor of `algorithm` and `params` laid over its
+/// defaults: a `Scan`, or an array of ranges (m) with `angle_min` and `angle_increment`
+/// (rad) and optional `range_min` and `range_max`; one record per line (`Extractor.extract`
+/// tells the fields). An `Extractor` kept across scans saves rebuilding it.
 #[pyfunction]
-#[pyo3(signature = (ranges, angle_min = None, angle_increment = None, range_min = 0.0, range_max = f64::INFINITY, algorithm = "hough-split", **params))]
+#[pyo3(signature = (ranges, angle_min = None, angle_increment = None, range_min = None, range_max = None, algorithm = "hough-split", **params))]
 // The Python signature: a scan's fields as keyword arguments.
 #[allow(clippy::too_many_arguments)]
 pub fn extract<'py>(
@@ -234,8 +254,8 @@ pub fn extract<'py>(
     ranges: &Bound<'py, PyAny>,
     angle_min: Option<f64>,
     angle_increment: Option<f64>,
-    range_min: f64,
-    range_max: f64,
+    range_min: Option<f64>,
+    range_max: Option<f64>,
     algorithm: &str,
     params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {

@@ -37,10 +37,7 @@ fn to_value(v: &Bound<'_, PyAny>) -> Result<toml::Value, String> {
         return Ok(toml::Value::Boolean(b.is_true()));
     }
     if v.cast::<PyInt>().is_ok() {
-        return v
-            .extract::<i64>()
-            .map(toml::Value::Integer)
-            .map_err(|_| type_name());
+        return int_value(v);
     }
     if let Ok(f) = v.cast::<PyFloat>() {
         return Ok(toml::Value::Float(f.value()));
@@ -73,11 +70,31 @@ fn to_value(v: &Bound<'_, PyAny>) -> Result<toml::Value, String> {
             .collect::<Result<_, _>>()
             .map(toml::Value::Array);
     }
-    // numpy scalars and other numbers.
+    // numpy arrays and scalars as the Python lists and numbers `tolist` gives (an int64 an
+    // int, not a float).
+    if v.hasattr("dtype").unwrap_or(false)
+        && let Ok(plain) = v.call_method0("tolist")
+        && !plain.hasattr("dtype").unwrap_or(true)
+    {
+        return to_value(&plain);
+    }
+    // Other integers (anything with `__index__`) are ints, other numbers floats.
+    if v.hasattr("__index__").unwrap_or(false)
+        && let Ok(i) = v.call_method0("__index__")
+    {
+        return int_value(&i);
+    }
     if let Ok(x) = v.extract::<f64>() {
         return Ok(toml::Value::Float(x));
     }
     Err(type_name())
+}
+
+/// A Python int as a params value: params files hold integers of 64 bits, signed.
+fn int_value(v: &Bound<'_, PyAny>) -> Result<toml::Value, String> {
+    v.extract::<i64>().map(toml::Value::Integer).map_err(|_| {
+        format!("{v}, an int outside -2**63..2**63 (params hold 64-bit signed integers)")
+    })
 }
 
 /// A params table as a dict (nested tables as dicts, arrays as lists).

@@ -5,8 +5,9 @@
 use std::path::PathBuf;
 use std::sync::Mutex;
 
-use laserlines_io::{ReadOptions, ScanReader, ScanRecord};
+use laserlines_io::{Format, ReadOptions, ScanReader, ScanRecord};
 use numpy::{PyArray1, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 
 use crate::errors::read_error;
@@ -25,8 +26,7 @@ pub struct Scan {
     /// Smallest valid range, m.
     #[pyo3(get)]
     pub range_min: f64,
-    /// Largest valid range, m (`inf`: no limit).
-    #[pyo3(get)]
+    /// Largest valid range, m (`inf`: no limit; see [`Scan::range_max_py`]).
     pub range_max: f64,
     /// Time stamp, s, when the source has one.
     #[pyo3(get)]
@@ -120,20 +120,37 @@ impl Scan {
         self.intensities.as_ref().map(|a| a.bind(py).clone())
     }
 
+    /// Largest valid range, m: `inf` for no limit (files without one, such as CSV, give the
+    /// largest finite number, which is no limit either).
+    #[getter(range_max)]
+    fn range_max_py(&self) -> f64 {
+        if self.range_max == f64::MAX {
+            f64::INFINITY
+        } else {
+            self.range_max
+        }
+    }
+
     fn __len__(&self, py: Python<'_>) -> usize {
         PyUntypedArrayMethods::len(self.ranges.bind(py))
     }
 
     fn __repr__(&self, py: Python<'_>) -> String {
+        let triple = |t: Option<(f64, f64, f64)>| {
+            t.map_or_else(|| "None".to_owned(), |(x, y, a)| format!("({x}, {y}, {a})"))
+        };
         format!(
-            "Scan({} beams from {:.4} rad by {:.6} rad, ranges {}..{} m, stamp {:?}, pose {:?})",
+            "Scan({} beams from {:.4} rad by {:.6} rad, ranges {}..{} m, stamp {}, pose {}, \
+             odometry {})",
             PyUntypedArrayMethods::len(self.ranges.bind(py)),
             self.angle_min,
             self.angle_increment,
             self.range_min,
-            self.range_max,
-            self.stamp,
-            self.pose
+            self.range_max_py(),
+            self.stamp
+                .map_or_else(|| "None".to_owned(), |t| t.to_string()),
+            triple(self.pose),
+            triple(self.odometry),
         )
     }
 }
@@ -187,18 +204,41 @@ impl ScanIterator {
 }
 
 /// Opens `path` as the command line does: any format by its extension (MCAP and ROS 2 bag
-/// directories, Parquet, BreezySLAM, CARMEN, ROS 1 bags, JSON, JSONL, CSV; `.gz` inflated).
-pub fn open(path: &std::path::Path, topic: Option<String>) -> PyResult<ScanReader> {
-    let options = ReadOptions::format(None).with_topic(topic.as_deref());
+/// directories, Parquet, BreezySLAM, CARMEN, ROS 1 bags, JSON, JSONL, CSV; `.gz` inflated),
+/// or by `format`'s name (`laserlines extract --format`) whatever the name of the file.
+///
+/// # Errors
+/// `ValueError` for an unknown format name; the reader's error (see `errors::read_error`).
+pub fn open(
+    path: &std::path::Path,
+    format: Option<&str>,
+    topic: Option<String>,
+) -> PyResult<ScanReader> {
+    let format = format
+        .map(|name| {
+            name.parse::<Format>().map_err(|_| {
+                PyValueError::new_err(format!(
+                    "unknown format {name:?}: expected one of {}",
+                    Format::NAMES.join(", ")
+                ))
+            })
+        })
+        .transpose()?;
+    let options = ReadOptions::format(format).with_topic(topic.as_deref());
     laserlines_foxglove::open_scans(path, &options).map_err(|e| read_error(&e))
 }
 
 /// Iterates the scans of the file `path`, with their stamps and poses.
 #[pyfunction]
-#[pyo3(signature = (path, topic = None, skip_bad = false))]
-pub fn read(path: PathBuf, topic: Option<String>, skip_bad: bool) -> PyResult<ScanIterator> {
+#[pyo3(signature = (path, topic = None, skip_bad = false, format = None))]
+pub fn read(
+    path: PathBuf,
+    topic: Option<String>,
+    skip_bad: bool,
+    format: Option<&str>,
+) -> PyResult<ScanIterator> {
     Ok(ScanIterator {
-        reader: Mutex::new(open(&path, topic)?),
+        reader: Mutex::new(open(&path, format, topic)?),
         skip_bad,
         skipped: Mutex::new(0),
     })

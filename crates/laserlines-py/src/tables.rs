@@ -129,10 +129,11 @@ pub fn extract_path<'py>(
     extractor: &Extractor,
     py: Python<'py>,
     path: &Path,
+    format: Option<&str>,
     topic: Option<String>,
     skip_bad: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let mut reader = crate::scans::open(path, topic)?;
+    let mut reader = crate::scans::open(path, format, topic)?;
     let built = py.detach(|| -> Result<(LinesTable, u64), PyErr> {
         let mut w = extractor.working();
         let mut out = LinesTable::new();
@@ -169,17 +170,18 @@ pub fn extract_path<'py>(
 /// The lines of every scan of the file `path` as a `pyarrow.Table` (one row per line, with
 /// the scan's index, stamp and pose), with a fresh extractor of `algorithm`.
 #[pyfunction]
-#[pyo3(signature = (path, topic = None, algorithm = "hough-split", skip_bad = false, **params))]
+#[pyo3(signature = (path, topic = None, algorithm = "hough-split", skip_bad = false, format = None, **params))]
 pub fn extract_file<'py>(
     py: Python<'py>,
     path: std::path::PathBuf,
     topic: Option<String>,
     algorithm: &str,
     skip_bad: bool,
+    format: Option<&str>,
     params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let extractor = Extractor::build(algorithm, kwargs::to_table(params)?)?;
-    extract_path(&extractor, py, &path, topic, skip_bad)
+    extract_path(&extractor, py, &path, format, topic, skip_bad)
 }
 
 /// The schema of the lines table (`extract -o lines.parquet`, `extract_file`).

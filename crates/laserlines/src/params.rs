@@ -6,6 +6,7 @@
 //! table: `split_distance`, `breakpoints.noise`, `footprint.length`.
 
 use crate::hough::HoughError;
+use crate::scan::RangeWindow;
 
 /// A parameter out of its domain.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -67,6 +68,18 @@ pub enum ParamsError {
         limit_field: &'static str,
         /// that field's value
         limit: f64,
+    },
+    /// A field not above another field's value.
+    #[error("{field} must be above {other_field} ({other}), got {value}")]
+    NotAbove {
+        /// field name
+        field: &'static str,
+        /// offending value
+        value: f64,
+        /// the field it must exceed
+        other_field: &'static str,
+        /// that field's value
+        other: f64,
     },
     /// A count below its minimum.
     #[error("{field} must be at least {min}, got {value}")]
@@ -169,6 +182,27 @@ pub fn scaled(
     }
 }
 
+/// Checks an extractor's own valid ranges, `range_limits = [min, max]`: `min` finite and
+/// `>= 0`, `max` above it (`inf` for no upper limit). `None` (the scan's own limits) passes.
+///
+/// # Errors
+/// [`ParamsError::Negative`] naming `range_limits[0]`, or [`ParamsError::NotAbove`] naming
+/// `range_limits[1]`.
+pub fn range_limits(limits: Option<RangeWindow>) -> Result<(), ParamsError> {
+    let Some(w) = limits else { return Ok(()) };
+    non_negative("range_limits[0]", w.min)?;
+    if w.max > w.min {
+        Ok(())
+    } else {
+        Err(ParamsError::NotAbove {
+            field: "range_limits[1]",
+            value: w.max,
+            other_field: "range_limits[0]",
+            other: w.min,
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -189,5 +223,18 @@ mod tests {
         assert!(scaled(("b", 0.0), ("p", 0.01)).is_ok());
         let e = scaled(("b", 0.0), ("p", 0.0)).unwrap_err();
         assert!(matches!(e, ParamsError::NotPositive { field: "b", .. }));
+        assert!(range_limits(None).is_ok());
+        assert!(range_limits(Some(RangeWindow::new(0.03, f64::INFINITY))).is_ok());
+        let e = range_limits(Some(RangeWindow::new(3.0, 0.03))).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "range_limits[1] must be above range_limits[0] (3), got 0.03"
+        );
+        for (min, max) in [(f64::NAN, 1.0), (-1.0, 1.0), (0.5, f64::NAN), (0.5, 0.5)] {
+            assert!(
+                range_limits(Some(RangeWindow::new(min, max))).is_err(),
+                "{min} {max}"
+            );
+        }
     }
 }

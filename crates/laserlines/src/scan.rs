@@ -20,7 +20,11 @@ pub enum ScanError {
         increment: f64,
     },
     /// `range_min`/`range_max` are not finite, negative, or out of order.
-    #[error("range limits must satisfy 0 <= range_min < range_max (finite), got {min}..{max}")]
+    #[error(
+        "range limits must satisfy 0 <= range_min < range_max (finite), got {}..{}",
+        Short(*min),
+        Short(*max)
+    )]
     BadRangeLimits {
         /// range_min, m
         min: f64,
@@ -35,6 +39,20 @@ pub enum ScanError {
         /// number of intensities
         intensities: usize,
     },
+}
+
+/// A number in a message: as Rust prints it, but in exponent form from 1e16 on (the largest
+/// finite number, "no limit", is 309 digits in full).
+struct Short(f64);
+
+impl std::fmt::Display for Short {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0.abs() >= 1e16 && self.0.is_finite() {
+            write!(f, "{:e}", self.0)
+        } else {
+            write!(f, "{}", self.0)
+        }
+    }
 }
 
 /// One 2D laser scan, like ROS `sensor_msgs/LaserScan`.

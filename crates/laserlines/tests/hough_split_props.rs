@@ -139,6 +139,7 @@ fn check_bounds(scan: &Scan, hs: &HoughSplit, lines: &[Line]) {
                 apart
             );
         }
+        check_ends(l, support[0], support[support.len() - 1], &p, noise);
         let n = support.len() as f64;
         let (cx, cy) = support
             .iter()
@@ -151,6 +152,47 @@ fn check_bounds(scan: &Scan, hs: &HoughSplit, lines: &[Line]) {
             l.rms
         );
     }
+}
+
+/// A line's end points against its first and last supporting points `pf` and `pl`: the
+/// segment runs the way its beams do, is `min_line_length` long, and gives up at most
+/// `split_sigmas * sigma` of its points' extent at either end (ends move only to a corner
+/// shared with the neighbouring line).
+fn check_ends(
+    l: &Line,
+    pf: &laserlines::ScanPoint,
+    pl: &laserlines::ScanPoint,
+    p: &HoughSplitParams,
+    noise: laserlines::RangeNoise,
+) {
+    let normal = laserlines::math::Vector2::new(l.alpha.cos(), l.alpha.sin());
+    let project = |q: laserlines::math::Point2| q - normal * (q.coords.dot(&normal) - l.r);
+    let (a, b) = (project(pf.point), project(pl.point));
+    let extent = (b - a).norm();
+    assert!(
+        l.length() >= p.min_line_length - 1e-9,
+        "a line shorter than min_line_length: {l:?}"
+    );
+    if extent == 0.0 {
+        return;
+    }
+    let u = (b - a) / extent;
+    let t = |q: laserlines::math::Point2| (q - a).dot(&u);
+    let thr = |q: laserlines::math::Point2, range: f64| {
+        p.split_sigmas * noise.sigma(q.coords.norm().max(range)) * (1.0 + 1e-9) + 1e-9
+    };
+    assert!(
+        t(l.start) < t(l.end),
+        "a line reversed against its beams: {l:?}"
+    );
+    assert!(
+        t(l.start) <= thr(l.start, pf.range),
+        "the start gives up its first point: {l:?}"
+    );
+    assert!(
+        t(l.end) >= extent - thr(l.end, pl.range),
+        "the end gives up its last point: {l:?}"
+    );
 }
 
 /// Walls with clutter: some of a wall scan's beams replaced by arbitrary ranges, so that

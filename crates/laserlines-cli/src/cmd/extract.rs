@@ -121,20 +121,18 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
 
     let (tokens, finished, reader_back) = start_reader(reader, &pool, extractors, encode, jobs)?;
     let mut totals = Totals::default();
-    let mut waiting: BTreeMap<u64, Batch> = BTreeMap::new();
-    let mut next = 0u64;
-    // Ends when the reader thread and every extraction task are done (all senders dropped).
-    // On an error, return: dropping the receivers ends the reader thread.
-    for batch in finished {
-        waiting.insert(batch.seq, batch);
-        while let Some(batch) = waiting.remove(&next) {
-            write_batch(&mut writer, batch, args.skip_bad, &progress, &mut totals)?;
-            next += 1;
-            // The reader may read one more batch; it may also be done already.
-            let _ = tokens.send(());
-        }
-    }
-    writer.close()?;
+    let order = InOrder {
+        finished,
+        tokens,
+        skip_bad: args.skip_bad,
+        progress: &progress,
+    };
+    let written = order.write(&mut writer, &mut totals);
+    // The lines of every scan before an error stay readable: the output is closed either way
+    // (a Parquet file gets its footer, an MCAP its summary, a gzip stream its end).
+    let closed = writer.close();
+    let waiting = written?;
+    closed?;
     progress.finish_and_clear();
     let reader = reader_back
         .recv()
@@ -293,6 +291,35 @@ fn extract_batch(extractors: &Extractors, batch: &mut Batch, encode: bool) {
             }
         }
         slot.item = Some(item);
+    }
+}
+
+/// The finished batches and what writing them in input order needs.
+struct InOrder<'a> {
+    finished: Receiver<Batch>,
+    tokens: SyncSender<()>,
+    skip_bad: bool,
+    progress: &'a ProgressBar,
+}
+
+impl InOrder<'_> {
+    /// Writes the batches in input order as they finish; returns those never written (none
+    /// unless something went wrong). Ends when the reader thread and every extraction task
+    /// are done (all senders dropped); on an error it returns, and dropping the receiver
+    /// ends the reader thread.
+    fn write(self, writer: &mut LinesOutput, totals: &mut Totals) -> Result<BTreeMap<u64, Batch>> {
+        let mut waiting: BTreeMap<u64, Batch> = BTreeMap::new();
+        let mut next = 0u64;
+        for batch in self.finished {
+            waiting.insert(batch.seq, batch);
+            while let Some(batch) = waiting.remove(&next) {
+                write_batch(writer, batch, self.skip_bad, self.progress, totals)?;
+                next += 1;
+                // The reader may read one more batch; it may also be done already.
+                let _ = self.tokens.send(());
+            }
+        }
+        Ok(waiting)
     }
 }
 

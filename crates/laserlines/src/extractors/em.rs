@@ -121,6 +121,7 @@ impl EmParams {
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
     pub fn validate(&self) -> Result<(), ParamsError> {
+        params::range_limits(self.range_limits)?;
         params::at_least("max_trials", self.max_trials, 1)?;
         params::at_least("max_failures", self.max_failures, 1)?;
         params::at_least("init_points", self.init_points, 2)?;

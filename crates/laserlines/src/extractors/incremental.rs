@@ -77,6 +77,7 @@ impl IncrementalParams {
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
     pub fn validate(&self) -> Result<(), ParamsError> {
+        params::range_limits(self.range_limits)?;
         self.breakpoints.validate()?;
         params::at_least("seed_points", self.seed_points, 3)?;
         params::scaled(

@@ -136,6 +136,7 @@ impl IterativeHoughParams {
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
     pub fn validate(&self) -> Result<(), ParamsError> {
+        params::range_limits(self.range_limits)?;
         self.grid().validate()?;
         params::positive("min_votes", self.min_votes)?;
         params::scaled(

@@ -99,6 +99,7 @@ impl LineRegressionParams {
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
     pub fn validate(&self) -> Result<(), ParamsError> {
+        params::range_limits(self.range_limits)?;
         self.breakpoints.validate()?;
         params::at_least("window", self.window, 3)?;
         params::scaled(

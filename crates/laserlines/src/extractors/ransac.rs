@@ -106,6 +106,7 @@ impl RansacParams {
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
     pub fn validate(&self) -> Result<(), ParamsError> {
+        params::range_limits(self.range_limits)?;
         params::at_least("iterations", self.iterations, 1)?;
         params::scaled(
             ("inlier_distance", self.inlier_distance),

@@ -106,6 +106,7 @@ impl SplitMergeParams {
     /// # Errors
     /// A [`ParamsError`] naming the first bad field.
     pub fn validate(&self) -> Result<(), ParamsError> {
+        params::range_limits(self.range_limits)?;
         self.breakpoints.validate()?;
         params::scaled(
             ("split_distance", self.split_distance),

@@ -260,7 +260,9 @@ pub(crate) fn emit_lines(pieces: &Pieces<'_>, breaks: &mut Vec<u32>, out: &mut V
 /// Neighbouring lines of one segment that meet at a corner share their end point, as in the
 /// paper: the intersection of the two fitted lines, when it lies near both ends (within
 /// `split_sigmas * sigma(r)` plus the gap between them, which within one data segment is at
-/// most the breakpoint distance) and the lines are not nearly parallel. Where a piece between
+/// most the breakpoint distance), the lines are not nearly parallel, and neither line gives
+/// up more than `split_sigmas * sigma(r)` of its points' extent or falls below
+/// `min_line_length` for it. Where a piece between
 /// them gave no line (too short, too rough or too uncertain for the filters of
 /// `Pieces::line`), the lines around it are neighbours and the gap is that piece's length:
 /// they meet at their intersection when it lies within it, as at a corner whose short leg gave
@@ -280,11 +282,27 @@ fn join_corners(lines: &mut [Line], p: &HoughSplitParams, noise: &RangeNoise) {
         let corner = Point2::new(x, y);
         let thr = p.split_sigmas * noise.sigma(corner.coords.norm());
         let reach = (b.start - a.end).norm() + thr;
-        if (corner - a.end).norm() <= reach && (corner - b.start).norm() <= reach {
+        let near = (corner - a.end).norm() <= reach && (corner - b.start).norm() <= reach;
+        let keeps =
+            |far: Point2, near: Point2| keeps_its_points(far, near, corner, thr, p.min_line_length);
+        if near && keeps(a.start, a.end) && keeps(b.end, b.start) {
             lines[k - 1].end = corner;
             lines[k].start = corner;
         }
     }
+}
+
+/// Whether a line from `far` to `near` may end at `corner` instead of `near`: the corner lies
+/// on the same side of `far` as `near`, the line stays `min_length` long, and it gives up at
+/// most `thr` of its own points' extent (a corner beyond the line's other end, or far inside
+/// it, belongs to lines that do not meet there).
+fn keeps_its_points(far: Point2, near: Point2, corner: Point2, thr: f64, min_length: f64) -> bool {
+    let length = (near - far).norm();
+    if length <= 0.0 {
+        return false;
+    }
+    let along = (corner - far).dot(&(near - far)) / length;
+    along >= length - thr && along >= min_length
 }
 
 #[cfg(test)]

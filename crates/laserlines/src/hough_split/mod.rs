@@ -26,7 +26,7 @@ mod segment;
 
 pub use crate::params::ParamsError;
 pub use accumulator::Cell;
-pub use params::{HoughSplitParams, Weight};
+pub use params::{HoughSplitParams, MAX_WINDOW_RINGS, MIN_RING_STEP, Weight};
 
 use crate::extractor::LineExtractor;
 use crate::line::Line;

@@ -4,6 +4,13 @@ use crate::noise::{NoiseModel, RangeNoise};
 use crate::params::ParamsError;
 use crate::scan::RangeWindow;
 
+/// The finest `ring_step`, m: finer rings would number beyond the accumulator's ring indices
+/// at tens of metres.
+pub const MIN_RING_STEP: f64 = 1e-4;
+
+/// The widest `window`, in `ring_step`s: a point votes in every ring its window meets.
+pub const MAX_WINDOW_RINGS: f64 = 64.0;
+
 /// The weight function `g` of the paper's eq. (1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(
@@ -40,13 +47,15 @@ pub enum Weight {
     serde(default, deny_unknown_fields)
 )]
 pub struct HoughSplitParams {
-    /// Ring step `dd` of the accumulator, m. Paper: 0.03 m. Sensible: 0.01..0.10.
+    /// Ring step `dd` of the accumulator, m. Paper: 0.03 m. Sensible: 0.01..0.10; at least
+    /// [`MIN_RING_STEP`].
     pub ring_step: f64,
     /// Sector step `dgamma` of the accumulator, rad. Paper: 2.47 deg (about 7 beams of a
-    /// URG-04LX). Sensible: 1..10 beam increments.
+    /// URG-04LX). Sensible: 1..10 beam increments; below a full turn.
     pub sector_step: f64,
     /// Half-width `a` of the rectangular window `w`, m. Default `ring_step / 2` (each point
-    /// votes in one ring, two when it falls on a boundary). Sensible: 0.5..1.5 ring steps.
+    /// votes in one ring, two when it falls on a boundary). Sensible: 0.5..1.5 ring steps; at
+    /// most [`MAX_WINDOW_RINGS`] ring steps.
     pub window: f64,
     /// Weight `g`. Default [`Weight::Range`].
     pub weight: Weight,
@@ -268,6 +277,32 @@ impl HoughSplitParams {
                 return Err(ParamsError::NotPositive { field, value });
             }
         }
+        // Rings of 0.1 mm and finer would number beyond the accumulator's ring indices, and
+        // a window of many rings has every point vote in all of them.
+        if self.ring_step < MIN_RING_STEP {
+            return Err(ParamsError::Below {
+                field: "ring_step",
+                value: self.ring_step,
+                min: MIN_RING_STEP,
+            });
+        }
+        if self.window > MAX_WINDOW_RINGS * self.ring_step {
+            return Err(ParamsError::AboveField {
+                field: "window",
+                value: self.window,
+                limit_field: "64 ring_step",
+                limit: MAX_WINDOW_RINGS * self.ring_step,
+            });
+        }
+        if self.sector_step > std::f64::consts::TAU {
+            return Err(ParamsError::OutOfRange {
+                field: "sector_step",
+                value: self.sector_step,
+                lo: 0.0,
+                hi: std::f64::consts::TAU,
+            });
+        }
+        crate::params::range_limits(self.range_limits)?;
         if let NoiseModel::Fixed(n) = self.noise
             && !n.is_valid()
         {
@@ -344,6 +379,36 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    #[test]
+    fn grids_that_would_exhaust_memory_and_empty_range_limits_are_refused() {
+        let with = |f: fn(&mut HoughSplitParams)| {
+            let mut p = HoughSplitParams::default();
+            f(&mut p);
+            p.validate().map_err(|e| e.to_string())
+        };
+        let e = with(|p| p.ring_step = 1e-8).unwrap_err();
+        assert!(
+            e.starts_with("ring_step must be finite and >= 0.0001"),
+            "{e}"
+        );
+        let e = with(|p| p.window = 1e6).unwrap_err();
+        assert!(
+            e.starts_with("window must be at most 1.92 (64 ring_step)"),
+            "{e}"
+        );
+        let e = with(|p| p.sector_step = 10.0).unwrap_err();
+        assert!(e.starts_with("sector_step must lie in (0, 6.28"), "{e}");
+        let e = with(|p| p.range_limits = Some(RangeWindow::new(3.0, 0.03))).unwrap_err();
+        assert!(e.starts_with("range_limits[1] must be above"), "{e}");
+        // The edges themselves pass.
+        let finest = |p: &mut HoughSplitParams| {
+            p.ring_step = MIN_RING_STEP;
+            p.window = MIN_RING_STEP / 2.0;
+        };
+        assert_eq!(with(finest), Ok(()));
+        assert_eq!(with(|p| p.window = 64.0 * p.ring_step), Ok(()));
     }
 
     #[test]
