@@ -59,20 +59,28 @@ class Scan:
     @property
     def intensities(self) -> Optional[npt.NDArray[np.float64]]:
         """The intensities, one per range, when the source has them."""
-    angle_min: float
-    """Angle of the first beam, rad."""
-    angle_increment: float
-    """Angle between beams, rad (negative: a clockwise scan)."""
-    range_min: float
-    """Smallest valid range, m."""
-    range_max: float
-    """Largest valid range, m."""
-    stamp: Optional[float]
-    """Time stamp, s, when the source has one."""
-    pose: Optional[Tuple[float, float, float]]
-    """The robot's pose (x, y, theta) in m, m, rad, when the source has one."""
-    odometry: Optional[Tuple[float, float, float]]
-    """The wheel odometry's pose (x, y, theta) in m, m, rad at the scan, when the source has it."""
+    @property
+    def angle_min(self) -> float:
+        """Angle of the first beam, rad."""
+    @property
+    def angle_increment(self) -> float:
+        """Angle between beams, rad (negative: a clockwise scan)."""
+    @property
+    def range_min(self) -> float:
+        """Smallest valid range, m."""
+    @property
+    def range_max(self) -> float:
+        """Largest valid range, m (``inf``: no limit)."""
+    @property
+    def stamp(self) -> Optional[float]:
+        """Time stamp, s, when the source has one."""
+    @property
+    def pose(self) -> Optional[Tuple[float, float, float]]:
+        """The robot's pose (x, y, theta) in m, m, rad, when the source has one."""
+    @property
+    def odometry(self) -> Optional[Tuple[float, float, float]]:
+        """The wheel odometry's pose (x, y, theta) in m, m, rad at the scan, when the source
+        has it."""
     def __len__(self) -> int: ...
 
 class ScanIterator(Iterator[Scan]):
@@ -114,17 +122,20 @@ class Extractor:
         ranges: Union[Ranges, Scan],
         angle_min: Optional[float] = None,
         angle_increment: Optional[float] = None,
-        range_min: float = 0.0,
-        range_max: float = float("inf"),
+        range_min: Optional[float] = None,
+        range_max: Optional[float] = None,
     ) -> Lines:
-        """The lines of one scan: ranges with their geometry, or a :class:`Scan`.
+        """The lines of one scan: ranges with their geometry, or a :class:`Scan` (which brings
+        its own geometry and range limits: giving any of the four with it is a TypeError).
 
         A contiguous float64 array is read where it is, without a copy (do not write to it
-        from another thread meanwhile); float32 and strided arrays are converted.
-        ``range_max=inf`` means no upper limit. TypeError for anything but a numpy array of
-        float64 or float32, ValueError for an array that is not 1-D, an ``angle_increment``
-        that is zero or not finite, limits out of order (a negative increment is a clockwise
-        scan, not an error)."""
+        from another thread meanwhile); float32, other-endian and strided arrays are
+        converted. ``range_min`` defaults to 0, ``range_max`` to ``inf`` (no upper limit).
+        TypeError for anything but a numpy array of floats (a masked array too: its mask would
+        be lost; ``numpy.ma.filled(ranges, numpy.nan)`` makes masked beams no return),
+        ValueError for an array that is not 1-D, an ``angle_increment`` that is zero or not
+        finite, limits out of order (a negative increment is a clockwise scan, not an
+        error)."""
     def time_extract(
         self,
         ranges: Ranges,
@@ -135,7 +146,8 @@ class Extractor:
         repeat: int = 1000,
     ) -> float:
         """Seconds per extraction of one scan, timed in Rust around the extraction alone (the
-        mean of ``repeat``): a call of :meth:`extract` costs this plus the binding's overhead."""
+        mean of ``repeat``, 1 or more, else ValueError): a call of :meth:`extract` costs this
+        plus the binding's overhead."""
     def extract_table(self, table: Any) -> Any:
         """The lines (a ``pyarrow.Table`` of :func:`lines_schema`, one row per line) of a table
         of scans in :func:`scans_schema` (a ``pyarrow.Table``, a ``RecordBatchReader`` or
@@ -147,26 +159,41 @@ class Extractor:
         them (``data``, ``schema_name``, ``message_encoding``, ``log_time`` in ns); scans
         are numbered by row. Decoded and extracted at full precision (unlike a detour
         through :func:`scans_from_messages`, whose table holds float32 ranges)."""
-    def extract_file(self, path: Path, topic: Optional[str] = None, skip_bad: bool = False) -> Any:
-        """The lines of every scan of a file (any format ``laserlines extract`` reads) as a
-        ``pyarrow.Table`` of :func:`lines_schema`."""
+    def extract_file(
+        self,
+        path: Path,
+        topic: Optional[str] = None,
+        skip_bad: bool = False,
+        format: Optional[str] = None,
+    ) -> Any:
+        """The lines of every scan of a file (any format ``laserlines extract`` reads; by its
+        name, or ``format`` as ``extract --format`` takes it) as a ``pyarrow.Table`` of
+        :func:`lines_schema`."""
 
 def extract(
     ranges: Union[Ranges, Scan],
     angle_min: Optional[float] = None,
     angle_increment: Optional[float] = None,
-    range_min: float = 0.0,
-    range_max: float = float("inf"),
+    range_min: Optional[float] = None,
+    range_max: Optional[float] = None,
     algorithm: str = "hough-split",
     **params: Any,
 ) -> Lines:
     """The lines of one scan with a new :class:`Extractor` of ``algorithm`` and ``params``
-    (use an :class:`Extractor` for many scans: it keeps its working memory)."""
+    (use an :class:`Extractor` for many scans: it keeps its working memory); the arguments
+    as :meth:`Extractor.extract` takes them."""
 
-def read(path: Path, topic: Optional[str] = None, skip_bad: bool = False) -> ScanIterator:
+def read(
+    path: Path,
+    topic: Optional[str] = None,
+    skip_bad: bool = False,
+    format: Optional[str] = None,
+) -> ScanIterator:
     """The scans of a file, with stamps and poses: every format ``laserlines extract`` reads
     (MCAP and ROS 2 bag directories, Parquet scans tables, BreezySLAM ``.dat``, CARMEN logs,
-    ROS 1 bags, JSON, JSONL, CSV; ``.gz`` inflated). ``topic`` picks a topic (MCAP, bags) or a
+    ROS 1 bags, JSON, JSONL, CSV; ``.gz`` inflated), told by the file's name or by ``format``
+    (``json``, ``jsonl``, ``csv``, ``dat``, ``mcap``, ``carmen``, ``bag``, ``db3``,
+    ``parquet``; an unknown name is a ValueError). ``topic`` picks a topic (MCAP, bags) or a
     laser (CARMEN). A bad record raises ValueError naming the file and line (or byte offset or
     row); ``skip_bad=True`` skips and counts it. A missing file raises FileNotFoundError."""
 
@@ -175,6 +202,7 @@ def extract_file(
     topic: Optional[str] = None,
     algorithm: str = "hough-split",
     skip_bad: bool = False,
+    format: Optional[str] = None,
     **params: Any,
 ) -> Any:
     """The lines of every scan of a file as a ``pyarrow.Table`` of :func:`lines_schema`: one

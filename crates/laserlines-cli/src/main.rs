@@ -70,7 +70,7 @@ pub struct InputArgs {
     /// stdin.
     pub input: PathBuf,
     /// Input format, overriding the file extension (json, jsonl, csv, dat, mcap, carmen, bag,
-    /// db3).
+    /// db3, parquet).
     #[arg(long)]
     pub format: Option<String>,
     /// Topic to read from an MCAP file or a ROS bag (default: the first LaserScan topic), or

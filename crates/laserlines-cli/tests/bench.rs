@@ -221,6 +221,15 @@ fn unknown_algorithm_suite_and_sensor_are_clean_errors() {
     assert_clean_error(&o, &["unknown algorithm", "nope"]);
     let o = run(bin().arg("bench").arg("--data").arg(tmp("missing.dat")));
     assert_clean_error(&o, &["missing.dat"]);
+    // Options of the simulated suites are refused with real logs, not ignored.
+    for option in [
+        ["--sensor", "urg04lx-full"],
+        ["--criteria", "field"],
+        ["--seed", "3"],
+    ] {
+        let o = run(bin().arg("bench").args(option).arg("--data").arg(excerpt()));
+        assert_clean_error(&o, &[option[0], "cannot be used with"]);
+    }
 }
 
 #[test]

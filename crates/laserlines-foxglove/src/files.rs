@@ -42,8 +42,11 @@ pub fn open_scans(path: &Path, options: &ReadOptions) -> Result<ScanReader, Read
         });
     }
     match format {
-        Some(Format::Mcap | Format::Db3) => {
-            let mcap_options = McapReadOptions::topic(options.topic.as_deref());
+        Some(f @ (Format::Mcap | Format::Db3)) => {
+            let mcap_options = McapReadOptions {
+                db3: f == Format::Db3,
+                ..McapReadOptions::topic(options.topic.as_deref())
+            };
             crate::read::open(path, &mcap_options)
         }
         Some(Format::Parquet) => open_parquet(path, options),

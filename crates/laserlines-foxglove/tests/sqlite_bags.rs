@@ -162,15 +162,52 @@ fn a_file_that_is_no_database_is_an_error_at_byte_zero() {
         e,
         format!(
             "{}: byte 0: expected an SQLite 3 database (`SQLite format 3`), as ROS 2 bags in \
-             sqlite3 storage are, found other bytes",
+             sqlite3 storage are, found other bytes (6e 6f 74 20 61 20 64 61 74 61 62 61 73 \
+             65 20 61)",
             dir.join("bag_0.db3").display()
         )
     );
+    // An empty file and a gzipped database say so.
+    for (bytes, found) in [
+        (&b""[..], "found an empty file"),
+        (
+            &[0x1f, 0x8b, 8, 0][..],
+            "found gzip data (SQLite reads plain files only",
+        ),
+    ] {
+        std::fs::write(dir.join("bag_0.db3"), bytes).unwrap();
+        let items: Vec<_> = read::open(&dir, &McapReadOptions::default())
+            .unwrap()
+            .collect();
+        let e = items[0].as_ref().unwrap_err().to_string();
+        assert!(e.contains(found), "{e}");
+    }
     // Compressed bag files are named in the error.
     std::fs::remove_file(dir.join("bag_0.db3")).unwrap();
     std::fs::write(dir.join("bag_0.db3.zstd"), b"(zstd)").unwrap();
     let e = read::open(&dir, &McapReadOptions::default()).unwrap_err();
     assert!(e.to_string().contains("compressed (.zstd)"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn the_db3_format_reads_a_database_of_any_name() {
+    let dir = temp_dir("any-name");
+    let renamed = dir.join("scans.bin");
+    std::fs::copy(db3(), &renamed).unwrap();
+    let options = ReadOptions::format(Some(Format::Db3));
+    let scans: Vec<_> = laserlines_foxglove::open_scans(&renamed, &options)
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap();
+    let alone: Vec<_> = read::open(&db3(), &McapReadOptions::default())
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap();
+    assert_eq!(format!("{scans:?}"), format!("{alone:?}"));
+    // Without the format, the name decides (an MCAP is expected, and named).
+    let e = laserlines_foxglove::open_scans(&renamed, &ReadOptions::format(None)).unwrap_err();
+    assert!(e.to_string().contains("scans.bin"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

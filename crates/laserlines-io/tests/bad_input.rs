@@ -173,6 +173,14 @@ fn json_framing_errors() {
             ],
         ),
         (
+            "nan-increment.json",
+            br#"{"angle_min": 0, "angle_increment": NaN, "range_min": 0, "range_max": 1, "ranges": [1]}"#.to_vec(),
+            vec![
+                "nan-increment.json:1:37: malformed JSON: expected value (`NaN` is not JSON; this \
+                 field needs a finite number)",
+            ],
+        ),
+        (
             "pose.json",
             br#"{"angle_min": 0, "angle_increment": 0.1, "range_min": 0, "range_max": 1, "ranges": [1], "pose": {"x": 1}}"#.to_vec(),
             vec!["pose.json:1:89: pose.y: expected a number, found nothing (the field is missing)"],

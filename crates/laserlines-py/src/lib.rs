@@ -3,12 +3,12 @@
 //! The Python package `laserlines` (PyO3, built by maturin as one stable-ABI wheel for every
 //! CPython >= 3.9; see `pyproject.toml` and `laserlines.pyi`):
 //!
-//! - `extract(ranges, angle_min, angle_increment, range_min=0.0, range_max=inf,
+//! - `extract(ranges, angle_min, angle_increment, range_min=None, range_max=None,
 //!   algorithm="hough-split", **params)` and the `Extractor` class, which keeps its working
 //!   memory: lines of one scan as a numpy structured array (one record per line). A contiguous `float64` array is read
 //!   in place ([`laserlines::ScanView`]), never copied; the GIL is released while extracting.
-//! - `read(path, topic=None)`: the scans of any file the command line reads, with stamp and
-//!   pose.
+//! - `read(path, topic=None, skip_bad=False, format=None)`: the scans of any file the
+//!   command line reads, with stamp and pose.
 //! - `extract_file(path, ...)` and `Extractor.extract_table(table)`: lines as a
 //!   `pyarrow.Table` of the Parquet lines schema ([`laserlines_parquet::schema`]), built in
 //!   Rust and handed over through the Arrow C data interface.
@@ -42,6 +42,7 @@ use pyo3::prelude::*;
 #[pyo3(name = "laserlines")]
 fn laserlines_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
+    m.add("__doc__", module_doc())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add(
         "ALGORITHMS",
@@ -57,4 +58,14 @@ fn laserlines_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tables::scans_schema_py, m)?)?;
     m.add_function(wrap_pyfunction!(messages::scans_from_messages, m)?)?;
     Ok(())
+}
+
+/// The module's docstring at run time: the one of `laserlines.pyi` (units, frames, the fields
+/// of a line), so that `help(laserlines)` says what the stub says.
+#[cfg(feature = "python")]
+fn module_doc() -> &'static str {
+    const STUB: &str = include_str!("../laserlines.pyi");
+    STUB.strip_prefix("\"\"\"")
+        .and_then(|rest| rest.split_once("\"\"\"").map(|(doc, _)| doc))
+        .unwrap_or("Line segments from 2D laser range scans.")
 }

@@ -101,3 +101,72 @@ def test_bad_tables_name_the_column_and_the_row():
         ex.extract_table(t)
     with pytest.raises(TypeError):
         ex.extract_table([1, 2, 3])
+
+
+def test_a_scan_brings_its_own_range_limits():
+    scan = next(iter(laserlines.read(EXCERPT)))
+    with pytest.raises(TypeError, match="takes its range limits from the scan"):
+        laserlines.extract(scan, range_min=4.0, range_max=4.5)
+    with pytest.raises(TypeError, match="takes its range limits from the scan"):
+        laserlines.Extractor().extract(scan, range_max=4.5)
+    # The same limits on a scan of its own apply.
+    limited = laserlines.Scan(scan.ranges, scan.angle_min, scan.angle_increment, 4.0, 4.5)
+    assert len(laserlines.extract(limited)) < len(laserlines.extract(scan))
+
+
+def test_empty_range_limits_and_runaway_grids_are_refused():
+    for limits in ([2.0, 0.5], [float("nan"), 0.5], [-5.0, -1.0]):
+        with pytest.raises(ValueError, match=r"range_limits\[[01]\]"):
+            laserlines.Extractor(range_limits=limits)
+    with pytest.raises(ValueError, match=r"range_limits\[1\] must be above"):
+        laserlines.Extractor("ransac", range_limits=[3.0, 0.03])
+    with pytest.raises(ValueError, match="ring_step must be finite and >= 0.0001"):
+        laserlines.Extractor(ring_step=1e-8)
+    with pytest.raises(ValueError, match=r"window must be at most"):
+        laserlines.Extractor(window=1e6)
+
+
+def test_numpy_values_and_big_ints_as_parameters():
+    ex = laserlines.Extractor(min_line_points=np.int64(5), range_limits=np.array([0.1, 4.0]))
+    assert ex.params["min_line_points"] == 5
+    assert ex.params["range_limits"] == [0.1, 4.0]
+    assert laserlines.Extractor("ransac", seed=np.uint32(7)).params["seed"] == 7
+    with pytest.raises(TypeError, match=r"parameter seed: .*64-bit signed integers"):
+        laserlines.Extractor("ransac", seed=2**64 - 1)
+
+
+def test_masked_arrays_are_refused_and_other_endian_floats_read():
+    masked = np.ma.masked_array(GOOD, mask=[False, True, False, False])
+    with pytest.raises(TypeError, match=r"masked array.*numpy.ma.filled"):
+        laserlines.extract(masked, 0.0, 0.1)
+    scan = next(iter(laserlines.read(EXCERPT)))
+    native = laserlines.extract(scan.ranges, scan.angle_min, scan.angle_increment)
+    swapped = laserlines.extract(scan.ranges.astype(">f8"), scan.angle_min, scan.angle_increment)
+    assert swapped.tobytes() == native.tobytes()
+
+
+def test_time_extract_needs_a_repeat_of_one_or_more():
+    for repeat in (0, -1):
+        with pytest.raises(ValueError, match=f"repeat must be 1 to .*, got {repeat}"):
+            laserlines.Extractor().time_extract(GOOD, 0.0, 0.1, repeat=repeat)
+
+
+def test_a_format_reads_a_file_of_any_name(tmp_path):
+    renamed = tmp_path / "scans.bin"
+    renamed.write_bytes(EXCERPT.read_bytes())
+    with pytest.raises(ValueError, match="scans.bin"):
+        laserlines.read(renamed)
+    with pytest.raises(ValueError, match=r'unknown format "nope": expected one of json, jsonl'):
+        laserlines.read(renamed, format="nope")
+    got = [s.stamp for s in laserlines.read(renamed, format="dat")]
+    assert got == [s.stamp for s in laserlines.read(EXCERPT)]
+    table = laserlines.extract_file(renamed, format="dat")
+    assert table.equals(laserlines.extract_file(EXCERPT))
+
+
+def test_help_tells_units_and_a_scan_prints_plainly():
+    assert "REP 103" in laserlines.__doc__ and "covariance" in laserlines.__doc__
+    scan = laserlines.Scan(GOOD, 0.0, 0.1, pose=(1.0, 2.0, 0.5))
+    text = repr(scan)
+    assert "Some(" not in text and "pose (1, 2, 0.5)" in text and "odometry None" in text
+    assert scan.range_max == float("inf")

@@ -170,3 +170,20 @@ def test_arrow_tables_of_the_bindings_equal_the_cli(cli, written, tmp_path):
     # Batches of the table give the same rows (scan indices come from the table).
     parts = [laserlines.Extractor().extract_table(pa.Table.from_batches([b])) for b in scans.to_batches(max_chunksize=7)]
     assert pa.concat_tables(parts).equals(expected)
+
+
+def test_inf_range_max_in_a_table_is_no_limit():
+    scan = next(iter(laserlines.read(EXCERPT)))
+    table = pa.table(
+        {
+            "angle_min": [scan.angle_min],
+            "angle_increment": [scan.angle_increment],
+            "range_min": [scan.range_min],
+            "range_max": [float("inf")],
+            "ranges": pa.array([scan.ranges.astype(np.float32)], pa.list_(pa.float32())),
+        }
+    )
+    lines = laserlines.Extractor().extract_table(table)
+    ranges = scan.ranges.astype(np.float32).astype(np.float64)
+    expected = laserlines.extract(ranges, scan.angle_min, scan.angle_increment, scan.range_min)
+    assert lines.column("r").to_pylist() == expected["r"].tolist()

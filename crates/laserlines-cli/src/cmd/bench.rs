@@ -42,19 +42,19 @@ pub struct BenchArgs {
     scans: Option<usize>,
     /// Seed of the simulated suites (default: the test seed, 2; with --tune the training
     /// seed, 1).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "data")]
     seed: Option<u64>,
     /// Simulated sensor and conditions: urg04lx, urg04lx-artefacts (mixed pixels and
     /// dropouts), or the field conditions urg04lx-half, urg04lx-full, urg04lx-1.5x (noise at
     /// half, once and 1.5 times the data sheet's band as one standard deviation, chair legs,
     /// mixed pixels, 0-5 % dropouts).
-    #[arg(long, default_value = "urg04lx")]
+    #[arg(long, default_value = "urg04lx", conflicts_with = "data")]
     sensor: String,
     /// Which lines count as right: strict (each visible piece, intersection over union of
     /// the beams >= 1/2, tolerances of 1 cm / 0.5 deg widened to 4 standard errors of an
     /// ideal fit) or field (pieces of a wall behind small obstacles as one, |dr| <= 5 cm,
     /// 3 deg, half of the line on the wall).
-    #[arg(long, default_value = "strict", value_parser = ["strict", "field"])]
+    #[arg(long, default_value = "strict", value_parser = ["strict", "field"], conflicts_with = "data")]
     criteria: String,
     /// Timed extractions of each scan by each extractor (at least 1); the fastest counts.
     #[arg(long, default_value_t = 1, value_parser = super::at_least_one, allow_negative_numbers = true)]

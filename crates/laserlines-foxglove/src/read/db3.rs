@@ -28,12 +28,28 @@ pub const LASER_SCAN_TYPE: &str = "sensor_msgs/msg/LaserScan";
 /// Messages read from the database at a time.
 pub const PAGE: i64 = 64;
 
-/// True when the file starts like an SQLite 3 database.
-pub(super) fn is_sqlite(path: &Path) -> bool {
-    let mut head = [0u8; 16];
-    std::fs::File::open(path)
-        .and_then(|mut f| f.read_exact(&mut head))
-        .is_ok_and(|()| &head == SQLITE_MAGIC)
+/// What the file at `path` starts with instead of [`SQLITE_MAGIC`], for a message; `None`
+/// when it starts with it.
+fn sqlite_head(path: &Path) -> Option<String> {
+    let mut head = Vec::with_capacity(16);
+    let read = std::fs::File::open(path)
+        .and_then(|f| f.take(16).read_to_end(&mut head))
+        .map_err(|e| format!("a file that cannot be read ({e})"));
+    match read {
+        Err(e) => Some(e),
+        Ok(_) if head.as_slice() == SQLITE_MAGIC => None,
+        Ok(0) => Some("an empty file".to_owned()),
+        Ok(_) if head.starts_with(&[0x1f, 0x8b]) => {
+            Some("gzip data (SQLite reads plain files only: gunzip it first)".to_owned())
+        }
+        Ok(_) => Some(format!(
+            "other bytes ({})",
+            head.iter()
+                .map(|b| format!("{b:02x}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        )),
+    }
 }
 
 /// A topic of the bag: id, name, type, serialization format.
@@ -73,13 +89,13 @@ impl Db3File {
     /// messages of the other LaserScan topics in `skipped`.
     fn open(path: &Path, topic: Option<&str>, skipped: &mut SkipCounts) -> Result<Self, ReadError> {
         let name = path.display().to_string();
-        if !is_sqlite(path) {
+        if let Some(found) = sqlite_head(path) {
             return Err(ReadError::Syntax {
                 pos: SourcePos::byte(&name, 0),
                 expected: "an SQLite 3 database (`SQLite format 3`), as ROS 2 bags in sqlite3 \
                            storage are"
                     .to_owned(),
-                found: "other bytes".to_owned(),
+                found,
             });
         }
         let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;

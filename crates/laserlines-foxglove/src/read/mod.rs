@@ -67,6 +67,9 @@ pub struct McapReadOptions {
     /// Largest record, and largest decompressed chunk, accepted, in bytes (default 1 GiB). A
     /// larger declared length is an error, so a corrupt length cannot exhaust memory.
     pub max_record_bytes: u64,
+    /// Read a file (not a directory) as a ROS 2 bag in sqlite3 storage whatever its name
+    /// (`--format db3`); otherwise only a `.db3` file is.
+    pub db3: bool,
 }
 
 impl Default for McapReadOptions {
@@ -74,6 +77,7 @@ impl Default for McapReadOptions {
         Self {
             topic: None,
             max_record_bytes: 1 << 30,
+            db3: false,
         }
     }
 }
@@ -397,10 +401,10 @@ pub fn open(path: &Path, options: &McapReadOptions) -> Result<ScanReader, ReadEr
     if path == Path::new("-") {
         return from_reader(&name, BufReader::new(io::stdin()), options);
     }
-    let is_db3 = |p: &Path| Format::from_path(p) == Some(Format::Db3);
+    let db3 = options.db3 || Format::from_path(path) == Some(Format::Db3);
     let (storage, files) = if path.is_dir() {
         bag_files(path)?
-    } else if is_db3(path) {
+    } else if db3 {
         std::fs::metadata(path).map_err(|source| ReadError::Open {
             file: name.clone(),
             source,

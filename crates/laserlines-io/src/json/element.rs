@@ -109,9 +109,12 @@ impl Element<'_> {
             let w = word.as_bytes();
             let at_word = here.starts_with(w) || here.get(1..).is_some_and(|h| h.starts_with(w));
             if at_word {
-                message.push_str(&format!(
-                    " (`{word}` is not JSON; write null for a beam without return)"
-                ));
+                let hint = if in_beam_list(&bytes[..offset.min(bytes.len())]) {
+                    "write null for a beam without return"
+                } else {
+                    "this field needs a finite number"
+                };
+                message.push_str(&format!(" (`{word}` is not JSON; {hint})"));
                 break;
             }
         }
@@ -358,4 +361,15 @@ impl<'de> Deserialize<'de> for NanVec {
         }
         d.deserialize_seq(Visit)
     }
+}
+
+/// Whether the end of `before` lies inside the list of `ranges` or `intensities`: the last
+/// of those keys is followed by its `[` and no `]` since.
+fn in_beam_list(before: &[u8]) -> bool {
+    let key_at = |key: &[u8]| before.windows(key.len()).rposition(|w| w == key);
+    let Some(at) = key_at(b"\"ranges\"").max(key_at(b"\"intensities\"")) else {
+        return false;
+    };
+    let after = &before[at..];
+    after.contains(&b'[') && !after.contains(&b']')
 }
