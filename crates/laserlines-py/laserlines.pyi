@@ -112,7 +112,8 @@ class Extractor:
         """The algorithm's name."""
     @property
     def params(self) -> Dict[str, Any]:
-        """Every parameter the extractor runs with (SI units, angles in radians)."""
+        """Every parameter the extractor runs with (SI units, angles in radians), as a
+        params file writes them: one left unset (``range_limits``: the scan's own) is absent."""
     @property
     def last_ranges_address(self) -> int:
         """Address of the first range the last extraction read: ``ranges.ctypes.data`` when a

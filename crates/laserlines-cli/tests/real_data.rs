@@ -35,7 +35,8 @@ fn every_breezyslam_scan_gives_lines() {
 }
 
 /// Lines of every scan of `path` (`expected` scans) with `params`: at most `most_empty` % of
-/// the scans without a line, 3 to 40 lines per scan on average.
+/// the scans without a line, 3 to 40 lines per scan on average, and every line at least
+/// `min_line_length` long and running the way its beams do.
 fn check_run(
     path: &std::path::Path,
     file: &str,
@@ -44,12 +45,25 @@ fn check_run(
     most_empty: usize,
 ) {
     let reader = laserlines_io::open(path, None).unwrap();
+    let min_length = params.min_line_length;
     let mut hs = HoughSplit::new(params).unwrap();
     let mut lines = Vec::new();
     let (mut scans, mut total, mut empty) = (0usize, 0usize, 0usize);
     for rec in reader {
         let rec = rec.unwrap();
         hs.extract_into(&rec.scan, &mut lines);
+        let point = |i: usize| {
+            let (r, a) = (rec.scan.ranges[i], rec.scan.angle(i));
+            laserlines::math::Vector2::new(r * a.cos(), r * a.sin())
+        };
+        for l in &lines {
+            assert!(l.length() >= min_length, "{file} scan {scans}: {l:?}");
+            let beams = point(l.last) - point(l.first);
+            assert!(
+                (l.end - l.start).dot(&beams) > 0.0,
+                "{file} scan {scans}: a line reversed against its beams: {l:?}"
+            );
+        }
         empty += usize::from(lines.is_empty());
         scans += 1;
         total += lines.len();

@@ -210,6 +210,28 @@ fn a_truncated_chunk_ends_with_an_error_naming_its_offset_after_the_scans_before
             items.last().unwrap().is_err(),
             "{name}: the error comes last"
         );
+        // Cut one byte before the end of the third chunk: an uncompressed chunk gives every
+        // complete message before the cut (all but its last record); a compressed one none.
+        let (whole, _) = read_bytes(&bytes[..data + len], None);
+        let (through_third, errors) = scans_and_errors(&whole);
+        assert!(
+            errors.is_empty() && through_third > 3,
+            "{name}: {through_third} {errors:?}"
+        );
+        let (items, _) = read_bytes(&bytes[..data + len - 1], None);
+        let (scans, errors) = scans_and_errors(&items);
+        let expected = if name == "laserscans.bag" {
+            through_third - 1
+        } else {
+            3
+        };
+        assert_eq!(scans, expected, "{name}");
+        assert_eq!(errors.len(), 1, "{name}: {errors:?}");
+        assert!(
+            errors[0].contains(&format!("byte {third}: expected chunk data")),
+            "{errors:?}"
+        );
+        assert!(items.last().unwrap().is_err(), "{name}");
         // Cut inside a record header, and inside the magic.
         let (items, _) = read_bytes(&bytes[..third + 6], None);
         let (_, errors) = scans_and_errors(&items);

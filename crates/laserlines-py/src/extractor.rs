@@ -86,7 +86,8 @@ impl Extractor {
         &self.algorithm
     }
 
-    /// Every parameter the extractor runs with (SI units, angles in radians), as a dict.
+    /// Every parameter the extractor runs with (SI units, angles in radians), as a dict, as a
+    /// params file writes them: one left unset (`range_limits`: the scan's own) is absent.
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         kwargs::to_dict(py, &self.params)

@@ -54,8 +54,16 @@ impl BagSource {
             }
         };
         let mut raw = std::mem::take(&mut self.raw);
-        self.read_data(start, data_len, "chunk data", &mut raw)?;
         if compression == "none" {
+            // Cut short by the end of the input, the chunk's complete records are read before
+            // the truncation ends the reader.
+            let got = self
+                .input
+                .read_vec(data_len, &mut raw)
+                .map_err(|e| self.io_error(e))?;
+            if got < data_len {
+                self.cut = Some(self.truncated(start, "chunk data", data_len, got));
+            }
             self.chunk = Some(Chunk {
                 data: raw,
                 at: 0,
@@ -65,6 +73,7 @@ impl BagSource {
             });
             return Ok(None);
         }
+        self.read_data(start, data_len, "chunk data", &mut raw)?;
         let data = self.decompress(&raw, compression, size);
         self.raw = raw;
         let data = match data {
@@ -132,8 +141,12 @@ impl BagSource {
             let (header, body, next) = match framed {
                 Ok(f) => f,
                 Err(bad) => {
-                    // The chunk's framing is lost: drop its rest, go on with the next record.
+                    // The chunk's framing is lost: drop its rest, go on with the next record
+                    // (in a chunk cut short, the record the end of the input cut says so).
                     chunk.at = data.len();
+                    if self.cut.is_some() {
+                        continue;
+                    }
                     return Some(Err(loc.error(&self.name, bad)));
                 }
             };

@@ -54,7 +54,7 @@
 //! decompressed chunk. A message that does not decode is an error and the reader goes on with
 //! the next message; a chunk that does not decompress, or whose records are broken, is an error
 //! and the reader goes on with the next chunk. A record that runs past the end of the file (a
-//! truncated bag), a top-level record header that does not parse, a missing or wrong
+//! truncated bag; an uncompressed chunk cut short gives its complete records first), a top-level record header that does not parse, a missing or wrong
 //! `#ROSBAG V2.0` (or `#ROSRECORD V1.2`) line and a read failure end the reader with an
 //! error, after every scan before them.
 
@@ -151,6 +151,9 @@ pub(crate) struct BagSource {
     /// number their connections themselves).
     v12: Option<HashMap<Vec<u8>, u32>>,
     finished: bool,
+    /// The end of the input inside an uncompressed chunk: the error that ends the reader once
+    /// the chunk's complete records are read.
+    cut: Option<ReadError>,
     /// Buffers kept between records: a record header, record data (compressed chunks,
     /// connection data, messages outside chunks), and decompressed chunk data.
     header: Vec<u8>,
@@ -184,6 +187,7 @@ impl BagSource {
             failed: false,
             v12: None,
             finished: false,
+            cut: None,
             header: Vec::new(),
             raw: Vec::new(),
             spare: Vec::new(),
@@ -508,6 +512,9 @@ impl ScanSource for BagSource {
                     return Some(item);
                 }
                 continue;
+            }
+            if let Some(cut) = self.cut.take() {
+                return self.fail(cut);
             }
             if self.done {
                 return self.finish();

@@ -138,12 +138,19 @@ impl<'a> Fields<'a> {
         Ok(Pose2::new(part(x)?, part(y)?, part(theta)?))
     }
 
-    /// `ipc_timestamp ipc_hostname logger_timestamp`: the ipc time stamp when finite.
+    /// `ipc_timestamp ipc_hostname logger_timestamp`: the ipc time stamp, which must be a
+    /// finite number (a NaN or infinite one is an error, as in the pose).
     pub(super) fn stamps(&mut self) -> Result<Option<f64>, ReadError> {
-        let ipc = self.number("ipc_timestamp")?;
+        let token = self.tokens.next();
+        let ipc = token
+            .and_then(parse_number)
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| {
+                self.field_error("ipc_timestamp".to_owned(), "a finite number", token)
+            })?;
         self.skip(); // ipc_hostname
         self.number("logger_timestamp")?;
-        Ok(ipc.is_finite().then_some(ipc))
+        Ok(Some(ipc))
     }
 
     /// The line has no more tokens.

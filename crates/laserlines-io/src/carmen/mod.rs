@@ -52,7 +52,8 @@
 //! `ROBOTLASER` / `RAWLASER` (or [`RANGE_MAX`] when that is not a positive number).
 //!
 //! **Time and pose.** `scan.stamp` is the line's `ipc_timestamp` in seconds (the time the
-//! message was sent; the Freiburg benchmark's relations refer to it). Several published logs
+//! message was sent; the Freiburg benchmark's relations refer to it; a NaN or infinite one is
+//! an error, as in a pose). Several published logs
 //! have broken time stamps (all 0, or printed with six significant digits so that hundreds of
 //! scans share one value): the reader keeps them as written and never reorders, so records
 //! come in file order. `pose` is the line's first pose triple `x y theta` (CARMEN's

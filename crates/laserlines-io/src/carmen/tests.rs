@@ -184,6 +184,13 @@ fn flaser_fields_pose_and_stamp() {
     assert_eq!(r.scan.angle_min, -PI / 2.0);
     assert!((r.scan.angle_max() - PI / 2.0).abs() < 1e-12);
     assert!(reader.skipped().is_empty());
+    // A time stamp that is not a finite number is an error naming the field, as in the pose.
+    let (items, _) = read(&flaser(181, 2.0, &TAIL.replacen("12.5", "nan", 1)), None);
+    let e = items[0].as_ref().unwrap_err().to_string();
+    assert!(
+        e.contains("ipc_timestamp: expected a finite number, found `nan`"),
+        "{e}"
+    );
 }
 
 #[test]
