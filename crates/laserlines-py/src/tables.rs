@@ -18,6 +18,9 @@ use crate::errors::{read_error, value_error};
 use crate::extractor::{Extractor, Working};
 use crate::kwargs;
 
+/// Scans between two checks for a pending signal (Ctrl-C) while a file is extracted.
+const SIGNAL_SCANS: u64 = 256;
+
 /// Lines per record batch of a table built here.
 const BATCH_LINES: usize = 64 * 1024;
 
@@ -149,6 +152,10 @@ pub fn extract_path<'py>(
             };
             out.push(&mut w, scan, &record).map_err(value_error)?;
             scan += 1;
+            // Ctrl-C (or any signal handler's exception) ends a long file between scans.
+            if scan % SIGNAL_SCANS == 0 {
+                Python::attach(|py| py.check_signals())?;
+            }
         }
         Ok((out, skipped))
     });

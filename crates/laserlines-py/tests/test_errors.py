@@ -1,5 +1,7 @@
 """Bad input raises ValueError or TypeError with a clear message, never a crash."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -170,3 +172,54 @@ def test_help_tells_units_and_a_scan_prints_plainly():
     text = repr(scan)
     assert "Some(" not in text and "pose (1, 2, 0.5)" in text and "odometry None" in text
     assert scan.range_max == float("inf")
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self/fd"), reason="needs /proc (Linux)")
+def test_ctrl_c_ends_a_long_file(tmp_path):
+    import json
+    import signal
+
+    # 20,000 scans of a 2 m wall and an alarm every 2 ms: the handler interrupts on its third
+    # run and notes whether the file was still being read (open, its position short of its
+    # end: the extraction checks for signals every 256 scans) rather than read to its end.
+    angles = np.linspace(-0.5, 0.5, 100)
+    scan = {
+        "angle_min": -0.5,
+        "angle_increment": float(angles[1] - angles[0]),
+        "range_min": 0.02,
+        "range_max": 5.6,
+        "ranges": (2.0 / np.cos(angles)).round(4).tolist(),
+    }
+    path = tmp_path / "long.jsonl"
+    path.write_text((json.dumps(scan) + "\n") * 20000)
+    runs = []
+
+    size = path.stat().st_size
+
+    def still_reading():
+        # The file open, its read position short of its end.
+        for fd in os.listdir("/proc/self/fd"):
+            try:
+                if os.readlink(f"/proc/self/fd/{fd}") != str(path):
+                    continue
+                with open(f"/proc/self/fdinfo/{fd}") as info:
+                    pos = int(info.readline().split()[1])
+                return pos < size
+            except OSError:
+                pass
+        return False
+
+    def interrupt(signum, frame):
+        runs.append(still_reading())
+        if len(runs) == 3:
+            raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGALRM, interrupt)
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 0.002, 0.002)
+        with pytest.raises(KeyboardInterrupt):
+            laserlines.extract_file(path)
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+    assert runs[2], "the interrupt came only after the whole file"
