@@ -52,7 +52,11 @@ class Scan:
         pose: Optional[Tuple[float, float, float]] = None,
         odometry: Optional[Tuple[float, float, float]] = None,
     ) -> None:
-        """A scan; ``range_max=inf`` means no upper limit. ValueError for broken geometry."""
+        """A scan; ``range_max=inf`` means no upper limit. ValueError for broken geometry.
+
+        A contiguous float64 ``ranges`` array is kept as it is, not copied: writing to it
+        later changes the scan (``ranges.copy()`` gives one of its own); other arrays are
+        kept as their float64 copy."""
     @property
     def ranges(self) -> npt.NDArray[np.float64]:
         """The ranges, m."""
