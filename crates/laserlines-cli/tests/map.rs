@@ -181,6 +181,37 @@ fn bad_input_ends_in_a_clear_error() {
         .arg(tmp("csv"))
         .args(["--odometry", "off"]));
     assert!(o.status.success(), "{}", text(&o.stderr));
+    // A grid cell out of its range, an MCAP that cannot be written: refused before mapping.
+    for resolution in ["1e300", "0.001"] {
+        let o = run(bin()
+            .arg("map")
+            .arg(&csv)
+            .args(["--odometry", "off", "--resolution", resolution, "-o"])
+            .arg(tmp("res")));
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains("--resolution must lie from 0.005 to 10 m"),
+            "{err}"
+        );
+    }
+    let out = tmp("no-mcap");
+    let _ = std::fs::remove_dir_all(&out);
+    let o = run(bin()
+        .arg("map")
+        .arg(&csv)
+        .args([
+            "--odometry",
+            "off",
+            "--mcap",
+            "/nonexistent-dir/run.mcap",
+            "-o",
+        ])
+        .arg(&out));
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("/nonexistent-dir/run.mcap"), "{err}");
+    assert!(!out.exists(), "mapped before the MCAP failed");
     // An empty log.
     let empty = tmp("empty.jsonl");
     std::fs::write(&empty, "").unwrap();

@@ -5,14 +5,14 @@
 //! time limit, its pose estimate drifting by metres with no wall in range. With the fence at
 //! the arena's bounds it explores the arena and stops. `rc_2015_arena_big` (bundled) is open at
 //! its entrance: without a fence the robot leaves it early and sees 0.68 of it; with the fence
-//! it sees all of it and keeps within the bounds, though the bounds hold a strip above its
-//! top-left walls that its outline counts as outside (see the README).
+//! it sees 0.96-0.99 of it and keeps within the bounds (seeds 0-2), though the bounds hold a
+//! strip above its top-left walls that its outline counts as outside (see the README).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 mod common;
 
-use laserlines::math::Isometry2;
+use laserlines::math::{Isometry2, Point2};
 use laserlines_harness::{RunConfig, RunRecord, StopReason, arenas, run};
 use laserlines_sim::World;
 use laserlines_sim::arena::{ArenaOptions, ArenaOutline, load_raf};
@@ -65,21 +65,26 @@ fn a_fence_keeps_the_robot_within_the_big_arenas_bounds() {
         .unwrap()
         .world;
     let start = common::arena_start(&world);
-    let free = explore(&world, start, false, 0).metrics;
-    assert!(free.coverage < 0.75, "{free:?}");
-    let record = explore(&world, start, true, 0);
-    let m = &record.metrics;
-    assert_eq!(m.collisions, 0, "{m:?}");
-    // 1.000 (0.683 without the fence), the pose within 0.15 m (19 m without).
-    assert!(m.coverage > 0.95, "{m:?}");
-    assert!(m.max_pose_error_m < 0.5, "{m:?}");
-    // The fence holds in the robot's own estimate; with this run's estimate (within 0.15 m)
-    // the true path keeps within the bounds.
     let (lo, hi) = ArenaOutline::new(&world).bounds().unwrap();
-    let beyond = record
-        .path
-        .iter()
-        .map(|q| (lo.x - q.x).max(q.x - hi.x).max(lo.y - q.y).max(q.y - hi.y))
-        .fold(f64::MIN, f64::max);
-    assert!(beyond < 0.0, "{beyond}");
+    // How far the true path strays beyond the bounds, m (negative: within them).
+    let beyond = |path: &[Point2]| {
+        path.iter()
+            .map(|q| (lo.x - q.x).max(q.x - hi.x).max(lo.y - q.y).max(q.y - hi.y))
+            .fold(f64::MIN, f64::max)
+    };
+    let free = explore(&world, start, false, 0);
+    assert!(free.metrics.coverage < 0.75, "{:?}", free.metrics);
+    // 34 m beyond the bounds without the fence.
+    assert!(beyond(&free.path) > 5.0, "{:?}", free.metrics);
+    for seed in 0..3 {
+        let record = explore(&world, start, true, seed);
+        let m = &record.metrics;
+        assert_eq!(m.collisions, 0, "seed {seed}: {m:?}");
+        // 0.956-0.986 (0.683 without the fence).
+        assert!(m.coverage > 0.95, "seed {seed}: {m:?}");
+        // The fence holds in the robot's own estimate, which in this arena drifts by
+        // 0.5-2.6 m; the true path keeps within the bounds all the same (0.13-0.42 m inside).
+        let out = beyond(&record.path);
+        assert!(out < 0.0, "seed {seed}: {out} m beyond the bounds: {m:?}");
+    }
 }

@@ -26,7 +26,8 @@ pub trait LineExtractor {
     }
 
     /// The range noise the last extraction assumed, for extractors that model it
-    /// (`hough-split`: estimated from the scan, or its fixed model); `None` otherwise.
+    /// (`hough-split`: estimated from the scan, or its fixed model; before any extraction,
+    /// the model it falls back on); `None` otherwise.
     fn range_noise(&self) -> Option<RangeNoise> {
         None
     }

@@ -5,8 +5,9 @@ use crate::math::Point2;
 /// Errors found when validating a [`Scan`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ScanError {
-    /// `angle_min` is NaN or infinite.
-    #[error("angle_min must be finite, got {0}")]
+    /// `angle_min` is NaN, infinite, or beyond [`MAX_ANGLE_MIN`] (where the angles of
+    /// neighbouring beams would round to one).
+    #[error("angle_min must be finite and within +-1000 rad, got {0}")]
     AngleMinNotFinite(f64),
     /// `angle_increment` is zero, NaN or infinite.
     #[error("angle_increment must be finite and non-zero, got {0}")]
@@ -40,6 +41,10 @@ pub enum ScanError {
         intensities: usize,
     },
 }
+
+/// The largest `|angle_min|` of a valid scan, rad: ROS drivers give angles within a turn or
+/// two of zero; far beyond, the angles of neighbouring beams round to one value.
+pub const MAX_ANGLE_MIN: f64 = 1000.0;
 
 /// A number in a message: as Rust prints it, but in exponent form from 1e16 on (the largest
 /// finite number, "no limit", is 309 digits in full).
@@ -241,7 +246,7 @@ impl<'a> ScanView<'a> {
     /// # Errors
     /// A [`ScanError`] naming the first problem found.
     pub fn validate(&self) -> Result<(), ScanError> {
-        if !self.angle_min.is_finite() {
+        if !(self.angle_min.abs() <= MAX_ANGLE_MIN) {
             return Err(ScanError::AngleMinNotFinite(self.angle_min));
         }
         if !self.angle_increment.is_finite() || self.angle_increment == 0.0 {
@@ -417,6 +422,11 @@ mod tests {
             Scan::new(f64::NAN, 0.1, 0.0, 1.0, vec![]),
             Err(ScanError::AngleMinNotFinite(_))
         ));
+        assert!(matches!(
+            Scan::new(1e17, 0.1, 0.0, 1.0, vec![1.0]),
+            Err(ScanError::AngleMinNotFinite(_))
+        ));
+        assert!(Scan::new(-MAX_ANGLE_MIN, 0.1, 0.0, 1.0, vec![1.0]).is_ok());
         assert!(matches!(
             Scan::new(0.0, 0.1, 0.0, 1.0, vec![1.0; 100]),
             Err(ScanError::SpanTooLarge { .. })

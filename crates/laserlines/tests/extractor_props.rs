@@ -9,7 +9,7 @@ mod common;
 use common::{Rng, increment, sigma};
 use laserlines::extractors::{self, *};
 use laserlines::registry::ALGORITHMS;
-use laserlines::{Line, LineExtractor, Scan, Weight};
+use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, Scan, Weight};
 use proptest::prelude::*;
 
 // ---------------------------------------------------------------------------------------------
@@ -144,11 +144,26 @@ proptest! {
             let name = e.name();
             let first = e.extract(&scan);
             check_invariants(name, &scan, &first);
+            // A scan with broken geometry or limits gives no line.
+            if scan.validate().is_err() {
+                prop_assert!(first.is_empty(), "{}: lines from an invalid scan", name);
+            }
             // The same scan gives the same lines, on a reused and on a fresh extractor.
             let second = e.extract(&scan);
             prop_assert_eq!(&first, &second, "{}", name);
             let fresh = extractors::by_name(name).unwrap().extract(&scan);
             prop_assert_eq!(&first, &fresh, "{}", name);
+        }
+    }
+
+    #[test]
+    fn the_papers_extractor_gives_no_line_from_an_invalid_scan(scan in any_scan()) {
+        let mut paper = HoughSplit::new(HoughSplitParams::paper()).unwrap();
+        let lines = paper.extract(&scan);
+        check_invariants("hough-split paper", &scan, &lines);
+        if scan.validate().is_err() {
+            prop_assert!(lines.is_empty());
+            prop_assert!(paper.stages().points().is_empty());
         }
     }
 

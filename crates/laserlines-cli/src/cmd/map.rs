@@ -9,6 +9,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use laserlines::LineExtractor;
+use laserlines_foxglove::McapSceneWriter;
 use laserlines_io::ScanRecord;
 use laserlines_slam::{Mapper, MapperParams, Se2};
 
@@ -18,7 +19,7 @@ use crate::InputArgs;
 /// A switch: the log's odometry, loop closure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum OnOff {
-    /// On (odometry: every scan must have the log's odometry).
+    /// On (with `--odometry`: every scan must have the log's odometry).
     On,
     /// Off.
     Off,
@@ -29,7 +30,8 @@ pub enum OnOff {
 pub struct MapArgs {
     #[command(flatten)]
     pub input: InputArgs,
-    /// Output directory: trajectory.tum, map.pgm, map.yaml, map.png, lines.json, map.svg.
+    /// Output directory: trajectory.tum, map.pgm, map.yaml, map.png, lines.json, map.svg,
+    /// and log-poses.tum and odometry.tum when the log has poses and odometry.
     #[arg(short, long, default_value = "laserlines-map")]
     pub output: PathBuf,
     /// Use the log's wheel odometry (`on`: CARMEN's odometry triple, never its laser pose),
@@ -53,13 +55,18 @@ pub struct MapArgs {
 pub fn run(args: &MapArgs) -> Result<()> {
     let start = Instant::now();
     let name = args.input.input.display().to_string();
-    if !(args.resolution.is_finite() && args.resolution >= 0.005) {
+    if !(0.005..=10.0).contains(&args.resolution) {
         bail!(
-            "--resolution must be at least 0.005 m, got {}",
+            "--resolution must lie from 0.005 to 10 m, got {}",
             args.resolution
         );
     }
     let mut reader = super::open_input(&args.input)?;
+    // Created before the mapping, so that a path it cannot write fails at once.
+    let mut mcap = match &args.mcap {
+        Some(path) => Some((path, McapSceneWriter::create(path)?)),
+        None => None,
+    };
     super::note_unused_tables(args.params.file_path(), &["hough-split"], "map")?;
     let mut extractor = super::make_hough_split(&args.params)?;
     let mut params = MapperParams::default();
@@ -107,9 +114,10 @@ pub fn run(args: &MapArgs) -> Result<()> {
         log_odometry: &log_odometry,
         resolution_m: args.resolution,
     };
-    let files = map_outputs::write_all(&outputs)?;
-    if let Some(path) = &args.mcap {
-        map_outputs::write_mcap(path, &outputs, &kept)?;
+    let mut files = map_outputs::write_all(&outputs)?;
+    if let Some((path, writer)) = mcap.take() {
+        map_outputs::write_mcap(writer, &outputs, &kept)?;
+        files.push(path.clone());
     }
     summary(
         &name,

@@ -218,11 +218,10 @@ fn map_svg(
 /// The run for Foxglove: per scan the estimated pose, the scan and its lines; the map as
 /// `foxglove.Grid` on `/map` (frame `world`) at the first scan's time.
 pub fn write_mcap(
-    path: &Path,
+    mut w: McapSceneWriter<BufWriter<File>>,
     o: &Outputs<'_>,
     kept: &[(laserlines_io::ScanRecord, Vec<laserlines::Line>)],
 ) -> Result<()> {
-    let mut w = McapSceneWriter::create(path)?;
     let grid = o.mapper.occupancy_grid(&OccupancyParams {
         resolution_m: o.resolution_m,
         ..OccupancyParams::default()

@@ -284,9 +284,17 @@ fn write_outputs(args: &SimulateArgs, setup: &Setup, record: &RunRecord) -> Resu
             Some(path)
         }
         None => {
+            // A picture of an earlier run in the same folder would pass for this one's.
+            let stale = args.output.join("sectors.svg");
+            let removed = stale.exists() && std::fs::remove_file(&stale).is_ok();
             eprintln!(
-                "laserlines: sectors.svg not written: the run ended at {:.1} s, before the \
-                 snapshot at {:.1} s (--snapshot)",
+                "laserlines: sectors.svg not written{}: the run ended at {:.3} s, before the \
+                 snapshot at {:.3} s (--snapshot)",
+                if removed {
+                    " (an earlier run's removed)"
+                } else {
+                    ""
+                },
                 record.metrics.sim_time_s,
                 snapshot_time(args)
             );

@@ -1,5 +1,5 @@
 //! The classic line extractors that Nguyen et al. (IROS 2005) compared, each behind
-//! [`LineExtractor`], so that the command line and the benchmarks swap them by name.
+//! [`LineExtractor`](crate::LineExtractor), so that the command line and the benchmarks swap them by name.
 //!
 //! - [`IterativeHough`] (`iterative-hough`): full Hough accumulator, take the peak, fit its
 //!   inliers, remove them, rebuild, repeat (the baseline the paper quotes).

@@ -175,6 +175,14 @@ fn ring_span(x: f64, a: f64, inv: f64) -> (u32, u32) {
 }
 
 impl Accumulator {
+    /// No cells (for a scan that gives no points).
+    pub(crate) fn clear(&mut self) {
+        self.bins.clear();
+        self.bins.push(Bin::default());
+        self.sector_start.clear();
+        self.top_ring = 0;
+    }
+
     /// Number of cells (with `VOID`).
     pub(crate) fn len(&self) -> usize {
         self.bins.len()

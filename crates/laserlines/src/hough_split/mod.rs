@@ -32,7 +32,7 @@ use crate::extractor::LineExtractor;
 use crate::line::Line;
 use crate::math::Point2;
 use crate::noise::{BandEstimate, NOISE_BANDS, NoiseEstimator, NoiseModel, RangeNoise};
-use crate::scan::{Scan, ScanPoint, ScanView};
+use crate::scan::{ScanPoint, ScanView};
 use accumulator::{Accumulator, Valid};
 use components::Components;
 use linseg::SplitScratch;
@@ -137,6 +137,15 @@ impl LineExtractor for HoughSplit {
         out.clear();
         self.split_points.clear();
         self.split_ranges.clear();
+        // Broken geometry (a view built without `ScanView::new`) gives no line.
+        if scan.validate().is_err() {
+            self.points.clear();
+            self.cell_of.clear();
+            self.acc.clear();
+            self.segments.kept.clear();
+            self.segments.runs.clear();
+            return;
+        }
         // 0. valid beams to points, and their noise; 1-2. accumulator and criterion.
         let p = &self.params;
         self.table.prepare(
@@ -277,9 +286,11 @@ impl<'a> Stages<'a> {
         f64::from(ring) * self.hs.params.ring_step
     }
 
-    /// The direction `gamma` of a sector's centre, rad, in the scan's frame.
+    /// The direction `gamma` of a sector's centre, rad, in the frame of `scan` (a
+    /// [`Scan`](crate::Scan) or a [`ScanView`]).
     #[must_use]
-    pub fn sector_angle(&self, scan: &Scan, sector: u32) -> f64 {
+    pub fn sector_angle<'s>(&self, scan: impl Into<ScanView<'s>>, sector: u32) -> f64 {
+        let scan = scan.into();
         let sign = if scan.angle_increment < 0.0 {
             -1.0
         } else {

@@ -277,6 +277,14 @@ impl HoughSplitParams {
                 return Err(ParamsError::NotPositive { field, value });
             }
         }
+        if self.bridge_incidence >= std::f64::consts::FRAC_PI_2 {
+            return Err(ParamsError::OutOfRange {
+                field: "bridge_incidence",
+                value: self.bridge_incidence,
+                lo: 0.0,
+                hi: std::f64::consts::FRAC_PI_2,
+            });
+        }
         // Rings of 0.1 mm and finer would number beyond the accumulator's ring indices, and
         // a window of many rings has every point vote in all of them.
         if self.ring_step < MIN_RING_STEP {
@@ -396,6 +404,11 @@ mod tests {
         let e = with(|p| p.window = 1e6).unwrap_err();
         assert!(
             e.starts_with("window must be at most 1.92 (64 ring_step)"),
+            "{e}"
+        );
+        let e = with(|p| p.bridge_incidence = 1e300).unwrap_err();
+        assert!(
+            e.starts_with("bridge_incidence must lie in (0, 1.57"),
             "{e}"
         );
         let e = with(|p| p.sector_step = 10.0).unwrap_err();
