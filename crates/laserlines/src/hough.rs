@@ -51,7 +51,11 @@ pub enum HoughError {
         value: f64,
     },
     /// The grid would have more than [`MAX_CELLS`] cells.
-    #[error("a grid of {rows} x {columns} cells exceeds the limit of {max} cells")]
+    #[error(
+        "max_distance / distance_step and angle_step give a grid of {rows} x {columns} cells, \
+         beyond the limit of {max} cells (raise distance_step or angle_step, or lower \
+         max_distance)"
+    )]
     TooManyCells {
         /// number of distance rows (saturated)
         rows: usize,
@@ -347,6 +351,11 @@ mod tests {
             ..HoughGrid::default()
         };
         assert!(matches!(g.validate(), Err(HoughError::TooManyCells { .. })));
+        let e = g.validate().unwrap_err().to_string();
+        assert!(
+            e.starts_with("max_distance / distance_step and angle_step give"),
+            "{e}"
+        );
         let g = HoughGrid {
             angle_step: f64::NAN,
             ..HoughGrid::default()

@@ -223,3 +223,23 @@ fn errors_name_the_file_the_table_and_the_key() {
     let f = file("[robot]\nwhatever = 1\n[hough-split]\n");
     assert!(f.has("robot") && f.extractor("hough-split").is_ok());
 }
+
+#[test]
+fn presets_round_trip_through_json_with_their_limits_off() {
+    // JSON writes `inf` as `null`; the limits that `inf` turns off read it back as `inf`.
+    for p in [
+        HoughSplitParams::paper(),
+        HoughSplitParams::complete(),
+        HoughSplitParams::navigation(),
+        HoughSplitParams::default(),
+    ] {
+        let text = serde_json::to_string(&p).unwrap();
+        let back: HoughSplitParams = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, p, "{text}");
+    }
+    assert!(
+        serde_json::to_string(&HoughSplitParams::paper())
+            .unwrap()
+            .contains("\"max_rms_sigmas\":null")
+    );
+}

@@ -11,6 +11,13 @@ pub const MIN_RING_STEP: f64 = 1e-4;
 /// The widest `window`, in `ring_step`s: a point votes in every ring its window meets.
 pub const MAX_WINDOW_RINGS: f64 = 64.0;
 
+/// A limit that `inf` turns off, read from a number or, as JSON writes `inf`, from `null`.
+#[cfg(feature = "serde")]
+fn off_or_f64<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    use serde::Deserialize;
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
+}
+
 /// The weight function `g` of the paper's eq. (1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[cfg_attr(
@@ -121,17 +128,20 @@ pub struct HoughSplitParams {
     pub min_line_length: f64,
     /// Lines whose RMS residual exceeds this many `sigma(r)` (at their centroid) are dropped:
     /// a line through scattered clutter is no surface. Default 2.5. `inf` turns it off.
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "off_or_f64"))]
     pub max_rms_sigmas: f64,
     /// Lines whose direction is known worse than this (one standard deviation of `alpha`
     /// from their covariance), rad, are dropped: a short far piece under heavy noise gives a
     /// line whose direction says little. Default 3 deg ([`complete`](Self::complete): 5 deg).
     /// `inf` turns it off.
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "off_or_f64"))]
     pub max_alpha_sd: f64,
     /// Lines whose distance from the sensor is known worse than this (one standard deviation
     /// of `r` from their covariance), m, are dropped. A short piece seen far off or at a
     /// glancing angle gives a line whose `r` (its direction's error times the lever arm from
     /// its points to the foot of the normal) says little, though the segment lies where its
     /// points are. Default 0.05 ([`complete`](Self::complete): `inf`, off).
+    #[cfg_attr(feature = "serde", serde(deserialize_with = "off_or_f64"))]
     pub max_r_sd: f64,
     /// Leave out points that lie on neither neighbouring surface (mixed pixels at depth
     /// edges, spikes): more than three standard deviations from the extrapolations of both
