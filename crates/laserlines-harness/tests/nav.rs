@@ -296,6 +296,24 @@ fn bad_input_gives_clear_errors() {
     assert!(e.to_string().contains("wall"), "{e}");
     let e = RobotSim::new(&maze.world, on_wall, RobotParams::default(), 0).unwrap_err();
     assert!(e.to_string().contains("start pose"), "{e}");
+    // A laser mounted backwards: the explorer would drive into what it cannot see.
+    let free = pose(0.0, 0.0, 0.0);
+    let mut backwards = RunConfig::default();
+    backwards.robot.robot.laser.yaw = std::f64::consts::PI;
+    let e = run(&maze.world, free, &backwards).unwrap_err();
+    assert!(matches!(e, RunError::FrontUnseen { .. }), "{e}");
+    assert!(e.to_string().contains("sees 60.5 to 299.9 deg"), "{e}");
+    // Turned by 65 deg either way, or by a full turn, it still sees the front sector.
+    for yaw in [
+        65f64.to_radians(),
+        -65f64.to_radians(),
+        std::f64::consts::TAU,
+    ] {
+        let mut turned = RunConfig::default();
+        turned.robot.robot.laser.yaw = yaw;
+        turned.duration_s = 0.5;
+        assert!(run(&maze.world, free, &turned).is_ok(), "yaw {yaw}");
+    }
     // A bad duration.
     let e = run(
         &maze.world,

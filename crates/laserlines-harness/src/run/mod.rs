@@ -27,7 +27,7 @@ mod record;
 use laserlines::math::Isometry2;
 use laserlines::robot::VelocityCommand;
 use laserlines::{HoughSplit, HoughSplitParams, Line, ParamsError, Scan};
-use laserlines_nav::{Decision, Explorer, ExplorerParams};
+use laserlines_nav::{Decision, Explorer, ExplorerParams, Sector};
 use laserlines_sim::World;
 use laserlines_sim::robot::{RobotError, RobotParams, RobotSim};
 
@@ -54,6 +54,40 @@ pub enum RunError {
     /// The run's own settings are invalid.
     #[error("run settings: {0}")]
     Setting(ParamsError),
+    /// The laser, as mounted, does not see the robot's front sector, where the explorer
+    /// looks before it drives.
+    #[error(
+        "the laser, turned by {yaw_deg:.1} deg (laser.yaw), sees {from_deg:.1} to {to_deg:.1} \
+         deg of the robot's frame: the explorer needs the front sector, -50 to 50 deg"
+    )]
+    FrontUnseen {
+        /// The mount's yaw, deg.
+        yaw_deg: f64,
+        /// The first beam's bearing in the robot's frame, deg.
+        from_deg: f64,
+        /// The last beam's bearing in the robot's frame, deg.
+        to_deg: f64,
+    },
+}
+
+/// Checks that the laser's beams, as mounted, span the front sector.
+fn check_front_seen(robot: &RobotParams) -> Result<(), RunError> {
+    let laser = &robot.laser_model;
+    let yaw = laserlines::math::wrap_angle(robot.robot.laser.yaw);
+    let last = laser.angle_min + laser.angle_increment * laser.beams.saturating_sub(1) as f64;
+    let (a, b) = (
+        yaw + laser.angle_min.min(last),
+        yaw + laser.angle_min.max(last),
+    );
+    let (front_from, front_to) = Sector::Front.bounds_rad();
+    if a <= front_from && b >= front_to {
+        return Ok(());
+    }
+    Err(RunError::FrontUnseen {
+        yaw_deg: yaw.to_degrees(),
+        from_deg: a.to_degrees(),
+        to_deg: b.to_degrees(),
+    })
 }
 
 /// Settings of one run.
@@ -175,6 +209,7 @@ impl Loop {
         laserlines::params::positive("duration_s", config.duration_s).map_err(RunError::Setting)?;
         config.explorer.validate().map_err(RunError::Explorer)?;
         let robot = RobotSim::new(world, start, config.robot, config.seed)?;
+        check_front_seen(&config.robot)?;
         let extractor = HoughSplit::new(config.extractor.clone()).map_err(RunError::Extractor)?;
         let coverage = CoverageGrid::new(
             robot.index(),
