@@ -135,6 +135,10 @@ fn values_out_of_range_are_errors_not_clamped() {
             &["simulate", "--snapshot", "-1"][..],
             "--snapshot must lie within the run",
         ),
+        (
+            &["simulate", "--duration", "10", "--snapshot", "10"][..],
+            "at or before its last scan (9.9 s",
+        ),
     ] {
         let mut c = bin();
         c.args(args).arg("-o").arg(tmp("out-dir"));
