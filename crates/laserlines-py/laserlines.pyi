@@ -54,9 +54,9 @@ class Scan:
     ) -> None:
         """A scan; ``range_max=inf`` means no upper limit. ValueError for broken geometry.
 
-        A contiguous float64 ``ranges`` array is kept as it is, not copied: writing to it
-        later changes the scan (``ranges.copy()`` gives one of its own); other arrays are
-        kept as their float64 copy."""
+        A float64 ``ranges`` array is kept as it is, not copied: writing to it later changes
+        the scan (``ranges.copy()`` gives one of its own); other arrays are kept as their
+        float64 copy."""
     @property
     def ranges(self) -> npt.NDArray[np.float64]:
         """The ranges, m."""
@@ -134,8 +134,8 @@ class Extractor:
         its own geometry and range limits: giving any of the four with it is a TypeError).
 
         A contiguous float64 array is read where it is, without a copy (do not write to it
-        from another thread meanwhile); float32, other-endian and strided arrays are
-        converted. ``range_min`` defaults to 0, ``range_max`` to ``inf`` (no upper limit).
+        from another thread meanwhile); float32, other float types, other-endian and strided
+        arrays are converted. ``range_min`` defaults to 0, ``range_max`` to ``inf`` (no upper limit).
         TypeError for anything but a numpy array of floats (a masked array too: its mask would
         be lost; ``numpy.ma.filled(ranges, numpy.nan)`` makes masked beams no return),
         ValueError for an array that is not 1-D, an ``angle_increment`` that is zero or not
@@ -151,8 +151,8 @@ class Extractor:
         repeat: int = 1000,
     ) -> float:
         """Seconds per extraction of one scan, timed in Rust around the extraction alone (the
-        mean of ``repeat``, 1 or more, else ValueError): a call of :meth:`extract` costs this
-        plus the binding's overhead."""
+        mean of ``repeat``, 1 or more: 0 or less is a ValueError): a call of :meth:`extract`
+        costs this plus the binding's overhead."""
     def extract_table(self, table: Any) -> Any:
         """The lines (a ``pyarrow.Table`` of :func:`lines_schema`, one row per line) of a table
         of scans in :func:`scans_schema` (a ``pyarrow.Table``, a ``RecordBatchReader`` or

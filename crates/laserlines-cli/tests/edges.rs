@@ -137,7 +137,11 @@ fn values_out_of_range_are_errors_not_clamped() {
         ),
         (
             &["simulate", "--duration", "10", "--snapshot", "10"][..],
-            "at or before its last scan (9.9 s",
+            "at or before its last scan (9.900 s), got 10",
+        ),
+        (
+            &["simulate", "--duration", "1.005", "--snapshot", "0.905"][..],
+            "at or before its last scan (0.900 s), got 0.905",
         ),
     ] {
         let mut c = bin();

@@ -197,21 +197,39 @@ fn bad_input_ends_in_a_clear_error() {
     }
     let out = tmp("no-mcap");
     let _ = std::fs::remove_dir_all(&out);
+    // Below a file: no directory can be made there.
+    let unwritable = csv.join("run.mcap");
     let o = run(bin()
         .arg("map")
         .arg(&csv)
-        .args([
-            "--odometry",
-            "off",
-            "--mcap",
-            "/nonexistent-dir/run.mcap",
-            "-o",
-        ])
+        .args(["--odometry", "off", "--mcap"])
+        .arg(&unwritable)
+        .arg("-o")
         .arg(&out));
     let err = text(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(err.contains("/nonexistent-dir/run.mcap"), "{err}");
+    assert!(err.contains("scan.csv"), "{err}");
     assert!(!out.exists(), "mapped before the MCAP failed");
+    // An MCAP in a folder not there yet: made; and removed when the mapping fails.
+    let made = tmp("mcap-dir").join("sub").join("run.mcap");
+    let o = run(bin()
+        .arg("map")
+        .arg(&csv)
+        .args(["--odometry", "off", "--mcap"])
+        .arg(&made)
+        .arg("-o")
+        .arg(tmp("mcap-dir-out")));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(made.exists());
+    let o = run(bin()
+        .arg("map")
+        .arg(&csv)
+        .arg("--mcap")
+        .arg(&made)
+        .arg("-o")
+        .arg(tmp("x")));
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(!made.exists(), "a failed run left its MCAP");
     // An empty log.
     let empty = tmp("empty.jsonl");
     std::fs::write(&empty, "").unwrap();

@@ -27,8 +27,8 @@ impl Ranges<'_> {
     }
 }
 
-/// The ranges of `obj`, a 1-D numpy array of `float64` or `float32` (metres; NaN or inf for
-/// no return).
+/// The ranges of `obj`, a 1-D numpy array of `float64` (read in place when contiguous) or of
+/// another float type or byte order (converted), metres; NaN or inf for no return.
 ///
 /// # Errors
 /// `TypeError` for anything but a numpy array of those types (a masked array too: its mask
@@ -65,7 +65,7 @@ pub fn ranges<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Ranges<'py>> {
                 a.shape()
             )));
         }
-        // Floats in the other byte order: their native float64 copy.
+        // Other floats (float16, longdouble, the other byte order): their float64 copy.
         let kind = obj.getattr("dtype").and_then(|d| d.getattr("kind"));
         if kind.is_ok_and(|k| k.extract::<String>().is_ok_and(|k| k == "f"))
             && let Ok(native) = obj.call_method1("astype", ("float64",))

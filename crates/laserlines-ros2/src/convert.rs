@@ -79,8 +79,8 @@ impl std::fmt::Display for RangeCounts {
 ///
 /// # Errors
 /// The [`ScanError`] of a scan that cannot be used (`angle_increment` zero or not finite,
-/// `angle_min` not finite, bad range limits, beams over more than a turn); `scan` then holds
-/// the message's values but must not be extracted from.
+/// `angle_min` not finite or beyond +-1000 rad, bad range limits, beams over more than a
+/// turn); `scan` then holds the message's values but must not be extracted from.
 pub fn scan_from_msg(msg: &LaserScan, scan: &mut Scan) -> Result<RangeCounts, ScanError> {
     scan.angle_min = f64::from(msg.angle_min);
     scan.angle_increment = f64::from(msg.angle_increment);

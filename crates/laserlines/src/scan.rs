@@ -246,7 +246,7 @@ impl<'a> ScanView<'a> {
     /// # Errors
     /// A [`ScanError`] naming the first problem found.
     pub fn validate(&self) -> Result<(), ScanError> {
-        if !(self.angle_min.abs() <= MAX_ANGLE_MIN) {
+        if !(self.angle_min.is_finite() && self.angle_min.abs() <= MAX_ANGLE_MIN) {
             return Err(ScanError::AngleMinNotFinite(self.angle_min));
         }
         if !self.angle_increment.is_finite() || self.angle_increment == 0.0 {

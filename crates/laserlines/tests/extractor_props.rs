@@ -9,7 +9,7 @@ mod common;
 use common::{Rng, increment, sigma};
 use laserlines::extractors::{self, *};
 use laserlines::registry::ALGORITHMS;
-use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, Scan, Weight};
+use laserlines::{Line, LineExtractor, Scan, Weight};
 use proptest::prelude::*;
 
 // ---------------------------------------------------------------------------------------------
@@ -153,17 +153,6 @@ proptest! {
             prop_assert_eq!(&first, &second, "{}", name);
             let fresh = extractors::by_name(name).unwrap().extract(&scan);
             prop_assert_eq!(&first, &fresh, "{}", name);
-        }
-    }
-
-    #[test]
-    fn the_papers_extractor_gives_no_line_from_an_invalid_scan(scan in any_scan()) {
-        let mut paper = HoughSplit::new(HoughSplitParams::paper()).unwrap();
-        let lines = paper.extract(&scan);
-        check_invariants("hough-split paper", &scan, &lines);
-        if scan.validate().is_err() {
-            prop_assert!(lines.is_empty());
-            prop_assert!(paper.stages().points().is_empty());
         }
     }
 

@@ -316,7 +316,7 @@ fn bad_params_are_rejected_with_the_field_named() {
         ..Default::default()
     })
     .unwrap_err();
-    assert!(e.to_string().contains("exceeds"), "{e}");
+    assert!(e.to_string().contains("beyond the limit of"), "{e}");
     let e = SplitMerge::new(
         SplitLine::LeastSquares,
         SplitMergeParams {

@@ -243,6 +243,17 @@ proptest! {
     }
 
     #[test]
+    fn the_papers_extractor_gives_no_line_from_an_invalid_scan(scan in any_scan()) {
+        let mut paper = HoughSplit::new(HoughSplitParams::paper()).unwrap();
+        let lines = paper.extract(&scan);
+        check_invariants(&scan, &lines);
+        if scan.validate().is_err() {
+            prop_assert!(lines.is_empty());
+            prop_assert!(paper.stages().points().is_empty());
+        }
+    }
+
+    #[test]
     fn wall_scans_give_lines_under_both_weights(scan in wall_scan()) {
         for weight in [Weight::One, Weight::Range] {
             let mut hs = HoughSplit::new(params_for(weight)).unwrap();

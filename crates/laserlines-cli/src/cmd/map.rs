@@ -61,12 +61,31 @@ pub fn run(args: &MapArgs) -> Result<()> {
             args.resolution
         );
     }
-    let mut reader = super::open_input(&args.input)?;
-    // Created before the mapping, so that a path it cannot write fails at once.
-    let mut mcap = match &args.mcap {
-        Some(path) => Some((path, McapSceneWriter::create(path)?)),
-        None => None,
+    let reader = super::open_input(&args.input)?;
+    // Created before the mapping, so that a path it cannot write fails at once; removed when
+    // the mapping fails, so that no empty or partial file is left where a run was expected.
+    let Some(path) = &args.mcap else {
+        return map_log(args, &name, reader, None, start);
     };
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
+    let writer = McapSceneWriter::create(path)?;
+    let mapped = map_log(args, &name, reader, Some((path, writer)), start);
+    if mapped.is_err() {
+        let _ = std::fs::remove_file(path);
+    }
+    mapped
+}
+
+/// Maps the scans of `reader` and writes the outputs (and the MCAP to `mcap`, when given).
+fn map_log(
+    args: &MapArgs,
+    name: &str,
+    mut reader: laserlines_io::ScanReader,
+    mut mcap: Option<(&PathBuf, McapSceneWriter<std::io::BufWriter<std::fs::File>>)>,
+    start: Instant,
+) -> Result<()> {
     super::note_unused_tables(args.params.file_path(), &["hough-split"], "map")?;
     let mut extractor = super::make_hough_split(&args.params)?;
     let mut params = MapperParams::default();
@@ -83,7 +102,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
     for item in reader.by_ref() {
         let record = item?;
         let k = stamps.len();
-        let odometry = odometry_of(&record, args.odometry, &name, k)?;
+        let odometry = odometry_of(&record, args.odometry, name, k)?;
         extractor.extract_into(&record.scan, &mut lines);
         mapper
             .add_scan(&record.scan, &lines, odometry)
@@ -107,7 +126,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
     let mapped_s = start.elapsed().as_secs_f64();
     let outputs = Outputs {
         dir: &args.output,
-        name: &name,
+        name,
         mapper: &mapper,
         stamps: &stamps,
         log_poses: &log_poses,
@@ -120,7 +139,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
         files.push(path.clone());
     }
     summary(
-        &name,
+        name,
         &mapper,
         mapped_s,
         start.elapsed().as_secs_f64(),

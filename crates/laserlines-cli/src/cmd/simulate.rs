@@ -134,14 +134,14 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         );
     }
     let setup = setup(args)?;
-    // The snapshot is of a scan: the last comes one scan period before the end.
-    let last_scan = args.duration - setup.config.robot.scan_period_s;
+    // The snapshot is of a scan: at most the last one's time.
+    let last_scan = setup.config.last_scan_s();
     if let Some(t) = args.snapshot
         && t > last_scan
     {
         bail!(
-            "--snapshot must lie within the run, at or before its last scan ({last_scan} s: \
-             --duration less one scan period), got {t}"
+            "--snapshot must lie within the run, at or before its last scan ({last_scan:.3} \
+             s), got {t}"
         );
     }
     fs::create_dir_all(&args.output)

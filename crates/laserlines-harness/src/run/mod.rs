@@ -80,7 +80,13 @@ fn check_front_seen(robot: &RobotParams) -> Result<(), RunError> {
         yaw + laser.angle_min.max(last),
     );
     let (front_from, front_to) = Sector::Front.bounds_rad();
-    if a <= front_from && b >= front_to {
+    // The front sector within the beams' span, a turn either way (a span across +-pi).
+    let turn = std::f64::consts::TAU;
+    let seen = b - a >= turn
+        || [-turn, 0.0, turn]
+            .iter()
+            .any(|k| a + k <= front_from && b + k >= front_to);
+    if seen {
         return Ok(());
     }
     Err(RunError::FrontUnseen {
@@ -127,6 +133,23 @@ impl Default for RunConfig {
             record_lines_every: 10,
             snapshot_at_s: 20.0,
             extraction_thread: false,
+        }
+    }
+}
+
+impl RunConfig {
+    /// The time of the run's last scan when it goes on to its time limit, s: scans come every
+    /// `scan_period_s` (rounded to physics steps) from time 0, and the run takes
+    /// `duration_s / physics_dt_s` steps (rounded). 0 for a run of no step.
+    #[must_use]
+    pub fn last_scan_s(&self) -> f64 {
+        let dt = self.robot.physics_dt_s;
+        let steps = (self.duration_s / dt).round();
+        let per_scan = (self.robot.scan_period_s / dt).round().max(1.0);
+        if steps.is_finite() && steps >= 1.0 && per_scan.is_finite() {
+            ((steps - 1.0) / per_scan).floor() * per_scan * dt
+        } else {
+            0.0
         }
     }
 }

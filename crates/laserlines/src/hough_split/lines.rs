@@ -302,7 +302,7 @@ fn keeps_its_points(far: Point2, near: Point2, corner: Point2, thr: f64, min_len
         return false;
     }
     let along = (corner - far).dot(&(near - far)) / length;
-    along >= length - thr && along >= min_length
+    along > 0.0 && along >= length - thr && along >= min_length
 }
 
 #[cfg(test)]

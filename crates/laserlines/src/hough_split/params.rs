@@ -287,39 +287,7 @@ impl HoughSplitParams {
                 return Err(ParamsError::NotPositive { field, value });
             }
         }
-        if self.bridge_incidence >= std::f64::consts::FRAC_PI_2 {
-            return Err(ParamsError::OutOfRange {
-                field: "bridge_incidence",
-                value: self.bridge_incidence,
-                lo: 0.0,
-                hi: std::f64::consts::FRAC_PI_2,
-            });
-        }
-        // Rings of 0.1 mm and finer would number beyond the accumulator's ring indices, and
-        // a window of many rings has every point vote in all of them.
-        if self.ring_step < MIN_RING_STEP {
-            return Err(ParamsError::Below {
-                field: "ring_step",
-                value: self.ring_step,
-                min: MIN_RING_STEP,
-            });
-        }
-        if self.window > MAX_WINDOW_RINGS * self.ring_step {
-            return Err(ParamsError::AboveField {
-                field: "window",
-                value: self.window,
-                limit_field: "64 ring_step",
-                limit: MAX_WINDOW_RINGS * self.ring_step,
-            });
-        }
-        if self.sector_step > std::f64::consts::TAU {
-            return Err(ParamsError::OutOfRange {
-                field: "sector_step",
-                value: self.sector_step,
-                lo: 0.0,
-                hi: std::f64::consts::TAU,
-            });
-        }
+        self.validate_grid()?;
         crate::params::range_limits(self.range_limits)?;
         if let NoiseModel::Fixed(n) = self.noise
             && !n.is_valid()
@@ -341,6 +309,46 @@ impl HoughSplitParams {
                     field: "noise.sigma_min",
                     value: n.sigma_min,
                 }
+            });
+        }
+        Ok(())
+    }
+
+    /// The grid and angle checks of [`HoughSplitParams::validate`]: bounds that keep the
+    /// accumulator's size and the bridge's geometry within reason.
+    fn validate_grid(&self) -> Result<(), ParamsError> {
+        use std::f64::consts::{FRAC_PI_2, TAU};
+        if self.bridge_incidence > FRAC_PI_2 {
+            return Err(ParamsError::AboveField {
+                field: "bridge_incidence",
+                value: self.bridge_incidence,
+                limit_field: "90 deg",
+                limit: FRAC_PI_2,
+            });
+        }
+        if self.sector_step >= TAU {
+            return Err(ParamsError::OutOfRange {
+                field: "sector_step",
+                value: self.sector_step,
+                lo: 0.0,
+                hi: TAU,
+            });
+        }
+        // Rings of 0.1 mm and finer would number beyond the accumulator's ring indices, and
+        // a window of many rings has every point vote in all of them.
+        if self.ring_step < MIN_RING_STEP {
+            return Err(ParamsError::Below {
+                field: "ring_step",
+                value: self.ring_step,
+                min: MIN_RING_STEP,
+            });
+        }
+        if self.window > MAX_WINDOW_RINGS * self.ring_step {
+            return Err(ParamsError::AboveField {
+                field: "window",
+                value: self.window,
+                limit_field: "64 ring_step",
+                limit: MAX_WINDOW_RINGS * self.ring_step,
             });
         }
         Ok(())
