@@ -6,13 +6,13 @@
 //! table: `split_distance`, `breakpoints.noise`, `footprint.length`.
 
 use crate::hough::HoughError;
-use crate::scan::RangeWindow;
+use crate::scan::{RangeWindow, Short};
 
 /// A parameter out of its domain.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ParamsError {
     /// A field that must be finite and positive is not.
-    #[error("{field} must be finite and > 0, got {value}")]
+    #[error("{field} must be finite and > 0, got {}", Short(*value))]
     NotPositive {
         /// field name
         field: &'static str,
@@ -20,7 +20,7 @@ pub enum ParamsError {
         value: f64,
     },
     /// A field that must be finite and non-negative is not.
-    #[error("{field} must be finite and >= 0, got {value}")]
+    #[error("{field} must be finite and >= 0, got {}", Short(*value))]
     Negative {
         /// field name
         field: &'static str,
@@ -28,7 +28,7 @@ pub enum ParamsError {
         value: f64,
     },
     /// A field that must be finite is not.
-    #[error("{field} must be finite, got {value}")]
+    #[error("{field} must be finite, got {}", Short(*value))]
     NotFinite {
         /// field name
         field: &'static str,
@@ -36,7 +36,7 @@ pub enum ParamsError {
         value: f64,
     },
     /// A field outside its open interval.
-    #[error("{field} must lie in ({lo}, {hi}), got {value}")]
+    #[error("{field} must lie in ({lo}, {hi}), got {}", Short(*value))]
     OutOfRange {
         /// field name
         field: &'static str,
@@ -48,7 +48,7 @@ pub enum ParamsError {
         hi: f64,
     },
     /// A field below its minimum (or not finite).
-    #[error("{field} must be finite and >= {min}, got {value}")]
+    #[error("{field} must be finite and >= {min}, got {}", Short(*value))]
     Below {
         /// field name
         field: &'static str,
@@ -58,7 +58,7 @@ pub enum ParamsError {
         min: f64,
     },
     /// A field above the value of another field.
-    #[error("{field} must be at most {limit} ({limit_field}), got {value}")]
+    #[error("{field} must be at most {limit} ({limit_field}), got {}", Short(*value))]
     AboveField {
         /// field name
         field: &'static str,
@@ -70,7 +70,7 @@ pub enum ParamsError {
         limit: f64,
     },
     /// A field not above another field's value.
-    #[error("{field} must be above {other_field} ({other}), got {value}")]
+    #[error("{field} must be above {other_field} ({other}), got {}", Short(*value))]
     NotAbove {
         /// field name
         field: &'static str,

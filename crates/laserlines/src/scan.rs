@@ -48,7 +48,7 @@ pub const MAX_ANGLE_MIN: f64 = 1000.0;
 
 /// A number in a message: as Rust prints it, but in exponent form from 1e16 on (the largest
 /// finite number, "no limit", is 309 digits in full).
-struct Short(f64);
+pub(crate) struct Short(pub(crate) f64);
 
 impl std::fmt::Display for Short {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
