@@ -77,6 +77,8 @@ fn live_reads_the_emulated_ust10lx_and_writes_lines_per_scan() {
         stderr.contains("25 scans") && stderr.contains("dropped: none"),
         "{stderr}"
     );
+    // A run shorter than a second still has its rate (40 scans/s), not 0.
+    assert!(!stderr.contains("; 0.0 scans/s"), "{stderr}");
     let text = std::fs::read_to_string(&out).unwrap();
     let scans: Vec<serde_json::Value> = text
         .lines()
@@ -92,6 +94,63 @@ fn live_reads_the_emulated_ust10lx_and_writes_lines_per_scan() {
             .all(|s| !s["lines"].as_array().unwrap().is_empty())
     );
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_duration_ends_a_run_whose_sensor_went_away() {
+    // The sensor serves for 1 s and is gone; the run, given 3 s, ends then with its summary
+    // (it used to wait for the sensor for ever).
+    let mut emulator = Child(
+        bin()
+            .args(["hokuyo-emulator", "--model", "ust-10lx"])
+            .args(["--tcp", "127.0.0.1:0", "--duration", "1"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
+    let mut first = String::new();
+    BufReader::new(emulator.0.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    let addr = first.trim().rsplit(" on ").next().unwrap().to_owned();
+    let mut live = Child(
+        bin()
+            .args(["live", &addr, "--duration", "3"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap(),
+    );
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = live.0.try_wait().unwrap() {
+            break status;
+        }
+        assert!(
+            start.elapsed() < DEADLINE,
+            "live still running after the sensor left"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(&mut live.0.stderr.take().unwrap(), &mut stderr).unwrap();
+    assert!(status.success(), "{stderr}");
+    assert!(
+        stderr.contains(" scans, ") && stderr.contains("lines in"),
+        "{stderr}"
+    );
+    // A silence of zero would lose the link at every read: refused.
+    let o = bin()
+        .args(["live", &addr, "--silence", "0"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("--silence must be seconds > 0, got 0"),
+        "{err}"
+    );
 }
 
 /// The messages of each topic of an MCAP file, with their log times and schema names, read

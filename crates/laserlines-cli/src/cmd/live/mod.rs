@@ -166,7 +166,10 @@ pub fn run(args: &LiveArgs) -> Result<()> {
     let silence = args
         .silence
         .map(|s| {
-            Duration::try_from_secs_f64(s).map_err(|_| anyhow!("--silence must be seconds > 0"))
+            Duration::try_from_secs_f64(s)
+                .ok()
+                .filter(|d| !d.is_zero())
+                .ok_or_else(|| anyhow!("--silence must be seconds > 0, got {s}"))
         })
         .transpose()?;
     let duration = seconds(args.duration, "--duration")?;
@@ -175,6 +178,15 @@ pub fn run(args: &LiveArgs) -> Result<()> {
     let stop = Arc::new(AtomicBool::new(false));
     let s = stop.clone();
     ctrlc::set_handler(move || s.store(true, Ordering::Relaxed)).context("cannot catch Ctrl-C")?;
+    // The duration ends the run even while the sensor is away (the scanner then waits to
+    // reconnect, and only `stop` ends its wait).
+    if let Some(d) = duration {
+        let s = stop.clone();
+        std::thread::spawn(move || {
+            std::thread::sleep(d);
+            s.store(true, Ordering::Relaxed);
+        });
+    }
 
     let mut scanner = open_sensor(args, &endpoint, silence)?;
     let mut outputs = Outputs::open(args)?;
@@ -191,6 +203,7 @@ pub fn run(args: &LiveArgs) -> Result<()> {
     );
     // QT on every way out: the end of the run, Ctrl-C, an output error.
     let stats = scanner.stats().clone();
+    tally.close_window(Instant::now());
     let quit = scanner.close();
     outputs.close()?;
     eprintln!(

@@ -69,6 +69,16 @@ impl Tally {
         self.last_status = Some(Instant::now());
     }
 
+    /// At the end of the run: the rate over the window since the last status line, for a run
+    /// shorter than a second or its last part.
+    pub fn close_window(&mut self, now: Instant) {
+        let Some(w0) = self.window_start else { return };
+        let secs = now.duration_since(w0).as_secs_f64();
+        if self.window_scans > 1 && secs > 0.0 {
+            self.rate = (self.window_scans - 1) as f64 / secs;
+        }
+    }
+
     /// The status line.
     pub fn status_line(&self, stats: &ScannerStats) -> String {
         let n = self.scans.max(1) as f64;
