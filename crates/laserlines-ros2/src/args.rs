@@ -132,9 +132,37 @@ impl Ros2Args {
         } else {
             Some(self.interfaces.clone())
         };
+        if self.scan_depth == 0 {
+            bail!("--scan-depth must be at least 1 (a DDS history of 0 scans keeps none)");
+        }
+        // A relative namespace is taken from the root, as `ros2 run --ros-args -r __ns:=`
+        // takes it.
+        let namespace = if self.namespace.starts_with('/') {
+            self.namespace.clone()
+        } else {
+            format!("/{}", self.namespace)
+        };
+        let resolve = |topic: &str| {
+            if topic.starts_with('/') {
+                topic.to_owned()
+            } else {
+                format!("{}/{topic}", namespace.trim_end_matches('/'))
+            }
+        };
+        let outputs = [&self.lines_topic, &self.markers_topic, &self.sectors_topic];
+        if let Some(same) = outputs
+            .iter()
+            .find(|t| resolve(t) == resolve(&self.scan_topic))
+        {
+            bail!(
+                "the output topic {same} is the scan topic {}: its messages would be read as \
+                 LaserScans",
+                self.scan_topic
+            );
+        }
         Ok(NodeConfig {
             node_name: self.node_name.clone(),
-            namespace: self.namespace.clone(),
+            namespace,
             scan_topic: self.scan_topic.clone(),
             lines_topic: self.lines_topic.clone(),
             markers_topic: self.markers_topic.clone(),
@@ -218,5 +246,50 @@ mod tests {
             .unwrap()
             .to_string();
         assert!(e.contains("of ransac: expected none"), "{e}");
+    }
+
+    fn config(args: &[&str]) -> Result<NodeConfig> {
+        let argv = std::iter::once("laserlines-ros2").chain(args.iter().copied());
+        Ros2Args::try_parse_from(argv)?.node_config()
+    }
+
+    #[test]
+    fn namespaces_are_rooted_and_outputs_never_the_scan_topic() {
+        assert_eq!(config(&["--namespace", "foo"]).unwrap().namespace, "/foo");
+        assert_eq!(config(&["--namespace", "/foo"]).unwrap().namespace, "/foo");
+        let e = config(&["--scan-depth", "0"]).err().unwrap().to_string();
+        assert!(e.contains("--scan-depth must be at least 1"), "{e}");
+        let e = config(&["--lines-topic", "/scan"])
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("the output topic /scan is the scan topic"),
+            "{e}"
+        );
+        // Relative names resolve in the namespace.
+        let e = config(&[
+            "--namespace",
+            "/r",
+            "--scan-topic",
+            "scan",
+            "--markers-topic",
+            "/r/scan",
+        ])
+        .err()
+        .unwrap()
+        .to_string();
+        assert!(e.contains("is the scan topic scan"), "{e}");
+        assert!(
+            config(&[
+                "--namespace",
+                "/r",
+                "--scan-topic",
+                "scan",
+                "--lines-topic",
+                "/scan"
+            ])
+            .is_ok()
+        );
     }
 }
