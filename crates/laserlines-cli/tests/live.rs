@@ -37,10 +37,15 @@ impl Drop for Child {
 
 /// An emulated UST-10LX on a free local port, and its address from its first line.
 fn emulator() -> (Child, String) {
+    emulator_for("120")
+}
+
+/// [`emulator`] serving for `seconds`.
+fn emulator_for(seconds: &str) -> (Child, String) {
     let mut child = Child(
         bin()
             .args(["hokuyo-emulator", "--model", "ust-10lx"])
-            .args(["--tcp", "127.0.0.1:0", "--duration", "120"])
+            .args(["--tcp", "127.0.0.1:0", "--duration", seconds])
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -100,20 +105,7 @@ fn live_reads_the_emulated_ust10lx_and_writes_lines_per_scan() {
 fn the_duration_ends_a_run_whose_sensor_went_away() {
     // The sensor serves for 1 s and is gone; the run, given 3 s, ends then with its summary
     // (it used to wait for the sensor for ever).
-    let mut emulator = Child(
-        bin()
-            .args(["hokuyo-emulator", "--model", "ust-10lx"])
-            .args(["--tcp", "127.0.0.1:0", "--duration", "1"])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap(),
-    );
-    let mut first = String::new();
-    BufReader::new(emulator.0.stdout.take().unwrap())
-        .read_line(&mut first)
-        .unwrap();
-    let addr = first.trim().rsplit(" on ").next().unwrap().to_owned();
+    let (_emulator, addr) = emulator_for("1");
     let mut live = Child(
         bin()
             .args(["live", &addr, "--duration", "3"])
