@@ -140,7 +140,7 @@ impl<'a> Fields<'a> {
 
     /// `ipc_timestamp ipc_hostname logger_timestamp`: the ipc time stamp, which must be a
     /// finite number (a NaN or infinite one is an error, as in the pose).
-    pub(super) fn stamps(&mut self) -> Result<Option<f64>, ReadError> {
+    pub(super) fn stamps(&mut self) -> Result<f64, ReadError> {
         let token = self.tokens.next();
         let ipc = token
             .and_then(parse_number)
@@ -150,7 +150,7 @@ impl<'a> Fields<'a> {
             })?;
         self.skip(); // ipc_hostname
         self.number("logger_timestamp")?;
-        Ok(Some(ipc))
+        Ok(ipc)
     }
 
     /// The line has no more tokens.

@@ -164,7 +164,7 @@ fn parse_flaser(
     let parsed = fields.ranges(n).and_then(|ranges| {
         let pose = fields.pose("x", "y", "theta")?;
         let odometry = fields.pose("odom_x", "odom_y", "odom_theta")?;
-        let stamp = fields.stamps()?;
+        let stamp = Some(fields.stamps()?);
         fields.end()?;
         Ok((ranges, (pose, odometry), stamp))
     });
@@ -247,7 +247,7 @@ fn parse_robotlaser(
     } else {
         (None, None)
     };
-    let stamp = fields.stamps()?;
+    let stamp = Some(fields.stamps()?);
     let range_max = if maximum_range.is_finite() && maximum_range > 0.0 {
         maximum_range
     } else {
