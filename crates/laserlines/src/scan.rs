@@ -315,9 +315,13 @@ impl<'a> ScanView<'a> {
     /// Converts the valid beams to points in the sensor frame, keeping beam indices.
     ///
     /// Clears `out` first; beams whose range is invalid in `window`, or whose point is not
-    /// finite (e.g. a NaN angle), are left out. Points stay in beam order.
+    /// finite (e.g. a NaN angle), are left out, and a view with broken geometry or limits
+    /// ([`ScanView::validate`]) gives no point. Points stay in beam order.
     pub fn points_into(&self, window: RangeWindow, out: &mut Vec<ScanPoint>) {
         out.clear();
+        if self.validate().is_err() {
+            return;
+        }
         for (i, &r) in self.ranges.iter().enumerate() {
             if !window.contains(r) {
                 continue;

@@ -174,10 +174,6 @@ impl LineExtractor for Incremental {
     }
 
     fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
-        if scan.validate().is_err() {
-            out.clear();
-            return;
-        }
         out.clear();
         let p = &self.params;
         scan.points_into(scan.range_window(p.range_limits), &mut self.points);

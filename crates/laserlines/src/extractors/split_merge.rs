@@ -188,10 +188,6 @@ impl LineExtractor for SplitMerge {
     }
 
     fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
-        if scan.validate().is_err() {
-            out.clear();
-            return;
-        }
         out.clear();
         let p = &self.params;
         let threshold = p.threshold();
