@@ -293,6 +293,11 @@ impl NoiseEstimator {
         &self.bands
     }
 
+    /// Forgets the last estimate's bands (for a scan that gave none).
+    pub(crate) fn forget(&mut self) {
+        self.bands = [BandEstimate::default(); NOISE_BANDS];
+    }
+
     /// Estimates the noise of `scan`'s ranges valid in `window`, never below `floor` (m).
     /// When no band has [`MIN_BAND_SAMPLES`] samples (a short or sparse scan), all of them
     /// are taken as one band, whose sigma then gives both `sigma_min` and, at its mean range

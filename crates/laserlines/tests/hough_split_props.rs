@@ -300,3 +300,26 @@ fn a_point_at_a_huge_range_is_never_bridged_into_a_segment() {
     assert!(hs.stages().kept().all(|k| k != 10));
     assert_eq!(hs.stages().segments().count(), 1);
 }
+
+/// After a scan with broken geometry (no valid scan, so no estimate), the extractor reports
+/// the noise it assumes, not the last valid scan's estimate.
+#[test]
+fn an_invalid_scan_leaves_no_estimate_behind() {
+    use laserlines::hough_split::FALLBACK_NOISE;
+    let ranges: Vec<f64> = (0..400)
+        .map(|i| 2.0 / (-1.0 + 0.005 * f64::from(i)).cos())
+        .collect();
+    let scan = Scan::new(-1.0, 0.005, 0.0, 30.0, ranges.clone()).unwrap();
+    let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    assert!(!hs.extract(&scan).is_empty());
+    assert!(hs.stages().noise_estimated());
+    assert_ne!(hs.range_noise(), Some(FALLBACK_NOISE));
+    let broken = Scan {
+        angle_increment: f64::NAN,
+        ..scan
+    };
+    assert!(hs.extract(&broken).is_empty());
+    assert_eq!(hs.range_noise(), Some(FALLBACK_NOISE));
+    assert!(!hs.stages().noise_estimated());
+    assert!(hs.stages().noise_bands().iter().all(|b| b.samples == 0));
+}

@@ -98,19 +98,23 @@ impl HoughSplit {
     }
 
     /// The range noise of `scan`: the fixed model, or the estimate from the scan itself
-    /// ([`FALLBACK_NOISE`] when the scan is too short or sparse to tell), never below
-    /// `noise_floor`.
-    fn noise_of(&mut self, scan: ScanView<'_>) {
+    /// ([`FALLBACK_NOISE`] when the scan is too short or sparse to tell, or is no valid
+    /// scan), never below `noise_floor`.
+    fn noise_of(&mut self, scan: Option<ScanView<'_>>) {
         let p = &self.params;
         let floor = p.noise_floor;
-        let (noise, estimated) = match p.noise {
-            NoiseModel::Fixed(n) => (n, false),
-            NoiseModel::Auto => {
+        let (noise, estimated) = match (p.noise, scan) {
+            (NoiseModel::Fixed(n), _) => (n, false),
+            (NoiseModel::Auto, Some(scan)) => {
                 let window = scan.range_window(p.range_limits);
                 match self.estimator.estimate(scan, window, floor) {
                     Some(n) => (n, true),
                     None => (FALLBACK_NOISE, false),
                 }
+            }
+            (NoiseModel::Auto, None) => {
+                self.estimator.forget();
+                (FALLBACK_NOISE, false)
             }
         };
         self.noise = RangeNoise::new(noise.sigma_min.max(floor), noise.fraction);
@@ -144,6 +148,8 @@ impl LineExtractor for HoughSplit {
             self.acc.clear();
             self.segments.kept.clear();
             self.segments.runs.clear();
+            // No estimate: the last scan's would be reported as this one's.
+            self.noise_of(None);
             return;
         }
         // 0. valid beams to points, and their noise; 1-2. accumulator and criterion.
@@ -155,7 +161,7 @@ impl LineExtractor for HoughSplit {
             p.sector_step,
         );
         self.angles = (scan.angle_min, scan.angle_increment);
-        self.noise_of(scan);
+        self.noise_of(Some(scan));
         self.breakpoints
             .prepare(&self.params, scan.angle_increment, self.noise);
         let valid = Valid {
