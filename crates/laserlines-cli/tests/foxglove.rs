@@ -319,3 +319,72 @@ fn view_serves_scans_and_lines_to_a_foxglove_client() {
         std::thread::sleep(Duration::from_millis(50));
     }
 }
+
+/// Starts `view` on the excerpt with `args`, waits for its first status line, interrupts it
+/// (SIGINT, as Ctrl-C does) after `after`, and returns its exit status and whole stderr.
+#[cfg(unix)]
+fn interrupted_view(args: &[&str], after: Duration) -> (std::process::ExitStatus, String) {
+    use std::io::Read;
+    let mut child = Child(
+        bin()
+            .arg("view")
+            .arg(excerpt())
+            .args(["--port", "0"])
+            .args(args)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap(),
+    );
+    let mut stderr = BufReader::new(child.0.stderr.take().unwrap());
+    let mut text = String::new();
+    stderr.read_line(&mut text).unwrap();
+    assert!(text.contains("serving"), "{text}");
+    let rest = std::thread::spawn(move || {
+        let mut s = String::new();
+        stderr.read_to_string(&mut s).unwrap();
+        s
+    });
+    std::thread::sleep(after);
+    let pid = child.0.id().to_string();
+    let kill = Command::new("kill").args(["-INT", &pid]).status().unwrap();
+    assert!(kill.success());
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.0.try_wait().unwrap() {
+            break status;
+        }
+        assert!(start.elapsed() < DEADLINE, "view did not end on SIGINT");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    text.push_str(&rest.join().unwrap());
+    (status, text)
+}
+
+#[cfg(unix)]
+#[test]
+fn ctrl_c_ends_view_with_its_summary() {
+    // Replaying in a loop at real time (40 scans 0.1 s apart): only the interrupt ends it.
+    let (status, text) = interrupted_view(&["--no-wait", "--loop"], Duration::from_millis(1500));
+    assert!(status.success(), "{status}: {text}");
+    assert!(text.contains("laserlines: interrupted"), "{text}");
+    let summary = text
+        .lines()
+        .find(|l| l.contains("replayed in"))
+        .unwrap_or_else(|| panic!("no summary in {text}"));
+    // About 15 scans in 1.5 s; at least one, fewer than a whole pass.
+    let scans: usize = summary
+        .split(": ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("{summary}"));
+    assert!((1..EXCERPT_SCANS).contains(&scans), "{summary}");
+    // Waiting for a viewer that never comes.
+    let (status, text) = interrupted_view(&[], Duration::from_millis(300));
+    assert!(status.success(), "{status}: {text}");
+    assert!(
+        text.contains("interrupted before a viewer subscribed"),
+        "{text}"
+    );
+}

@@ -1,12 +1,15 @@
 //! `laserlines view`: replay a log with its lines on a Foxglove WebSocket.
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use clap::Args;
-use laserlines::Line;
+use laserlines::{Line, LineExtractor};
 use laserlines_foxglove::live::{LiveServer, Pacer};
 use laserlines_foxglove::scene::SceneClock;
+use laserlines_io::ScanReader;
 
 use crate::InputArgs;
 
@@ -30,7 +33,8 @@ pub struct ViewArgs {
     /// Start at once instead of waiting for a viewer to subscribe to /scan.
     #[arg(long)]
     no_wait: bool,
-    /// Replay again and again until interrupted.
+    /// Replay again and again until interrupted (Ctrl-C ends any replay after the scan in
+    /// hand, with its summary).
     #[arg(long = "loop")]
     repeat: bool,
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.
@@ -50,6 +54,9 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     let mut extractor = super::make_extractor(&args.algorithm, &args.params)?;
     // Open once before serving, so that a bad input fails at once.
     let mut reader = super::open_input(&args.input)?;
+    let stop = Arc::new(AtomicBool::new(false));
+    let s = stop.clone();
+    ctrlc::set_handler(move || s.store(true, Ordering::Relaxed)).context("cannot catch Ctrl-C")?;
     let server = LiveServer::start("127.0.0.1", args.port)?;
     // Both status lines on stderr, like every other status line of laserlines.
     eprintln!(
@@ -58,31 +65,81 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     );
     if !args.no_wait {
         eprintln!("laserlines: waiting for a viewer to subscribe to /scan");
-        server.wait_for_viewer(None);
+        while !server.wait_for_viewer(Some(Duration::from_millis(100))) {
+            if stop.load(Ordering::Relaxed) {
+                eprintln!("laserlines: interrupted before a viewer subscribed");
+                server.stop();
+                return Ok(());
+            }
+        }
     }
-    let mut lines: Vec<Line> = Vec::new();
     loop {
+        let replay = Replay {
+            server: &server,
+            rate: args.rate,
+            skip_bad: args.skip_bad,
+            stop: &stop,
+        };
+        let scans = match replay.run(&mut reader, &mut *extractor) {
+            Ok(scans) => scans,
+            Err(e) => {
+                server.stop();
+                return Err(e);
+            }
+        };
+        let interrupted = stop.load(Ordering::Relaxed);
+        if interrupted {
+            eprintln!("laserlines: interrupted");
+        }
+        if scans == 0 && !interrupted {
+            server.stop();
+            return Err(super::no_scans(reader.name(), reader.skipped()));
+        }
+        if !args.repeat || interrupted {
+            break;
+        }
+        reader = super::open_input(&args.input)?;
+    }
+    // Give the last messages time to leave before the server closes.
+    std::thread::sleep(Duration::from_millis(500));
+    server.stop();
+    Ok(())
+}
+
+/// One pass over the input.
+struct Replay<'a> {
+    server: &'a LiveServer,
+    rate: f64,
+    skip_bad: bool,
+    /// Set by Ctrl-C: the pass ends after the scan in hand.
+    stop: &'a AtomicBool,
+}
+
+impl Replay<'_> {
+    /// Replays `reader` to its end (or to Ctrl-C), prints its summary and returns the number
+    /// of scans replayed.
+    fn run(&self, reader: &mut ScanReader, extractor: &mut dyn LineExtractor) -> Result<u64> {
         let start = Instant::now();
         let mut clock = SceneClock::new();
-        let mut pacer = Pacer::new(args.rate);
-        let mut scans = 0u64;
-        let mut total_lines = 0u64;
+        let mut pacer = Pacer::new(self.rate);
+        let (mut scans, mut total_lines) = (0u64, 0u64);
+        let mut lines: Vec<Line> = Vec::new();
         for item in reader.by_ref() {
+            if self.stop.load(Ordering::Relaxed) {
+                break;
+            }
             let record = match item {
                 Ok(r) => r,
-                Err(e) if args.skip_bad => {
+                Err(e) if self.skip_bad => {
                     eprintln!("laserlines: skipped: {e}");
                     continue;
                 }
-                Err(e) => {
-                    server.stop();
-                    return Err(e.into());
-                }
+                Err(e) => return Err(e.into()),
             };
             extractor.extract_into(&record.scan, &mut lines);
             let time = clock.time_of(record.scan.stamp);
-            std::thread::sleep(pacer.delay(time, Instant::now()));
-            server.publish(&record, &lines, time);
+            nap(pacer.delay(time, Instant::now()), self.stop);
+            self.server.publish(&record, &lines, time);
             scans += 1;
             total_lines += lines.len() as u64;
         }
@@ -94,17 +151,18 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             start.elapsed().as_secs_f64(),
             reader.skipped()
         );
-        if scans == 0 {
-            server.stop();
-            return Err(super::no_scans(reader.name(), reader.skipped()));
-        }
-        if !args.repeat {
-            break;
-        }
-        reader = super::open_input(&args.input)?;
+        Ok(scans)
     }
-    // Give the last messages time to leave before the server closes.
-    std::thread::sleep(Duration::from_millis(500));
-    server.stop();
-    Ok(())
+}
+
+/// Sleeps for `d`, in slices of 50 ms, ending early when `stop` is set.
+fn nap(d: Duration, stop: &AtomicBool) {
+    let end = Instant::now() + d;
+    loop {
+        let left = end.saturating_duration_since(Instant::now());
+        if left.is_zero() || stop.load(Ordering::Relaxed) {
+            return;
+        }
+        std::thread::sleep(left.min(Duration::from_millis(50)));
+    }
 }
