@@ -14,6 +14,7 @@ macro_rules! outln {
 }
 
 mod cmd;
+mod logging;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -82,6 +83,7 @@ pub struct InputArgs {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    logging::init();
     let result = match cli.command {
         Command::Extract(a) => cmd::extract::run(&a),
         Command::Render(a) => cmd::render::run(&a),

@@ -42,10 +42,16 @@ fn emulator() -> (Child, String) {
 
 /// [`emulator`] serving for `seconds`.
 fn emulator_for(seconds: &str) -> (Child, String) {
+    emulator_with(&["--duration", seconds])
+}
+
+/// The emulated UST-10LX on a free port with `args`, and its address.
+fn emulator_with(args: &[&str]) -> (Child, String) {
     let mut child = Child(
         bin()
             .args(["hokuyo-emulator", "--model", "ust-10lx"])
-            .args(["--tcp", "127.0.0.1:0", "--duration", seconds])
+            .args(["--tcp", "127.0.0.1:0"])
+            .args(args)
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -103,12 +109,12 @@ fn live_reads_the_emulated_ust10lx_and_writes_lines_per_scan() {
 
 #[test]
 fn the_duration_ends_a_run_whose_sensor_went_away() {
-    // The sensor serves for 1 s and is gone; the run, given 3 s, ends then with its summary
-    // (it used to wait for the sensor for ever).
+    // The sensor serves for 1 s and is gone; the run, given 7 s, ends then with its summary
+    // (it used to wait for the sensor for ever), and tells of the sensor's absence meanwhile.
     let (_emulator, addr) = emulator_for("1");
     let mut live = Child(
         bin()
-            .args(["live", &addr, "--duration", "3"])
+            .args(["live", &addr, "--duration", "7"])
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
             .spawn()
@@ -132,6 +138,12 @@ fn the_duration_ends_a_run_whose_sensor_went_away() {
         stderr.contains(" scans, ") && stderr.contains("lines in"),
         "{stderr}"
     );
+    // Lost at about 1 s; still away 5 s later.
+    assert!(
+        stderr.contains("sensor link lost; reconnecting"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("sensor still away after 5 s"), "{stderr}");
     // A silence of zero would lose the link at every read: refused.
     let o = bin()
         .args(["live", &addr, "--silence", "0"])
@@ -141,6 +153,25 @@ fn the_duration_ends_a_run_whose_sensor_went_away() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(
         err.contains("--silence must be seconds > 0, got 0"),
+        "{err}"
+    );
+}
+
+#[test]
+fn live_tells_when_the_sensor_leaves_and_comes_back() {
+    // The sensor drops the link after 20 scans (half a second) and is unreachable for 1 s.
+    let (_emulator, addr) = emulator_with(&["--drop-after", "20", "--down-for", "1"]);
+    let o = bin()
+        .args(["live", &addr, "--scans", "30"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let lost = err.find("laserlines: warning: sensor link lost; reconnecting");
+    let back = err.find("laserlines: info: sensor link back after ");
+    assert!(lost.is_some() && back > lost, "{err}");
+    assert!(
+        err.contains("30 scans, ") && err.contains("reconnects 1"),
         "{err}"
     );
 }

@@ -1,6 +1,7 @@
 //! A scan stream that survives its sensor: reconnects with backoff after a disconnect or a
 //! silence, resumes streaming, keeps stamps monotonic, drops damaged scans and counts
-//! every scan lost, by reason.
+//! every scan lost, by reason. It tells of the link through `tracing`: a warning when it is
+//! lost, another every 5 s while the sensor stays away, and an info event when it is back.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -126,7 +127,15 @@ pub struct Scanner {
     last_activity: Instant,
     next_attempt: Instant,
     backoff: Duration,
+    /// When the link was lost, while it is.
+    lost_at: Option<Instant>,
+    /// The last warning about the link.
+    last_notice: Instant,
 }
+
+/// While the sensor is away, a warning this often (each failed attempt is counted in
+/// [`ScannerStats::failed_attempts`]).
+const NOTICE_EVERY: Duration = Duration::from_secs(5);
 
 impl Scanner {
     /// Connects, runs the start-up and starts streaming. The first connection must succeed
@@ -162,6 +171,8 @@ impl Scanner {
             last_activity: Instant::now(),
             next_attempt: Instant::now(),
             backoff,
+            lost_at: None,
+            last_notice: Instant::now(),
         })
     }
 
@@ -290,6 +301,9 @@ impl Scanner {
             self.dropped_since_good += 1;
         }
         tracing::warn!(endpoint = %self.endpoint, %why, "sensor link lost; reconnecting");
+        let now = Instant::now();
+        self.lost_at = Some(now);
+        self.last_notice = now;
         self.stats.last_error = Some(why);
         self.after_reconnect = true;
         self.backoff = self.options.backoff_min;
@@ -307,6 +321,10 @@ impl Scanner {
             .and_then(|mut s| s.start_stream(self.request, 0).map(|()| s));
         match attempt {
             Ok(s) => {
+                if let Some(t) = self.lost_at.take() {
+                    let away = t.elapsed().as_secs_f64();
+                    tracing::info!(endpoint = %self.endpoint, "sensor link back after {away:.1} s");
+                }
                 self.stats.reconnects += 1;
                 self.stats.switched_from_scip11 = s.switched_from_scip11();
                 self.stats.clock_offset_s = s.clock().map(|c| c.offset_s());
@@ -315,6 +333,19 @@ impl Scanner {
                 self.backoff = self.options.backoff_min;
             }
             Err(e) => {
+                let now = Instant::now();
+                if now.duration_since(self.last_notice) >= NOTICE_EVERY {
+                    self.last_notice = now;
+                    let away = self
+                        .lost_at
+                        .map_or(0.0, |t| now.duration_since(t).as_secs_f64());
+                    tracing::warn!(
+                        endpoint = %self.endpoint,
+                        error = %e,
+                        failed_attempts = self.stats.failed_attempts + 1,
+                        "sensor still away after {away:.0} s; reconnecting"
+                    );
+                }
                 self.stats.failed_attempts += 1;
                 self.stats.last_error = Some(e.to_string());
                 self.backoff = (self.backoff * 2).min(self.options.backoff_max);
