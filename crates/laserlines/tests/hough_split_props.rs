@@ -323,3 +323,45 @@ fn an_invalid_scan_leaves_no_estimate_behind() {
     assert!(!hs.stages().noise_estimated());
     assert!(hs.stages().noise_bands().iter().all(|b| b.samples == 0));
 }
+
+/// Regression: two chair legs (6 cm, at 2.0 m and 1.6 m, 2.5 deg apart) before a wall at
+/// 3.85 m, seen by a URG-04LX: the legs lie within the breakpoint distance of each other, and
+/// were joined into a 0.4 m line across the beams between them, which see the wall behind.
+#[test]
+fn no_line_joins_two_legs_across_beams_that_see_the_wall_behind() {
+    let inc = std::f64::consts::TAU / 1024.0;
+    let angle_min = -120f64.to_radians();
+    let legs = [
+        (2.0, 0.0),
+        (
+            1.6 * 2.5f64.to_radians().cos(),
+            1.6 * 2.5f64.to_radians().sin(),
+        ),
+    ];
+    let mut rng = common::Rng(5);
+    let ranges: Vec<f64> = (0..682)
+        .map(|i| {
+            let phi = angle_min + f64::from(i) * inc;
+            let (c, s) = (phi.cos(), phi.sin());
+            let mut r = if c > 0.05 { 3.85 / c } else { f64::NAN };
+            for (x, y) in legs {
+                // The near intersection of the ray with a circle of 3 cm radius.
+                let along = x * c + y * s;
+                let d2 = x * x + y * y - along * along;
+                if d2 < 0.03 * 0.03 {
+                    r = r.min(along - (0.03 * 0.03 - d2).sqrt());
+                }
+            }
+            let sigma = 0.003_f64.max(0.0015 * r);
+            r + sigma * rng.gauss()
+        })
+        .collect();
+    let scan = Scan::new(angle_min, inc, 0.02, 5.6, ranges).unwrap();
+    let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    let lines = hs.extract(&scan);
+    // The wall, in two pieces either side of the legs' shadow, and nothing else.
+    assert!(!lines.is_empty());
+    for l in &lines {
+        assert!((l.r - 3.85).abs() < 0.05 && l.alpha.abs() < 0.05, "{l:?}");
+    }
+}

@@ -184,6 +184,7 @@ impl LineExtractor for HoughSplit {
         }
         // 4. data segments; everything else is removed.
         segment::cut_segments(
+            scan.ranges,
             &self.points,
             &self.cell_of,
             &self.acc.bins,

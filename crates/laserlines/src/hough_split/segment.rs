@@ -71,6 +71,21 @@ impl Breakpoints {
         // NaN factors and limits fail; squares that overflow (absurd ranges) never join.
         d2 < f64::INFINITY && d2 <= limit * limit
     }
+
+    /// True when a beam between points `a` and `b` (of `ranges`) saw through the gap: its
+    /// range lies beyond both of theirs by more than `bridge_sigmas` sigma (a longer finite
+    /// reading, or `+inf`, REP 117's "nothing in range"). Missing beams (NaN, 0, below the
+    /// minimum) tell nothing and do not count. [`runs_of`] cuts there only when the two points
+    /// also lie farther apart than `D` of neighbouring beams: a single stray far reading
+    /// inside a wall does not cut it.
+    #[inline]
+    pub(crate) fn sees_through(&self, ranges: &[f64], a: &Pt, b: &Pt) -> bool {
+        let far = a.range.max(b.range);
+        let beyond = far + self.spread * self.noise.sigma(far);
+        ranges
+            .get(a.idx + 1..b.idx)
+            .is_some_and(|between| between.iter().any(|&r| r > beyond))
+    }
 }
 
 /// Joins the cells of nearby surviving points that lie closer than the breakpoint distance
@@ -132,9 +147,11 @@ pub(crate) struct Segments {
 /// (sparse and cluttered points: the paper's `Pm[i] = 0`); the rest are cut into maximal
 /// runs of one component, and (with `bridge_beams`) a run is also cut where consecutive
 /// points lie more than `bridge_max_gap` missing beams or more than the breakpoint distance
-/// `D` apart, so that no segment, and no line, spans empty space. Runs shorter than
+/// `D` apart, or where a beam between them saw through ([`Breakpoints::sees_through`]), so
+/// that no segment, and no line, spans empty space. Runs shorter than
 /// `min_segment_points` are removed too.
 pub(crate) fn cut_segments(
+    ranges: &[f64],
     points: &[Pt],
     cell_of: &[u32],
     bins: &[Bin],
@@ -173,16 +190,36 @@ pub(crate) fn cut_segments(
     // Every point is written at the end of `kept`, which advances when it survives.
     kept.resize(n, Pt::default());
     let m = if p.bridge_beams {
-        runs_of::<true>(&points[..n], &cell_of[..n], root_of, bp, min, kept, runs)
+        runs_of::<true>(
+            ranges,
+            &points[..n],
+            &cell_of[..n],
+            root_of,
+            bp,
+            min,
+            kept,
+            runs,
+        )
     } else {
-        runs_of::<false>(&points[..n], &cell_of[..n], root_of, bp, min, kept, runs)
+        runs_of::<false>(
+            ranges,
+            &points[..n],
+            &cell_of[..n],
+            root_of,
+            bp,
+            min,
+            kept,
+            runs,
+        )
     };
     kept.truncate(m);
 }
 
 /// The run loop of [`cut_segments`]: writes the surviving points to `kept` (as long as
 /// `points`) and their runs to `runs`; returns the number of surviving points.
+#[allow(clippy::too_many_arguments)]
 fn runs_of<const BRIDGE: bool>(
+    ranges: &[f64],
     points: &[Pt],
     cell_of: &[u32],
     root_of: &[u32],
@@ -201,7 +238,14 @@ fn runs_of<const BRIDGE: bool>(
         if root == NONE {
             continue;
         }
-        if root != run_root || (BRIDGE && !bp.joins(&last, (pt.x, pt.y), pt.idx - last.idx)) {
+        let gap = pt.idx - last.idx;
+        let cut = BRIDGE
+            && (!bp.joins(&last, (pt.x, pt.y), gap)
+                || (gap > 1
+                    && run_root != NONE
+                    && !bp.joins(&last, (pt.x, pt.y), 1)
+                    && bp.sees_through(ranges, &last, &pt)));
+        if root != run_root || cut {
             if run_root != NONE {
                 m = close_run(runs, m, run_start, min);
             }
