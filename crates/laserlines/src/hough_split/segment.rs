@@ -150,6 +150,7 @@ pub(crate) struct Segments {
 /// `D` apart, or where a beam between them saw through ([`Breakpoints::sees_through`]), so
 /// that no segment, and no line, spans empty space. Runs shorter than
 /// `min_segment_points` are removed too.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn cut_segments(
     ranges: &[f64],
     points: &[Pt],
