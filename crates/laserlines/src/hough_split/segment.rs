@@ -190,45 +190,51 @@ pub(crate) fn cut_segments(
     let n = points.len().min(cell_of.len());
     // Every point is written at the end of `kept`, which advances when it survives.
     kept.resize(n, Pt::default());
+    let input = RunInput {
+        ranges,
+        points: &points[..n],
+        cell_of: &cell_of[..n],
+        root_of,
+        bp,
+        min,
+    };
     let m = if p.bridge_beams {
-        runs_of::<true>(
-            ranges,
-            &points[..n],
-            &cell_of[..n],
-            root_of,
-            bp,
-            min,
-            kept,
-            runs,
-        )
+        runs_of::<true>(&input, kept, runs)
     } else {
-        runs_of::<false>(
-            ranges,
-            &points[..n],
-            &cell_of[..n],
-            root_of,
-            bp,
-            min,
-            kept,
-            runs,
-        )
+        runs_of::<false>(&input, kept, runs)
     };
     kept.truncate(m);
 }
 
+/// What the run loop of [`cut_segments`] reads.
+#[derive(Clone, Copy)]
+struct RunInput<'a> {
+    /// The scan's ranges, by beam.
+    ranges: &'a [f64],
+    points: &'a [Pt],
+    cell_of: &'a [u32],
+    /// Per cell: the root of its component when that is kept, else `NONE`.
+    root_of: &'a [u32],
+    bp: &'a Breakpoints,
+    /// Fewest points of a data segment.
+    min: usize,
+}
+
 /// The run loop of [`cut_segments`]: writes the surviving points to `kept` (as long as
 /// `points`) and their runs to `runs`; returns the number of surviving points.
-#[allow(clippy::too_many_arguments)]
 fn runs_of<const BRIDGE: bool>(
-    ranges: &[f64],
-    points: &[Pt],
-    cell_of: &[u32],
-    root_of: &[u32],
-    bp: &Breakpoints,
-    min: usize,
+    input: &RunInput<'_>,
     kept: &mut [Pt],
     runs: &mut Vec<SegmentRun>,
 ) -> usize {
+    let RunInput {
+        ranges,
+        points,
+        cell_of,
+        root_of,
+        bp,
+        min,
+    } = *input;
     let mut m = 0usize;
     let mut run_root = NONE;
     let mut run_start = 0usize;
