@@ -181,10 +181,10 @@ pub fn render_hough_split(
             scan.len(),
             raw.len(),
             hs.stages().noise(),
-            if hs.stages().noise_estimated() {
-                ", estimated"
-            } else {
-                ""
+            match (hs.stages().noise_estimated(), hs.stages().range_quantum()) {
+                (true, Some(q)) => format!(", estimated; ranges in {:.1} mm steps", q * 1e3),
+                (true, None) => ", estimated".to_owned(),
+                _ => String::new(),
             }
         )
     }));

@@ -260,6 +260,17 @@ impl<'a> Stages<'a> {
         self.hs.estimated
     }
 
+    /// The range resolution that raised the last estimate's `sigma_min` to `q / sqrt(12)`, m
+    /// (see [`NoiseEstimator::quantum`]); `None` with a fixed model.
+    #[must_use]
+    pub fn range_quantum(&self) -> Option<f64> {
+        if self.hs.estimated {
+            self.hs.estimator.quantum()
+        } else {
+            None
+        }
+    }
+
     /// The per-band figures of the last estimate (all zero with a fixed model).
     #[must_use]
     pub fn noise_bands(&self) -> &'a [BandEstimate; NOISE_BANDS] {

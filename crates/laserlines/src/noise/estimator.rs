@@ -1,242 +1,8 @@
-//! Range noise: the standard deviation of a scanner's range readings as a function of range,
-//! from its data sheet or estimated from a scan itself.
-//!
-//! Every threshold of [`crate::HoughSplit`] is a multiple of `sigma(r)`, so that the same
-//! defaults work on a URG-04LX at 5 mm and on a cheap triangulation scanner at 2 % of the
-//! range. The model is the one data sheets state:
-//!
-//! ```text
-//! sigma(r) = max(sigma_min, fraction * r)
-//! ```
-//!
-//! [`NoiseModel::Auto`] (the default) estimates both numbers from the scan being processed,
-//! with no history: for every beam `i` whose beams `i - k` and `i + k` are valid (`k` =
-//! [`lag_for`]: [`LAG`] = 3 beams, fewer on scanners coarser than the URG-04LX), the range a
-//! straight surface through those two would give on beam `i` is
-//! `r_hat = 2 cos(dphi) r0 r2 / (r0 + r2)` with `dphi = k * angle_increment` (exact for
-//! any line: `1 / r` of a line is a sinusoid of the beam angle), and `e = r1 - r_hat` has
-//! the variance `1.5 sigma^2` on a smooth surface. Per range band (octaves from 0.5 m) the median of `|e|` gives a robust
-//! `sigma_b = median|e| / (0.6745 sqrt(1.5))`: corners, depth edges and mixed pixels are a
-//! minority and do not move a median. The model is the largest `max(sigma_min, fraction r)`
-//! below every band's estimate: clutter only ever adds dispersion, so the cleanest band
-//! tells the sensor's own noise. A scan too short for any band of its own (fewer than
-//! [`MIN_BAND_SAMPLES`] in each) is read as one band when it has [`MIN_POOLED_SAMPLES`].
+//! The estimate of [`NoiseModel::Auto`](super::NoiseModel::Auto) (see the module docs of
+//! [`crate::noise`]).
 
+use super::{RangeNoise, lag_for};
 use crate::scan::{RangeWindow, ScanView};
-
-/// A range-noise model `sigma(r) = max(sigma_min, fraction * r)`, metres.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Serialize, serde::Deserialize),
-    serde(deny_unknown_fields)
-)]
-pub struct RangeNoise {
-    /// Standard deviation at short range, m.
-    pub sigma_min: f64,
-    /// Growth of the standard deviation with range, m per m (0.01 = 1 % of the range).
-    pub fraction: f64,
-}
-
-/// A named preset of [`RangeNoise`] with the data-sheet figure it comes from.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NoisePreset {
-    /// Name, as `--params` and the presets table use it (e.g. `urg-04lx`).
-    pub name: &'static str,
-    /// The model.
-    pub noise: RangeNoise,
-    /// What the data sheet states, and how it was read.
-    pub source: &'static str,
-}
-
-/// Range-noise presets from the makers' data sheets. The stated accuracy band is taken as one
-/// standard deviation (a conservative reading: a URG-04LX measured on real logs shows about
-/// half of its band); where a data sheet states a statistical (repeatability) error, that is
-/// used.
-pub const PRESETS: &[NoisePreset] = &[
-    NoisePreset {
-        name: "urg-04lx",
-        noise: RangeNoise::new(0.010, 0.010),
-        source: "Hokuyo URG-04LX: +-10 mm from 60 to 1000 mm, +-1 % of the range to 4095 mm",
-    },
-    NoisePreset {
-        name: "utm-30lx",
-        noise: RangeNoise::new(0.030, 0.0017),
-        source: "Hokuyo UTM-30LX: +-30 mm from 0.1 to 10 m, +-50 mm from 10 to 30 m",
-    },
-    NoisePreset {
-        name: "ust-10lx",
-        noise: RangeNoise::new(0.040, 0.0),
-        source: "Hokuyo UST-10LX / UST-20LX: +-40 mm",
-    },
-    NoisePreset {
-        name: "lms1xx",
-        noise: RangeNoise::new(0.012, 0.0),
-        source: "SICK LMS1xx: statistical error 12 mm (typical)",
-    },
-    NoisePreset {
-        name: "lms2xx",
-        noise: RangeNoise::new(0.015, 0.0),
-        source: "SICK LMS2xx (LMS200/291): +-15 mm in mm mode, 1 to 8 m",
-    },
-    NoisePreset {
-        name: "rplidar-a1",
-        noise: RangeNoise::new(0.005, 0.010),
-        source: "Slamtec RPLIDAR A1: resolution below 0.5 mm under 1.5 m, 1 % of the range",
-    },
-    NoisePreset {
-        name: "rplidar-a2",
-        noise: RangeNoise::new(0.005, 0.020),
-        source: "Slamtec RPLIDAR A2: 1 % of the range to 3 m, 2 % from 3 to 5 m",
-    },
-    NoisePreset {
-        name: "ydlidar-x4",
-        noise: RangeNoise::new(0.010, 0.020),
-        source: "YDLIDAR X4 (triangulation, 0.12 to 10 m): 2 % of the range, 10 mm at short range",
-    },
-];
-
-impl RangeNoise {
-    /// A model with the given short-range sigma (m) and fraction of the range.
-    #[must_use]
-    pub const fn new(sigma_min: f64, fraction: f64) -> Self {
-        Self {
-            sigma_min,
-            fraction,
-        }
-    }
-
-    /// The preset called `name` (see [`PRESETS`]).
-    #[must_use]
-    pub fn preset(name: &str) -> Option<Self> {
-        PRESETS.iter().find(|p| p.name == name).map(|p| p.noise)
-    }
-
-    /// Standard deviation at range `r`, m.
-    #[inline]
-    #[must_use]
-    pub fn sigma(&self, r: f64) -> f64 {
-        // `max` by one comparison (a NaN product gives `sigma_min`, as `f64::max` does).
-        let v = self.fraction * r;
-        if v > self.sigma_min {
-            v
-        } else {
-            self.sigma_min
-        }
-    }
-
-    /// The model scaled by `k` (both numbers).
-    #[must_use]
-    pub fn scaled(&self, k: f64) -> Self {
-        Self::new(self.sigma_min * k, self.fraction * k)
-    }
-
-    /// True when both numbers are finite and non-negative and `sigma` is not zero
-    /// everywhere.
-    #[must_use]
-    pub fn is_valid(&self) -> bool {
-        self.sigma_min.is_finite()
-            && self.fraction.is_finite()
-            && self.sigma_min >= 0.0
-            && self.fraction >= 0.0
-            && (self.sigma_min > 0.0 || self.fraction > 0.0)
-    }
-}
-
-impl std::fmt::Display for RangeNoise {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "sigma = max({:.1} mm, {:.2} % of the range)",
-            self.sigma_min * 1e3,
-            self.fraction * 100.0
-        )
-    }
-}
-
-/// Where an extractor's range noise comes from.
-///
-/// In a params file (feature `serde`): `noise = "auto"`, a preset's name
-/// (`noise = "urg-04lx"`, see [`PRESETS`]) or a model (`noise = { sigma_min = 0.01,
-/// fraction = 0.01 }`).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub enum NoiseModel {
-    /// Estimated from each scan by [`NoiseEstimator`] (the default).
-    #[default]
-    Auto,
-    /// A fixed model, e.g. a [`PRESETS`] entry.
-    Fixed(RangeNoise),
-}
-
-/// Beams between a point and each of the two it is predicted from. Real scanners' errors are
-/// correlated between neighbouring beams (the URG-04LX's residuals grow two to three times from
-/// one beam to three on real logs), so the noise that splitting and merging see over tens of
-/// beams is read three beams apart; for independent noise any lag reads the same.
-pub const LAG: usize = 3;
-
-/// The lag used on a scan with beams `increment` rad apart: [`LAG`] beams, but never a wider
-/// angle than [`LAG`] beams of the URG-04LX (1.05 deg), so that on coarse scanners (a SICK LMS
-/// at 1 deg: one beam) the triples see as little of the scene's own shape as on fine ones.
-#[must_use]
-pub fn lag_for(increment: f64) -> usize {
-    const SPAN: f64 = LAG as f64 * 0.006_135_923_151_542_565;
-    let beams = (SPAN / increment.abs()).round();
-    if beams.is_finite() && beams >= 1.0 {
-        (beams as usize).min(LAG)
-    } else {
-        1
-    }
-}
-
-#[cfg(feature = "serde")]
-mod serde_impl {
-    use super::{NoiseModel, PRESETS, RangeNoise};
-    use serde::de::{self, MapAccess, Visitor};
-    use serde::{Deserialize, Deserializer, Serialize, Serializer};
-
-    impl Serialize for NoiseModel {
-        fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-            match self {
-                Self::Auto => s.serialize_str("auto"),
-                Self::Fixed(n) => n.serialize(s),
-            }
-        }
-    }
-
-    struct ModelVisitor;
-
-    impl<'de> Visitor<'de> for ModelVisitor {
-        type Value = NoiseModel;
-
-        fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-            f.write_str("\"auto\", a preset name or { sigma_min, fraction }")
-        }
-
-        fn visit_str<E: de::Error>(self, v: &str) -> Result<NoiseModel, E> {
-            if v == "auto" {
-                return Ok(NoiseModel::Auto);
-            }
-            RangeNoise::preset(v).map(NoiseModel::Fixed).ok_or_else(|| {
-                let names: Vec<&str> = PRESETS.iter().map(|p| p.name).collect();
-                E::custom(format!(
-                    "unknown noise {v:?}: expected \"auto\", one of {} or {{ sigma_min, fraction }}",
-                    names.join(", ")
-                ))
-            })
-        }
-
-        fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<NoiseModel, A::Error> {
-            RangeNoise::deserialize(de::value::MapAccessDeserializer::new(map))
-                .map(NoiseModel::Fixed)
-        }
-    }
-
-    impl<'de> Deserialize<'de> for NoiseModel {
-        fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-            d.deserialize_any(ModelVisitor)
-        }
-    }
-}
 
 /// Range bands of the estimate: band 0 below 0.5 m, then octaves (0.5-1, 1-2, ... m), the
 /// last one open.
@@ -277,7 +43,19 @@ pub struct NoiseEstimator {
     pooled: Vec<u64>,
     range_sum: [f64; NOISE_BANDS],
     bands: [BandEstimate; NOISE_BANDS],
+    /// The smallest difference of at least [`MIN_QUANTUM`] between the ranges of a sample's
+    /// outer beams (`+inf` without one): the range resolution, if the ranges have one.
+    step: f64,
+    /// The range resolution that raised the last estimate, if one did.
+    quantum: Option<f64>,
 }
+
+/// The finest range resolution looked for, m: no 2D scanner reports ranges finer than 0.1 mm,
+/// and finer differences are the rounding of floats.
+pub const MIN_QUANTUM: f64 = 1e-4;
+
+/// `1 / sqrt(12)`: the standard deviation of rounding to a step of 1.
+const QUANTUM_TO_SIGMA: f64 = 0.288_675_134_594_812_9;
 
 /// The band of range `r`: `floor(log2(4 r))` clamped to `0..NOISE_BANDS`.
 #[inline]
@@ -296,6 +74,16 @@ impl NoiseEstimator {
     /// Forgets the last estimate's bands (for a scan that gave none).
     pub(crate) fn forget(&mut self) {
         self.bands = [BandEstimate::default(); NOISE_BANDS];
+        self.quantum = None;
+    }
+
+    /// The range resolution (m) detected on the last scan when it raised the estimate: ranges
+    /// rounded to a step `q` coarser than their noise (a SICK in cm mode, a log written in
+    /// 5 cm) spread by `q / sqrt(12)` around the surface however still the sensor is, while
+    /// most of the samples' residuals round to nothing and the medians read far less.
+    #[must_use]
+    pub fn quantum(&self) -> Option<f64> {
+        self.quantum
     }
 
     /// Estimates the noise of `scan`'s ranges valid in `window`, never below `floor` (m).
@@ -314,6 +102,8 @@ impl NoiseEstimator {
             b.clear();
         }
         self.range_sum = [0.0; NOISE_BANDS];
+        self.step = f64::INFINITY;
+        self.quantum = None;
         self.sample(scan, window);
         for (b, out) in self.bands.iter_mut().enumerate() {
             let v = &mut self.abs[b];
@@ -331,7 +121,27 @@ impl NoiseEstimator {
                 out.sigma = median_sigma(v);
             }
         }
-        fit_lower_envelope(&self.bands, MIN_BAND_SAMPLES, floor).or_else(|| self.pool(floor))
+        let noise = fit_lower_envelope(&self.bands, MIN_BAND_SAMPLES, floor)
+            .or_else(|| self.pool(floor))?;
+        Some(self.with_quantum(scan.ranges, window, noise))
+    }
+
+    /// `noise` with `sigma_min` raised to `q / sqrt(12)` when the ranges are multiples of a
+    /// step `q` (up to an offset) that makes that more (see [`NoiseEstimator::quantum`]).
+    fn with_quantum(
+        &mut self,
+        ranges: &[f64],
+        window: RangeWindow,
+        noise: RangeNoise,
+    ) -> RangeNoise {
+        let q = self.step;
+        let sigma = q * QUANTUM_TO_SIGMA;
+        // Checked only when it matters: a URG-04LX's 1 mm gives 0.3 mm, below any floor.
+        if !(sigma > noise.sigma_min && q.is_finite()) || !on_grid(ranges, window, q) {
+            return noise;
+        }
+        self.quantum = Some(q);
+        RangeNoise::new(sigma, noise.fraction)
     }
 
     /// The estimate from all samples taken as one band (`None` with fewer than
@@ -391,12 +201,37 @@ impl NoiseEstimator {
                 & ((r2 - r0).abs() <= spread * r1)
                 & (e <= 0.25 * r1);
             if usable {
+                let d = (r2 - r0).abs();
+                if d >= MIN_QUANTUM && d < self.step {
+                    self.step = d;
+                }
                 let b = band_of(r1);
                 self.abs[b].push(e.to_bits());
                 self.range_sum[b] += r1;
             }
         }
     }
+}
+
+/// True when the differences of consecutive valid ranges in `ranges` are multiples of `q`
+/// (within 5 % of it; 2 % of them may miss), at least [`MIN_POOLED_SAMPLES`] of them not zero.
+fn on_grid(ranges: &[f64], window: RangeWindow, q: f64) -> bool {
+    let (mut steps, mut off) = (0usize, 0usize);
+    let inv = 1.0 / q;
+    let mut prev = f64::NAN;
+    for &r in ranges {
+        if !window.contains(r) {
+            continue;
+        }
+        let d = (r - prev).abs();
+        prev = r;
+        if d >= MIN_QUANTUM {
+            let k = d * inv;
+            steps += 1;
+            off += usize::from((k - k.round()).abs() > 0.05);
+        }
+    }
+    steps >= MIN_POOLED_SAMPLES && off * 50 <= steps
 }
 
 /// Sigma from the median of the samples `v` (not empty), the bits of `|e|`.
@@ -445,18 +280,6 @@ mod tests {
     use crate::scan::Scan;
 
     #[test]
-    fn the_lag_spans_at_most_three_urg_beams() {
-        let deg = std::f64::consts::PI / 180.0;
-        // URG-04LX (0.3516 deg) and finer: three beams; 0.5 deg: two; 1 deg (SICK LMS): one.
-        for (step, lag) in [(0.351_562_5, 3), (0.25, 3), (0.5, 2), (1.0, 1), (-1.0, 1)] {
-            assert_eq!(lag_for(step * deg), lag, "{step} deg");
-        }
-        // Degenerate geometry (no valid scan has it): one beam.
-        assert_eq!(lag_for(0.0), 1);
-        assert_eq!(lag_for(f64::NAN), 1);
-    }
-
-    #[test]
     fn bands_are_octaves_from_half_a_metre() {
         assert_eq!(band_of(0.1), 0);
         assert_eq!(band_of(0.49), 0);
@@ -467,18 +290,6 @@ mod tests {
         assert_eq!(band_of(4.0), 4);
         assert_eq!(band_of(1000.0), NOISE_BANDS - 1);
         assert_eq!(band_of(0.0), 0);
-    }
-
-    #[test]
-    fn presets_have_names_and_valid_models() {
-        for p in PRESETS {
-            assert!(p.noise.is_valid(), "{}", p.name);
-            assert_eq!(RangeNoise::preset(p.name), Some(p.noise));
-        }
-        assert!(RangeNoise::preset("nonsense").is_none());
-        let urg = RangeNoise::preset("urg-04lx").unwrap();
-        assert!((urg.sigma(0.5) - 0.01).abs() < 1e-15);
-        assert!((urg.sigma(3.0) - 0.03).abs() < 1e-15);
     }
 
     /// A wall `x = d` seen by `n` beams over +-45 deg with gaussian noise from a simple LCG.
@@ -567,5 +378,66 @@ mod tests {
             (got.sigma_min - 0.002).abs() < 1e-12 && got.fraction < 1e-9,
             "{got}"
         );
+    }
+
+    /// `scan` with every range rounded to a multiple of `q`.
+    fn rounded(mut scan: Scan, q: f64) -> Scan {
+        for r in &mut scan.ranges {
+            *r = (*r / q).round() * q;
+        }
+        scan
+    }
+
+    #[test]
+    fn coarse_range_steps_set_the_least_sigma() {
+        // 15 mm of noise (a SICK LMS2xx) in ranges written to 5 cm: where most residuals
+        // round to nothing (seeds 1, 3, 4 here), the bands' medians read 1-2 mm; elsewhere
+        // the 5 cm steps make them read more than the noise.
+        let truth = RangeNoise::new(0.015, 0.0);
+        let mut raised = 0;
+        for seed in 0..10 {
+            let mut est = NoiseEstimator::default();
+            let scan = rounded(wall_scan(2.0, 91, truth, seed), 0.05);
+            let got = est.estimate(&scan, scan.range_window(None), 0.002).unwrap();
+            // The rounding alone spreads the ranges by 14.4 mm.
+            assert!(
+                got.sigma_min >= 0.05 / 12f64.sqrt() - 1e-9,
+                "seed {seed}: {got}"
+            );
+            if let Some(q) = est.quantum() {
+                assert!((q - 0.05).abs() < 1e-9, "seed {seed}: {q}");
+                raised += 1;
+            }
+        }
+        assert!(raised >= 2, "{raised}");
+    }
+
+    #[test]
+    fn fine_or_absent_range_steps_change_nothing() {
+        let truth = RangeNoise::new(0.01, 0.0);
+        let scan = wall_scan(2.0, 1001, truth, 7);
+        let mut est = NoiseEstimator::default();
+        let plain = est.estimate(&scan, scan.range_window(None), 0.001).unwrap();
+        assert_eq!(est.quantum(), None);
+        // 1 mm steps under 10 mm of noise: the estimate is the noise's, not the steps'.
+        let mm = rounded(scan.clone(), 0.001);
+        let got = est.estimate(&mm, mm.range_window(None), 0.001).unwrap();
+        assert_eq!(est.quantum(), None);
+        assert!(
+            (got.sigma_min / plain.sigma_min - 1.0).abs() < 0.1,
+            "{got} {plain}"
+        );
+        // Exact ranges of a wall seen from 10 to 48 deg in 2 deg steps: no residual, and
+        // ranges 2-5 cm apart that are no multiples of one step.
+        let step = 2f64.to_radians();
+        let ranges = (0..20)
+            .map(|i| 2.0 / (0.1745 + i as f64 * step).cos())
+            .collect();
+        let sparse = Scan::new(0.1745, step, 0.02, 30.0, ranges).unwrap();
+        let got = est
+            .estimate(&sparse, sparse.range_window(None), 0.0005)
+            .unwrap();
+        assert_eq!(est.quantum(), None, "{got}");
+        assert!((got.sigma_min - 0.0005).abs() < 1e-12, "{got}");
     }
 }
