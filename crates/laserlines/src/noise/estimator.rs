@@ -137,7 +137,7 @@ impl NoiseEstimator {
         let q = self.step;
         let sigma = q * QUANTUM_TO_SIGMA;
         // Checked only when it matters: a URG-04LX's 1 mm gives 0.3 mm, below any floor.
-        if !(sigma > noise.sigma_min && q.is_finite()) || !on_grid(ranges, window, q) {
+        if !(sigma > noise.sigma_min && q.is_finite() && on_grid(ranges, window, q)) {
             return noise;
         }
         self.quantum = Some(q);
