@@ -248,7 +248,7 @@ fn net_panel(scan: &Scan, hs: &HoughSplit, view: Extent, pw: f64) -> (Panel, (f6
     let mut b = Panel::map(view, pw);
     let cells = stages.cells();
     let mut kept: Vec<_> = cells.iter().filter(|c| c.kept).collect();
-    let criterion = hs.params().criterion;
+    let criterion = stages.criterion();
     b.set_title(format!(
         "(b) accumulator: {} of {} above {}",
         kept.len(),

@@ -286,7 +286,7 @@ impl Accumulator {
     ) {
         let votes = Votes {
             weight_one: p.weight == Weight::One,
-            criterion: p.criterion,
+            criterion: p.criterion_for(table.increment),
         };
         let n = points.len().min(cell_of.len()).min(self.rings.len());
         let mut sector = Sector::default();

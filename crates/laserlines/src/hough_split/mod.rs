@@ -26,7 +26,10 @@ mod segment;
 
 pub use crate::params::ParamsError;
 pub use accumulator::Cell;
-pub use params::{HoughSplitParams, MAX_WINDOW_RINGS, MIN_RING_STEP, Weight};
+pub use params::{
+    Bridge, GAP_CHANCE, HoughSplitParams, MAX_BRIDGE_GAP, MAX_WINDOW_RINGS, MIN_RING_STEP,
+    PAPER_SECTOR_BEAMS, Weight,
+};
 
 use crate::extractor::LineExtractor;
 use crate::line::Line;
@@ -50,6 +53,8 @@ pub struct HoughSplit {
     noise: RangeNoise,
     /// True when the last scan's noise was estimated from it.
     estimated: bool,
+    /// The last scan's dropout rate ([`segment::dropout`]).
+    dropout: f64,
     /// The last scan's `angle_min` and `angle_increment`.
     angles: (f64, f64),
     breakpoints: Breakpoints,
@@ -78,6 +83,7 @@ impl HoughSplit {
             estimator: NoiseEstimator::default(),
             noise: FALLBACK_NOISE,
             estimated: false,
+            dropout: 0.0,
             angles: (0.0, 0.0),
             breakpoints: Breakpoints::default(),
             points: Vec::new(),
@@ -150,6 +156,7 @@ impl LineExtractor for HoughSplit {
             self.segments.runs.clear();
             // No estimate: the last scan's would be reported as this one's.
             self.noise_of(None);
+            self.dropout = 0.0;
             return;
         }
         // 0. valid beams to points, and their noise; 1-2. accumulator and criterion.
@@ -162,10 +169,12 @@ impl LineExtractor for HoughSplit {
         );
         self.angles = (scan.angle_min, scan.angle_increment);
         self.noise_of(Some(scan));
+        let window = scan.range_window(self.params.range_limits);
+        self.dropout = segment::dropout(scan.ranges, window);
         self.breakpoints
-            .prepare(&self.params, scan.angle_increment, self.noise);
+            .prepare(&self.params, scan.angle_increment, self.noise, self.dropout);
         let valid = Valid {
-            window: scan.range_window(self.params.range_limits),
+            window,
             min_range: self.params.min_range,
             mixed: self.params.remove_mixed_pixels.then_some(self.noise),
         };
@@ -177,6 +186,14 @@ impl LineExtractor for HoughSplit {
             &mut self.points,
             &mut self.cell_of,
         );
+        if self.params.bridge_beams {
+            segment::rescue_points(
+                &self.points,
+                &mut self.cell_of,
+                &mut self.acc.bins,
+                &self.breakpoints,
+            );
+        }
         // 3. radius grouping and merging of touching groups.
         components::connect_cells(&self.acc, &self.params, &mut self.uf);
         if self.params.bridge_beams {
@@ -258,6 +275,20 @@ impl<'a> Stages<'a> {
     #[must_use]
     pub fn noise_estimated(&self) -> bool {
         self.hs.estimated
+    }
+
+    /// The noise-cancelling criterion the last scan's cells were held to
+    /// ([`HoughSplitParams::criterion_for`] its beam increment).
+    #[must_use]
+    pub fn criterion(&self) -> f64 {
+        self.hs.params.criterion_for(self.hs.angles.1)
+    }
+
+    /// The fraction of the last scan's returns whose next beam returned nothing, which sets
+    /// its beam bridge ([`HoughSplitParams::bridge_for`]).
+    #[must_use]
+    pub fn dropout(&self) -> f64 {
+        self.hs.dropout
     }
 
     /// The range resolution that raised the last estimate's `sigma_min` to `q / sqrt(12)`, m

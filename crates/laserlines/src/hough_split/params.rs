@@ -11,6 +11,34 @@ pub const MIN_RING_STEP: f64 = 1e-4;
 /// The widest `window`, in `ring_step`s: a point votes in every ring its window meets.
 pub const MAX_WINDOW_RINGS: f64 = 64.0;
 
+/// Beams of the paper's sector (2.47 deg of the URG-04LX's 360/1024 deg steps), which
+/// [`HoughSplitParams::criterion`] is stated for.
+pub const PAPER_SECTOR_BEAMS: f64 = 2.47 / (360.0 / 1024.0);
+
+/// The chance with which dropouts alone may leave a gap wider than the beam bridge spans
+/// after a point ([`HoughSplitParams::bridge_for`]).
+pub const GAP_CHANCE: f64 = 0.01;
+
+/// Most missing beams in a row any beam bridge spans.
+pub const MAX_BRIDGE_GAP: usize = 63;
+
+/// The largest dropout rate the beam bridge adapts to: beyond it, a scan is read as one with
+/// 95 % of its beams missing.
+const MAX_DROPOUT: f64 = 0.95;
+
+/// The largest `lambda` of `D` that sparse returns raise it to (60 deg: `D` at most `0.53 r`).
+const MAX_LAMBDA: f64 = std::f64::consts::FRAC_PI_3;
+
+/// The beam bridge of one scan: how far apart consecutive points of a data segment may be.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Bridge {
+    /// Most missing beams between consecutive points.
+    pub max_gap: usize,
+    /// The mean angle between returns that `D` is computed for, rad
+    /// ([`HoughSplitParams::breakpoint_distance`]'s `step`).
+    pub spacing: f64,
+}
+
 /// A limit that `inf` turns off, read from a number or, as JSON writes `inf`, from `null`.
 #[cfg(feature = "serde")]
 fn off_or_f64<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
@@ -69,7 +97,8 @@ pub struct HoughSplitParams {
     /// Noise-cancelling criterion: cells whose weighted value is not above it are set to zero.
     /// With `g = 1` it counts points (the paper's Fig. 3 uses 1: cells of 2..7 points remain);
     /// with `g = r` it is in metres (sum of ranges). Default 0.5 (with `g = r`: a lone point
-    /// nearer than 0.5 m is noise). Sensible: 0..3.
+    /// nearer than 0.5 m is noise). Stated for sectors of 7 beams, as the paper's; scaled
+    /// down where a sector holds fewer ([`HoughSplitParams::criterion_for`]). Sensible: 0..3.
     pub criterion: f64,
     /// Cells bridged in the sector direction when grouping along a ring (the paper's
     /// adjustable radius-grouping threshold). Default 1. Sensible: 0..3.
@@ -96,7 +125,10 @@ pub struct HoughSplitParams {
     /// (`sqrt(2) sigma(r)`). Default 3. Sensible: 2..5.
     pub bridge_sigmas: f64,
     /// Most missing (invalid or removed) beams between consecutive points of a data segment,
-    /// and so of a line. Default 2. Sensible: 0..5.
+    /// and so of a line, on a scan whose beams mostly return. On a sparse one (a fraction `p`
+    /// of the returns followed by a missing beam) the bridge spans as many as dropouts alone
+    /// leave after a point with 1 % chance, if that is more ([`HoughSplitParams::bridge_for`]).
+    /// Default 2. Sensible: 0..5.
     pub bridge_max_gap: usize,
     /// Data segments with fewer surviving points are removed as clutter. Default 8.
     /// Sensible: 3..10.
@@ -354,16 +386,64 @@ impl HoughSplitParams {
         Ok(())
     }
 
+    /// The noise-cancelling criterion for beams `increment` rad apart: `criterion` scaled by
+    /// the beams a sector holds over the paper's (its 2.47 deg sectors hold 7.03 beams of the
+    /// URG-04LX), when fewer. The criterion removes a cell holding too few of the points a
+    /// surface would put there: with `g = r`, a lone point nearer than 0.5 m is one of seven
+    /// on a URG-04LX, but one of 2.5 on a 1 deg scanner, where every cell of a wall 0.2 m away
+    /// would weigh less than 0.5 and the wall would vanish. Unchanged on the URG-04LX and on
+    /// finer scanners.
+    #[must_use]
+    pub fn criterion_for(&self, increment: f64) -> f64 {
+        let beams = self.sector_step / increment.abs();
+        // A URG-04LX's sectors, up to the rounding of the angles, are the paper's.
+        if beams < PAPER_SECTOR_BEAMS * (1.0 - 1e-9) {
+            self.criterion * beams / PAPER_SECTOR_BEAMS
+        } else {
+            self.criterion
+        }
+    }
+
+    /// The beam bridge of a scan with beams `increment` rad apart, of whose returns the
+    /// fraction `dropout` is followed by a missing beam ([`super::Stages::dropout`]): dropouts
+    /// alone leave a gap of `g` missing beams or more after a point with chance `dropout^g`,
+    /// so the bridge spans the larger of `bridge_max_gap` and the gap they leave with
+    /// [`GAP_CHANCE`] (at most [`MAX_BRIDGE_GAP`]), and `D` is computed for the mean angle
+    /// between returns, `increment / (1 - dropout)`: a YDLIDAR X4 whose beams return one in
+    /// seven is read as the scanner of 6 deg it is. With a few dropouts (under 10 % on a
+    /// URG-04LX) this is the bridge of a scan without.
+    #[must_use]
+    pub fn bridge_for(&self, increment: f64, dropout: f64) -> Bridge {
+        let p = if dropout.is_finite() {
+            dropout.clamp(0.0, MAX_DROPOUT)
+        } else {
+            0.0
+        };
+        let by_chance = if p > 0.0 {
+            // At most `ln(0.01) / ln(0.95)` = 90: no overflow.
+            ((GAP_CHANCE.ln() / p.ln()).ceil() as usize).saturating_sub(1)
+        } else {
+            0
+        };
+        Bridge {
+            max_gap: self.bridge_max_gap.max(by_chance).min(MAX_BRIDGE_GAP),
+            spacing: increment.abs() / (1.0 - p),
+        }
+    }
+
     /// The breakpoint distance `D`, m: the farthest apart two consecutive points of one
     /// surface can lie when the first is at range `r` and the beams are `dphi` rad apart,
     /// `D = r sin(dphi) / sin(lambda - dphi) + bridge_sigmas * sqrt(2) * sigma` (Borges &
-    /// Aldon's adaptive breakpoint with `lambda = max(bridge_incidence, 10 * step)` for beams
-    /// `step` rad apart, and the noise `sigma` at `r`). `None` when `dphi` exceeds
-    /// `lambda / 3`: points that far apart in angle are never joined, so that `D` stays below
-    /// `r / 2` plus the noise allowance and no gap in a sparse scan is taken for a surface.
+    /// Aldon's adaptive breakpoint with `lambda = max(bridge_incidence, min(10 * step, 60
+    /// deg))` for returns `step` rad apart ([`Bridge::spacing`]), and the noise `sigma` at
+    /// `r`). `None` when `dphi` exceeds `lambda / 3`: points that far apart in angle are never
+    /// joined, so that `D` stays below `r / 2` plus the noise allowance on dense scans (at
+    /// most `0.53 r` on the sparsest) and no gap is taken for a surface.
     #[must_use]
     pub fn breakpoint_distance(&self, r: f64, dphi: f64, step: f64, sigma: f64) -> Option<f64> {
-        let lambda = self.bridge_incidence.max(10.0 * step.abs());
+        let lambda = self
+            .bridge_incidence
+            .max((10.0 * step.abs()).min(MAX_LAMBDA));
         let denom = (lambda - dphi).sin();
         let reach = lambda / 3.0 + 1e-12;
         (dphi.is_finite() && dphi >= 0.0 && dphi <= reach && denom > 0.0)
@@ -468,5 +548,51 @@ mod tests {
         let deg = 1f64.to_radians();
         let coarse = p.breakpoint_distance(2.0, deg, deg, 0.0).unwrap();
         assert!((coarse - 2.0 * deg.sin() / 9f64.to_radians().sin()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn sparse_scans_get_a_wider_bridge() {
+        let p = HoughSplitParams::default();
+        let urg = 360f64.to_radians() / 1024.0;
+        // A few dropouts (up to 12 % on a URG-04LX): the dense scan's bridge.
+        for dropout in [0.0, 0.05, 0.12, f64::NAN, -1.0] {
+            let b = p.bridge_for(urg, dropout);
+            assert_eq!(b.max_gap, 2, "{dropout}");
+            let lambda_of = |step: f64| p.bridge_incidence.max(10.0 * step);
+            assert_eq!(lambda_of(b.spacing), p.bridge_incidence, "{dropout}");
+        }
+        assert_eq!(p.bridge_for(urg, 0.2).max_gap, 2);
+        // Half the beams missing: 0.5^7 < 1 % (6 missing beams), returns twice as far apart.
+        let b = p.bridge_for(urg, 0.5);
+        assert_eq!(b.max_gap, 6);
+        assert!((b.spacing - 2.0 * urg).abs() < 1e-15);
+        // Beyond 95 %, read as 95 %; never more than `MAX_BRIDGE_GAP`.
+        assert_eq!(p.bridge_for(urg, 0.99), p.bridge_for(urg, 0.95));
+        assert_eq!(p.bridge_for(urg, 0.95).max_gap, MAX_BRIDGE_GAP);
+        // `D` never joins beyond `lambda / 3`, with `lambda` at most 60 deg: 20 deg.
+        let step = 0.85f64.to_radians();
+        let wide = p.bridge_for(step, 0.95);
+        assert!(
+            p.breakpoint_distance(1.0, 20f64.to_radians(), wide.spacing, 0.0)
+                .is_some()
+        );
+        assert!(
+            p.breakpoint_distance(1.0, 20.1f64.to_radians(), wide.spacing, 0.0)
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn the_criterion_holds_for_the_papers_sectors() {
+        let p = HoughSplitParams::default();
+        // The URG-04LX (7.03 beams a sector) and finer scanners: as stated.
+        assert_eq!(p.criterion_for(360f64.to_radians() / 1024.0), p.criterion);
+        assert_eq!(p.criterion_for(-0.25f64.to_radians()), p.criterion);
+        // A 1 deg scanner: 2.47 beams a sector, the criterion scaled by 2.47 / 7.03.
+        let got = p.criterion_for(1f64.to_radians());
+        assert!(
+            (got - 0.5 * 2.47 / PAPER_SECTOR_BEAMS).abs() < 1e-9,
+            "{got}"
+        );
     }
 }

@@ -21,6 +21,8 @@ pub(crate) struct BeamTable {
     pub(crate) sector_end: Vec<usize>,
     /// True when every beam direction is finite.
     pub(crate) finite: bool,
+    /// The angle between beams, rad.
+    pub(crate) increment: f64,
 }
 
 impl BeamTable {
@@ -36,6 +38,7 @@ impl BeamTable {
             return;
         }
         self.key = Some(key);
+        self.increment = increment;
         self.beams.clear();
         self.sector_end.clear();
         self.finite = true;

@@ -6,11 +6,12 @@
 //! front of a wall) so that every point belongs to exactly one segment, and segments never
 //! overlap.
 
-use super::accumulator::{Bin, NONE};
+use super::accumulator::{Bin, NONE, VOID};
 use super::components::Components;
 use super::params::HoughSplitParams;
 use super::points::Pt;
 use crate::noise::RangeNoise;
+use crate::scan::RangeWindow;
 
 /// A data segment: a run of surviving points `kept[start..end]` in beam order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -24,7 +25,7 @@ pub(crate) struct SegmentRun {
 /// of `g` beams (NaN where `g dphi` exceeds `lambda / 3`).
 #[derive(Debug, Default, Clone)]
 pub(crate) struct Breakpoints {
-    key: Option<(u64, u64, u64, usize)>,
+    key: Option<(u64, u64, u64, u64, usize)>,
     factor: Vec<f64>,
     /// `bridge_sigmas * sqrt(2)`.
     spread: f64,
@@ -32,20 +33,29 @@ pub(crate) struct Breakpoints {
 }
 
 impl Breakpoints {
-    /// Makes the table right for `p`, beams `increment` apart and `noise`.
-    pub(crate) fn prepare(&mut self, p: &HoughSplitParams, increment: f64, noise: RangeNoise) {
+    /// Makes the table right for `p`, beams `increment` apart, `noise` and the scan's
+    /// `dropout` ([`HoughSplitParams::bridge_for`]).
+    pub(crate) fn prepare(
+        &mut self,
+        p: &HoughSplitParams,
+        increment: f64,
+        noise: RangeNoise,
+        dropout: f64,
+    ) {
+        let bridge = p.bridge_for(increment, dropout);
         let key = (
             increment.to_bits(),
+            bridge.spacing.to_bits(),
             p.bridge_incidence.to_bits(),
             p.bridge_sigmas.to_bits(),
-            p.bridge_max_gap,
+            bridge.max_gap,
         );
         if self.key != Some(key) {
             self.key = Some(key);
             let step = increment.abs();
             self.factor.clear();
-            for g in 1..=p.bridge_max_gap.saturating_add(1).min(64) {
-                let f = p.breakpoint_distance(1.0, step * g as f64, step, 0.0);
+            for g in 1..=bridge.max_gap + 1 {
+                let f = p.breakpoint_distance(1.0, step * g as f64, bridge.spacing, 0.0);
                 self.factor.push(f.unwrap_or(f64::NAN));
             }
             self.spread = p.bridge_sigmas * std::f64::consts::SQRT_2;
@@ -85,6 +95,70 @@ impl Breakpoints {
         ranges
             .get(a.idx + 1..b.idx)
             .is_some_and(|between| between.iter().any(|&r| r > beyond))
+    }
+}
+
+/// The fraction of `ranges`' returns (valid in `window`) whose next beam returned nothing:
+/// the chance that a beam misses where its neighbour hit, which open space beyond the range
+/// (one miss after each of its edges) hardly moves.
+pub(crate) fn dropout(ranges: &[f64], window: RangeWindow) -> f64 {
+    let (mut hits, mut misses) = (0usize, 0usize);
+    for w in ranges.windows(2) {
+        if window.contains(w[0]) {
+            hits += 1;
+            misses += usize::from(!window.contains(w[1]));
+        }
+    }
+    if hits == 0 {
+        0.0
+    } else {
+        misses as f64 / hits as f64
+    }
+}
+
+/// Gives a point whose cell fell below the criterion the cell of a neighbouring kept point
+/// when it lies on the surface between two of them: the nearest points of kept cells before
+/// and after it, within the bridge's gap, both join it within `D`. The criterion removes
+/// sparse points, and such a point is none: near the sensor a lone point at a ring boundary
+/// weighs its range, below the criterion (0.4 against 0.5 at 0.4 m), and two of them around
+/// a missing beam cut a wall 0.35 m away in two. Points that voted in no cell (mixed pixels,
+/// spikes) stay removed.
+pub(crate) fn rescue_points(
+    points: &[Pt],
+    cell_of: &mut [u32],
+    bins: &mut [Bin],
+    bp: &Breakpoints,
+) {
+    let reach = bp.reach();
+    let points = &points[..cell_of.len()];
+    // The last point whose own cell is kept.
+    let mut before: Option<usize> = None;
+    for i in 0..points.len() {
+        let cell = cell_of[i];
+        if bins[cell as usize].kept {
+            before = Some(i);
+            continue;
+        }
+        if cell == VOID {
+            continue;
+        }
+        let here = &points[i];
+        let Some(a) = before.filter(|&a| here.idx - points[a].idx <= reach) else {
+            continue;
+        };
+        let after = (i + 1..points.len())
+            .take_while(|&j| points[j].idx - here.idx <= reach)
+            .find(|&j| bins[cell_of[j] as usize].kept);
+        let Some(b) = after else {
+            continue;
+        };
+        let (pa, pb) = (&points[a], &points[b]);
+        let (ga, gb) = (here.idx - pa.idx, pb.idx - here.idx);
+        if bp.joins(pa, (here.x, here.y), ga) && bp.joins(here, (pb.x, pb.y), gb) {
+            let to = if ga <= gb { cell_of[a] } else { cell_of[b] };
+            cell_of[i] = to;
+            bins[to as usize].points += 1;
+        }
     }
 }
 
@@ -146,7 +220,7 @@ pub(crate) struct Segments {
 /// Points whose component holds fewer than `min_segment_points` points are removed first
 /// (sparse and cluttered points: the paper's `Pm[i] = 0`); the rest are cut into maximal
 /// runs of one component, and (with `bridge_beams`) a run is also cut where consecutive
-/// points lie more than `bridge_max_gap` missing beams or more than the breakpoint distance
+/// points lie more than the bridge's missing beams ([`HoughSplitParams::bridge_for`]) or more than the breakpoint distance
 /// `D` apart, or where a beam between them saw through ([`Breakpoints::sees_through`]), so
 /// that no segment, and no line, spans empty space. Runs shorter than
 /// `min_segment_points` are removed too.
