@@ -74,6 +74,9 @@ pub(crate) struct Accumulator {
     pub(crate) sector_start: Vec<u32>,
     /// The highest ring of a kept cell (0 without any).
     pub(crate) top_ring: u32,
+    /// Points that voted in a cell below the criterion (first cells; an upper bound of the
+    /// points whose cell is not kept, which are never more).
+    pub(crate) loose: u32,
     /// Per point: its distance along its sector's centre, m.
     along: Vec<f64>,
     /// Per point: the first and last ring its window meets.
@@ -96,6 +99,7 @@ impl Default for Accumulator {
             bins: Vec::new(),
             sector_start: Vec::new(),
             top_ring: 0,
+            loose: 0,
             along: Vec::new(),
             rings: Vec::new(),
             local: [0.0; LOCAL as usize],
@@ -181,6 +185,7 @@ impl Accumulator {
         self.bins.push(Bin::default());
         self.sector_start.clear();
         self.top_ring = 0;
+        self.loose = 0;
     }
 
     /// Number of cells (with `VOID`).
@@ -210,6 +215,7 @@ impl Accumulator {
         self.bins.push(Bin::default());
         self.sector_start.clear();
         self.top_ring = 0;
+        self.loose = 0;
         self.fill(scan, valid, table, points);
         let n = points.len();
         self.rings.resize(n, (0, 0));
@@ -357,13 +363,16 @@ impl Accumulator {
             self.local_cell[j] = self.bins.len() as u32;
             let value = std::mem::take(&mut self.local[j]);
             let (ring, kept) = (sector.base + j as u32, value > votes.criterion);
+            let points = std::mem::take(&mut self.local_points[j]);
             if kept {
                 self.top_ring = self.top_ring.max(ring);
+            } else {
+                self.loose += points;
             }
             self.bins.push(Bin {
                 value,
                 ring,
-                points: std::mem::take(&mut self.local_points[j]),
+                points,
                 kept,
             });
         }
@@ -435,6 +444,7 @@ impl Accumulator {
                     first
                 };
                 self.bins[cell].points += 1;
+                self.loose += u32::from(!self.bins[cell].kept);
                 *c = cell as u32;
             }
         }

@@ -169,12 +169,8 @@ impl LineExtractor for HoughSplit {
         );
         self.angles = (scan.angle_min, scan.angle_increment);
         self.noise_of(Some(scan));
-        let window = scan.range_window(self.params.range_limits);
-        self.dropout = segment::dropout(scan.ranges, window);
-        self.breakpoints
-            .prepare(&self.params, scan.angle_increment, self.noise, self.dropout);
         let valid = Valid {
-            window,
+            window: scan.range_window(self.params.range_limits),
             min_range: self.params.min_range,
             mixed: self.params.remove_mixed_pixels.then_some(self.noise),
         };
@@ -186,7 +182,10 @@ impl LineExtractor for HoughSplit {
             &mut self.points,
             &mut self.cell_of,
         );
-        if self.params.bridge_beams {
+        self.dropout = segment::dropout(&self.points, scan.ranges.len());
+        self.breakpoints
+            .prepare(&self.params, scan.angle_increment, self.noise, self.dropout);
+        if self.params.bridge_beams && self.acc.loose > 0 {
             segment::rescue_points(
                 &self.points,
                 &mut self.cell_of,

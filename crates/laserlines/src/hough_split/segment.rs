@@ -11,7 +11,6 @@ use super::components::Components;
 use super::params::HoughSplitParams;
 use super::points::Pt;
 use crate::noise::RangeNoise;
-use crate::scan::RangeWindow;
 
 /// A data segment: a run of surviving points `kept[start..end]` in beam order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -98,17 +97,22 @@ impl Breakpoints {
     }
 }
 
-/// The fraction of `ranges`' returns (valid in `window`) whose next beam returned nothing:
-/// the chance that a beam misses where its neighbour hit, which open space beyond the range
-/// (one miss after each of its edges) hardly moves.
-pub(crate) fn dropout(ranges: &[f64], window: RangeWindow) -> f64 {
-    let (mut hits, mut misses) = (0usize, 0usize);
-    for w in ranges.windows(2) {
-        if window.contains(w[0]) {
-            hits += 1;
-            misses += usize::from(!window.contains(w[1]));
-        }
+/// The fraction of a scan's returns (`points`, in beam order, of `beams` beams) whose next
+/// beam returned nothing: the chance that a beam misses where its neighbour hit, which open
+/// space beyond the range (one miss after each of its edges) hardly moves. Points nearer than
+/// `min_range` count as missing.
+pub(crate) fn dropout(points: &[Pt], beams: usize) -> f64 {
+    let Some(last) = points.last() else {
+        return 0.0;
+    };
+    let mut misses = 0usize;
+    for w in points.windows(2) {
+        misses += usize::from(w[1].idx != w[0].idx + 1);
     }
+    // The last beam has no next one.
+    let at_end = last.idx + 1 >= beams;
+    let hits = points.len() - usize::from(at_end);
+    misses += usize::from(!at_end);
     if hits == 0 {
         0.0
     } else {
@@ -129,34 +133,41 @@ pub(crate) fn rescue_points(
     bins: &mut [Bin],
     bp: &Breakpoints,
 ) {
+    let n = cell_of.len().min(points.len());
+    // The last point whose own cell is kept: the points after it, up to the next such
+    // point, are all below the criterion.
+    let mut a = usize::MAX;
+    for b in 0..n {
+        if !bins[cell_of[b] as usize].kept {
+            continue;
+        }
+        if a != usize::MAX && a + 1 < b {
+            rescue_between(points, cell_of, bins, bp, a, b);
+        }
+        a = b;
+    }
+}
+
+/// [`rescue_points`] for the points strictly between the kept points `a` and `b`.
+fn rescue_between(
+    points: &[Pt],
+    cell_of: &mut [u32],
+    bins: &mut [Bin],
+    bp: &Breakpoints,
+    a: usize,
+    b: usize,
+) {
     let reach = bp.reach();
-    let points = &points[..cell_of.len()];
-    // The last point whose own cell is kept.
-    let mut before: Option<usize> = None;
-    for i in 0..points.len() {
-        let cell = cell_of[i];
-        if bins[cell as usize].kept {
-            before = Some(i);
-            continue;
-        }
-        if cell == VOID {
-            continue;
-        }
-        let here = &points[i];
-        let Some(a) = before.filter(|&a| here.idx - points[a].idx <= reach) else {
-            continue;
-        };
-        let after = (i + 1..points.len())
-            .take_while(|&j| points[j].idx - here.idx <= reach)
-            .find(|&j| bins[cell_of[j] as usize].kept);
-        let Some(b) = after else {
-            continue;
-        };
-        let (pa, pb) = (&points[a], &points[b]);
+    let (pa, pb) = (&points[a], &points[b]);
+    for u in a + 1..b {
+        let here = &points[u];
         let (ga, gb) = (here.idx - pa.idx, pb.idx - here.idx);
+        if cell_of[u] == VOID || ga > reach || gb > reach {
+            continue;
+        }
         if bp.joins(pa, (here.x, here.y), ga) && bp.joins(here, (pb.x, pb.y), gb) {
             let to = if ga <= gb { cell_of[a] } else { cell_of[b] };
-            cell_of[i] = to;
+            cell_of[u] = to;
             bins[to as usize].points += 1;
         }
     }
