@@ -248,6 +248,61 @@ fn bad_input_ends_in_a_clear_error() {
     assert_clean_error(&o, "t.tum:2", "expected 8 numbers");
 }
 
+#[test]
+fn a_truncated_log_keeps_the_map_of_the_scans_before_it() {
+    use std::io::Read;
+    // The bundled excerpt (40 scans) with its last line cut after 500 bytes.
+    let mut log = String::new();
+    flate2::read::GzDecoder::new(
+        std::fs::File::open(repo("data/urg04lx-exp1-excerpt.dat.gz")).unwrap(),
+    )
+    .read_to_string(&mut log)
+    .unwrap();
+    let lines: Vec<&str> = log.lines().collect();
+    assert_eq!(lines.len(), 40);
+    let cut = tmp("cut.dat");
+    std::fs::write(
+        &cut,
+        format!("{}\n{}", lines[..39].join("\n"), &lines[39][..500]),
+    )
+    .unwrap();
+    // Without --skip-bad: the 39 scans before it mapped and written, then the error.
+    let out = tmp("cut-map");
+    let _ = std::fs::remove_dir_all(&out);
+    let o = run(bin().arg("map").arg(&cut).arg("-o").arg(&out));
+    assert_clean_error(
+        &o,
+        "cut.dat:40: expected 707 tokens",
+        "stopped at a bad record",
+    );
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("the map of the 39 scans before it is written"),
+        "{err}"
+    );
+    assert_eq!(tum_rows(&out.join("trajectory.tum")).len(), 39);
+    assert!(out.join("map.pgm").exists() && out.join("lines.json").exists());
+    // With it: the same map, the record counted.
+    let skipped = tmp("cut-map-skip");
+    let o = run(bin()
+        .arg("map")
+        .arg(&cut)
+        .arg("--skip-bad")
+        .arg("-o")
+        .arg(&skipped));
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("skipped: 1 malformed record"), "{err}");
+    assert_eq!(
+        tum_rows(&skipped.join("trajectory.tum")),
+        tum_rows(&out.join("trajectory.tum"))
+    );
+    // An output directory that cannot be made: refused before any mapping.
+    let o = run(bin().arg("map").arg(&cut).arg("-o").arg(cut.join("sub")));
+    assert_clean_error(&o, "cut.dat/sub", "cannot create");
+    assert!(!text(&o.stderr).contains("scans/s"), "mapped first");
+}
+
 /// Ranges of 181 beams, 1 deg apart from -90 deg, from `(x, y, theta)` in a 6 m x 4 m room
 /// (walls at x = +-3 m, y = +-2 m) with a square pillar (0.8..1.2 m, 0.5..0.9 m).
 fn room_ranges(x: f64, y: f64, theta: f64) -> Vec<f64> {

@@ -49,6 +49,11 @@ pub struct MapArgs {
     /// Side of an occupancy grid cell, m.
     #[arg(long, default_value_t = 0.05)]
     pub resolution: f64,
+    /// Count and skip bad records (reported in the summary) instead of stopping at the first.
+    /// Without it, the scans before a bad record are still mapped and written, and the run
+    /// ends with the error.
+    #[arg(long)]
+    pub skip_bad: bool,
 }
 
 /// Runs `laserlines map`.
@@ -62,30 +67,39 @@ pub fn run(args: &MapArgs) -> Result<()> {
         );
     }
     let reader = super::open_input(&args.input)?;
+    // The output directory is made and tried before the mapping: a run of minutes must not
+    // end in "cannot create".
+    map_outputs::prepare_dir(&args.output)?;
     // Created before the mapping, so that a path it cannot write fails at once; removed when
     // the mapping fails, so that no empty or partial file is left where a run was expected.
     let Some(path) = &args.mcap else {
-        return map_log(args, &name, reader, None, start);
+        return map_log(args, &name, reader, None, start)?.map_or(Ok(()), Err);
     };
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
     let writer = McapSceneWriter::create(path)?;
-    let mapped = map_log(args, &name, reader, Some((path, writer)), start);
-    if mapped.is_err() {
-        let _ = std::fs::remove_file(path);
+    match map_log(args, &name, reader, Some((path, writer)), start) {
+        Ok(None) => Ok(()),
+        // The scans before a bad record were mapped and written, the MCAP too.
+        Ok(Some(stopped)) => Err(stopped),
+        Err(e) => {
+            let _ = std::fs::remove_file(path);
+            Err(e)
+        }
     }
-    mapped
 }
 
 /// Maps the scans of `reader` and writes the outputs (and the MCAP to `mcap`, when given).
+/// A bad record without `--skip-bad` ends the reading: the scans before it are mapped and
+/// written, and the error comes back as `Ok(Some(error))`.
 fn map_log(
     args: &MapArgs,
     name: &str,
     mut reader: laserlines_io::ScanReader,
     mut mcap: Option<(&PathBuf, McapSceneWriter<std::io::BufWriter<std::fs::File>>)>,
     start: Instant,
-) -> Result<()> {
+) -> Result<Option<anyhow::Error>> {
     super::note_unused_tables(args.params.file_path(), &["hough-split"], "map")?;
     let mut extractor = super::make_hough_split(&args.params)?;
     let mut params = MapperParams::default();
@@ -99,8 +113,20 @@ fn map_log(
     let mut log_odometry = Vec::new();
     let mut kept: Vec<(ScanRecord, Vec<laserlines::Line>)> = Vec::new();
     let progress = progress_bar();
+    let mut stopped = None;
     for item in reader.by_ref() {
-        let record = item?;
+        let record = match item {
+            Ok(r) => r,
+            Err(e) if args.skip_bad => {
+                // The reader counts it under its reason for the summary.
+                progress.suspend(|| eprintln!("laserlines: skipped: {e}"));
+                continue;
+            }
+            Err(e) => {
+                stopped = Some(e);
+                break;
+            }
+        };
         let k = stamps.len();
         let odometry = odometry_of(&record, args.odometry, name, k)?;
         extractor.extract_into(&record.scan, &mut lines);
@@ -116,7 +142,10 @@ fn map_log(
         progress.inc(1);
     }
     if stamps.is_empty() {
-        bail!("{name}: no scans");
+        return Err(match stopped {
+            Some(e) => e.into(),
+            None => super::no_scans(name, reader.skipped()),
+        });
     }
     progress.set_message("optimising");
     mapper
@@ -145,7 +174,17 @@ fn map_log(
         start.elapsed().as_secs_f64(),
         &files,
     );
-    Ok(())
+    if args.skip_bad {
+        eprintln!("{name}: skipped: {}", reader.skipped());
+    }
+    Ok(stopped.map(|e| {
+        anyhow::Error::from(e).context(format!(
+            "{name}: stopped at a bad record; the map of the {} before it is written \
+             ({}; --skip-bad skips bad records)",
+            super::count(stamps.len() as u64, "scan"),
+            args.output.display()
+        ))
+    }))
 }
 
 /// The odometry of scan `k` the mapper takes: the record's with `--odometry on` (an error

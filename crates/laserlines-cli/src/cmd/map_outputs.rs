@@ -41,6 +41,16 @@ pub struct Outputs<'a> {
     pub resolution_m: f64,
 }
 
+/// Makes the output directory `dir` and tries a file in it, so that a directory that cannot
+/// be written fails before the mapping.
+pub fn prepare_dir(dir: &Path) -> Result<()> {
+    fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let probe = dir.join(".laserlines-write-check");
+    File::create(&probe)
+        .and_then(|_| fs::remove_file(&probe))
+        .with_context(|| format!("cannot write in {}", dir.display()))
+}
+
 /// Writes every file into the output directory; returns their paths.
 pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
     fs::create_dir_all(o.dir).with_context(|| format!("cannot create {}", o.dir.display()))?;
