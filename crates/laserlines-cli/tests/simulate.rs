@@ -165,6 +165,48 @@ fn simulate_rejects_bad_input() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("no_such_arena.raf"), "{err}");
+    // A laser mounted 5 m from the robot: refused, naming the field.
+    let params =
+        std::env::temp_dir().join(format!("laserlines-far-laser-{}.toml", std::process::id()));
+    std::fs::write(
+        &params,
+        "[robot]\nlaser = { x = 5.0, y = 0.0, yaw = 0.0 }\n",
+    )
+    .unwrap();
+    let o = bin()
+        .args(["simulate", "--duration", "1", "--params"])
+        .arg(&params)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("laser.x, laser.y") && err.contains("got 5"),
+        "{err}"
+    );
+}
+
+#[test]
+fn simulate_warns_of_a_start_within_the_turning_radius() {
+    // 0.30 m from the nearest wall of the default arena: the robot needs 0.32 m to turn.
+    let out = std::env::temp_dir().join(format!("laserlines-cramped-{}", std::process::id()));
+    let o = bin()
+        .args(["simulate", "--duration", "2", "--start", "0.3,0.3,0", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains(
+            "lies 0.30 m from the nearest obstacle, within the robot's turning radius of 0.32 m"
+        ),
+        "{err}"
+    );
+    // The area it can reach is the arena's.
+    let metrics = std::fs::read_to_string(out.join("metrics.json")).unwrap();
+    let m: serde_json::Value = serde_json::from_str(&metrics).unwrap();
+    assert!(m["reachable_area_m2"].as_f64().unwrap() > 50.0, "{metrics}");
 }
 
 #[test]

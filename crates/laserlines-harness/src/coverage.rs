@@ -86,7 +86,8 @@ pub struct CoverageGrid {
 
 impl CoverageGrid {
     /// The grid of `index`'s world for a robot of circumradius `radius` (m) starting at
-    /// `start`. When the start cell itself is not free, nothing is reachable from it.
+    /// `start`. When the start cell itself is not free (nearer an obstacle than `radius`),
+    /// what is reachable is counted from the nearest free cell within `radius` of it.
     #[must_use]
     pub fn new(index: &WorldIndex, start: Point2, radius: f64) -> Self {
         let world = index.world();
@@ -129,7 +130,7 @@ impl CoverageGrid {
         let free: Vec<bool> = (0..n)
             .map(|c| clear_of(index, grid.centre(c), radius))
             .collect();
-        grid.reachable = grid.start_component(&free, start);
+        grid.reachable = grid.start_component(index, &free, start, radius);
         let outline = ArenaOutline::of_index(index);
         if outline.encloses(start) {
             grid.region_kind = CoverageRegion::Enclosed;
@@ -196,14 +197,58 @@ impl CoverageGrid {
             .collect()
     }
 
-    /// The cells `ok` connected to the cell of `start` by a 4-neighbour flood fill; none
-    /// when that cell is not `ok`.
-    fn start_component(&self, ok: &[bool], start: Point2) -> Vec<bool> {
+    /// The cells `ok` connected to the cell of `start` by a 4-neighbour flood fill. When
+    /// that cell is not `ok` (a start nearer an obstacle than the robot's radius, from which
+    /// it can still back off), from the nearest `ok` cell within `radius` plus one cell of
+    /// it that a straight move reaches; none when there is no such cell (a start on or in
+    /// an obstacle).
+    fn start_component(
+        &self,
+        index: &WorldIndex,
+        ok: &[bool],
+        start: Point2,
+        radius: f64,
+    ) -> Vec<bool> {
         let mut reached = vec![false; ok.len()];
-        if let Some(s) = self.cell_of(start).filter(|&s| ok[s]) {
+        if let Some(s) = self.nearest_ok(index, ok, start, radius + COVERAGE_CELL) {
             flood4(self.cols, ok, &[s], &mut reached);
         }
         reached
+    }
+
+    /// The `ok` cell nearest `p`, its centre within `reach` (m) and in straight sight of
+    /// `p`: `p`'s own cell when that is `ok`. None when `p` touches an obstacle.
+    fn nearest_ok(&self, index: &WorldIndex, ok: &[bool], p: Point2, reach: f64) -> Option<usize> {
+        let own = self.cell_of(p)?;
+        if ok[own] {
+            return Some(own);
+        }
+        if index.world().clearance(p) <= 0.0 {
+            return None;
+        }
+        let span = (reach / COVERAGE_CELL).ceil() as isize;
+        let (x0, y0) = ((own % self.cols) as isize, (own / self.cols) as isize);
+        let mut near = Vec::new();
+        for dy in -span..=span {
+            for dx in -span..=span {
+                let (x, y) = (x0 + dx, y0 + dy);
+                if x < 0 || y < 0 || x >= self.cols as isize || y >= self.rows as isize {
+                    continue;
+                }
+                let c = y as usize * self.cols + x as usize;
+                let d = (self.centre(c) - p).norm();
+                if ok[c] && d <= reach {
+                    near.push((d, c));
+                }
+            }
+        }
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        near.into_iter()
+            .find(|&(d, c)| {
+                let to = self.centre(c) - p;
+                index.cast(p, to.y.atan2(to.x), d).is_none()
+            })
+            .map(|(_, c)| c)
     }
 
     fn centre(&self, c: usize) -> Point2 {
@@ -406,6 +451,12 @@ mod tests {
         let none = CoverageGrid::new(&index, Point2::new(0.0, 1.0), 0.3);
         assert_eq!(none.reachable_cells(), 0);
         assert_eq!(none.coverage(), 0.0);
+        // A start nearer a wall than the robot's radius: the room, from where it backs off
+        // to; just outside the wall, not the room behind it.
+        let near = CoverageGrid::new(&index, Point2::new(0.15, 1.0), 0.3);
+        assert_eq!(near.reachable_cells(), g.reachable_cells());
+        let behind = CoverageGrid::new(&index, Point2::new(-0.1, 1.0), 0.3);
+        assert!(!behind.is_reachable(Point2::new(2.0, 1.0)));
     }
 
     #[test]

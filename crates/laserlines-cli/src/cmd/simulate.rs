@@ -170,6 +170,7 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
         Some(s) => {
             let start = parse_start(s)?;
             check_start_inside(&name, &world, start)?;
+            warn_if_cramped(&world, start, robot.robot.footprint.circumradius());
             start
         }
         None => default_start,
@@ -465,6 +466,21 @@ fn check_start_inside(name: &str, world: &World, start: Isometry2) -> Result<()>
         );
     }
     Ok(())
+}
+
+/// Says on standard error when a start given by hand lies nearer an obstacle than the
+/// robot's turning radius: turning on the spot there touches it (the run counts it).
+fn warn_if_cramped(world: &World, start: Isometry2, radius: f64) {
+    let p = Point2::from(start.translation.vector);
+    let clearance = world.clearance(p);
+    if clearance < radius {
+        eprintln!(
+            "laserlines: warning: --start ({}, {}) lies {clearance:.2} m from the nearest obstacle, \
+             within the robot's turning radius of {radius:.2} m: turning on the spot there \
+             touches it",
+            p.x, p.y
+        );
+    }
 }
 
 fn parse_start(s: &str) -> Result<Isometry2> {

@@ -41,7 +41,8 @@ use crate::params::{self, ParamsError};
     serde(default, deny_unknown_fields)
 )]
 pub struct LaserMount {
-    /// Ahead of the robot's origin, m. Default 0.15.
+    /// Ahead of the robot's origin, m. Default 0.15. The laser must lie within the
+    /// footprint's circumradius plus [`MAX_LASER_OVERHANG`] of the origin.
     pub x: f64,
     /// To the left of the robot's origin, m. Default 0.
     pub y: f64,
@@ -66,6 +67,9 @@ impl LaserMount {
         Isometry2::new(Vector2::new(self.x, self.y), self.yaw)
     }
 }
+
+/// How far beyond its footprint's circle a laser may be mounted, m (a mast or a bracket).
+pub const MAX_LASER_OVERHANG: f64 = 0.25;
 
 /// A robot as the robot side sees it. [`RobotDescription::default`] is NAJI V: 0.50 m x
 /// 0.40 m, at most 0.6 m/s and 1.5 rad/s, wheels 0.36 m apart, the laser 0.15 m ahead of
@@ -122,7 +126,19 @@ impl RobotDescription {
         params::positive("wheel_base", self.wheel_base)?;
         params::finite("laser.x", self.laser.x)?;
         params::finite("laser.y", self.laser.y)?;
-        params::finite("laser.yaw", self.laser.yaw)
+        params::finite("laser.yaw", self.laser.yaw)?;
+        // The laser sits on the robot: within its footprint's circle, plus a mast's reach.
+        let reach = self.footprint.circumradius() + MAX_LASER_OVERHANG;
+        let off = self.laser.x.hypot(self.laser.y);
+        if off > reach {
+            return Err(ParamsError::AboveField {
+                field: "laser.x, laser.y (the laser's distance from the robot's centre)",
+                value: off,
+                limit_field: "the footprint's circumradius + 0.25 m",
+                limit: reach,
+            });
+        }
+        Ok(())
     }
 }
 
@@ -152,6 +168,17 @@ mod tests {
         );
         let mut r = RobotDescription::default();
         r.limits.max_reverse = 0.0;
+        assert!(r.validate().is_ok());
+        // A laser 5 m from the robot is not on it; at the footprint's corner it is.
+        let mut r = RobotDescription::default();
+        r.laser.x = 5.0;
+        let e = r.validate().unwrap_err().to_string();
+        assert!(
+            e.starts_with("laser.x, laser.y") && e.contains("got 5"),
+            "{e}"
+        );
+        r.laser.x = 0.25;
+        r.laser.y = 0.2;
         assert!(r.validate().is_ok());
     }
 }
