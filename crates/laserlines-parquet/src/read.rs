@@ -53,6 +53,20 @@ fn from_chunks<T: ChunkReader + 'static>(name: &str, input: T) -> Result<ScanRea
         found: e.to_string(),
     };
     let file_len = input.len();
+    // A gzipped Parquet file (`.parquet.gz`) would only say "corrupt footer".
+    if file_len >= 2
+        && input
+            .get_bytes(0, 2)
+            .is_ok_and(|head| head[..] == [0x1f, 0x8b])
+    {
+        return Err(ReadError::Syntax {
+            pos: SourcePos::byte(name, 0),
+            expected: "a Parquet file".to_owned(),
+            found: "gzip-compressed data (Parquet compresses its own pages and is read as \
+                    .parquet: gunzip the file first)"
+                .to_owned(),
+        });
+    }
     let builder = ParquetRecordBatchReaderBuilder::try_new(input).map_err(not_parquet)?;
     check_chunks(builder.metadata(), file_len).map_err(|(offset, found)| ReadError::Syntax {
         pos: SourcePos::byte(name, offset),

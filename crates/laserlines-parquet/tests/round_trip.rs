@@ -214,6 +214,16 @@ fn bad_files_are_errors_naming_the_file_the_row_and_the_column() {
     let good = scans_bytes(&excerpt()[..3]);
     let truncated = good[..good.len() / 2].to_vec();
     assert!(error_of(truncated).starts_with("bad.parquet: byte 0: expected a Parquet file"));
+    // Nothing, one byte, the gzip magic alone: errors, no panic.
+    for short in [&[][..], &[0x1f], &[0x1f, 0x8b]] {
+        assert!(error_of(short.to_vec()).contains("expected a Parquet file"));
+    }
+    // A gzipped file (the gzip magic, then anything): said so.
+    let mut gzipped = vec![0x1f, 0x8b, 0x08, 0x00];
+    gzipped.extend_from_slice(&good);
+    assert!(
+        error_of(gzipped).contains("found gzip-compressed data (Parquet compresses its own pages"),
+    );
     let e = error_of(table(vec![("angle_min", f64s(&[Some(0.0)]))]));
     assert!(
         e.starts_with(
