@@ -242,6 +242,23 @@ fn bad_input_ends_in_a_clear_error() {
     std::fs::write(&rel, "0 0.1 0.1 0 0 0 0 0\n1000 1000.1 0.1 0 0 0 0 0\n").unwrap();
     let o = run(bin().arg("relations").arg(&traj).arg(&rel));
     assert_clean_error(&o, "far.relations", "relation 2 (t = 1000): no pose of");
+    // ... unless only the covered ones are asked for: the first alone, exact.
+    let o = run(bin().arg("relations").arg(&traj).arg(&rel).arg("--covered"));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert!(out.contains("1 of 2 relations left out"), "{out}");
+    assert!(out.contains("1 relation of"), "{out}");
+    assert!(
+        out.contains("translational error              0.000000"),
+        "{out}"
+    );
+    std::fs::write(&rel, "1000 1000.1 0.1 0 0 0 0 0\n").unwrap();
+    let o = run(bin().arg("relations").arg(&traj).arg(&rel).arg("--covered"));
+    assert_clean_error(
+        &o,
+        "far.relations",
+        "none of its 1 relations lies within the times",
+    );
     // A malformed trajectory line.
     std::fs::write(&traj, "0 0 0 0 0 0 0 1\n0.1 0.1 0\n").unwrap();
     let o = run(bin().arg("relations").arg(&traj).arg(&rel));

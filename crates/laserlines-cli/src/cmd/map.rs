@@ -69,16 +69,20 @@ pub fn run(args: &MapArgs) -> Result<()> {
     let reader = super::open_input(&args.input)?;
     // The output directory is made and tried before the mapping: a run of minutes must not
     // end in "cannot create".
-    map_outputs::prepare_dir(&args.output)?;
-    // Created before the mapping, so that a path it cannot write fails at once; removed when
-    // the mapping fails, so that no empty or partial file is left where a run was expected.
     let Some(path) = &args.mcap else {
+        map_outputs::prepare_dir(&args.output)?;
         return map_log(args, &name, reader, None, start)?.map_or(Ok(()), Err);
     };
+    // The MCAP too, first; removed when the mapping fails, so that no empty or partial file
+    // is left where a run was expected.
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
     let writer = McapSceneWriter::create(path)?;
+    if let Err(e) = map_outputs::prepare_dir(&args.output) {
+        let _ = std::fs::remove_file(path);
+        return Err(e);
+    }
     match map_log(args, &name, reader, Some((path, writer)), start) {
         Ok(None) => Ok(()),
         // The scans before a bad record were mapped and written, the MCAP too.

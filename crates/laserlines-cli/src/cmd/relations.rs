@@ -28,6 +28,10 @@ pub struct RelationsArgs {
     /// (trajectories with the same stamps pose for pose are paired by order).
     #[arg(long)]
     pub every: Option<usize>,
+    /// Score only the relations whose two times the trajectory covers (a trajectory of part
+    /// of a log), and say how many were left out; without it, such a relation is an error.
+    #[arg(long)]
+    pub covered: bool,
 }
 
 /// Runs `laserlines relations`.
@@ -61,18 +65,41 @@ pub fn run(args: &RelationsArgs) -> Result<()> {
     if relations.is_empty() {
         bail!("{rel_name}: no relations");
     }
+    let all = relations.len();
+    let relations = if args.covered {
+        let covered: Vec<Relation> = relations
+            .into_iter()
+            .filter(|r| score_relations(&traj, std::slice::from_ref(r)).is_ok())
+            .collect();
+        if covered.is_empty() {
+            bail!(
+                "{rel_name}: none of its {all} relations lies within the times of {} (within {MAX_TIME_GAP_S} s of a pose)",
+                args.trajectory.display()
+            );
+        }
+        if covered.len() < all {
+            outln!(
+                "{rel_name}: {} of {all} relations left out: the trajectory does not cover their times",
+                all - covered.len()
+            );
+        }
+        covered
+    } else {
+        relations
+    };
     let score = score_relations(&traj, &relations).map_err(|e| {
         anyhow::anyhow!(
-            "{rel_name}: relation {} (t = {}): no pose of {} within {MAX_TIME_GAP_S} s",
+            "{rel_name}: relation {} (t = {}): no pose of {} within {MAX_TIME_GAP_S} s \
+             (--covered scores only the relations the trajectory covers)",
             e.index + 1,
             e.time,
             args.trajectory.display()
         )
     })?;
     outln!(
-        "{} relations of {rel_name}, {} poses of {}",
-        score.n,
-        traj.len(),
+        "{} of {rel_name}, {} of {}",
+        super::count(score.n as u64, "relation"),
+        super::count(traj.len() as u64, "pose"),
         args.trajectory.display()
     );
     let row = |name: &str, unit: &str, s: &Summary| {
