@@ -64,8 +64,14 @@ fn a_good_file_reads_back_every_scan() {
         Some(mcap::Compression::Zstd),
         Some(mcap::Compression::Lz4),
     ] {
-        let got = read_all("good.mcap", mcap_bytes(6, c));
-        let scans: Vec<_> = got.into_iter().map(|r| r.unwrap()).collect();
+        let mut reader = read::from_reader(
+            "good.mcap",
+            Cursor::new(mcap_bytes(6, c)),
+            &McapReadOptions::default(),
+        )
+        .unwrap();
+        let scans: Vec<_> = reader.by_ref().map(|r| r.unwrap()).collect();
+        assert!(reader.skipped().is_empty(), "{}", reader.skipped());
         assert_eq!(scans.len(), 6, "{c:?}");
         for (g, w) in scans.iter().zip(records(6)) {
             assert_eq!(g.scan.ranges, w.scan.ranges);
@@ -93,8 +99,17 @@ fn a_truncated_file_gives_its_scans_then_an_error_at_the_cut() {
             }
             assert!(good.len() <= want.len());
             if cut >= data_end {
-                // Only the summary (indexes, which the reader does not use) is missing.
+                // Only the summary (indexes, which the reader does not use), the footer or
+                // the magic is missing: every scan, and the cut counted.
                 assert_eq!((good.len(), bad.len()), (want.len(), 0), "cut {cut}");
+                let mut reader = read::from_reader(
+                    "cut.mcap",
+                    Cursor::new(data[..cut].to_vec()),
+                    &McapReadOptions::default(),
+                )
+                .unwrap();
+                assert_eq!(reader.by_ref().count(), want.len());
+                assert_eq!(reader.skipped().get(read::SKIP_CUT_SUMMARY), 1, "cut {cut}");
                 continue;
             }
             // Never silently short: a cut file always ends with an error naming it.

@@ -43,6 +43,9 @@ mod chunk;
 pub mod db3;
 mod dir;
 mod records;
+mod tail;
+
+pub use tail::SKIP_CUT_SUMMARY;
 
 use channels::ChannelInfo;
 use db3::Db3FilesSource;
@@ -286,7 +289,11 @@ impl McapScanSource {
         self.pos = at + 9 + len;
         match opcode {
             op::CHUNK => self.handle_chunk(at, &body, skipped),
-            op::DATA_END | op::FOOTER => {
+            op::DATA_END => {
+                self.ended_properly = true;
+                self.skim_summary(skipped);
+            }
+            op::FOOTER => {
                 self.ended_properly = true;
                 self.finish_input(self.pos);
             }
