@@ -132,7 +132,7 @@ impl CoverageGrid {
             .collect();
         grid.reachable = grid.start_component(index, &free, start, radius);
         let outline = ArenaOutline::of_index(index);
-        if outline.encloses(start) {
+        if outline.encloses(start) && !grid.leaks(&outline) {
             grid.region_kind = CoverageRegion::Enclosed;
             grid.inside = (0..n).map(|c| outline.encloses(grid.centre(c))).collect();
         } else {
@@ -145,6 +145,23 @@ impl CoverageGrid {
         grid.region_count = grid.region.iter().filter(|r| **r).count();
         grid.reachable_count = grid.reachable.iter().filter(|r| **r).count();
         grid
+    }
+
+    /// True when over three quarters of the reachable floor within the arena's bounds lie
+    /// outside its outline: a gap wider than the outline closes opens the floor the robot
+    /// reaches, and the outline keeps only the corridors and rooms around the start (an
+    /// arena's doors lead out of its bounds, not into them). An arena open at one side
+    /// (`rc_2015_arena_big`: 60 % of its bounds enclosed) keeps its outline.
+    fn leaks(&self, outline: &ArenaOutline) -> bool {
+        let (mut in_bounds, mut open) = (0usize, 0usize);
+        for c in (0..self.reachable.len()).filter(|&c| self.reachable[c]) {
+            let p = self.centre(c);
+            if outline.within_bounds(p) {
+                in_bounds += 1;
+                open += usize::from(!outline.encloses(p));
+            }
+        }
+        4 * open > 3 * in_bounds
     }
 
     /// The largest 4-connected group of `floor` cells together with the group of `start`'s
@@ -572,5 +589,27 @@ mod tests {
             5.6,
         );
         assert!((g.coverage() - 1.0).abs() < 1e-12, "{}", g.coverage());
+    }
+
+    #[test]
+    fn a_gap_wider_than_the_outline_closes_opens_the_arena() {
+        // An 8 m x 6 m arena whose bottom wall has a 2.5 m gap, and a 1 m corridor along
+        // its left wall that the outline's disc (1.3 m) cannot enter: a start in the corridor
+        // is in the arena's bounds, and so is the open floor it leads to.
+        let mut w = World::new();
+        let p = Point2::new;
+        w.add_segment(p(0.0, 0.0), p(2.75, 0.0));
+        w.add_segment(p(5.25, 0.0), p(8.0, 0.0));
+        w.add_segment(p(8.0, 0.0), p(8.0, 6.0));
+        w.add_segment(p(8.0, 6.0), p(0.0, 6.0));
+        w.add_segment(p(0.0, 6.0), p(0.0, 0.0));
+        w.add_segment(p(1.0, 1.2), p(1.0, 6.0));
+        let index = WorldIndex::new(&w, 0.5);
+        let outline = ArenaOutline::of_index(&index);
+        assert!(outline.encloses(p(0.5, 4.0)) && !outline.encloses(p(4.0, 3.0)));
+        let g = CoverageGrid::new(&index, p(0.5, 4.0), 0.32);
+        assert_eq!(g.region_kind(), CoverageRegion::Bounds);
+        assert!(g.in_arena(p(4.0, 3.0)) && g.in_arena(p(0.5, 4.0)));
+        assert!(!g.in_arena(p(4.0, -0.5)));
     }
 }
