@@ -133,6 +133,32 @@ fn run(
     (found, pieces, lines_seen)
 }
 
+/// A SICK LMS-like scanner: 180 deg in 1 deg steps, 0.02..8 m, its data sheet's 15 mm
+/// noise, ranges rounded to `step` (m).
+fn sick_like(step: f64) -> LaserModel {
+    LaserModel {
+        beams: 181,
+        angle_min: -90f64.to_radians(),
+        angle_increment: 1f64.to_radians(),
+        range_min: 0.02,
+        range_max: 8.0,
+        noise: Noise::Range(RangeNoise::preset("lms2xx").unwrap()),
+        round_to: Some(step),
+        ..LaserModel::urg04lx()
+    }
+}
+
+/// A straight wall `x = d` from `y = -half` to `y = half`, the sensor at the origin facing it.
+fn wall_ahead(d: f64, half: f64) -> Scene {
+    let mut world = World::new();
+    world.add_segment(Point2::new(d, -half), Point2::new(d, half));
+    Scene {
+        name: format!("wall at {d} m"),
+        world,
+        world_from_laser: Isometry2::identity(),
+    }
+}
+
 /// A scene of one of the suites' kinds, by seed.
 fn mixed(rng: &mut Rng) -> Scene {
     match rng.below(4) {
@@ -211,22 +237,55 @@ fn a_sparse_360_deg_scanner_finds_walls_without_phantoms() {
 }
 
 #[test]
+fn a_sparse_scan_reads_the_same_whatever_its_missing_beams_hold() {
+    // A wall 2 m ahead of a YDLIDAR X4-like scanner with 70 % of its beams missing: written
+    // as NaN, 0, or beyond the range limit (as scanners that report their maximum for no
+    // return do), the same lines. A reading beyond the limit between two points of a dense
+    // scan says the beam saw through; on a sparse one it cut every gap, and the wall gave no
+    // line at all.
+    let model = LaserModel {
+        beams: 424,
+        angle_min: -180f64.to_radians(),
+        angle_increment: 0.85f64.to_radians(),
+        range_min: 0.12,
+        range_max: 10.0,
+        noise: Noise::Range(RangeNoise::preset("ydlidar-x4").unwrap()),
+        dropout: 0.7,
+        round_to: Some(0.001),
+        mixed_pixels: 0.0,
+        max_range_returns: false,
+    };
+    let scene = wall_ahead(2.0, 3.0);
+    let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    let mut found = 0;
+    for seed in 0..20 {
+        let sim = scene.simulate(&model, &mut Rng::new(seed));
+        let lines = checked_lines(&mut hs, &scene, &sim, &model.noise, "wall, NaN");
+        found += usize::from(lines.iter().any(|l| (l.r - 2.0).abs() < 0.05));
+        for missing in [0.0, 11.0, 1e6, f64::INFINITY] {
+            let mut scan = sim.scan.clone();
+            for r in &mut scan.ranges {
+                if r.is_nan() {
+                    *r = missing;
+                }
+            }
+            assert_eq!(
+                hs.extract(&scan),
+                lines,
+                "seed {seed}, missing beams {missing}"
+            );
+        }
+    }
+    assert!(found >= 18, "{found} of 20");
+}
+
+#[test]
 fn a_wall_next_to_the_sensor_is_one_line() {
     // A wall 2 m long, 0.2-0.45 m ahead: a URG-04LX at its real noise and at half the band,
     // with 3 % dropouts, and a 1 deg SICK LMS-like scanner. Lone points at ring boundaries
     // weigh their range, below the criterion, and broke the URG's walls (39 of 50 whole at
     // 0.2 m); on the 1 deg scanner every cell of a wall 0.2-0.25 m away weighed less than
     // the criterion (none whole).
-    let sick = LaserModel {
-        beams: 181,
-        angle_min: -90f64.to_radians(),
-        angle_increment: 1f64.to_radians(),
-        range_min: 0.02,
-        range_max: 8.0,
-        noise: Noise::Range(RangeNoise::preset("lms2xx").unwrap()),
-        round_to: Some(0.01),
-        ..LaserModel::urg04lx()
-    };
     let urg = |noise| LaserModel {
         noise: Noise::Range(noise),
         dropout: 0.03,
@@ -235,18 +294,12 @@ fn a_wall_next_to_the_sensor_is_one_line() {
     let models = [
         ("urg-04lx real", urg(RangeNoise::new(0.003, 0.0015))),
         ("urg-04lx half band", urg(RangeNoise::new(0.005, 0.005))),
-        ("lms-like", sick),
+        ("lms-like", sick_like(0.01)),
     ];
     let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
     for (name, model) in &models {
         for d in [0.2, 0.25, 0.3, 0.35, 0.45] {
-            let mut world = World::new();
-            world.add_segment(Point2::new(d, -1.0), Point2::new(d, 1.0));
-            let scene = Scene {
-                name: "near wall".into(),
-                world,
-                world_from_laser: Isometry2::identity(),
-            };
+            let scene = wall_ahead(d, 1.0);
             let mut whole = 0;
             for seed in 0..30 {
                 let sim = scene.simulate(model, &mut Rng::new(seed));
@@ -270,16 +323,7 @@ fn a_sick_lms_like_scanner_finds_its_walls_without_phantoms() {
     // 5 cm steps (as some logs were written): steps coarser than the noise leave most
     // residuals of the estimate at zero, unless it reads them as the steps' own spread.
     for (step, share) in [(0.01, 0.7), (0.05, 0.0)] {
-        let model = LaserModel {
-            beams: 181,
-            angle_min: -90f64.to_radians(),
-            angle_increment: 1f64.to_radians(),
-            range_min: 0.02,
-            range_max: 8.0,
-            noise: Noise::Range(RangeNoise::preset("lms2xx").unwrap()),
-            round_to: Some(step),
-            ..LaserModel::urg04lx()
-        };
+        let model = sick_like(step);
         let (found, pieces, lines) = run(&model, &mixed, 24, "lms-like");
         println!("lms-like, {step} m steps: {found} of {pieces} pieces, {lines} lines");
         assert!(found as f64 >= share * pieces as f64, "{found} of {pieces}");
@@ -292,26 +336,11 @@ fn a_wall_in_coarse_range_steps_is_one_line() {
     // ranges written to 5 cm: near the wall's foot most neighbouring ranges are the same
     // multiple of 5 cm, the estimate's residuals are zero there, and an estimate of a few mm
     // would split the wall or refuse it. The steps' own spread (14 mm) keeps it one line.
-    let model = LaserModel {
-        beams: 181,
-        angle_min: -90f64.to_radians(),
-        angle_increment: 1f64.to_radians(),
-        range_min: 0.02,
-        range_max: 8.0,
-        noise: Noise::Range(RangeNoise::preset("lms2xx").unwrap()),
-        round_to: Some(0.05),
-        ..LaserModel::urg04lx()
-    };
+    let model = sick_like(0.05);
     let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
     // Without the steps' spread, 12 of these 120 scans read 2-5 mm, and 11 give 0 or 2 lines.
     for d in [1.0, 1.5, 3.0] {
-        let mut world = World::new();
-        world.add_segment(Point2::new(d, -30.0), Point2::new(d, 30.0));
-        let scene = Scene {
-            name: "wall".into(),
-            world,
-            world_from_laser: Isometry2::identity(),
-        };
+        let scene = wall_ahead(d, 30.0);
         for seed in 0..40 {
             let sim = scene.simulate(&model, &mut Rng::new(seed));
             let what = format!("wall at {d} m, seed {seed}");

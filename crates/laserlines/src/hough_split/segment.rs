@@ -29,18 +29,31 @@ pub(crate) struct Breakpoints {
     /// `bridge_sigmas * sqrt(2)`.
     spread: f64,
     noise: RangeNoise,
+    /// The farthest reading that tells a beam saw through: `+inf` on a scan whose beams
+    /// mostly return, the range limit on a sparse one ([`SPARSE_DROPOUT`]).
+    see_max: f64,
 }
 
+/// The dropout rate from which a reading beyond the range limit (or `+inf`) is taken for a
+/// dropout rather than for a view through: scanners that report a missing return as their
+/// maximum range or beyond would otherwise cut every gap of a sparse scan.
+pub(crate) const SPARSE_DROPOUT: f64 = 0.2;
+
 impl Breakpoints {
-    /// Makes the table right for `p`, beams `increment` apart, `noise` and the scan's
-    /// `dropout` ([`HoughSplitParams::bridge_for`]).
+    /// Makes the table right for `p`, beams `increment` apart, `noise`, the scan's
+    /// `dropout` ([`HoughSplitParams::bridge_for`]) and its largest valid range `range_max`.
     pub(crate) fn prepare(
         &mut self,
         p: &HoughSplitParams,
         increment: f64,
         noise: RangeNoise,
-        dropout: f64,
+        (dropout, range_max): (f64, f64),
     ) {
+        self.see_max = if dropout >= SPARSE_DROPOUT {
+            range_max
+        } else {
+            f64::INFINITY
+        };
         let bridge = p.bridge_for(increment, dropout);
         let key = (
             increment.to_bits(),
@@ -83,8 +96,9 @@ impl Breakpoints {
 
     /// True when a beam between points `a` and `b` (of `ranges`) saw through the gap: its
     /// range lies beyond both of theirs by more than `bridge_sigmas` sigma (a longer finite
-    /// reading, or `+inf`, REP 117's "nothing in range"). Missing beams (NaN, 0, below the
-    /// minimum) tell nothing and do not count. [`runs_of`] cuts there only when the two points
+    /// reading, or `+inf`, REP 117's "nothing in range"; on a sparse scan only a reading
+    /// within the range limit). Missing beams (NaN, 0, below the minimum) tell nothing and do
+    /// not count. [`runs_of`] cuts there only when the two points
     /// also lie farther apart than `D` of neighbouring beams: a single stray far reading
     /// inside a wall does not cut it.
     #[inline]
@@ -93,7 +107,7 @@ impl Breakpoints {
         let beyond = far + self.spread * self.noise.sigma(far);
         ranges
             .get(a.idx + 1..b.idx)
-            .is_some_and(|between| between.iter().any(|&r| r > beyond))
+            .is_some_and(|between| between.iter().any(|&r| r > beyond && r <= self.see_max))
     }
 }
 
