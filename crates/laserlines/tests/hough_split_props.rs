@@ -2,7 +2,8 @@
 //! at most one line, identical results on a second run, both weight functions; and the
 //! documented bounds that keep lines off empty space and off scattered points: consecutive
 //! supporting points of a line lie within the breakpoint distance `D` of each other
-//! ([`HoughSplitParams::breakpoint_distance`] at the noise the extraction assumed), and no
+//! ([`HoughSplitParams::breakpoint_distance`] at the noise the extraction assumed, for the
+//! scan's bridge: [`HoughSplitParams::bridge_for`] its dropout rate), and no
 //! line's RMS residual exceeds `max_rms_sigmas` times the noise at its points' centroid.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -115,6 +116,8 @@ fn check_bounds(scan: &Scan, hs: &HoughSplit, lines: &[Line]) {
     let points = st.points();
     let p = HoughSplitParams::default();
     let step = scan.angle_increment.abs();
+    // The scan's own bridge: wider on a sparse scan.
+    let bridge = p.bridge_for(scan.angle_increment, st.dropout());
     for l in lines {
         // The line's support: the kept points of its beam span, all of them its own.
         let support: Vec<_> = points
@@ -125,7 +128,8 @@ fn check_bounds(scan: &Scan, hs: &HoughSplit, lines: &[Line]) {
         for w in support.windows(2) {
             let (a, b) = (w[0], w[1]);
             let gap = (b.index - a.index) as f64 * step;
-            let d = p.breakpoint_distance(a.range, gap, step, noise.sigma(a.range));
+            assert!(b.index - a.index <= bridge.max_gap + 1, "{l:?}");
+            let d = p.breakpoint_distance(a.range, gap, bridge.spacing, noise.sigma(a.range));
             let Some(d) = d else {
                 panic!(
                     "beams {} and {} are too far apart to join: {l:?}",
