@@ -148,6 +148,23 @@ fn sick_like(step: f64) -> LaserModel {
     }
 }
 
+/// A YDLIDAR X4-like scanner: 360 deg in 0.85 deg steps, 0.12..10 m, 2 % noise, 1 mm
+/// resolution, a share `dropout` of the beams without a return.
+fn ydlidar_like(dropout: f64) -> LaserModel {
+    LaserModel {
+        beams: 424,
+        angle_min: -180f64.to_radians(),
+        angle_increment: 0.85f64.to_radians(),
+        range_min: 0.12,
+        range_max: 10.0,
+        noise: Noise::Range(RangeNoise::preset("ydlidar-x4").unwrap()),
+        dropout,
+        round_to: Some(0.001),
+        mixed_pixels: 0.0,
+        max_range_returns: false,
+    }
+}
+
 /// A straight wall `x = d` from `y = -half` to `y = half`, the sensor at the origin facing it.
 fn wall_ahead(d: f64, half: f64) -> Scene {
     let mut world = World::new();
@@ -218,18 +235,7 @@ fn a_sparse_360_deg_scanner_finds_walls_without_phantoms() {
         (0.85, 0.3),
         (0.9, 0.15),
     ] {
-        let model = LaserModel {
-            beams: 424,
-            angle_min: -180f64.to_radians(),
-            angle_increment: 0.85f64.to_radians(),
-            range_min: 0.12,
-            range_max: 10.0,
-            noise: Noise::Range(RangeNoise::preset("ydlidar-x4").unwrap()),
-            dropout,
-            round_to: Some(0.001),
-            mixed_pixels: 0.0,
-            max_range_returns: false,
-        };
+        let model = ydlidar_like(dropout);
         let (found, pieces, lines) = run(&model, &mixed, 40, "ydlidar-like");
         println!("ydlidar-like, {dropout} missing: {found} of {pieces} pieces, {lines} lines");
         assert!(found as f64 >= share * pieces as f64, "{found} of {pieces}");
@@ -243,18 +249,7 @@ fn a_sparse_scan_reads_the_same_whatever_its_missing_beams_hold() {
     // return do), the same lines. A reading beyond the limit between two points of a dense
     // scan says the beam saw through; on a sparse one it cut every gap, and the wall gave no
     // line at all.
-    let model = LaserModel {
-        beams: 424,
-        angle_min: -180f64.to_radians(),
-        angle_increment: 0.85f64.to_radians(),
-        range_min: 0.12,
-        range_max: 10.0,
-        noise: Noise::Range(RangeNoise::preset("ydlidar-x4").unwrap()),
-        dropout: 0.7,
-        round_to: Some(0.001),
-        mixed_pixels: 0.0,
-        max_range_returns: false,
-    };
+    let model = ydlidar_like(0.7);
     let scene = wall_ahead(2.0, 3.0);
     let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
     let mut found = 0;

@@ -183,12 +183,11 @@ impl LineExtractor for HoughSplit {
             &mut self.cell_of,
         );
         self.dropout = segment::dropout(&self.points, scan.ranges.len());
-        let range_max = scan.range_window(self.params.range_limits).max;
         self.breakpoints.prepare(
             &self.params,
             scan.angle_increment,
             self.noise,
-            (self.dropout, range_max),
+            (self.dropout, valid.window.max),
         );
         if self.params.bridge_beams && self.acc.loose > 0 {
             segment::rescue_points(
