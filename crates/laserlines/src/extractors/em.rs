@@ -19,6 +19,9 @@
 //!    to its last, becomes a line and its beams are taken. A hypothesis that yields none is a
 //!    failure, and leaves its points free for the next: a hypothesis that converged across two
 //!    walls, and so cut both into short runs, does not take them from the lines that fit them.
+//!    A failed annealed hypothesis is tried once more from the same start without annealing:
+//!    the wide first steps can settle it between two parallel walls a few centimetres apart,
+//!    where neither wall keeps enough members.
 //!
 //! The loop ends after `max_trials` hypotheses, or `max_failures` failures in a row. Then the
 //! common final step. The generator is SplitMix64 seeded with `seed` at the start of every
@@ -252,10 +255,10 @@ impl Em {
         total
     }
 
-    /// Runs EM from hypothesis `h`; returns the final line (weights left in `self.weight`).
-    fn converge(&mut self, mut h: Hypothesis) -> Option<Hypothesis> {
+    /// Runs EM from hypothesis `h`, the first E step's standard deviations `scale` times the
+    /// sensor's; returns the final line (weights left in `self.weight`).
+    fn converge(&mut self, mut h: Hypothesis, mut scale: f64) -> Option<Hypothesis> {
         let mut pi = 0.5;
-        let mut scale = self.params.anneal_sigma_scale;
         for _ in 0..self.params.iterations {
             let total = self.expect(&h, pi, scale);
             let next = weighted_fit(&self.points, &self.weight, &self.free)?;
@@ -276,6 +279,29 @@ impl Em {
         }
         self.expect(&h, pi, 1.0);
         Some(h)
+    }
+
+    /// One hypothesis from `init`: converges it and leaves its runs in `self.found`.
+    fn hypothesis(&mut self, init: Option<Hypothesis>, scale: f64, min_members: usize) {
+        self.found.clear();
+        if init.and_then(|h| self.converge(h, scale)).is_none() {
+            return;
+        }
+        let p = &self.params;
+        let (points, taken, weight) = (&self.points, &self.taken, &self.weight);
+        runs_with_members(
+            points,
+            |i| !taken[i],
+            |i| weight[i] >= p.inlier_probability,
+            &p.breakpoints,
+            p.max_skipped,
+            min_members,
+            &mut self.found,
+        );
+        // Runs start and end at members, so their ends give the line's length.
+        let min_length = p.filter.min_length;
+        self.found
+            .retain(|r| (points[r.end - 1].point - points[r.start].point).norm() >= min_length);
     }
 }
 
@@ -314,23 +340,12 @@ impl LineExtractor for Em {
                     .map(|&i| self.points[i].point),
             )
             .fit();
-            let line = init.and_then(|fit| self.converge(Hypothesis::from_fit(&fit)));
-            self.found.clear();
-            if line.is_some() {
-                let (points, taken, weight) = (&self.points, &self.taken, &self.weight);
-                runs_with_members(
-                    points,
-                    |i| !taken[i],
-                    |i| weight[i] >= p.inlier_probability,
-                    &rule,
-                    p.max_skipped,
-                    min_members,
-                    &mut self.found,
-                );
-                // Runs start and end at members, so their ends give the line's length.
-                self.found.retain(|r| {
-                    (points[r.end - 1].point - points[r.start].point).norm() >= p.filter.min_length
-                });
+            let init = init.map(|fit| Hypothesis::from_fit(&fit));
+            self.hypothesis(init, p.anneal_sigma_scale, min_members);
+            if self.found.is_empty() && p.anneal_sigma_scale > 1.0 {
+                // The annealed line may have settled between two close walls: once more
+                // from the same start without annealing.
+                self.hypothesis(init, 1.0, min_members);
             }
             if self.found.is_empty() {
                 failures += 1;
