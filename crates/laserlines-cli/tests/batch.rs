@@ -72,7 +72,7 @@ fn parallel_output_is_in_input_order_and_equals_the_sequential_one() {
         let bad = (0..scans).filter(|k| k % 97 == 50).count();
         assert!(err.contains(&format!("{scans} scans")), "{err}");
         assert!(
-            err.contains(&format!("skipped: {bad} malformed record")),
+            err.contains(&format!("skipped: {bad} × malformed record")),
             "{err}"
         );
         assert!(err.contains("scans/s") && err.contains("MB/s"), "{err}");
@@ -150,7 +150,7 @@ fn carmen_logs_and_bags_with_topics() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("2 scans"), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("1 RLASER scan (another laser)"),
+        stderr(&o).contains("1 × RLASER scan (another laser)"),
         "{}",
         stderr(&o)
     );

@@ -81,7 +81,7 @@ fn skip_bad_counts_what_it_skipped() {
         "summary does not count the good scans: {err}"
     );
     assert!(
-        err.contains("skipped: 2 "),
+        err.contains("skipped: 2 × "),
         "summary does not count the skips: {err}"
     );
 }

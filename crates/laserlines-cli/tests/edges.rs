@@ -76,6 +76,16 @@ fn outputs_are_what_their_names_say() {
         &o,
         "expected lines JSONL (.jsonl, .jsonl.gz, or - for standard output)",
     );
+    // A device or a pipe has no extension: lines JSONL.
+    #[cfg(unix)]
+    {
+        let o = run(bin()
+            .arg("extract")
+            .arg(excerpt())
+            .args(["-o", "/dev/null"]));
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(stderr(&o).contains("40 scans"), "{}", stderr(&o));
+    }
     // .mcap.gz is read, never written.
     for cmd in ["extract", "convert"] {
         let mut c = bin();

@@ -309,7 +309,7 @@ fn a_truncated_log_keeps_the_map_of_the_scans_before_it() {
         .arg(&skipped));
     let err = text(&o.stderr);
     assert!(o.status.success(), "{err}");
-    assert!(err.contains("skipped: 1 malformed record"), "{err}");
+    assert!(err.contains("skipped: 1 × malformed record"), "{err}");
     assert_eq!(
         tum_rows(&skipped.join("trajectory.tum")),
         tum_rows(&out.join("trajectory.tum"))

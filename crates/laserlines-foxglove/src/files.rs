@@ -93,6 +93,12 @@ fn parquet_name(path: &Path) -> Result<&Path, WriteError> {
     Ok(path)
 }
 
+/// True when `path` exists and is neither a regular file nor a directory: a device, a named
+/// pipe or a socket, which stream what they are given and have no extension to go by.
+fn is_stream(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
 /// Where `laserlines extract` writes its lines: an MCAP scene ([`McapSceneWriter`]: scan,
 /// lines and pose) when the name ends in `.mcap`, a Parquet table of lines
 /// ([`LinesParquetWriter`]: one row per line) when it ends in `.parquet`, else lines JSONL
@@ -110,14 +116,16 @@ pub enum LinesOutput {
 impl LinesOutput {
     /// Creates the output named `path`, choosing the kind by its extension: `.mcap` for
     /// MCAP, `.parquet` for Parquet, `.jsonl` or `.ndjson` (optionally `.gz`) or `-` (standard
-    /// output) for lines JSONL.
+    /// output) for lines JSONL; lines JSONL too for an existing file that is neither a
+    /// regular file nor a directory, whatever its name (`/dev/null`, a named pipe,
+    /// `/dev/stdout`, a shell's `>(...)`).
     ///
     /// # Errors
     /// [`WriteError::Io`] when the file cannot be created, [`WriteError::Name`] for
     /// any other extension (a lines file named `.txt` or `.json` would be mistaken for
     /// something else) and for `.mcap.gz` (see [`McapSceneWriter::create`]).
     pub fn create(path: &Path) -> Result<Self, WriteError> {
-        if path == Path::new("-") {
+        if path == Path::new("-") || is_stream(path) {
             return Ok(Self::Jsonl(Box::new(LinesWriter::create(path)?)));
         }
         match Format::from_path(path) {

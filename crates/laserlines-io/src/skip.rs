@@ -70,7 +70,8 @@ impl SkipCounts {
     }
 }
 
-/// `none`, or `3 malformed JSON, 1 invalid scan`.
+/// `none`, or `3 × malformed JSON, 1 × invalid scan` (a count and its reason, which is
+/// singular: `2 × malformed record`).
 impl fmt::Display for SkipCounts {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.counts.is_empty() {
@@ -80,7 +81,7 @@ impl fmt::Display for SkipCounts {
             if i > 0 {
                 f.write_str(", ")?;
             }
-            write!(f, "{n} {reason}")?;
+            write!(f, "{n} × {reason}")?;
         }
         Ok(())
     }
@@ -101,10 +102,10 @@ mod tests {
         assert_eq!(s.get("b"), 3);
         assert_eq!(s.get("c"), 0);
         assert_eq!(s.total(), 4);
-        assert_eq!(s.to_string(), "3 b, 1 a");
+        assert_eq!(s.to_string(), "3 × b, 1 × a");
         let mut t = SkipCounts::new();
         t.add("a");
         t.merge(&s);
-        assert_eq!(t.to_string(), "2 a, 3 b");
+        assert_eq!(t.to_string(), "2 × a, 3 × b");
     }
 }

@@ -36,7 +36,7 @@ fn malformed_json_names_line_and_column() {
         items,
         vec!["tests/fixtures/bad_malformed.json:3:26: malformed JSON: key must be a string"]
     );
-    assert_eq!(skipped, "1 malformed JSON");
+    assert_eq!(skipped, "1 × malformed JSON");
 }
 
 #[test]
@@ -53,7 +53,7 @@ fn ranges_of_the_wrong_type_name_the_field_and_reading_goes_on() {
             "ok 4",
         ]
     );
-    assert_eq!(skipped, "2 bad field");
+    assert_eq!(skipped, "2 × bad field");
 }
 
 #[test]
@@ -92,7 +92,7 @@ fn truncated_dat_line_names_the_line_and_reading_goes_on() {
             "ok 3",
         ]
     );
-    assert_eq!(skipped, "1 malformed record");
+    assert_eq!(skipped, "1 × malformed record");
 }
 
 #[test]
@@ -329,7 +329,7 @@ fn truncated_gzip_is_a_read_error_naming_the_line_and_ends_the_reader() {
         "{items:?}"
     );
     assert!(before.len() < 2, "{items:?}");
-    assert_eq!(reader.skipped().to_string(), "1 read failed");
+    assert_eq!(reader.skipped().to_string(), "1 × read failed");
 }
 
 #[test]

@@ -134,7 +134,7 @@ fn a_bag_without_laserscan_ends_with_an_error_naming_its_connections() {
             bytes.len()
         )
     );
-    assert_eq!(skipped, "4 message of another type, 1 malformed record");
+    assert_eq!(skipped, "4 × message of another type, 1 × malformed record");
     // A topic the bag does not have.
     let (items, _) = read_bytes(&fixture("laserscans.bag"), Some("/nope"));
     assert_eq!(items.len(), 1);
@@ -269,7 +269,7 @@ fn not_a_bag_is_an_error_at_byte_zero() {
                  found {found}"
             )
         );
-        assert_eq!(skipped, "1 malformed record");
+        assert_eq!(skipped, "1 × malformed record");
     }
 }
 
@@ -321,7 +321,7 @@ fn a_corrupt_record_length_in_a_chunk_drops_the_rest_of_that_chunk_only() {
         errors[0]
     );
     assert!((3..6).contains(&scans), "{scans}");
-    assert!(skipped.contains("1 malformed record"), "{skipped}");
+    assert!(skipped.contains("1 × malformed record"), "{skipped}");
 }
 
 #[test]

@@ -58,7 +58,7 @@ fn assert_on_walls(record: &ScanRecord, expected_valid: usize) {
 fn flaser_angles_follow_the_documented_convention() {
     let (records, skipped) = read_all(&Path::new(FIXTURES).join("wall_left.clf"), None);
     assert_eq!(records.len(), 4);
-    assert_eq!(skipped, "1 unknown message NEFF");
+    assert_eq!(skipped, "1 × unknown message NEFF");
     let deg = PI / 180.0;
     // 180 beams: -90 deg, 1 deg apart, the last at +89 deg; beams -60..=89 deg see a wall.
     let s = &records[0].scan;
@@ -107,7 +107,7 @@ fn param_lines_set_fov_and_resolution_and_topics_choose_the_laser() {
     let path = Path::new(FIXTURES).join("wall_param.clf");
     let (front, skipped) = read_all(&path, None);
     assert_eq!(front.len(), 2);
-    assert_eq!(skipped, "1 RLASER scan (another laser)");
+    assert_eq!(skipped, "1 × RLASER scan (another laser)");
     let s = &front[0].scan;
     assert_eq!(s.len(), 201);
     assert!((s.angle_min + 50f64.to_radians()).abs() < 1e-12);
@@ -115,7 +115,7 @@ fn param_lines_set_fov_and_resolution_and_topics_choose_the_laser() {
     assert_on_walls(&front[0], 201);
     let (rear, skipped) = read_all(&path, Some("RLASER"));
     assert_eq!(rear.len(), 1);
-    assert_eq!(skipped, "2 FLASER scan (another laser)");
+    assert_eq!(skipped, "2 × FLASER scan (another laser)");
     let s = &rear[0].scan;
     assert_eq!(s.len(), 37);
     assert!((s.angle_min + PI / 2.0).abs() < 1e-12);
@@ -138,7 +138,7 @@ fn a_line_with_too_few_fields_is_an_error_naming_file_and_line() {
          ipc_hostname logger_timestamp), found 191 tokens"
     );
     assert_eq!(items[2].as_ref().unwrap().line, Some(4));
-    assert_eq!(reader.skipped().to_string(), "1 malformed record");
+    assert_eq!(reader.skipped().to_string(), "1 × malformed record");
 }
 
 #[test]

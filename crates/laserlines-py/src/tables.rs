@@ -163,8 +163,9 @@ pub fn extract_path<'py>(
     if skipped > 0 {
         // Skipped records are reported, as the command line reports them.
         let message = format!(
-            "{}: skipped {skipped} bad records ({})",
+            "{}: skipped {skipped} bad record{} ({})",
             reader.name(),
+            if skipped == 1 { "" } else { "s" },
             reader.skipped()
         );
         let message = std::ffi::CString::new(message).map_err(value_error)?;

@@ -73,7 +73,7 @@ def test_files_that_cannot_be_read_name_the_file_and_the_place(tmp_path):
         list(laserlines.read(bad))
     it = laserlines.read(bad, skip_bad=True)
     assert list(it) == [] and it.skipped == 1
-    with pytest.warns(UserWarning, match=r"bad.dat: skipped 1 bad records \(1 malformed record\)"):
+    with pytest.warns(UserWarning, match=r"bad.dat: skipped 1 bad record \(1 × malformed record\)"):
         assert laserlines.extract_file(bad, skip_bad=True).num_rows == 0
     with pytest.raises(ValueError, match="cannot tell the scan format"):
         laserlines.read(tmp_path / "scan.txt")
