@@ -10,7 +10,7 @@ use super::accumulator::{Bin, NONE, VOID};
 use super::components::Components;
 use super::params::HoughSplitParams;
 use super::points::Pt;
-use crate::noise::RangeNoise;
+use crate::noise::{RangeNoise, SPARSE_DROPOUT};
 
 /// A data segment: a run of surviving points `kept[start..end]` in beam order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,11 +33,6 @@ pub(crate) struct Breakpoints {
     /// mostly return, the range limit on a sparse one ([`SPARSE_DROPOUT`]).
     see_max: f64,
 }
-
-/// The dropout rate from which a reading beyond the range limit (or `+inf`) is taken for a
-/// dropout rather than for a view through: scanners that report a missing return as their
-/// maximum range or beyond would otherwise cut every gap of a sparse scan.
-pub(crate) const SPARSE_DROPOUT: f64 = 0.2;
 
 impl Breakpoints {
     /// Makes the table right for `p`, beams `increment` apart, `noise`, the scan's

@@ -1,7 +1,7 @@
 //! The estimate of [`NoiseModel::Auto`](super::NoiseModel::Auto) (see the module docs of
 //! [`crate::noise`]).
 
-use super::{RangeNoise, lag_for};
+use super::{RangeNoise, SPARSE_DROPOUT, lag_for};
 use crate::scan::{RangeWindow, ScanView};
 
 /// Range bands of the estimate: band 0 below 0.5 m, then octaves (0.5-1, 1-2, ... m), the
@@ -104,7 +104,18 @@ impl NoiseEstimator {
         self.range_sum = [0.0; NOISE_BANDS];
         self.step = f64::INFINITY;
         self.quantum = None;
-        self.sample(scan, window);
+        let triples = self.sample(scan, window);
+        let taken: usize = self.abs.iter().map(Vec::len).sum();
+        // A sparse scan (a triangulation scanner missing most of its beams) has few triples
+        // of returning beams: its consecutive returns are taken instead, whatever lies
+        // between them. Dense scans never get here: each triple of theirs counts.
+        if taken * 2 < triples && dropout_rate(scan.ranges, window) >= SPARSE_DROPOUT {
+            for b in &mut self.abs {
+                b.clear();
+            }
+            self.range_sum = [0.0; NOISE_BANDS];
+            self.sample_sparse(scan, window);
+        }
         for (b, out) in self.bands.iter_mut().enumerate() {
             let v = &mut self.abs[b];
             let n = v.len();
@@ -164,10 +175,10 @@ impl NoiseEstimator {
     }
 
     /// Collects the residuals `|e|` of `scan` (valid in `window`) per band (as the bits of
-    /// the floats) and the sums of their ranges.
-    fn sample(&mut self, scan: ScanView<'_>, window: RangeWindow) {
+    /// the floats) and the sums of their ranges; returns the number of triples looked at.
+    fn sample(&mut self, scan: ScanView<'_>, window: RangeWindow) -> usize {
         if window.min.is_nan() || window.max.is_nan() {
-            return;
+            return 0;
         }
         // `RangeWindow::contains` as two comparisons: `v >= lo` implies `v > 0`, `v <= hi`
         // implies a finite `v`, NaN fails both.
@@ -189,9 +200,11 @@ impl NoiseEstimator {
         // Room for the pooled samples too, so that a later short scan does not allocate.
         self.pooled.reserve(r.len() / stride + 1);
         let mut i = lag;
+        let mut triples = 0;
         while i + lag < r.len() {
             let (r0, r1, r2) = (r[i - lag], r[i], r[i + lag]);
             i += stride;
+            triples += 1;
             // Computed for every triple, used for the valid ones (a NaN, from absurd ranges,
             // fails every test, as does a gross residual).
             let e = (r1 - two_cos * r0 * r2 / (r0 + r2)).abs();
@@ -201,15 +214,73 @@ impl NoiseEstimator {
                 & ((r2 - r0).abs() <= spread * r1)
                 & (e <= 0.25 * r1);
             if usable {
-                let d = (r2 - r0).abs();
-                if d >= MIN_QUANTUM && d < self.step {
-                    self.step = d;
-                }
-                let b = band_of(r1);
-                self.abs[b].push(e.to_bits());
-                self.range_sum[b] += r1;
+                self.push(r1, e, (r2 - r0).abs());
             }
         }
+        triples
+    }
+
+    /// Adds the sample of residual `e` at range `r1`, whose outer beams differ by `d`.
+    #[inline]
+    fn push(&mut self, r1: f64, e: f64, d: f64) {
+        if d >= MIN_QUANTUM && d < self.step {
+            self.step = d;
+        }
+        let b = band_of(r1);
+        self.abs[b].push(e.to_bits());
+        self.range_sum[b] += r1;
+    }
+
+    /// [`NoiseEstimator::sample`] for a sparse scan: triples of consecutive returns, each at
+    /// most `3 lag` beams from the next. The middle range is predicted on the chord of the
+    /// outer two, `r0 r2 sin(a + b) / (r0 sin a + r2 sin b)` for angles `a` and `b` between
+    /// the beams, and the residual scaled to the variance of an evenly spaced triple's
+    /// (`1 + (a^2 + b^2) / (a + b)^2` times the noise's, against 1.5).
+    fn sample_sparse(&mut self, scan: ScanView<'_>, window: RangeWindow) {
+        let (lo, hi) = (window.min.max(f64::from_bits(1)), window.max.min(f64::MAX));
+        let r = scan.ranges;
+        let lag = lag_for(scan.angle_increment);
+        let inc = scan.angle_increment.abs();
+        let max_gap = 3 * lag;
+        let mut prev: [Option<usize>; 2] = [None, None];
+        for (i, &ri) in r.iter().enumerate() {
+            if !((ri >= lo) & (ri <= hi)) {
+                continue;
+            }
+            if let [Some(i0), Some(i1)] = prev
+                && i1 - i0 <= max_gap
+                && i - i1 <= max_gap
+            {
+                let (r0, r1, r2) = (r[i0], r[i1], ri);
+                let (a, b) = ((i1 - i0) as f64 * inc, (i - i1) as f64 * inc);
+                let predicted = r0 * r2 * (a + b).sin() / (r0 * a.sin() + r2 * b.sin());
+                let spread = 6.0 * (a + b) + 0.1;
+                let ab = a + b;
+                let scale = (1.5 / (1.0 + (a * a + b * b) / (ab * ab))).sqrt();
+                let e = (r1 - predicted).abs() * scale;
+                if (r2 - r0).abs() <= spread * r1 && e <= 0.25 * r1 {
+                    self.push(r1, e, (r2 - r0).abs());
+                }
+            }
+            prev = [prev[1], Some(i)];
+        }
+    }
+}
+
+/// The fraction of the returns in `ranges` (valid in `window`) whose next beam returned
+/// nothing (as the bridge of `hough-split` counts it).
+fn dropout_rate(ranges: &[f64], window: RangeWindow) -> f64 {
+    let (mut hits, mut misses) = (0usize, 0usize);
+    for w in ranges.windows(2) {
+        if window.contains(w[0]) {
+            hits += 1;
+            misses += usize::from(!window.contains(w[1]));
+        }
+    }
+    if hits == 0 {
+        0.0
+    } else {
+        misses as f64 / hits as f64
     }
 }
 
@@ -314,6 +385,30 @@ mod tests {
             })
             .collect();
         Scan::new(-45f64.to_radians(), inc, 0.02, 30.0, ranges).unwrap()
+    }
+
+    #[test]
+    fn a_sparse_scan_is_estimated_from_its_consecutive_returns() {
+        // A wall 2 m away with 1 % noise; 70 % of the beams without a return, so that only
+        // one triple of beams in 40 returns whole: from those alone the estimate has about
+        // a dozen samples. Consecutive returns give one per return.
+        let truth = RangeNoise::new(0.005, 0.01);
+        let mut est = NoiseEstimator::default();
+        let mut scan = wall_scan(2.0, 1001, truth, 11);
+        let mut state = 99u64;
+        for r in &mut scan.ranges {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            if ((state >> 11) as f64 / (1u64 << 53) as f64) < 0.7 {
+                *r = f64::NAN;
+            }
+        }
+        let got = est.estimate(&scan, scan.range_window(None), 0.001).unwrap();
+        let samples: usize = est.bands().iter().map(|b| b.samples).sum();
+        assert!(samples >= 200, "{samples} samples");
+        let ratio = got.sigma(2.5) / truth.sigma(2.5);
+        assert!((0.85..1.3).contains(&ratio), "{got} {:?}", est.bands());
     }
 
     #[test]

@@ -21,6 +21,11 @@
 //! below every band's estimate: clutter only ever adds dispersion, so the cleanest band
 //! tells the sensor's own noise. A scan too short for any band of its own (fewer than
 //! [`MIN_BAND_SAMPLES`] in each) is read as one band when it has [`MIN_POOLED_SAMPLES`].
+//! A sparse scan (a dropout rate of 0.2 or more) on which fewer than half of the triples
+//! return whole is read from its consecutive returns instead, each at most `3 k` beams from
+//! the next, the middle range predicted on the chord of the outer two,
+//! `r0 r2 sin(a + b) / (r0 sin a + r2 sin b)` for the angles `a` and `b` between the beams, and
+//! the residual scaled to the variance of an even triple's.
 
 mod estimator;
 
@@ -178,6 +183,13 @@ pub enum NoiseModel {
 /// one beam to three on real logs), so the noise that splitting and merging see over tens of
 /// beams is read three beams apart; for independent noise any lag reads the same.
 pub const LAG: usize = 3;
+
+/// The dropout rate (the fraction of returns whose next beam returned nothing) from which a
+/// scan is sparse: its noise is estimated from consecutive returns rather than from triples
+/// of consecutive beams, and `hough-split` takes a reading beyond the range limit on it for
+/// a dropout rather than for a view through (scanners that report a missing return as their
+/// maximum range or beyond would otherwise cut every gap of a sparse scan).
+pub(crate) const SPARSE_DROPOUT: f64 = 0.2;
 
 /// The lag used on a scan with beams `increment` rad apart: [`LAG`] beams, but never a wider
 /// angle than [`LAG`] beams of the URG-04LX (1.05 deg), so that on coarse scanners (a SICK LMS
