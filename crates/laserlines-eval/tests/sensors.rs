@@ -106,7 +106,8 @@ fn checked_lines(
 
 /// Runs `hough-split` (defaults) on `count` scenes of `make` with `model`; checks bounds and
 /// phantoms, also for `complete` and `navigation`, which have no line gates; returns the
-/// defaults' (significant pieces found under the field criteria, pieces, lines).
+/// defaults' (significant pieces found under the field criteria, pieces, lines); prints
+/// those and the false lines.
 fn run(
     model: &LaserModel,
     make: &dyn Fn(&mut Rng) -> Scene,
@@ -116,7 +117,7 @@ fn run(
     let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
     let mut ungated = [HoughSplitParams::complete(), HoughSplitParams::navigation()]
         .map(|p| HoughSplit::new(p).unwrap());
-    let (mut found, mut pieces, mut lines_seen) = (0, 0, 0);
+    let (mut found, mut pieces, mut lines_seen, mut false_lines) = (0, 0, 0, 0);
     for seed in 0..count {
         let mut rng = Rng::new(seed);
         let scene = make(&mut rng);
@@ -131,7 +132,9 @@ fn run(
         found += m.found;
         pieces += m.significant_pieces;
         lines_seen += lines.len();
+        false_lines += m.false_lines.len();
     }
+    println!("{what}: {found} of {pieces} pieces, {lines_seen} lines, {false_lines} false");
     (found, pieces, lines_seen)
 }
 
@@ -219,8 +222,7 @@ fn a_utm30lx_like_scanner_finds_its_walls_without_phantoms() {
         noise: Noise::Range(RangeNoise::preset("utm-30lx").unwrap()),
         ..LaserModel::urg04lx()
     };
-    let (found, pieces, lines) = run(&model, &mixed, 24, "utm-30lx-like");
-    println!("utm-30lx-like: {found} of {pieces} pieces, {lines} lines");
+    let (found, pieces, _) = run(&model, &mixed, 24, "utm-30lx-like");
     assert!(found as f64 >= 0.85 * pieces as f64, "{found} of {pieces}");
 }
 
@@ -238,8 +240,8 @@ fn a_sparse_360_deg_scanner_finds_walls_without_phantoms() {
         (0.9, 0.15),
     ] {
         let model = ydlidar_like(dropout);
-        let (found, pieces, lines) = run(&model, &mixed, 40, "ydlidar-like");
-        println!("ydlidar-like, {dropout} missing: {found} of {pieces} pieces, {lines} lines");
+        let what = format!("ydlidar-like, {dropout} missing");
+        let (found, pieces, _) = run(&model, &mixed, 40, &what);
         assert!(found as f64 >= share * pieces as f64, "{found} of {pieces}");
     }
 }
@@ -355,8 +357,8 @@ fn a_sick_lms_like_scanner_finds_its_walls_without_phantoms() {
     // residuals of the estimate at zero, unless it reads them as the steps' own spread.
     for (step, share) in [(0.01, 0.7), (0.05, 0.0)] {
         let model = sick_like(step);
-        let (found, pieces, lines) = run(&model, &mixed, 24, "lms-like");
-        println!("lms-like, {step} m steps: {found} of {pieces} pieces, {lines} lines");
+        let what = format!("lms-like, {step} m steps");
+        let (found, pieces, _) = run(&model, &mixed, 24, &what);
         assert!(found as f64 >= share * pieces as f64, "{found} of {pieces}");
     }
 }
