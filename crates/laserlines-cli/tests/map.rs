@@ -4,11 +4,11 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Output;
 
 mod common;
-use common::{bin, repo, run, shared_data, text, tmp};
+use common::{bin, mit_csail, repo, run, text, tmp};
 
 /// Asserts a clean failure: exit code 2, a message naming `file` and `needle`, no panic.
 fn assert_clean_error(o: &Output, file: &str, needle: &str) {
@@ -461,20 +461,6 @@ fn maps_a_carmen_log_by_its_odometry_triple_never_its_laser_pose() {
         "raw.clf",
         "scan 0 (line 1): no odometry (the log gives none for this scan); map it with --odometry off",
     );
-}
-
-/// The Freiburg benchmark's MIT CSAIL log with its ground-truth relations, or `None` (with a
-/// notice; a failure when `LASERLINES_REQUIRE_SHARED=1`) when `../shared` is absent.
-fn mit_csail() -> Option<(PathBuf, PathBuf)> {
-    let real = shared_data::path("real");
-    let what = "the MIT CSAIL mapping test";
-    Some((
-        shared_data::available(real.join("mit-csail-clf/mit-csail.clf.gz"), what)?,
-        shared_data::available(
-            real.join("freiburg-slam-benchmark-relations/mit-csail.relations"),
-            what,
-        )?,
-    ))
 }
 
 #[test]

@@ -56,3 +56,17 @@ pub fn text(bytes: &[u8]) -> String {
 pub fn stderr(o: &Output) -> String {
     text(&o.stderr)
 }
+
+/// The Freiburg benchmark's MIT CSAIL log with its ground-truth relations, or `None` (with a
+/// notice; a failure when `LASERLINES_REQUIRE_SHARED=1`) when `../shared` is absent.
+pub fn mit_csail() -> Option<(PathBuf, PathBuf)> {
+    let real = shared_data::path("real");
+    let what = "the MIT CSAIL mapping test";
+    Some((
+        shared_data::available(real.join("mit-csail-clf/mit-csail.clf.gz"), what)?,
+        shared_data::available(
+            real.join("freiburg-slam-benchmark-relations/mit-csail.relations"),
+            what,
+        )?,
+    ))
+}
