@@ -108,7 +108,8 @@ impl NoiseEstimator {
         let taken: usize = self.abs.iter().map(Vec::len).sum();
         // A sparse scan (a triangulation scanner missing most of its beams) has few triples
         // of returning beams: its consecutive returns are taken instead, whatever lies
-        // between them. Dense scans never get here: each triple of theirs counts.
+        // between them. Dense scans get past the first test only when most of their beams
+        // see nothing (open space), and the second, one pass over the ranges, stops them.
         if taken * 2 < triples && dropout_rate(scan.ranges, window) >= SPARSE_DROPOUT {
             for b in &mut self.abs {
                 b.clear();
@@ -200,11 +201,11 @@ impl NoiseEstimator {
         // Room for the pooled samples too, so that a later short scan does not allocate.
         self.pooled.reserve(r.len() / stride + 1);
         let mut i = lag;
-        let mut triples = 0;
+        // The triples looked at: `i` from `lag` while `i + lag < len`, `stride` apart.
+        let triples = r.len().saturating_sub(2 * lag).div_ceil(stride);
         while i + lag < r.len() {
             let (r0, r1, r2) = (r[i - lag], r[i], r[i + lag]);
             i += stride;
-            triples += 1;
             // Computed for every triple, used for the valid ones (a NaN, from absurd ranges,
             // fails every test, as does a gross residual).
             let e = (r1 - two_cos * r0 * r2 / (r0 + r2)).abs();
@@ -270,12 +271,16 @@ impl NoiseEstimator {
 /// The fraction of the returns in `ranges` (valid in `window`) whose next beam returned
 /// nothing (as the bridge of `hough-split` counts it).
 fn dropout_rate(ranges: &[f64], window: RangeWindow) -> f64 {
+    // `RangeWindow::contains` as two comparisons, as in `NoiseEstimator::sample`.
+    let (lo, hi) = (window.min.max(f64::from_bits(1)), window.max.min(f64::MAX));
+    let valid = |v: f64| (v >= lo) & (v <= hi);
     let (mut hits, mut misses) = (0usize, 0usize);
-    for w in ranges.windows(2) {
-        if window.contains(w[0]) {
-            hits += 1;
-            misses += usize::from(!window.contains(w[1]));
-        }
+    let mut last = false;
+    for &r in ranges {
+        let now = valid(r);
+        misses += usize::from(last & !now);
+        hits += usize::from(last);
+        last = now;
     }
     if hits == 0 {
         0.0
