@@ -8,7 +8,7 @@ use std::path::Path;
 use std::process::Output;
 
 mod common;
-use common::{bin, mit_csail, repo, run, text, tmp};
+use common::{bin, map_and_score, mit_csail, repo, run, text, tmp};
 
 /// Asserts a clean failure: exit code 2, a message naming `file` and `needle`, no panic.
 fn assert_clean_error(o: &Output, file: &str, needle: &str) {
@@ -489,29 +489,8 @@ fn mit_csail_meets_the_benchmark_bound() {
         }
     }
     assert_eq!(flaser, 1988);
-    let dir = tmp("mit-csail");
-    let o = run(bin().arg("map").arg(&log).arg("-o").arg(&dir));
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    eprintln!("{}", text(&o.stderr));
-    let o = run(bin()
-        .arg("relations")
-        .arg(dir.join("trajectory.tum"))
-        .arg(&rel));
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let out = text(&o.stdout);
-    eprintln!("{out}");
+    let (t, r, out) = map_and_score(&log, &rel, "mit-csail");
     assert!(out.starts_with("1172 relations of"), "{out}");
-    let mean = |name: &str| -> f64 {
-        let line = out.lines().find(|l| l.starts_with(name)).unwrap();
-        line[name.len()..]
-            .split_whitespace()
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap()
-    };
-    let t = mean("translational error");
-    let r = mean("rotational error");
     assert!(t <= 0.03, "translational error {t} m (bound 0.03 m)");
     assert!(r <= 0.35, "rotational error {r} deg (bound 0.35 deg)");
 }

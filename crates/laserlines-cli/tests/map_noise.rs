@@ -11,7 +11,7 @@ mod common;
 use std::io::{BufRead, Write};
 use std::path::Path;
 
-use common::{bin, mit_csail, run, text, tmp};
+use common::{map_and_score, mit_csail, tmp};
 
 /// A standard normal deviate from SplitMix64 (Box-Muller).
 struct Gauss(u64);
@@ -62,32 +62,6 @@ fn add_noise(log: &Path, out: &Path, (sigma_min, fraction): (f64, f64), seed: u6
     w.flush().unwrap();
 }
 
-/// Maps `log` with the defaults and scores it on `relations`: the mean translational (m) and
-/// rotational (deg) errors.
-fn map_and_score(log: &Path, relations: &Path, name: &str) -> (f64, f64) {
-    let dir = tmp(name);
-    let o = run(bin().arg("map").arg(log).arg("-o").arg(&dir));
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    eprintln!("{}", text(&o.stderr));
-    let o = run(bin()
-        .arg("relations")
-        .arg(dir.join("trajectory.tum"))
-        .arg(relations));
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let out = text(&o.stdout);
-    eprintln!("{out}");
-    let mean = |what: &str| -> f64 {
-        let line = out.lines().find(|l| l.starts_with(what)).unwrap();
-        line[what.len()..]
-            .split_whitespace()
-            .next()
-            .unwrap()
-            .parse()
-            .unwrap()
-    };
-    (mean("translational error"), mean("rotational error"))
-}
-
 #[test]
 #[cfg_attr(
     debug_assertions,
@@ -105,7 +79,7 @@ fn mit_csail_maps_under_a_cheap_scanners_noise() {
         let name = format!("mit-{}pc", noise.1 * 100.0);
         let noisy = tmp(&format!("{name}.clf"));
         add_noise(&log, &noisy, noise, 1);
-        let (t, r) = map_and_score(&noisy, &relations, &name);
+        let (t, r, _) = map_and_score(&noisy, &relations, &name);
         eprintln!("{name}: {t} m, {r} deg");
         assert!(
             t <= bound_m,

@@ -70,3 +70,30 @@ pub fn mit_csail() -> Option<(PathBuf, PathBuf)> {
         )?,
     ))
 }
+
+/// Maps `log` with the defaults into the temporary folder `name` and scores it on the
+/// relations file `relations` (both printed): the mean translational (m) and rotational (deg)
+/// errors, and the scorer's whole output.
+pub fn map_and_score(log: &Path, relations: &Path, name: &str) -> (f64, f64, String) {
+    let dir = tmp(name);
+    let o = run(bin().arg("map").arg(log).arg("-o").arg(&dir));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    eprintln!("{}", text(&o.stderr));
+    let o = run(bin()
+        .arg("relations")
+        .arg(dir.join("trajectory.tum"))
+        .arg(relations));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    eprintln!("{out}");
+    let mean = |what: &str| -> f64 {
+        let line = out.lines().find(|l| l.starts_with(what)).unwrap();
+        line[what.len()..]
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    (mean("translational error"), mean("rotational error"), out)
+}
