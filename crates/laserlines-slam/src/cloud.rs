@@ -102,7 +102,12 @@ pub fn line_normals(
         if !(reach.is_finite() && sd.is_finite() && toward.x.is_finite() && toward.y.is_finite()) {
             continue;
         }
-        for (p, n) in points[lo..hi].iter().zip(&mut normals[lo..hi]) {
+        // A line whose `last` comes before its `first` supports no point; `normals` shorter
+        // than `points` leaves the rest as they are.
+        let (Some(points), Some(normals)) = (points.get(lo..hi), normals.get_mut(lo..hi)) else {
+            continue;
+        };
+        for (p, n) in points.iter().zip(normals) {
             let better = n.is_none() || line.rms >= replace_rms;
             if better && (p.point.x * c + p.point.y * s - line.r).abs() <= reach {
                 *n = Some((toward, sd));
@@ -378,6 +383,16 @@ mod tests {
             assert!(a.is_none() || a == b, "{k}");
         }
         assert!(kept.iter().filter(|n| n.is_some()).count() > 100);
+        // A line backwards (`last` before `first`), or too few normals, changes nothing.
+        let backwards = Line {
+            first: 90,
+            last: 10,
+            ..line
+        };
+        let mut same = normals.clone();
+        line_normals(&pts, &[backwards], 0.0, &mut same);
+        assert_eq!(same, normals);
+        line_normals(&pts, std::slice::from_ref(&line), 0.0, &mut same[..5]);
         line_normals(&pts, &[line], 0.015, &mut normals);
         for (k, n) in normals.iter().enumerate() {
             if k == 60 {
