@@ -30,20 +30,6 @@ pub fn scan_normals(
     angle_increment: f64,
     half_window: usize,
 ) -> Vec<Option<Vector2>> {
-    scan_normals_sd(points, angle_increment, half_window)
-        .into_iter()
-        .map(|n| n.map(|n| n.0))
-        .collect()
-}
-
-/// [`scan_normals`] with the standard deviation of each normal's direction, rad:
-/// `sqrt(small / (n big))` for the spreads `small` and `big` of its `n` neighbours.
-#[must_use]
-pub fn scan_normals_sd(
-    points: &[ScanPoint],
-    angle_increment: f64,
-    half_window: usize,
-) -> Vec<Option<(Vector2, f64)>> {
     let spacing = angle_increment.abs();
     let mut out = Vec::with_capacity(points.len());
     for (i, sp) in points.iter().enumerate() {
@@ -67,7 +53,7 @@ pub fn scan_normals_sd(
         out.push(if n < 3.0 {
             None
         } else {
-            flat_normal(n, sx, sy, sxx, sxy, syy).map(|(nv, sd)| (orient_toward(nv, sp.point), sd))
+            flat_normal(n, sx, sy, sxx, sxy, syy).map(|nv| orient_toward(nv, sp.point))
         });
     }
     out
@@ -83,23 +69,22 @@ pub fn scan_normals_sd(
 /// point are too noisy to tell one: ranges noisy to 1-2 % of the range, as cheap scanners
 /// read them, leave most points without a flat neighbourhood, and the rest with normals off
 /// by degrees (seven beams 0.3 m apart with 15 mm of noise fix a direction to about 4 deg).
-/// Each normal keeps the standard deviation of its direction, rad (the line's from its
-/// covariance).
 pub fn line_normals(
     points: &[ScanPoint],
     lines: &[Line],
     replace_rms: f64,
-    normals: &mut [Option<(Vector2, f64)>],
+    normals: &mut [Option<Vector2>],
 ) {
     for line in lines {
         let lo = points.partition_point(|p| p.index < line.first);
         let hi = points.partition_point(|p| p.index <= line.last);
         let (c, s) = (line.alpha.cos(), line.alpha.sin());
         let reach = 3.0 * line.rms.max(0.005);
-        let sd = line.covariance[(1, 1)].max(0.0).sqrt();
+        // Every point of a rough line takes its normal; on a smooth one, those without one.
+        let all = line.rms >= replace_rms;
         // `r >= 0`: the normal `(cos alpha, sin alpha)` points away from the sensor.
         let toward = Vector2::new(-c, -s);
-        if !(reach.is_finite() && sd.is_finite() && toward.x.is_finite() && toward.y.is_finite()) {
+        if !(reach.is_finite() && toward.x.is_finite() && toward.y.is_finite()) {
             continue;
         }
         // A line whose `last` comes before its `first` supports no point; `normals` shorter
@@ -108,9 +93,8 @@ pub fn line_normals(
             continue;
         };
         for (p, n) in points.iter().zip(normals) {
-            let better = n.is_none() || line.rms >= replace_rms;
-            if better && (p.point.x * c + p.point.y * s - line.r).abs() <= reach {
-                *n = Some((toward, sd));
+            if (all || n.is_none()) && (p.point.x * c + p.point.y * s - line.r).abs() <= reach {
+                *n = Some(toward);
             }
         }
     }
@@ -134,9 +118,8 @@ pub fn scan_surface(scan: &Scan, window: RangeWindow, half_window: usize) -> Vec
         .collect()
 }
 
-/// The normal of a flat spread of points given by their sums and the standard deviation of
-/// its direction, `None` when not flat.
-fn flat_normal(n: f64, sx: f64, sy: f64, sxx: f64, sxy: f64, syy: f64) -> Option<(Vector2, f64)> {
+/// The normal of a flat spread of points given by their sums, `None` when not flat.
+fn flat_normal(n: f64, sx: f64, sy: f64, sxx: f64, sxy: f64, syy: f64) -> Option<Vector2> {
     let (mx, my) = (sx / n, sy / n);
     let cxx = sxx / n - mx * mx;
     let cxy = sxy / n - mx * my;
@@ -157,8 +140,7 @@ fn flat_normal(n: f64, sx: f64, sy: f64, sxx: f64, sxy: f64, syy: f64) -> Option
         Vector2::new(0.0, 1.0)
     };
     let len = dir.norm();
-    let sd = (small.max(0.0) / (n * big)).sqrt();
-    (len > 0.0).then(|| (Vector2::new(-dir.y / len, dir.x / len), sd))
+    (len > 0.0).then(|| Vector2::new(-dir.y / len, dir.x / len))
 }
 
 /// `normal` flipped, if needed, to point from `point` toward the origin.
@@ -372,7 +354,7 @@ mod tests {
             rms: 0.03,
             covariance: laserlines::math::Matrix2::identity() * 1e-6,
         };
-        let mut normals = scan_normals_sd(&pts, inc, 3);
+        let mut normals = scan_normals(&pts, inc, 3);
         let before = normals.iter().filter(|n| n.is_some()).count();
         assert!(before < 60, "{before} neighbourhood normals");
         let spike = normals[60];
@@ -398,8 +380,7 @@ mod tests {
             if k == 60 {
                 assert_eq!(*n, spike);
             } else {
-                let (n, sd) = n.unwrap();
-                assert!((sd - 1e-3).abs() < 1e-12);
+                let n = n.unwrap();
                 assert!((n.x + 1.0).abs() < 1e-12 && n.y.abs() < 1e-12, "{k}: {n:?}");
             }
         }

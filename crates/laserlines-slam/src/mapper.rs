@@ -12,7 +12,7 @@ use laserlines::math::Point2;
 use laserlines::{Line, RangeWindow, Scan};
 use nalgebra::Matrix3;
 
-use crate::cloud::{SurfacePoint, line_normals, scan_normals_sd};
+use crate::cloud::{SurfacePoint, line_normals, scan_normals};
 use crate::correlative::{CorrelativeGrid, SearchWindow};
 use crate::graph::{
     Edge, GraphError, OptimizeParams, OptimizeReport, PoseGraph, RobustKernel,
@@ -161,14 +161,13 @@ impl Mapper {
             self.params.max_range_m,
         )));
         let pts = scan.points(window);
-        let mut normals =
-            scan_normals_sd(&pts, scan.angle_increment, self.params.normal_half_window);
+        let mut normals = scan_normals(&pts, scan.angle_increment, self.params.normal_half_window);
         if self.params.line_normals {
             line_normals(&pts, lines, self.params.line_normals_rms_m, &mut normals);
         }
         self.surface.clear();
         for (sp, n) in pts.iter().zip(&normals) {
-            if let Some((normal, _)) = n {
+            if let Some(normal) = n {
                 self.surface.push(SurfacePoint {
                     point: sp.point,
                     normal: *normal,
