@@ -181,10 +181,7 @@ impl NoiseEstimator {
         if window.min.is_nan() || window.max.is_nan() {
             return 0;
         }
-        // `RangeWindow::contains` as two comparisons: `v >= lo` implies `v > 0`, `v <= hi`
-        // implies a finite `v`, NaN fails both.
-        let (lo, hi) = (window.min.max(f64::from_bits(1)), window.max.min(f64::MAX));
-        let valid = |v: f64| (v >= lo) & (v <= hi);
+        let valid = valid_in(window);
         let r = scan.ranges;
         let lag = lag_for(scan.angle_increment);
         let dphi = lag as f64 * scan.angle_increment;
@@ -238,14 +235,14 @@ impl NoiseEstimator {
     /// the beams, and the residual scaled to the variance of an evenly spaced triple's
     /// (`1 + (a^2 + b^2) / (a + b)^2` times the noise's, against 1.5).
     fn sample_sparse(&mut self, scan: ScanView<'_>, window: RangeWindow) {
-        let (lo, hi) = (window.min.max(f64::from_bits(1)), window.max.min(f64::MAX));
+        let valid = valid_in(window);
         let r = scan.ranges;
         let lag = lag_for(scan.angle_increment);
         let inc = scan.angle_increment.abs();
         let max_gap = 3 * lag;
         let mut prev: [Option<usize>; 2] = [None, None];
         for (i, &ri) in r.iter().enumerate() {
-            if !((ri >= lo) & (ri <= hi)) {
+            if !valid(ri) {
                 continue;
             }
             if let [Some(i0), Some(i1)] = prev
@@ -254,9 +251,9 @@ impl NoiseEstimator {
             {
                 let (r0, r1, r2) = (r[i0], r[i1], ri);
                 let (a, b) = ((i1 - i0) as f64 * inc, (i - i1) as f64 * inc);
-                let predicted = r0 * r2 * (a + b).sin() / (r0 * a.sin() + r2 * b.sin());
-                let spread = 6.0 * (a + b) + 0.1;
                 let ab = a + b;
+                let predicted = r0 * r2 * ab.sin() / (r0 * a.sin() + r2 * b.sin());
+                let spread = 6.0 * ab + 0.1;
                 let scale = (1.5 / (1.0 + (a * a + b * b) / (ab * ab))).sqrt();
                 let e = (r1 - predicted).abs() * scale;
                 if (r2 - r0).abs() <= spread * r1 && e <= 0.25 * r1 {
@@ -268,12 +265,23 @@ impl NoiseEstimator {
     }
 }
 
+/// `RangeWindow::contains` as two comparisons: `v >= lo` implies `v > 0`, `v <= hi` implies a
+/// finite `v`, NaN fails both; a NaN limit makes nothing valid.
+fn valid_in(window: RangeWindow) -> impl Fn(f64) -> bool + Copy {
+    let nan = window.min.is_nan() || window.max.is_nan();
+    let lo = if nan {
+        f64::INFINITY
+    } else {
+        window.min.max(f64::from_bits(1))
+    };
+    let hi = window.max.min(f64::MAX);
+    move |v: f64| (v >= lo) & (v <= hi)
+}
+
 /// The fraction of the returns in `ranges` (valid in `window`) whose next beam returned
 /// nothing (as the bridge of `hough-split` counts it).
 fn dropout_rate(ranges: &[f64], window: RangeWindow) -> f64 {
-    // `RangeWindow::contains` as two comparisons, as in `NoiseEstimator::sample`.
-    let (lo, hi) = (window.min.max(f64::from_bits(1)), window.max.min(f64::MAX));
-    let valid = |v: f64| (v >= lo) & (v <= hi);
+    let valid = valid_in(window);
     let (mut hits, mut misses) = (0usize, 0usize);
     let mut last = false;
     for &r in ranges {
