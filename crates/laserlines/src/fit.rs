@@ -84,6 +84,30 @@ impl FitSums {
         }
     }
 
+    /// The sums of the points of `self` and of `other` together (two disjoint point sets).
+    #[must_use]
+    pub fn join(&self, other: &Self) -> Self {
+        Self {
+            n: self.n + other.n,
+            sx: self.sx + other.sx,
+            sy: self.sy + other.sy,
+            sxx: self.sxx + other.sxx,
+            syy: self.syy + other.syy,
+            sxy: self.sxy + other.sxy,
+        }
+    }
+
+    /// The sum of squared distances of the points from the line `p . normal = r` (`normal` a
+    /// unit vector), m^2.
+    #[must_use]
+    pub fn sse_about(&self, normal: Vector2, r: f64) -> f64 {
+        let (c, s) = (normal.x, normal.y);
+        let sq = c * c * self.sxx + 2.0 * c * s * self.sxy + s * s * self.syy
+            - 2.0 * r * (c * self.sx + s * self.sy)
+            + self.n as f64 * r * r;
+        sq.max(0.0)
+    }
+
     /// Number of points.
     #[must_use]
     pub const fn len(&self) -> usize {

@@ -351,35 +351,47 @@ fn bench_scan_gives_its_six_pieces() {
 }
 
 /// The defaults give `complete`'s lines less those whose standard errors exceed their gates,
-/// on every round-trip scene kind: the gates are a filter on fitted lines (before corners are
-/// shared), and they bite.
+/// on every round-trip scene kind: the gates are a filter on the final lines (after lines of
+/// one surface share their fit), and they bite.
 #[test]
 fn the_defaults_are_complete_less_the_gated_lines() {
     let model = LaserModel::urg04lx();
     let p = HoughSplitParams::default();
     let mut defaults = HoughSplit::new(p.clone()).unwrap();
     let mut complete = HoughSplit::new(HoughSplitParams::complete()).unwrap();
+    let mut unshared = HoughSplit::new(HoughSplitParams {
+        share_fits: false,
+        ..HoughSplitParams::complete()
+    })
+    .unwrap();
+    let passes = |l: &Line| {
+        l.covariance[(0, 0)] <= p.max_r_sd * p.max_r_sd
+            && l.covariance[(1, 1)] <= p.max_alpha_sd * p.max_alpha_sd
+    };
     let mut gated = 0;
     for make in KINDS {
         for seed in 0..20 {
             let mut rng = Rng::new(seed);
             let sim = make(&mut rng).simulate(&model, &mut rng);
             let all = complete.extract(&sim.scan);
-            let passes = |l: &Line| {
-                l.covariance[(0, 0)] <= p.max_r_sd * p.max_r_sd
-                    && l.covariance[(1, 1)] <= p.max_alpha_sd * p.max_alpha_sd
-            };
+            // The same lines before sharing: the gates on their own fits decide which lines
+            // share their corners.
+            let own = unshared.extract(&sim.scan);
+            assert_eq!(own.len(), all.len(), "seed {seed}");
             let kept: Vec<usize> = (0..all.len()).filter(|&i| passes(&all[i])).collect();
             gated += all.len() - kept.len();
             let got = defaults.extract(&sim.scan);
             assert_eq!(got.len(), kept.len(), "seed {seed}");
-            // The same lines; an end point may differ only beside a gated line, where the
-            // lines around it meet at their corner instead.
+            // The same lines; an end point may differ only at or beside a line that the gates
+            // dropped, or would have dropped on its own fit: lines certain on their own fits
+            // share their corners.
             let key = |l: &Line| (l.first, l.last, l.points, l.r, l.alpha, l.rms, l.covariance);
+            let uncertain = |k: usize| !passes(&all[k]) || !passes(&own[k]);
             for (g, &i) in got.iter().zip(&kept) {
                 assert_eq!(key(g), key(&all[i]), "seed {seed}");
-                let beside_gated =
-                    (i > 0 && !passes(&all[i - 1])) || all.get(i + 1).is_some_and(|l| !passes(l));
+                let beside_gated = uncertain(i)
+                    || (i > 0 && uncertain(i - 1))
+                    || (i + 1 < all.len() && uncertain(i + 1));
                 assert!(
                     beside_gated || (g.start == all[i].start && g.end == all[i].end),
                     "seed {seed}: {g:?} against {:?}",

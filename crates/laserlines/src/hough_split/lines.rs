@@ -5,9 +5,9 @@
 use super::linseg::{split_is_significant, sums};
 use super::params::HoughSplitParams;
 use super::points::Seg;
-use crate::fit::{FitSums, NormalFit};
+use crate::fit::{FitSums, NormalFit, PolarFit};
 use crate::line::Line;
-use crate::math::Point2;
+use crate::math::{Matrix2, Point2};
 use crate::noise::RangeNoise;
 
 /// Points on each side of a shared end point that [`Pieces::best_cut`] may move to the other
@@ -177,19 +177,18 @@ impl Pieces<'_> {
         (chi2, bent)
     }
 
-    /// The line of `seg[a..z]`, when it passes the filters: enough points, long enough, an
-    /// RMS residual within `max_rms_sigmas` of the noise, a direction known to
-    /// `max_alpha_sd` and a distance from the sensor known to `max_r_sd`. Its covariance
-    /// takes the point noise as the larger of the residual variance and the model's noise
-    /// across the line.
-    fn line(&self, a: usize, z: usize) -> Option<Line> {
+    /// The line of `seg[a..z]` and the sums of its points, when it has enough points, is long
+    /// enough and its RMS residual lies within `max_rms_sigmas` of the noise at its centroid;
+    /// [`Candidate::certain`] tells whether its covariance also passes the gates
+    /// ([`certain`]). Its covariance takes the point noise as the larger of the residual
+    /// variance and the model's noise across the line ([`floored_covariance`]).
+    fn line(&self, a: usize, z: usize) -> Option<(Line, Candidate)> {
         if z <= a || z - a < self.p.min_line_points.max(2) {
             return None;
         }
-        let fit = sums(self.pre, a, z).fit()?;
-        let range = fit.centroid.coords.norm();
-        let sigma = self.noise.sigma(range);
-        if fit.rms > self.p.max_rms_sigmas * sigma {
+        let sums = sums(self.pre, a, z);
+        let fit = sums.fit()?;
+        if fit.rms > self.p.max_rms_sigmas * self.noise.sigma(fit.centroid.coords.norm()) {
             return None;
         }
         let first = (self.seg.idx(a), self.point(a));
@@ -198,21 +197,45 @@ impl Pieces<'_> {
         if line.length() < self.p.min_line_length {
             return None;
         }
-        // Range noise seen across the line: sigma cos(incidence), cos = r / |centroid|.
-        let across = if range > 0.0 {
-            sigma * fit.r / range
-        } else {
-            sigma
-        };
-        let n = fit.n as f64;
-        let residual = fit.rms * fit.rms * n / (n - 2.0).max(1.0);
-        if across * across > residual {
-            line.covariance = fit.covariance_for(across * across);
-        }
-        let (var_r, var_alpha) = (line.covariance[(0, 0)], line.covariance[(1, 1)]);
-        (var_alpha <= self.p.max_alpha_sd * self.p.max_alpha_sd
-            && var_r <= self.p.max_r_sd * self.p.max_r_sd)
-            .then_some(line)
+        line.covariance = floored_covariance(&fit, self.noise);
+        let certain = certain(&line.covariance, self.p);
+        Some((line, Candidate { sums, certain }))
+    }
+}
+
+/// A line as [`emit_lines`] gives it, before [`super::collinear::share_fits`].
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Candidate {
+    /// The sums of its points.
+    pub(crate) sums: FitSums,
+    /// Its direction is known to `max_alpha_sd` and its distance from the sensor to
+    /// `max_r_sd` (one standard deviation each, from its own fit); an uncertain line is kept
+    /// only when it shares the fit of another line that makes it certain.
+    pub(crate) certain: bool,
+}
+
+/// Whether a line of covariance `cov` passes the gates `max_alpha_sd` and `max_r_sd`.
+pub(crate) fn certain(cov: &Matrix2, p: &HoughSplitParams) -> bool {
+    cov[(1, 1)] <= p.max_alpha_sd * p.max_alpha_sd && cov[(0, 0)] <= p.max_r_sd * p.max_r_sd
+}
+
+/// The covariance of `fit` with the point noise taken as the larger of its residual
+/// variance and the range noise seen across the line, `sigma cos(incidence)` at its centroid
+/// (`cos = r / |centroid|`).
+pub(crate) fn floored_covariance(fit: &PolarFit, noise: &RangeNoise) -> Matrix2 {
+    let range = fit.centroid.coords.norm();
+    let sigma = noise.sigma(range);
+    let across = if range > 0.0 {
+        sigma * fit.r / range
+    } else {
+        sigma
+    };
+    let n = fit.n as f64;
+    let residual = fit.rms * fit.rms * n / (n - 2.0).max(1.0);
+    if across * across > residual {
+        fit.covariance_for(across * across)
+    } else {
+        fit.covariance
     }
 }
 
@@ -221,7 +244,12 @@ impl Pieces<'_> {
 /// Neighbouring pieces share their end point after the split; with `refine_ends`,
 /// [`Pieces::best_cut`] decides which line each point near it supports, so that every point
 /// supports at most one line; without, the shared point goes to the first.
-pub(crate) fn emit_lines(pieces: &Pieces<'_>, breaks: &mut Vec<u32>, out: &mut Vec<Line>) {
+pub(crate) fn emit_lines(
+    pieces: &Pieces<'_>,
+    breaks: &mut Vec<u32>,
+    out: &mut Vec<Line>,
+    candidates: &mut Vec<Candidate>,
+) {
     if breaks.len() < 2 {
         return;
     }
@@ -247,13 +275,19 @@ pub(crate) fn emit_lines(pieces: &Pieces<'_>, breaks: &mut Vec<u32>, out: &mut V
         } else {
             (lo, hi)
         };
-        if let Some(line) = pieces.line(a, z) {
+        if let Some((line, c)) = pieces.line(a, z) {
             out.push(line);
+            candidates.push(c);
         }
         lo = hi;
     }
     if p.refine_ends {
-        join_corners(&mut out[first_line..], p, pieces.noise);
+        join_corners(
+            &mut out[first_line..],
+            &candidates[first_line..],
+            p,
+            pieces.noise,
+        );
     }
 }
 
@@ -267,9 +301,20 @@ pub(crate) fn emit_lines(pieces: &Pieces<'_>, breaks: &mut Vec<u32>, out: &mut V
 /// `Pieces::line`), the lines around it are neighbours and the gap is that piece's length:
 /// they meet at their intersection when it lies within it, as at a corner whose short leg gave
 /// no line.
-fn join_corners(lines: &mut [Line], p: &HoughSplitParams, noise: &RangeNoise) {
-    for k in 1..lines.len() {
-        let (a, b) = (lines[k - 1], lines[k]);
+fn join_corners(
+    lines: &mut [Line],
+    candidates: &[Candidate],
+    p: &HoughSplitParams,
+    noise: &RangeNoise,
+) {
+    // Uncertain lines may yet be dropped: the certain lines around them are neighbours.
+    let mut before: Option<usize> = None;
+    for k in 0..lines.len().min(candidates.len()) {
+        if !candidates[k].certain {
+            continue;
+        }
+        let Some(j) = before.replace(k) else { continue };
+        let (a, b) = (lines[j], lines[k]);
         let (sa, ca) = a.alpha.sin_cos();
         let (sb, cb) = b.alpha.sin_cos();
         let det = ca * sb - sa * cb;
@@ -286,7 +331,7 @@ fn join_corners(lines: &mut [Line], p: &HoughSplitParams, noise: &RangeNoise) {
         let keeps =
             |far: Point2, near: Point2| keeps_its_points(far, near, corner, thr, p.min_line_length);
         if near && keeps(a.start, a.end) && keeps(b.end, b.start) {
-            lines[k - 1].end = corner;
+            lines[j].end = corner;
             lines[k].start = corner;
         }
     }
@@ -335,7 +380,7 @@ mod tests {
         };
         let mut out = Vec::new();
         let mut breaks = scratch.breaks.clone();
-        emit_lines(&pieces, &mut breaks, &mut out);
+        emit_lines(&pieces, &mut breaks, &mut out, &mut Vec::new());
         assert_eq!(out.len(), 2);
         assert!((out[0].r - 1.0).abs() < 1e-9 && out[0].alpha.abs() < 1e-9);
         assert!(out[1].r.abs() < 1e-9);

@@ -72,13 +72,26 @@ pub(crate) fn split_is_significant(
     noise: &RangeNoise,
 ) -> bool {
     let whole = sums(pre, a, b + 1);
-    let one = whole.sse();
     let two = sums(pre, a, m + 1).sse() + sums(pre, m, b + 1).sse();
     // Both lines hold the shared point: n + 1 residuals, four parameters.
-    let n = b - a + 1;
-    let residual = if n > 3 { two / (n - 3) as f64 } else { 0.0 };
-    let variance = variance_at(&whole, noise).max(residual);
-    one - two > p.split_significance * variance
+    let dof = (b - a + 1).saturating_sub(3);
+    two_lines_significant(&whole, two, dof, p.split_significance, noise)
+}
+
+/// True when two lines, whose sum of squared residuals is `two` with `dof` degrees of
+/// freedom, explain the points summed in `whole` significantly better than one line: the
+/// drop exceeds `significance` times the noise variance, the larger of the model's
+/// `sigma(r)^2` at the centroid and the two lines' own residual variance.
+pub(crate) fn two_lines_significant(
+    whole: &FitSums,
+    two: f64,
+    dof: usize,
+    significance: f64,
+    noise: &RangeNoise,
+) -> bool {
+    let residual = if dof > 0 { two / dof as f64 } else { 0.0 };
+    let variance = variance_at(whole, noise).max(residual);
+    whole.sse() - two > significance * variance
 }
 
 /// The position in `a + 1..b` where two lines fit `seg[a..=b]` best (least total squared

@@ -16,6 +16,7 @@
 //! ```
 
 mod accumulator;
+mod collinear;
 mod components;
 mod lines;
 mod linseg;
@@ -68,6 +69,10 @@ pub struct HoughSplit {
     /// Split-tree end points of all segments (beam indices), with per-segment ranges.
     split_points: Vec<usize>,
     split_ranges: Vec<(u32, u32)>,
+    /// Per line of the last scan before step 7: the sums of its points, and whether it is
+    /// certain.
+    candidates: Vec<lines::Candidate>,
+    groups: collinear::Groups,
 }
 
 impl HoughSplit {
@@ -94,6 +99,8 @@ impl HoughSplit {
             scratch: SplitScratch::default(),
             split_points: Vec::new(),
             split_ranges: Vec::new(),
+            candidates: Vec::new(),
+            groups: collinear::Groups::default(),
         })
     }
 
@@ -145,6 +152,7 @@ impl LineExtractor for HoughSplit {
 
     fn extract_view_into(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
         out.clear();
+        self.candidates.clear();
         self.split_points.clear();
         self.split_ranges.clear();
         // Broken geometry (a view built without `ScanView::new`) gives no line.
@@ -230,8 +238,16 @@ impl LineExtractor for HoughSplit {
                 p: &self.params,
                 noise: &self.noise,
             };
-            lines::emit_lines(&pieces, &mut self.scratch.breaks, out);
+            lines::emit_lines(&pieces, &mut self.scratch.breaks, out, &mut self.candidates);
         }
+        // 7. lines of one surface across segments share their joint fit.
+        collinear::share_fits(
+            out,
+            &self.candidates,
+            &self.params,
+            &self.noise,
+            &mut self.groups,
+        );
     }
 }
 

@@ -147,6 +147,12 @@ pub struct HoughSplitParams {
     /// them as well as two lines do (the same test as the split). Not in the paper.
     /// Default `true`.
     pub merge_collinear: bool,
+    /// Lines of one surface on both sides of a gap (a leg or a box in front of a wall, a door,
+    /// missing beams) share one fit: when one line explains the points of two lines (the
+    /// split's significance test), each keeps its own points and extent but takes the joint
+    /// `r`, `alpha` and covariance, and the gates `max_alpha_sd` and `max_r_sd` judge that
+    /// covariance. Not in the paper. Default `true`.
+    pub share_fits: bool,
     /// Refine where pieces end: the shared split point and its neighbours go to the line
     /// that explains them best, a short corner leg or mixed pixel at a line's end is trimmed
     /// by a chi-square test, and neighbouring lines that meet at a corner share their end
@@ -206,6 +212,7 @@ impl Default for HoughSplitParams {
             split_sigmas: 3.0,
             split_significance: 20.0,
             merge_collinear: true,
+            share_fits: true,
             refine_ends: true,
             min_line_points: 8,
             min_line_length: 0.15,
@@ -223,8 +230,8 @@ impl HoughSplitParams {
     /// The paper's pipeline alone: its grid and criterion, its range limits (0.03..3.00 m),
     /// grid connectivity only, Linseg with a fixed distance criterion (1 cm, growing by 2 %
     /// of the range beyond 0.5 m: four standard deviations of the URG-04LX read as in its
-    /// data sheet), no merge, no end refinement, no significance test, no minimum length and
-    /// no RMS limit; data segments and lines need three points.
+    /// data sheet), no merge, no shared fits, no end refinement, no significance test, no
+    /// minimum length and no RMS limit; data segments and lines need three points.
     #[must_use]
     pub fn paper() -> Self {
         Self {
@@ -235,6 +242,7 @@ impl HoughSplitParams {
             split_sigmas: 4.0,
             split_significance: 0.0,
             merge_collinear: false,
+            share_fits: false,
             refine_ends: false,
             min_line_points: 3,
             min_line_length: 0.0,

@@ -1,0 +1,144 @@
+//! Step 7: lines of one surface across data segments share one fit. A wall seen on both
+//! sides of a leg, a box or a missing stretch gives a line on each side; when their joint
+//! line explains both sets of points as well as two lines do (the split's significance test),
+//! each keeps its own points and extent but takes the joint fit's `r`, `alpha` and
+//! covariance, which the points of both pin down better than either set alone.
+
+use super::lines::{Candidate, certain, floored_covariance};
+use super::linseg::two_lines_significant;
+use super::params::HoughSplitParams;
+use crate::fit::FitSums;
+use crate::line::Line;
+use crate::math::Point2;
+use crate::noise::RangeNoise;
+
+/// Working memory of [`share_fits`].
+#[derive(Debug, Default, Clone)]
+pub(crate) struct Groups {
+    /// Per line: its group.
+    group: Vec<u32>,
+    /// Per group: the sums of its lines' points, and its number of lines.
+    sums: Vec<(FitSums, u32)>,
+    /// Per group: the last line that tried to join it.
+    tried: Vec<u32>,
+}
+
+/// Groups `lines` (in beam order, `candidates[i]` the sums of the points of `lines[i]` and
+/// whether it is certain) whose joint line is one line within the noise, and gives the lines
+/// of each group of two or more the group's fit: `r`, `alpha`, the covariance (floored as
+/// each line's own), the end points projected onto it and the RMS of each line's own points
+/// about it. Then drops the lines that are not [`certain`] with their final covariance:
+/// `lines` is truncated to the lines kept, in order.
+pub(crate) fn share_fits(
+    lines: &mut Vec<Line>,
+    candidates: &[Candidate],
+    p: &HoughSplitParams,
+    noise: &RangeNoise,
+    groups: &mut Groups,
+) {
+    let n = lines.len().min(candidates.len());
+    if p.share_fits && p.split_significance > 0.0 {
+        group_lines(&candidates[..n], p, noise, groups);
+    } else {
+        groups.group.clear();
+        groups.sums.clear();
+        groups.tried.clear();
+        for c in &candidates[..n] {
+            groups.group.push(groups.sums.len() as u32);
+            groups.sums.push((c.sums, 1));
+        }
+    }
+    let mut kept = 0;
+    for j in 0..n {
+        let (s, count) = groups.sums[groups.group[j] as usize];
+        let mut line = lines[j];
+        if count >= 2 {
+            take_fit(&mut line, &candidates[j].sums, &s, p, noise);
+        }
+        if certain(&line.covariance, p) {
+            lines[kept] = line;
+            kept += 1;
+        }
+    }
+    lines.truncate(kept);
+}
+
+/// Gives `line`, whose points are summed in `own`, the fit of the points summed in `joint`,
+/// unless its own points' RMS about that line would exceed `max_rms_sigmas` of the noise at
+/// their centroid (the limit every line's RMS keeps).
+fn take_fit(
+    line: &mut Line,
+    own: &FitSums,
+    joint: &FitSums,
+    p: &HoughSplitParams,
+    noise: &RangeNoise,
+) {
+    let Some(fit) = joint.fit() else { return };
+    let normal = fit.normal();
+    let rms = (own.sse_about(normal, fit.r) / own.len().max(1) as f64).sqrt();
+    let range = own.centroid_norm_squared().sqrt();
+    if !(rms <= p.max_rms_sigmas * noise.sigma(range)) {
+        return;
+    }
+    let project = |q: Point2| q - normal * (q.coords.dot(&normal) - fit.r);
+    line.start = project(line.start);
+    line.end = project(line.end);
+    line.r = fit.r;
+    line.alpha = fit.alpha;
+    line.covariance = floored_covariance(&fit, noise);
+    line.rms = rms;
+}
+
+/// Fills `groups`: each line joins the group of the nearest line before it whose group's
+/// points and its own one line explains, else starts its own.
+fn group_lines(
+    candidates: &[Candidate],
+    p: &HoughSplitParams,
+    noise: &RangeNoise,
+    groups: &mut Groups,
+) {
+    let Groups {
+        group,
+        sums: joint,
+        tried,
+    } = groups;
+    group.clear();
+    joint.clear();
+    tried.clear();
+    for (j, c) in candidates.iter().enumerate() {
+        let own = &c.sums;
+        let mut found = None;
+        // The groups of the lines before it, the nearest first, each tried once.
+        for back in (0..j).rev() {
+            let g = group[back] as usize;
+            if tried[g] == j as u32 {
+                continue;
+            }
+            tried[g] = j as u32;
+            if one_line(&joint[g].0, own, p, noise) {
+                found = Some(g);
+                break;
+            }
+        }
+        match found {
+            Some(g) => {
+                joint[g].0 = joint[g].0.join(own);
+                joint[g].1 += 1;
+                group.push(g as u32);
+            }
+            None => {
+                group.push(joint.len() as u32);
+                joint.push((*own, 1));
+                tried.push(u32::MAX);
+            }
+        }
+    }
+}
+
+/// True when one line explains the points of `a` and of `b` as well as two lines do.
+fn one_line(a: &FitSums, b: &FitSums, p: &HoughSplitParams, noise: &RangeNoise) -> bool {
+    let whole = a.join(b);
+    let two = a.sse() + b.sse();
+    let dof = whole.len().saturating_sub(4);
+    !two_lines_significant(&whole, two, dof, p.split_significance, noise)
+}
