@@ -65,7 +65,8 @@ pub(crate) fn share_fits(
 
 /// Gives `line`, whose points are summed in `own`, the fit of the points summed in `joint`,
 /// unless its own points' RMS about that line would exceed `max_rms_sigmas` of the noise at
-/// their centroid (the limit every line's RMS keeps).
+/// their centroid or the segment projected onto it would fall below `min_line_length` (the
+/// limits every line keeps).
 fn take_fit(
     line: &mut Line,
     own: &FitSums,
@@ -81,8 +82,15 @@ fn take_fit(
         return;
     }
     let project = |q: Point2| q - normal * (q.coords.dot(&normal) - fit.r);
-    line.start = project(line.start);
-    line.end = project(line.end);
+    let (start, end) = (project(line.start), project(line.end));
+    // Projected onto a line of another direction, the segment shortens: it stays a surface
+    // and keeps its direction, or keeps its own fit.
+    let length = (end - start).norm();
+    if !(length >= p.min_line_length && (end - start).dot(&(line.end - line.start)) > 0.0) {
+        return;
+    }
+    line.start = start;
+    line.end = end;
     line.r = fit.r;
     line.alpha = fit.alpha;
     line.covariance = floored_covariance(&fit, noise);
@@ -141,4 +149,89 @@ fn one_line(a: &FitSums, b: &FitSums, p: &HoughSplitParams, noise: &RangeNoise) 
     let two = a.sse() + b.sse();
     let dof = whole.len().saturating_sub(4);
     !two_lines_significant(&whole, two, dof, p.split_significance, noise)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A line on the points `(x, y0 + dy(i))` for `xs`, with its candidate.
+    fn piece(
+        xs: std::ops::Range<i32>,
+        step: f64,
+        y0: f64,
+        noise: &RangeNoise,
+    ) -> (Line, Candidate) {
+        let pts: Vec<Point2> = xs
+            .clone()
+            .map(|i| {
+                let dy = if i % 2 == 0 { 0.004 } else { -0.004 };
+                Point2::new(f64::from(i) * step, y0 + dy)
+            })
+            .collect();
+        let sums = FitSums::from_points(pts.iter().copied());
+        let fit = sums.fit().unwrap();
+        let n = pts.len();
+        let mut line = Line::from_fit(&fit, (0, pts[0]), (n - 1, pts[n - 1]));
+        line.covariance = floored_covariance(&fit, noise);
+        let certain = certain(&line.covariance, &HoughSplitParams::default());
+        (line, Candidate { sums, certain })
+    }
+
+    fn share(pieces: &[(Line, Candidate)], noise: &RangeNoise) -> Vec<Line> {
+        let mut lines: Vec<Line> = pieces.iter().map(|p| p.0).collect();
+        let candidates: Vec<Candidate> = pieces.iter().map(|p| p.1).collect();
+        let p = HoughSplitParams::default();
+        share_fits(&mut lines, &candidates, &p, noise, &mut Groups::default());
+        lines
+    }
+
+    #[test]
+    fn two_pieces_of_a_wall_share_their_joint_fit() {
+        let noise = RangeNoise::new(0.005, 0.0);
+        // A wall at y = 2 seen on both sides of a leg: x = -1.0..-0.2 and 0.3..1.1.
+        let pieces = [
+            piece(-50..-10, 0.02, 2.0, &noise),
+            piece(15..55, 0.02, 2.0, &noise),
+        ];
+        let lines = share(&pieces, &noise);
+        assert_eq!(lines.len(), 2);
+        assert_eq!((lines[0].r, lines[0].alpha), (lines[1].r, lines[1].alpha));
+        assert!((lines[0].r - 2.0).abs() < 1e-3);
+        // Each keeps its own beams and points; the joint fit knows the direction better.
+        assert_eq!(lines[1].points, 40);
+        for (shared, own) in lines.iter().zip(&pieces) {
+            assert!(shared.covariance[(1, 1)] < 0.5 * own.0.covariance[(1, 1)]);
+            assert!((shared.start.x - own.0.start.x).abs() < 1e-3);
+        }
+    }
+
+    #[test]
+    fn parallel_surfaces_apart_keep_their_own_fits() {
+        let noise = RangeNoise::new(0.005, 0.0);
+        // A box face 5 cm in front of the wall: 10 standard deviations of the noise.
+        let pieces = [
+            piece(-50..-10, 0.02, 2.0, &noise),
+            piece(15..55, 0.02, 1.95, &noise),
+        ];
+        let lines = share(&pieces, &noise);
+        assert_eq!(lines.len(), 2);
+        for (kept, own) in lines.iter().zip(&pieces) {
+            assert_eq!(kept, &own.0);
+        }
+    }
+
+    #[test]
+    fn a_piece_too_uncertain_alone_is_kept_when_its_wall_pins_it_down() {
+        // 3 cm noise: a 10-point piece 0.18 m long knows its direction to about 8 deg.
+        let noise = RangeNoise::new(0.03, 0.0);
+        let short = piece(60..70, 0.02, 2.0, &noise);
+        assert!(!short.1.certain);
+        assert!(share(std::slice::from_ref(&short), &noise).is_empty());
+        let long = piece(-60..10, 0.02, 2.0, &noise);
+        let lines = share(&[long, short], &noise);
+        assert_eq!(lines.len(), 2);
+        assert_eq!(lines[1].points, 10);
+        assert!(certain(&lines[1].covariance, &HoughSplitParams::default()));
+    }
 }
