@@ -6,7 +6,8 @@
 //! FIELD=1 cargo run --release -p laserlines-eval --example diagnose -- all urg04lx-full 100
 //! ```
 //!
-//! `FIELD=1` judges by the field criteria; `PRESET=NAME` starts from a preset of
+//! `FIELD=1` judges by the field criteria; `SEED=S` takes the scenes of seed `S` (default
+//! the test suite's); `PRESET=NAME` starts from a preset of
 //! `hough-split` (`complete`, ...) instead of its defaults. At the end it prints the TP rate
 //! an ideal least-squares fit of exactly each significant piece's beams would reach on
 //! average: the chance that its `r` and angle land within the tolerances, from the piece's
@@ -27,7 +28,11 @@ fn main() {
         eprintln!("unknown sensor {name}");
         std::process::exit(2);
     };
-    let scans = match suite_scans(suite, TEST_SEED, count, &sensor) {
+    let seed = std::env::var("SEED")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(TEST_SEED);
+    let scans = match suite_scans(suite, seed, count, &sensor) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("{e}");

@@ -1,6 +1,7 @@
 //! Step 7: lines of one surface across data segments share one fit. A wall seen on both
 //! sides of a leg, a box or a missing stretch gives a line on each side; when their joint
-//! line explains both sets of points as well as two lines do (the split's significance test),
+//! line explains both sets of points as well as two lines do (the split's significance test,
+//! at the plain chi-square quantile),
 //! each keeps its own points and extent but takes the joint fit's `r`, `alpha` and
 //! covariance, which the points of both pin down better than either set alone.
 
@@ -11,6 +12,11 @@ use crate::fit::FitSums;
 use crate::line::Line;
 use crate::math::Point2;
 use crate::noise::RangeNoise;
+
+/// The drop of the sum of squared residuals, in noise variances, beyond which two lines are
+/// two surfaces: the chi-square quantile of 2 degrees of freedom at the 1e-3 level. Unlike
+/// the split's `split_significance`, no search over split points lies behind it.
+const SHARE_CHI2: f64 = 13.82;
 
 /// Working memory of [`share_fits`].
 #[derive(Debug, Default, Clone)]
@@ -38,7 +44,7 @@ pub(crate) fn share_fits(
 ) {
     let n = lines.len().min(candidates.len());
     if p.share_fits && p.split_significance > 0.0 {
-        group_lines(&candidates[..n], p, noise, groups);
+        group_lines(&candidates[..n], noise, groups);
     } else {
         groups.group.clear();
         groups.sums.clear();
@@ -99,12 +105,7 @@ fn take_fit(
 
 /// Fills `groups`: each line joins the group of the nearest line before it whose group's
 /// points and its own one line explains, else starts its own.
-fn group_lines(
-    candidates: &[Candidate],
-    p: &HoughSplitParams,
-    noise: &RangeNoise,
-    groups: &mut Groups,
-) {
+fn group_lines(candidates: &[Candidate], noise: &RangeNoise, groups: &mut Groups) {
     let Groups {
         group,
         sums: joint,
@@ -123,7 +124,7 @@ fn group_lines(
                 continue;
             }
             tried[g] = j as u32;
-            if one_line(&joint[g].0, own, p, noise) {
+            if one_line(&joint[g].0, own, noise) {
                 found = Some(g);
                 break;
             }
@@ -144,11 +145,11 @@ fn group_lines(
 }
 
 /// True when one line explains the points of `a` and of `b` as well as two lines do.
-fn one_line(a: &FitSums, b: &FitSums, p: &HoughSplitParams, noise: &RangeNoise) -> bool {
+fn one_line(a: &FitSums, b: &FitSums, noise: &RangeNoise) -> bool {
     let whole = a.join(b);
     let two = a.sse() + b.sse();
     let dof = whole.len().saturating_sub(4);
-    !two_lines_significant(&whole, two, dof, p.split_significance, noise)
+    !two_lines_significant(&whole, two, dof, SHARE_CHI2, noise)
 }
 
 #[cfg(test)]
