@@ -5,7 +5,7 @@
 //! each keeps its own points and extent but takes the joint fit's `r`, `alpha` and
 //! covariance, which the points of both pin down better than either set alone.
 
-use super::lines::{Candidate, certain, floored_covariance};
+use super::lines::{Candidate, certain, corner_of, floored_covariance};
 use super::linseg::two_lines_significant;
 use super::params::HoughSplitParams;
 use crate::fit::FitSums;
@@ -27,6 +27,8 @@ pub(crate) struct Groups {
     sums: Vec<(FitSums, u32)>,
     /// Per group: the last line that tried to join it.
     tried: Vec<u32>,
+    /// Per pair of neighbouring lines: whether they share a corner.
+    corners: Vec<bool>,
 }
 
 /// Groups `lines` (in beam order, `candidates[i]` the sums of the points of `lines[i]` and
@@ -54,38 +56,64 @@ pub(crate) fn share_fits(
             groups.sums.push((c.sums, 1));
         }
     }
-    let mut kept = 0;
+    // Which neighbours share a corner (the end of one the start of the next).
+    groups.corners.clear();
+    groups
+        .corners
+        .extend((1..n).map(|k| lines[k - 1].end == lines[k].start));
+    let mut moved = false;
     for j in 0..n {
         let (s, count) = groups.sums[groups.group[j] as usize];
-        let mut line = lines[j];
         if count >= 2 {
-            take_fit(&mut line, &candidates[j].sums, &s, p, noise);
+            moved |= take_fit(&mut lines[j], &candidates[j].sums, &s, p, noise);
         }
-        if certain(&line.covariance, p) {
-            lines[kept] = line;
+    }
+    if moved {
+        rejoin_corners(&mut lines[..n], &groups.corners);
+    }
+    let mut kept = 0;
+    for j in 0..n {
+        if certain(&lines[j].covariance, p) {
+            lines[kept] = lines[j];
             kept += 1;
         }
     }
     lines.truncate(kept);
 }
 
+/// Neighbouring lines that shared a corner (`corners[k - 1]` for `lines[k - 1]` and
+/// `lines[k]`) meet again at their lines' intersection after a shared fit moved either.
+fn rejoin_corners(lines: &mut [Line], corners: &[bool]) {
+    for k in 1..lines.len().min(corners.len() + 1) {
+        if !corners[k - 1] {
+            continue;
+        }
+        if let Some(corner) = corner_of(&lines[k - 1], &lines[k]) {
+            lines[k - 1].end = corner;
+            lines[k].start = corner;
+        }
+    }
+}
+
 /// Gives `line`, whose points are summed in `own`, the fit of the points summed in `joint`,
 /// unless its own points' RMS about that line would exceed `max_rms_sigmas` of the noise at
 /// their centroid or the segment projected onto it would fall below `min_line_length` (the
-/// limits every line keeps).
+/// limits every line keeps). Returns whether it took the fit.
 fn take_fit(
     line: &mut Line,
     own: &FitSums,
     joint: &FitSums,
     p: &HoughSplitParams,
     noise: &RangeNoise,
-) {
-    let Some(fit) = joint.fit() else { return };
+) -> bool {
+    let Some(fit) = joint.fit() else {
+        return false;
+    };
     let normal = fit.normal();
     let rms = (own.sse_about(normal, fit.r) / own.len().max(1) as f64).sqrt();
     let range = own.centroid_norm_squared().sqrt();
     if !(rms <= p.max_rms_sigmas * noise.sigma(range)) {
-        return;
+        return false;
     }
     let project = |q: Point2| q - normal * (q.coords.dot(&normal) - fit.r);
     let (start, end) = (project(line.start), project(line.end));
@@ -93,7 +121,7 @@ fn take_fit(
     // and keeps its direction, or keeps its own fit.
     let length = (end - start).norm();
     if !(length >= p.min_line_length && (end - start).dot(&(line.end - line.start)) > 0.0) {
-        return;
+        return false;
     }
     line.start = start;
     line.end = end;
@@ -101,6 +129,7 @@ fn take_fit(
     line.alpha = fit.alpha;
     line.covariance = floored_covariance(&fit, noise);
     line.rms = rms;
+    true
 }
 
 /// Fills `groups`: each line joins the group of the nearest line before it whose group's
@@ -110,6 +139,7 @@ fn group_lines(candidates: &[Candidate], noise: &RangeNoise, groups: &mut Groups
         group,
         sums: joint,
         tried,
+        ..
     } = groups;
     group.clear();
     joint.clear();

@@ -315,16 +315,9 @@ fn join_corners(
         }
         let Some(j) = before.replace(k) else { continue };
         let (a, b) = (lines[j], lines[k]);
-        let (sa, ca) = a.alpha.sin_cos();
-        let (sb, cb) = b.alpha.sin_cos();
-        let det = ca * sb - sa * cb;
-        // Lines closer than 15 deg to parallel: no well-defined corner.
-        if det.abs() < 15f64.to_radians().sin() {
+        let Some(corner) = corner_of(&a, &b) else {
             continue;
-        }
-        let x = (a.r * sb - b.r * sa) / det;
-        let y = (ca * b.r - cb * a.r) / det;
-        let corner = Point2::new(x, y);
+        };
         let thr = p.split_sigmas * noise.sigma(corner.coords.norm());
         let reach = (b.start - a.end).norm() + thr;
         let near = (corner - a.end).norm() <= reach && (corner - b.start).norm() <= reach;
@@ -335,6 +328,20 @@ fn join_corners(
             lines[k].start = corner;
         }
     }
+}
+
+/// The intersection of the infinite lines of `a` and `b`, or `None` when they lie closer
+/// than 15 deg to parallel (no well-defined corner).
+pub(crate) fn corner_of(a: &Line, b: &Line) -> Option<Point2> {
+    let (sa, ca) = a.alpha.sin_cos();
+    let (sb, cb) = b.alpha.sin_cos();
+    let det = ca * sb - sa * cb;
+    if det.abs() < 15f64.to_radians().sin() {
+        return None;
+    }
+    let x = (a.r * sb - b.r * sa) / det;
+    let y = (ca * b.r - cb * a.r) / det;
+    Some(Point2::new(x, y))
 }
 
 /// Whether a line from `far` to `near` may end at `corner` instead of `near`: the corner lies
