@@ -5,7 +5,7 @@
 //! each keeps its own points and extent but takes the joint fit's `r`, `alpha` and
 //! covariance, which the points of both pin down better than either set alone.
 
-use super::lines::{Candidate, certain, corner_of, floored_covariance};
+use super::lines::{Candidate, certain, floored_covariance, meeting_point};
 use super::linseg::two_lines_significant;
 use super::params::HoughSplitParams;
 use crate::fit::FitSums;
@@ -69,7 +69,7 @@ pub(crate) fn share_fits(
         }
     }
     if moved {
-        rejoin_corners(&mut lines[..n], &groups.corners);
+        rejoin_corners(&mut lines[..n], &groups.corners, p, noise);
     }
     let mut kept = 0;
     for j in 0..n {
@@ -82,13 +82,14 @@ pub(crate) fn share_fits(
 }
 
 /// Neighbouring lines that shared a corner (`corners[k - 1]` for `lines[k - 1]` and
-/// `lines[k]`) meet again at their lines' intersection after a shared fit moved either.
-fn rejoin_corners(lines: &mut [Line], corners: &[bool]) {
+/// `lines[k]`) meet again where their lines now meet, when they still do by the test of
+/// the corners ([`meeting_point`]), after a shared fit moved either.
+fn rejoin_corners(lines: &mut [Line], corners: &[bool], p: &HoughSplitParams, noise: &RangeNoise) {
     for k in 1..lines.len().min(corners.len() + 1) {
         if !corners[k - 1] {
             continue;
         }
-        if let Some(corner) = corner_of(&lines[k - 1], &lines[k]) {
+        if let Some(corner) = meeting_point(&lines[k - 1], &lines[k], p, noise) {
             lines[k - 1].end = corner;
             lines[k].start = corner;
         }

@@ -314,25 +314,35 @@ fn join_corners(
             continue;
         }
         let Some(j) = before.replace(k) else { continue };
-        let (a, b) = (lines[j], lines[k]);
-        let Some(corner) = corner_of(&a, &b) else {
-            continue;
-        };
-        let thr = p.split_sigmas * noise.sigma(corner.coords.norm());
-        let reach = (b.start - a.end).norm() + thr;
-        let near = (corner - a.end).norm() <= reach && (corner - b.start).norm() <= reach;
-        let keeps =
-            |far: Point2, near: Point2| keeps_its_points(far, near, corner, thr, p.min_line_length);
-        if near && keeps(a.start, a.end) && keeps(b.end, b.start) {
+        if let Some(corner) = meeting_point(&lines[j], &lines[k], p, noise) {
             lines[j].end = corner;
             lines[k].start = corner;
         }
     }
 }
 
+/// Where `a` and the next line `b` meet at a corner ([`join_corners`]): their lines'
+/// intersection, when they are not nearly parallel, it lies within `split_sigmas * sigma(r)`
+/// plus the gap between them of both ends, and neither line gives up more than that of its
+/// extent or falls below `min_line_length` for it.
+pub(crate) fn meeting_point(
+    a: &Line,
+    b: &Line,
+    p: &HoughSplitParams,
+    noise: &RangeNoise,
+) -> Option<Point2> {
+    let corner = corner_of(a, b)?;
+    let thr = p.split_sigmas * noise.sigma(corner.coords.norm());
+    let reach = (b.start - a.end).norm() + thr;
+    let near = (corner - a.end).norm() <= reach && (corner - b.start).norm() <= reach;
+    let keeps =
+        |far: Point2, near: Point2| keeps_its_points(far, near, corner, thr, p.min_line_length);
+    (near && keeps(a.start, a.end) && keeps(b.end, b.start)).then_some(corner)
+}
+
 /// The intersection of the infinite lines of `a` and `b`, or `None` when they lie closer
 /// than 15 deg to parallel (no well-defined corner).
-pub(crate) fn corner_of(a: &Line, b: &Line) -> Option<Point2> {
+fn corner_of(a: &Line, b: &Line) -> Option<Point2> {
     let (sa, ca) = a.alpha.sin_cos();
     let (sb, cb) = b.alpha.sin_cos();
     let det = ca * sb - sa * cb;
