@@ -10,7 +10,7 @@ use super::linseg::two_lines_significant;
 use super::params::HoughSplitParams;
 use crate::fit::FitSums;
 use crate::line::Line;
-use crate::math::Point2;
+use crate::math::{Point2, Vector2};
 use crate::noise::RangeNoise;
 
 /// The drop of the sum of squared residuals, in noise variances, beyond which two lines are
@@ -29,6 +29,8 @@ pub(crate) struct Groups {
     tried: Vec<u32>,
     /// Per pair of neighbouring lines: whether they share a corner.
     corners: Vec<bool>,
+    /// Per line: whether it took its group's fit.
+    moved: Vec<bool>,
 }
 
 /// Groups `lines` (in beam order, `candidates[i]` the sums of the points of `lines[i]` and
@@ -57,19 +59,22 @@ pub(crate) fn share_fits(
         }
     }
     // Which neighbours share a corner (the end of one the start of the next).
-    groups.corners.clear();
-    groups
-        .corners
-        .extend((1..n).map(|k| lines[k - 1].end == lines[k].start));
-    let mut moved = false;
+    let Groups {
+        group,
+        sums: joint,
+        corners,
+        moved,
+        ..
+    } = groups;
+    corners.clear();
+    corners.extend((1..n).map(|k| lines[k - 1].end == lines[k].start));
+    moved.clear();
     for j in 0..n {
-        let (s, count) = groups.sums[groups.group[j] as usize];
-        if count >= 2 {
-            moved |= take_fit(&mut lines[j], &candidates[j].sums, &s, p, noise);
-        }
+        let (s, count) = joint[group[j] as usize];
+        moved.push(count >= 2 && take_fit(&mut lines[j], &candidates[j], &s, p, noise));
     }
-    if moved {
-        rejoin_corners(&mut lines[..n], &groups.corners, p, noise);
+    if moved.contains(&true) {
+        rejoin_corners(&mut lines[..n], &candidates[..n], groups, p, noise);
     }
     let mut kept = 0;
     for j in 0..n {
@@ -81,14 +86,25 @@ pub(crate) fn share_fits(
     lines.truncate(kept);
 }
 
-/// Neighbouring lines that shared a corner (`corners[k - 1]` for `lines[k - 1]` and
-/// `lines[k]`) meet again where their lines now meet, when they still do by the test of
-/// the corners ([`meeting_point`]), after a shared fit moved either.
-fn rejoin_corners(lines: &mut [Line], corners: &[bool], p: &HoughSplitParams, noise: &RangeNoise) {
-    for k in 1..lines.len().min(corners.len() + 1) {
-        if !corners[k - 1] {
+/// Neighbouring lines that shared a corner, either of which took a shared fit, meet again
+/// where their lines now meet when they still do by the test of the corners
+/// ([`meeting_point`]); else each ends at its own end point projected onto its line.
+fn rejoin_corners(
+    lines: &mut [Line],
+    candidates: &[Candidate],
+    groups: &Groups,
+    p: &HoughSplitParams,
+    noise: &RangeNoise,
+) {
+    let Groups { corners, moved, .. } = groups;
+    let n = lines.len().min(moved.len()).min(corners.len() + 1);
+    for k in 1..n {
+        if !corners[k - 1] || !(moved[k - 1] || moved[k]) {
             continue;
         }
+        let (a, b) = (lines[k - 1], lines[k]);
+        lines[k - 1].end = project(&a, candidates[k - 1].ends.1);
+        lines[k].start = project(&b, candidates[k].ends.0);
         if let Some(corner) = meeting_point(&lines[k - 1], &lines[k], p, noise) {
             lines[k - 1].end = corner;
             lines[k].start = corner;
@@ -96,13 +112,20 @@ fn rejoin_corners(lines: &mut [Line], corners: &[bool], p: &HoughSplitParams, no
     }
 }
 
-/// Gives `line`, whose points are summed in `own`, the fit of the points summed in `joint`,
-/// unless its own points' RMS about that line would exceed `max_rms_sigmas` of the noise at
-/// their centroid or the segment projected onto it would fall below `min_line_length` (the
-/// limits every line keeps). Returns whether it took the fit.
+/// `q` projected onto the line of `l`.
+fn project(l: &Line, q: Point2) -> Point2 {
+    let normal = Vector2::new(l.alpha.cos(), l.alpha.sin());
+    q - normal * (q.coords.dot(&normal) - l.r)
+}
+
+/// Gives `line` (of the candidate `own`) the fit of the points summed in `joint`, its ends
+/// its first and last points projected onto it, unless its own points' RMS about that line
+/// would exceed `max_rms_sigmas` of the noise at their centroid or the segment projected
+/// onto it would fall below `min_line_length` (the limits every line keeps). Returns
+/// whether it took the fit.
 fn take_fit(
     line: &mut Line,
-    own: &FitSums,
+    own: &Candidate,
     joint: &FitSums,
     p: &HoughSplitParams,
     noise: &RangeNoise,
@@ -111,13 +134,14 @@ fn take_fit(
         return false;
     };
     let normal = fit.normal();
-    let rms = (own.sse_about(normal, fit.r) / own.len().max(1) as f64).sqrt();
-    let range = own.centroid_norm_squared().sqrt();
+    let sums = &own.sums;
+    let rms = (sums.sse_about(normal, fit.r) / sums.len().max(1) as f64).sqrt();
+    let range = sums.centroid_norm_squared().sqrt();
     if !(rms <= p.max_rms_sigmas * noise.sigma(range)) {
         return false;
     }
     let project = |q: Point2| q - normal * (q.coords.dot(&normal) - fit.r);
-    let (start, end) = (project(line.start), project(line.end));
+    let (start, end) = (project(own.ends.0), project(own.ends.1));
     // Projected onto a line of another direction, the segment shortens: it stays a surface
     // and keeps its direction, or keeps its own fit.
     let length = (end - start).norm();
@@ -207,7 +231,15 @@ mod tests {
         let mut line = Line::from_fit(&fit, (0, pts[0]), (n - 1, pts[n - 1]));
         line.covariance = floored_covariance(&fit, noise);
         let certain = certain(&line.covariance, &HoughSplitParams::default());
-        (line, Candidate { sums, certain })
+        let ends = (pts[0], pts[n - 1]);
+        (
+            line,
+            Candidate {
+                sums,
+                ends,
+                certain,
+            },
+        )
     }
 
     fn share(pieces: &[(Line, Candidate)], noise: &RangeNoise) -> Vec<Line> {

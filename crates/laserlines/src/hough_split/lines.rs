@@ -199,7 +199,15 @@ impl Pieces<'_> {
         }
         line.covariance = floored_covariance(&fit, self.noise);
         let certain = certain(&line.covariance, self.p);
-        Some((line, Candidate { sums, certain }))
+        let ends = (first.1, last.1);
+        Some((
+            line,
+            Candidate {
+                sums,
+                ends,
+                certain,
+            },
+        ))
     }
 }
 
@@ -208,6 +216,8 @@ impl Pieces<'_> {
 pub(crate) struct Candidate {
     /// The sums of its points.
     pub(crate) sums: FitSums,
+    /// Its first and last supporting points.
+    pub(crate) ends: (Point2, Point2),
     /// Its direction is known to `max_alpha_sd` and its distance from the sensor to
     /// `max_r_sd` (one standard deviation each, from its own fit); an uncertain line is kept
     /// only when it shares the fit of another line that makes it certain.
