@@ -12,8 +12,9 @@
 //! not targets, and are raised when an extractor improves. The requirements every extractor
 //! must meet on every suite are in `suites.rs`. `hough-split` is held to finding 97 % of the
 //! pieces here: its line gates drop the lines of far or glancing pieces whose `r` is known
-//! worse than 5 cm (10 of the 356 pieces, at 1.9-4.4 m; its `complete` preset, without those
-//! gates, is held to end points as well by `crates/laserlines/tests/roundtrip.rs`). On the
+//! worse than 5 cm even with the fit they share with the rest of their wall (8 of the 356
+//! pieces; its `complete` preset, with looser gates, is held to end points as well by
+//! `crates/laserlines/tests/roundtrip.rs`). On the
 //! bench scan every extractor must find all six pieces with no false line, except EM, which
 //! may get one of them wrong.
 

@@ -16,7 +16,7 @@
 //!   drop the shortest pieces between legs (`complete`: at least 85 %).
 //!
 //! Measured with these seeds (TP / FP): `hough-split` 0.974..1.000 / 0.000 on the six suites
-//! of walls and 0.835 / 0.175 in clutter; the others 0.964..1.000 / 0.000..0.093 and
+//! of walls and 0.848 / 0.195 in clutter; the others 0.964..1.000 / 0.000..0.093 and
 //! 0.886..0.962 / 0.165..0.250. The table is printed (`--nocapture`).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]

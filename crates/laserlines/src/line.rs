@@ -5,11 +5,13 @@ use crate::math::{Matrix2, Point2};
 
 /// A line segment extracted from one scan, in the sensor frame.
 ///
-/// The supporting infinite line is `x cos(alpha) + y sin(alpha) = r` with `r >= 0`. The end
-/// points are the first and last supporting points projected onto that line; `hough-split`
-/// (with `refine_ends`, its default) moves the ends of two neighbouring lines that meet at a
-/// corner to the lines' intersection: outward by at most the gap to the other line plus its
-/// split threshold, inward by at most the split threshold. The supporting
+/// The supporting infinite line is `x cos(alpha) + y sin(alpha) = r` with `r >= 0`, fitted
+/// to the line's supporting points (`hough-split`, with `share_fits`, its default, fits it to
+/// the points of all its lines of one surface, each line keeping its own points and extent).
+/// The end points are the first and last supporting points projected onto that line;
+/// `hough-split` (with `refine_ends`, its default) moves the ends of two neighbouring lines
+/// that meet at a corner to the lines' intersection: outward by at most the gap to the other
+/// line plus its split threshold, inward by at most the split threshold. The supporting
 /// points are the valid beams `first..=last` that the extractor kept (`points` of them); the
 /// beam ranges of different lines of one scan never overlap.
 #[derive(Debug, Clone, Copy, PartialEq)]
