@@ -7,6 +7,8 @@
 
 use super::lines::{Candidate, certain, floored_covariance, meeting_point};
 use super::linseg::two_lines_significant;
+use std::cmp::Ordering;
+
 use super::params::HoughSplitParams;
 use crate::fit::FitSums;
 use crate::line::Line;
@@ -137,15 +139,17 @@ fn take_fit(
     let sums = &own.sums;
     let rms = (sums.sse_about(normal, fit.r) / sums.len().max(1) as f64).sqrt();
     let range = sums.centroid_norm_squared().sqrt();
-    if !(rms <= p.max_rms_sigmas * noise.sigma(range)) {
+    // NaN fails.
+    let rough = rms.partial_cmp(&(p.max_rms_sigmas * noise.sigma(range)));
+    if !matches!(rough, Some(Ordering::Less | Ordering::Equal)) {
         return false;
     }
     let project = |q: Point2| q - normal * (q.coords.dot(&normal) - fit.r);
     let (start, end) = (project(own.ends.0), project(own.ends.1));
     // Projected onto a line of another direction, the segment shortens: it stays a surface
     // and keeps its direction, or keeps its own fit.
-    let length = (end - start).norm();
-    if !(length >= p.min_line_length && (end - start).dot(&(line.end - line.start)) > 0.0) {
+    let long = (end - start).norm() >= p.min_line_length;
+    if !(long && (end - start).dot(&(line.end - line.start)) > 0.0) {
         return false;
     }
     line.start = start;
