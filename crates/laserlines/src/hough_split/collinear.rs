@@ -1,14 +1,14 @@
 //! Step 7: lines of one surface across data segments share one fit. A wall seen on both
 //! sides of a leg, a box or a missing stretch gives a line on each side; when their joint
 //! line explains both sets of points as well as two lines do (the split's significance test,
-//! at the plain chi-square quantile),
-//! each keeps its own points and extent but takes the joint fit's `r`, `alpha` and
-//! covariance, which the points of both pin down better than either set alone.
+//! at the plain chi-square quantile), each keeps its own points and extent but takes the
+//! joint fit's `r`, `alpha` and covariance, which the points of both pin down better than
+//! either set alone.
+
+use std::cmp::Ordering;
 
 use super::lines::{Candidate, certain, floored_covariance, meeting_point};
 use super::linseg::two_lines_significant;
-use std::cmp::Ordering;
-
 use super::params::HoughSplitParams;
 use crate::fit::FitSums;
 use crate::line::Line;

@@ -260,12 +260,16 @@ impl HoughSplitParams {
     /// The defaults for a robot driving among obstacles rather than for a map of walls: every
     /// surface of 5 cm or more gives a line (`min_line_length = 0.05`), so that posts and
     /// legs near the robot are objects of its sectors, and the line gates of
-    /// [`complete`](Self::complete) (an obstacle need not be placed within 5 cm to be avoided).
-    /// The explorer of `laserlines simulate` uses it.
+    /// [`complete`](Self::complete) (an obstacle need not be placed within 5 cm to be avoided),
+    /// without shared fits (`share_fits = false`): each line lies on its own points, where the
+    /// robot meets them. The explorer of `laserlines simulate` uses it; with shared fits it
+    /// covered less of the bundled big arena (8 seeds of the fence test: mean 0.897, worst
+    /// 0.639, against 0.970 and 0.919).
     #[must_use]
     pub fn navigation() -> Self {
         Self {
             min_line_length: 0.05,
+            share_fits: false,
             ..Self::complete()
         }
     }
