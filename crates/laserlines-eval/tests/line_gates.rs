@@ -38,7 +38,7 @@ fn the_defaults_give_far_fewer_false_lines_than_complete_at_every_field_level() 
         let (tp, fp) = rates(HoughSplitParams::default(), level, 30);
         let (all_tp, all_fp) = rates(HoughSplitParams::complete(), level, 30);
         println!("{level}: defaults TP {tp:.3} FP {fp:.3}, complete TP {all_tp:.3} FP {all_fp:.3}");
-        // Measured on seed 2 (700 scans): 0.020, 0.026 and 0.041 against 0.040, 0.068 and
+        // Measured on seed 2 (700 scans): 0.020, 0.026 and 0.040 against 0.040, 0.068 and
         // 0.102; here (seed 5, 210 scans) 0.021, 0.027 and 0.049 against 0.056, 0.086 and
         // 0.111.
         assert!(

@@ -20,6 +20,11 @@ use crate::noise::RangeNoise;
 /// the split's `split_significance`, no search over split points lies behind it.
 const SHARE_CHI2: f64 = 13.82;
 
+/// Most groups a line tries to join (those of the nearest lines before it): bounds the
+/// work on a scan of many lines to a few tests per line; a wall's pieces lie within a few
+/// lines of each other in beam order.
+const MAX_TRIED: usize = 8;
+
 /// Working memory of [`share_fits`].
 #[derive(Debug, Default, Clone)]
 pub(crate) struct Groups {
@@ -161,8 +166,9 @@ fn take_fit(
     true
 }
 
-/// Fills `groups`: each line joins the group of the nearest line before it whose group's
-/// points and its own one line explains, else starts its own.
+/// Fills `groups`: each line joins the group of the nearest line before it (of the
+/// `MAX_TRIED` nearest groups) whose group's points and its own one line explains, else
+/// starts its own.
 fn group_lines(candidates: &[Candidate], noise: &RangeNoise, groups: &mut Groups) {
     let Groups {
         group,
@@ -176,12 +182,18 @@ fn group_lines(candidates: &[Candidate], noise: &RangeNoise, groups: &mut Groups
     for (j, c) in candidates.iter().enumerate() {
         let own = &c.sums;
         let mut found = None;
-        // The groups of the lines before it, the nearest first, each tried once.
+        // The groups of the lines before it, the nearest first, each tried once, at most
+        // `MAX_TRIED` of them.
+        let mut left = MAX_TRIED;
         for back in (0..j).rev() {
             let g = group[back] as usize;
             if tried[g] == j as u32 {
                 continue;
             }
+            if left == 0 {
+                break;
+            }
+            left -= 1;
             tried[g] = j as u32;
             if one_line(&joint[g].0, own, noise) {
                 found = Some(g);
