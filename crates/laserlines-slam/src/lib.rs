@@ -54,7 +54,7 @@
 //! }
 //!
 //! let mut mapper = Mapper::new(MapperParams::default());
-//! let mut extractor = HoughSplit::new(HoughSplitParams::default())?;
+//! let mut extractor = HoughSplit::new(HoughSplitParams::mapping())?;
 //! let mut lines = Vec::new();
 //! let truth: Vec<Se2> = (0..20).map(|k| Se2::new(-1.0 + 0.1 * f64::from(k), 0.2, 0.05 * f64::from(k))).collect();
 //! for t in &truth {

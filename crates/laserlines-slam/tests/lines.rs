@@ -13,7 +13,7 @@ use laserlines_slam::lines::{LineMatchParams, match_lines};
 fn lines_of_two_scans_give_their_relative_pose() {
     let world = common::room();
     let model = LaserModel::urg04lx();
-    let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    let mut hs = HoughSplit::new(HoughSplitParams::mapping()).unwrap();
     for (seed, (a, truth)) in [
         (Se2::new(-1.0, 0.0, 0.1), Se2::new(0.15, -0.1, 0.05)),
         (Se2::new(2.0, -1.0, 2.0), Se2::new(-0.1, 0.2, -0.12)),
@@ -42,7 +42,7 @@ fn lines_of_two_scans_give_their_relative_pose() {
 #[test]
 fn one_wall_does_not_fix_a_pose() {
     // A single line leaves the translation along it free: no answer rather than a guess.
-    let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    let mut hs = HoughSplit::new(HoughSplitParams::mapping()).unwrap();
     let inc = 0.5_f64.to_radians();
     let ranges: Vec<f64> = (0..121)
         .map(|i| 2.0 / (-std::f64::consts::FRAC_PI_6 + f64::from(i) * inc).cos())

@@ -82,7 +82,7 @@ fn run_with(
         mapper_params.loops.every_scans = 0;
     }
     let mut mapper = Mapper::new(mapper_params);
-    let mut extractor = HoughSplit::new(HoughSplitParams::default()).unwrap();
+    let mut extractor = HoughSplit::new(HoughSplitParams::mapping()).unwrap();
     let (mut scan, mut true_ranges, mut lines) = (Scan::default(), Vec::new(), Vec::new());
     let mut truth = Vec::new();
     let mut odometry = Vec::new();

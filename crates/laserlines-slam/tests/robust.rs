@@ -37,7 +37,7 @@ proptest! {
         ),
     ) {
         let mut mapper = Mapper::new(MapperParams::default());
-        let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+        let mut hs = HoughSplit::new(HoughSplitParams::mapping()).unwrap();
         let mut lines = Vec::new();
         let mut added = 0;
         for (ranges, angle_min, inc, odom) in scans {

@@ -105,7 +105,7 @@ fn map_log(
     start: Instant,
 ) -> Result<Option<anyhow::Error>> {
     super::note_unused_tables(args.params.file_path(), &["hough-split"], "map")?;
-    let mut extractor = super::make_hough_split(&args.params)?;
+    let mut extractor = super::make_mapping_hough_split(&args.params)?;
     let mut params = MapperParams::default();
     if args.loop_closure == OnOff::Off {
         params.loops.every_scans = 0;

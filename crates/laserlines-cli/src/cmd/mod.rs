@@ -86,6 +86,15 @@ pub fn make_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
     HoughSplit::new(p).context("hough-split parameters")
 }
 
+/// [`make_hough_split`] for scan matching: without shared fits
+/// ([`laserlines::HoughSplitParams::mapping`]), whatever `params` say of them.
+pub fn make_mapping_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
+    let file = params.file(registry::HOUGH_SPLIT.name)?;
+    let mut p = file.algorithm_params(&registry::HOUGH_SPLIT)?;
+    p.share_fits = false;
+    HoughSplit::new(p).context("hough-split parameters")
+}
+
 /// `n` and the noun, in the singular for one (`1 scan`, `2 scans`, `3 passes`).
 pub fn count(n: u64, noun: &str) -> String {
     if n == 1 {
