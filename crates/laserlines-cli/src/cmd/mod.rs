@@ -81,17 +81,23 @@ pub fn make_extractor(algorithm: &str, params: &ParamsArgs) -> Result<BoxedExtra
 
 /// A HoughSplit extractor with its parameters from `params` ([`ParamsArgs::file`]).
 pub fn make_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
-    let file = params.file(registry::HOUGH_SPLIT.name)?;
-    let p = file.algorithm_params(&registry::HOUGH_SPLIT)?;
-    HoughSplit::new(p).context("hough-split parameters")
+    make_hough_split_with(params, |_| {})
 }
 
 /// [`make_hough_split`] for scan matching: without shared fits
 /// ([`laserlines::HoughSplitParams::mapping`]), whatever `params` say of them.
 pub fn make_mapping_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
+    make_hough_split_with(params, |p| p.share_fits = false)
+}
+
+/// A HoughSplit extractor with its parameters from `params`, then changed by `adjust`.
+fn make_hough_split_with(
+    params: &ParamsArgs,
+    adjust: impl FnOnce(&mut laserlines::HoughSplitParams),
+) -> Result<HoughSplit> {
     let file = params.file(registry::HOUGH_SPLIT.name)?;
     let mut p = file.algorithm_params(&registry::HOUGH_SPLIT)?;
-    p.share_fits = false;
+    adjust(&mut p);
     HoughSplit::new(p).context("hough-split parameters")
 }
 

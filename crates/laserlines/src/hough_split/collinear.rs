@@ -56,32 +56,24 @@ pub(crate) fn share_fits(
     let n = lines.len().min(candidates.len());
     if p.share_fits && p.split_significance > 0.0 {
         group_lines(&candidates[..n], noise, groups);
-    } else {
-        groups.group.clear();
-        groups.sums.clear();
-        groups.tried.clear();
-        for c in &candidates[..n] {
-            groups.group.push(groups.sums.len() as u32);
-            groups.sums.push((c.sums, 1));
+        // Which neighbours share a corner (the end of one the start of the next).
+        let Groups {
+            group,
+            sums: joint,
+            corners,
+            moved,
+            ..
+        } = groups;
+        corners.clear();
+        corners.extend((1..n).map(|k| lines[k - 1].end == lines[k].start));
+        moved.clear();
+        for j in 0..n {
+            let (s, count) = joint[group[j] as usize];
+            moved.push(count >= 2 && take_fit(&mut lines[j], &candidates[j], &s, p, noise));
         }
-    }
-    // Which neighbours share a corner (the end of one the start of the next).
-    let Groups {
-        group,
-        sums: joint,
-        corners,
-        moved,
-        ..
-    } = groups;
-    corners.clear();
-    corners.extend((1..n).map(|k| lines[k - 1].end == lines[k].start));
-    moved.clear();
-    for j in 0..n {
-        let (s, count) = joint[group[j] as usize];
-        moved.push(count >= 2 && take_fit(&mut lines[j], &candidates[j], &s, p, noise));
-    }
-    if moved.contains(&true) {
-        rejoin_corners(&mut lines[..n], &candidates[..n], groups, p, noise);
+        if moved.contains(&true) {
+            rejoin_corners(&mut lines[..n], &candidates[..n], groups, p, noise);
+        }
     }
     let mut kept = 0;
     for j in 0..n {
@@ -149,8 +141,7 @@ fn take_fit(
     if !matches!(rough, Some(Ordering::Less | Ordering::Equal)) {
         return false;
     }
-    let project = |q: Point2| q - normal * (q.coords.dot(&normal) - fit.r);
-    let (start, end) = (project(own.ends.0), project(own.ends.1));
+    let (start, end) = (fit.project(own.ends.0), fit.project(own.ends.1));
     // Projected onto a line of another direction, the segment shortens: it stays a surface
     // and keeps its direction, or keeps its own fit.
     let long = (end - start).norm() >= p.min_line_length;
