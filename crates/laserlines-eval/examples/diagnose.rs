@@ -87,6 +87,26 @@ fn main() {
                 p.length(),
                 p.sigma_r
             );
+            if let Some(l) = lines
+                .iter()
+                .max_by_key(|l| (l.last.min(p.last) + 1).saturating_sub(l.first.max(p.first)))
+                .filter(|l| l.last >= p.first && l.first <= p.last)
+            {
+                println!(
+                    "    nearest line beams {}..{} dr {:.3} dalpha {:.1} n {} sd_r {:.4} sd_alpha {:.2}",
+                    l.first,
+                    l.last,
+                    l.r - p.r,
+                    laserlines::math::angle_diff(l.alpha, p.alpha)
+                        .abs()
+                        .to_degrees(),
+                    l.points,
+                    l.covariance[(0, 0)].sqrt(),
+                    l.covariance[(1, 1)].sqrt().to_degrees()
+                );
+            } else {
+                println!("    no line on it");
+            }
         }
         for &li in &m.false_lines {
             let l = &lines[li];

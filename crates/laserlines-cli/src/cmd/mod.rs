@@ -84,10 +84,13 @@ pub fn make_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
     make_hough_split_with(params, |_| {})
 }
 
-/// [`make_hough_split`] for scan matching: without shared fits
-/// ([`laserlines::HoughSplitParams::mapping`]), whatever `params` say of them.
+/// [`make_hough_split`] for scan matching: without shared fits and with `sigma(r)` across
+/// every line ([`laserlines::HoughSplitParams::mapping`]), whatever `params` say of them.
 pub fn make_mapping_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
-    make_hough_split_with(params, |p| p.share_fits = false)
+    make_hough_split_with(params, |p| {
+        p.share_fits = false;
+        p.noise_along_beams = false;
+    })
 }
 
 /// A HoughSplit extractor with its parameters from `params`, then changed by `adjust`.

@@ -188,7 +188,8 @@ fn errors_name_the_file_the_table_and_the_key() {
          `sector_step`, `window`, `weight`, `criterion`, `group_gap`, `noise`, \
          `noise_floor`, `bridge_beams`, `bridge_incidence`, `bridge_sigmas`, \
          `bridge_max_gap`, `min_segment_points`, `split_sigmas`, `split_significance`, \
-         `merge_collinear`, `share_fits`, `refine_ends`, `min_line_points`, \
+         `noise_along_beams`, `merge_collinear`, `share_fits`, `refine_ends`, \
+         `min_line_points`, \
          `min_line_length`, `max_rms_sigmas`, `max_alpha_sd`, `max_r_sd`, \
          `remove_mixed_pixels`, `min_range`, `range_limits`"
     );

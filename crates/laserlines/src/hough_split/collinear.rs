@@ -1,14 +1,14 @@
 //! Step 7: lines of one surface across data segments share one fit. A wall seen on both
 //! sides of a leg, a box or a missing stretch gives a line on each side; when their joint
-//! line explains both sets of points as well as two lines do (the split's significance test,
-//! at the plain chi-square quantile), each keeps its own points and extent but takes the
-//! joint fit's `r`, `alpha` and covariance, which the points of both pin down better than
-//! either set alone.
+//! line explains both sets of points as well as two lines do (a chi-square test on the rise
+//! of their residuals, in variances of the noise across the joint line), each keeps its own
+//! points and extent but takes the joint fit's `r`, `alpha` and covariance, which the points
+//! of both pin down better than either set alone.
 
 use std::cmp::Ordering;
 
 use super::lines::{Candidate, certain, floored_covariance, meeting_point};
-use super::linseg::two_lines_significant;
+use super::linseg::{incidence_cos, variance_at};
 use super::params::HoughSplitParams;
 use crate::fit::FitSums;
 use crate::line::Line;
@@ -55,7 +55,7 @@ pub(crate) fn share_fits(
 ) {
     let n = lines.len().min(candidates.len());
     if p.share_fits && p.split_significance > 0.0 {
-        group_lines(&candidates[..n], noise, groups);
+        group_lines(&candidates[..n], noise, p.noise_along_beams, groups);
         // Which neighbours share a corner (the end of one the start of the next).
         let Groups {
             group,
@@ -160,7 +160,7 @@ fn take_fit(
 /// Fills `groups`: each line joins the group of the nearest line before it (of the
 /// `MAX_TRIED` nearest groups) whose group's points and its own one line explains, else
 /// starts its own.
-fn group_lines(candidates: &[Candidate], noise: &RangeNoise, groups: &mut Groups) {
+fn group_lines(candidates: &[Candidate], noise: &RangeNoise, along: bool, groups: &mut Groups) {
     let Groups {
         group,
         sums: joint,
@@ -186,7 +186,7 @@ fn group_lines(candidates: &[Candidate], noise: &RangeNoise, groups: &mut Groups
             }
             left -= 1;
             tried[g] = j as u32;
-            if one_line(&joint[g].0, own, noise) {
+            if one_line(&joint[g].0, own, noise, along) {
                 found = Some(g);
                 break;
             }
@@ -206,12 +206,33 @@ fn group_lines(candidates: &[Candidate], noise: &RangeNoise, groups: &mut Groups
     }
 }
 
-/// True when one line explains the points of `a` and of `b` as well as two lines do.
-fn one_line(a: &FitSums, b: &FitSums, noise: &RangeNoise) -> bool {
-    let whole = a.join(b);
-    let two = a.sse() + b.sse();
-    let dof = whole.len().saturating_sub(4);
-    !two_lines_significant(&whole, two, dof, SHARE_CHI2, noise)
+/// True when one line explains the points of `a` and of `b` as well as two lines do: the
+/// rise of each set's sum of squared residuals about the joint line, in variances of the
+/// noise across that line, adds up to less than the chi-square quantile. Range noise lies
+/// along the beams, so across a line it is `sigma(r) cos(incidence)` ([`incidence_cos`]): a
+/// set seen at a glancing angle of the joint line must lie on it that much more closely (two
+/// objects far apart are otherwise explained by a line that passes near the sensor and
+/// meets both at a grazing angle). A set whose own line leaves larger residuals is judged by
+/// those (noise larger than the model never keeps two lines apart). Without `along` (the
+/// `noise_along_beams` parameter) the noise across the line is `sigma(r)`.
+fn one_line(a: &FitSums, b: &FitSums, noise: &RangeNoise, along: bool) -> bool {
+    let Some(joint) = a.join(b).normal_fit() else {
+        return true;
+    };
+    let mut chi2 = 0.0;
+    for s in [a, b] {
+        let Some(c) = s.centroid() else { continue };
+        let rise = s.sse_about(joint.normal, joint.r) - s.sse();
+        let cos = incidence_cos(c, joint.normal, along);
+        let own = if s.len() > 2 {
+            s.sse() / (s.len() - 2) as f64
+        } else {
+            0.0
+        };
+        chi2 += rise / (variance_at(s, noise) * cos * cos).max(own);
+    }
+    // NaN (degenerate sums) shares nothing.
+    chi2 <= SHARE_CHI2
 }
 
 #[cfg(test)]
@@ -304,5 +325,26 @@ mod tests {
         assert_eq!(lines.len(), 2);
         assert_eq!(lines[1].points, 10);
         assert!(certain(&lines[1].covariance, &HoughSplitParams::default()));
+    }
+
+    /// The sums of `n` points from `a` to `b`.
+    fn run(a: Point2, b: Point2, n: usize) -> FitSums {
+        FitSums::from_points((0..n).map(|i| a + (b - a) * (i as f64 / (n - 1) as f64)))
+    }
+
+    #[test]
+    fn objects_far_apart_share_no_line_that_grazes_both() {
+        let noise = RangeNoise::new(0.01, 0.01);
+        // Two faces of 6 cm, 3 m off on both sides, facing the sensor: a line x = 0.5
+        // passes within 3 cm of every point, within sigma(3 m) = 3 cm but at 80 deg of
+        // incidence, where the noise across it is 5 mm.
+        let a = run(Point2::new(0.47, 3.0), Point2::new(0.53, 3.0), 8);
+        let b = run(Point2::new(0.47, -3.0), Point2::new(0.53, -3.0), 8);
+        assert!(!one_line(&a, &b, &noise, true));
+        assert!(one_line(&a, &b, &noise, false));
+        // Two pieces of that line itself, as glancing as they are, do share it.
+        let a = run(Point2::new(0.5, 2.9), Point2::new(0.5, 3.1), 8);
+        let b = run(Point2::new(0.5, -3.1), Point2::new(0.5, -2.9), 8);
+        assert!(one_line(&a, &b, &noise, true));
     }
 }

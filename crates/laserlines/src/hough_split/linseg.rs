@@ -5,7 +5,7 @@
 use super::params::HoughSplitParams;
 use super::points::Seg;
 use crate::fit::FitSums;
-use crate::math::Point2;
+use crate::math::{Point2, Vector2};
 use crate::noise::RangeNoise;
 
 /// Working memory of the split.
@@ -42,14 +42,50 @@ pub(crate) fn sums(pre: &[FitSums], from: usize, to: usize) -> FitSums {
     pre[to].since(&pre[from])
 }
 
-/// The noise variance a test on the points `seg[a..=b]` uses: `sigma(r)^2` at their
-/// centroid's range.
-pub(crate) fn model_variance(pre: &[FitSums], a: usize, b: usize, noise: &RangeNoise) -> f64 {
-    variance_at(&sums(pre, a, b + 1), noise)
+/// The noise variance a test on the points `seg[a..=b]` uses: the range noise seen across
+/// their line at their centroid ([`variance_across`]).
+pub(crate) fn model_variance(
+    pre: &[FitSums],
+    (a, b): (usize, usize),
+    noise: &RangeNoise,
+    along: bool,
+) -> f64 {
+    variance_across(&sums(pre, a, b + 1), noise, along)
+}
+
+/// The smallest cosine of a beam's incidence on a surface the tests take: beams within
+/// 84 deg of the surface's normal.
+pub(crate) const MIN_INCIDENCE_COS: f64 = 0.1;
+
+/// The cosine of the angle between the beam through `p` and the unit `normal` of a line,
+/// clamped to `MIN_INCIDENCE_COS..=1` (1 at the origin, and without `along`: the
+/// `noise_along_beams` parameter). Range noise lies along the beam: across the line it is
+/// `sigma(r)` times this.
+pub(crate) fn incidence_cos(p: Point2, normal: Vector2, along: bool) -> f64 {
+    let d = p.coords.norm();
+    if along && d > 0.0 {
+        // `max` first: a NaN gives the clamp's floor.
+        (p.coords.dot(&normal).abs() / d)
+            .max(MIN_INCIDENCE_COS)
+            .min(1.0)
+    } else {
+        1.0
+    }
+}
+
+/// `sigma(r)^2 cos^2(incidence)` at the centroid of `s`, for the line fitted to `s`: the
+/// variance of the range noise across that line (`sigma(r)^2` when `s` fits no line, or
+/// without `along`).
+pub(crate) fn variance_across(s: &FitSums, noise: &RangeNoise, along: bool) -> f64 {
+    let cos = match (along, s.normal_fit(), s.centroid()) {
+        (true, Some(f), Some(c)) => incidence_cos(c, f.normal, true),
+        _ => 1.0,
+    };
+    variance_at(s, noise) * cos * cos
 }
 
 /// `sigma(r)^2` at the range of the centroid of `s`: `max(sigma_min^2, fraction^2 r^2)`.
-fn variance_at(s: &FitSums, noise: &RangeNoise) -> f64 {
+pub(crate) fn variance_at(s: &FitSums, noise: &RangeNoise) -> f64 {
     let r2 = s.centroid_norm_squared();
     let (floor, growth) = (
         noise.sigma_min * noise.sigma_min,
@@ -60,9 +96,9 @@ fn variance_at(s: &FitSums, noise: &RangeNoise) -> f64 {
 
 /// True when two lines, `seg[a..=m]` and `seg[m..=b]`, explain the points `seg[a..=b]`
 /// significantly better than one: the drop of the sum of squared residuals exceeds
-/// `split_significance` times the noise variance, the larger of the model's `sigma(r)^2` and
-/// the two lines' own residual variance (so that noise larger than the model never makes a
-/// split significant).
+/// `split_significance` times the noise variance, the larger of the model's noise across the
+/// joint line ([`variance_across`]) and the two lines' own residual variance (so that noise
+/// larger than the model never makes a split significant).
 pub(crate) fn split_is_significant(
     pre: &[FitSums],
     a: usize,
@@ -75,23 +111,9 @@ pub(crate) fn split_is_significant(
     let two = sums(pre, a, m + 1).sse() + sums(pre, m, b + 1).sse();
     // Both lines hold the shared point: n + 1 residuals, four parameters.
     let dof = (b - a + 1).saturating_sub(3);
-    two_lines_significant(&whole, two, dof, p.split_significance, noise)
-}
-
-/// True when two lines, whose sum of squared residuals is `two` with `dof` degrees of
-/// freedom, explain the points summed in `whole` significantly better than one line: the
-/// drop exceeds `significance` times the noise variance, the larger of the model's
-/// `sigma(r)^2` at the centroid and the two lines' own residual variance.
-pub(crate) fn two_lines_significant(
-    whole: &FitSums,
-    two: f64,
-    dof: usize,
-    significance: f64,
-    noise: &RangeNoise,
-) -> bool {
     let residual = if dof > 0 { two / dof as f64 } else { 0.0 };
-    let variance = variance_at(whole, noise).max(residual);
-    whole.sse() - two > significance * variance
+    let variance = variance_across(&whole, noise, p.noise_along_beams).max(residual);
+    whole.sse() - two > p.split_significance * variance
 }
 
 /// The position in `a + 1..b` where two lines fit `seg[a..=b]` best (least total squared
@@ -151,14 +173,25 @@ fn split_point(
         return None;
     }
     let far = seg.point(middle);
-    if chord_distance(far, pa, pb) <= p.split_sigmas * noise.sigma(seg.range(middle)) {
+    // The noise across the chord at the farthest point.
+    let cos = if degenerate {
+        1.0
+    } else {
+        incidence_cos(
+            far,
+            Vector2::new(-ab.y, ab.x) / ab.norm(),
+            p.noise_along_beams,
+        )
+    };
+    if chord_distance(far, pa, pb) <= p.split_sigmas * noise.sigma(seg.range(middle)) * cos {
         return None;
     }
     if p.split_significance <= 0.0 || split_is_significant(pre, a, middle, b, p, noise) {
         return Some(middle);
     }
     let dof = (b - a).saturating_sub(1) as f64;
-    let one_line = sums(pre, a, b + 1).sse() / model_variance(pre, a, b, noise);
+    let one_line =
+        sums(pre, a, b + 1).sse() / model_variance(pre, (a, b), noise, p.noise_along_beams);
     if one_line <= dof + 5.3 * (2.0 * dof).sqrt() {
         return None;
     }
