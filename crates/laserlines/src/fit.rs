@@ -146,6 +146,28 @@ impl FitSums {
         if v.is_finite() { v } else { 0.0 }
     }
 
+    /// The squared cosine of the angle between the normal of the best line through the
+    /// points and the direction of their centroid from the origin, `(r / |centroid|)^2` of
+    /// [`FitSums::fit`], without the line: the normal's projector is `(l1 I - M) / (l1 - l2)`
+    /// for the centred scatter matrix `M` of eigenvalues `l1 >= l2`. `None` where `fit` gives
+    /// no line, where the scatter has no direction (`l1 = l2`) and at the origin.
+    #[must_use]
+    pub fn incidence_cos2(&self) -> Option<f64> {
+        if self.n < 2 {
+            return None;
+        }
+        let inv = 1.0 / self.n as f64;
+        let (cx, cy) = (self.sx * inv, self.sy * inv);
+        let s = self.scatter(cx, cy)?;
+        let c2 = cx * cx + cy * cy;
+        let gap = s.spread - s.lambda;
+        if !(c2 > 0.0 && gap > 0.0) {
+            return None;
+        }
+        let along = s.mxx * cx * cx + 2.0 * s.mxy * cx * cy + s.myy * cy * cy;
+        Some(((s.spread * c2 - along) / (gap * c2)).clamp(0.0, 1.0))
+    }
+
     /// The squared distance of the centroid from the origin, m^2 (0 when empty).
     #[must_use]
     pub fn centroid_norm_squared(&self) -> f64 {
@@ -535,7 +557,19 @@ mod tests {
             for p in &pts {
                 assert!((g.distance(*p) - f.distance(*p)).abs() < 1e-12);
             }
+            let c = f.centroid.coords;
+            let cos2 = (c.dot(&f.normal()) / c.norm()).powi(2);
+            assert!((s.incidence_cos2().unwrap() - cos2).abs() < 1e-9, "{slope}");
         }
+        // Points on a line through the origin: the beams run along it.
+        let radial =
+            FitSums::from_points((1..9).map(|i| Point2::new(f64::from(i), 2.0 * f64::from(i))));
+        assert!(radial.incidence_cos2().unwrap() < 1e-12);
+        assert!(
+            FitSums::from_points([Point2::new(1.0, 1.0); 3])
+                .incidence_cos2()
+                .is_none()
+        );
         assert!(fit_points(&[Point2::new(1.0, 1.0); 3]).is_none());
         assert!(
             FitSums::from_points([Point2::new(1.0, 1.0); 3])

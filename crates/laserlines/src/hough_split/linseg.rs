@@ -77,11 +77,13 @@ pub(crate) fn incidence_cos(p: Point2, normal: Vector2, along: bool) -> f64 {
 /// variance of the range noise across that line (`sigma(r)^2` when `s` fits no line, or
 /// without `along`).
 pub(crate) fn variance_across(s: &FitSums, noise: &RangeNoise, along: bool) -> f64 {
-    let cos = match (along, s.normal_fit(), s.centroid()) {
-        (true, Some(f), Some(c)) => incidence_cos(c, f.normal, true),
-        _ => 1.0,
+    let floor = MIN_INCIDENCE_COS * MIN_INCIDENCE_COS;
+    let cos2 = if along {
+        s.incidence_cos2().map_or(1.0, |c2| c2.max(floor).min(1.0))
+    } else {
+        1.0
     };
-    variance_at(s, noise) * cos * cos
+    variance_at(s, noise) * cos2
 }
 
 /// `sigma(r)^2` at the range of the centroid of `s`: `max(sigma_min^2, fraction^2 r^2)`.
