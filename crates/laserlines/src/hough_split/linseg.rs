@@ -64,10 +64,13 @@ pub(crate) const MIN_INCIDENCE_COS: f64 = 0.1;
 pub(crate) fn incidence_cos(p: Point2, normal: Vector2, along: bool) -> f64 {
     let d = p.coords.norm();
     if along && d > 0.0 {
-        // `max` first: a NaN gives the clamp's floor.
-        (p.coords.dot(&normal).abs() / d)
-            .max(MIN_INCIDENCE_COS)
-            .min(1.0)
+        let cos = p.coords.dot(&normal).abs() / d;
+        // A NaN fails the test and gives the floor.
+        if cos >= MIN_INCIDENCE_COS {
+            cos.min(1.0)
+        } else {
+            MIN_INCIDENCE_COS
+        }
     } else {
         1.0
     }
@@ -79,7 +82,9 @@ pub(crate) fn incidence_cos(p: Point2, normal: Vector2, along: bool) -> f64 {
 pub(crate) fn variance_across(s: &FitSums, noise: &RangeNoise, along: bool) -> f64 {
     let floor = MIN_INCIDENCE_COS * MIN_INCIDENCE_COS;
     let cos2 = if along {
-        s.incidence_cos2().map_or(1.0, |c2| c2.max(floor).min(1.0))
+        // A NaN fails the test and gives the floor.
+        s.incidence_cos2()
+            .map_or(1.0, |c2| if c2 >= floor { c2.min(1.0) } else { floor })
     } else {
         1.0
     };
