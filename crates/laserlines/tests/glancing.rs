@@ -2,6 +2,8 @@
 //! angle it is `sigma(r) cos(incidence)`, so a shallow bend there stands far out of the
 //! noise though it lies within `split_sigmas * sigma(r)` of the chord.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
 mod common;
 
 use common::{BEAMS, Rng, angle_min, increment};
