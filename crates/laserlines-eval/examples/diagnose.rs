@@ -1,5 +1,6 @@
 //! Lists what `hough-split` got wrong on a simulated suite: every missed significant piece
-//! and every false line, with the scan it came from, so that a failure can be looked at.
+//! (with the line that overlaps it most, or "no line on it") and every false line, with the
+//! scan it came from, so that a failure can be looked at.
 //!
 //! ```sh
 //! cargo run --release -p laserlines-eval --example diagnose -- clutter urg04lx-full 40
@@ -14,8 +15,10 @@
 //! standard errors under the simulated noise (independent normal errors). No extractor can
 //! expect more.
 
+use laserlines::Line;
 use laserlines::registry;
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
+use laserlines_eval::truth::ExpectedPiece;
 use laserlines_eval::workload::{TEST_SEED, sensor, suite_scans};
 use laserlines_eval::{MatchParams, match_lines};
 
@@ -76,37 +79,7 @@ fn main() {
         }
         println!("{} noise {}", s.name, hs.stages().noise());
         for i in missed {
-            let p = &truth[i];
-            println!(
-                "  missed piece {i}: wall {} beams {}..{} r {:.3} alpha {:.1} len {:.2} sigma_r {:.4}",
-                p.wall,
-                p.first,
-                p.last,
-                p.r,
-                p.alpha.to_degrees(),
-                p.length(),
-                p.sigma_r
-            );
-            if let Some(l) = lines
-                .iter()
-                .max_by_key(|l| (l.last.min(p.last) + 1).saturating_sub(l.first.max(p.first)))
-                .filter(|l| l.last >= p.first && l.first <= p.last)
-            {
-                println!(
-                    "    nearest line beams {}..{} dr {:.3} dalpha {:.1} n {} sd_r {:.4} sd_alpha {:.2}",
-                    l.first,
-                    l.last,
-                    l.r - p.r,
-                    laserlines::math::angle_diff(l.alpha, p.alpha)
-                        .abs()
-                        .to_degrees(),
-                    l.points,
-                    l.covariance[(0, 0)].sqrt(),
-                    l.covariance[(1, 1)].sqrt().to_degrees()
-                );
-            } else {
-                println!("    no line on it");
-            }
+            print_missed(i, &truth[i], &lines);
         }
         for &li in &m.false_lines {
             let l = &lines[li];
@@ -143,6 +116,41 @@ fn main() {
         "ideal fit of each piece's own beams: TP rate {:.3} on average over {significant} significant pieces",
         ceiling / significant.max(1) as f64
     );
+}
+
+/// Prints missed piece `i` and the line that overlaps it most, if any (with its errors and
+/// standard errors).
+fn print_missed(i: usize, p: &ExpectedPiece, lines: &[Line]) {
+    println!(
+        "  missed piece {i}: wall {} beams {}..{} r {:.3} alpha {:.1} len {:.2} sigma_r {:.4}",
+        p.wall,
+        p.first,
+        p.last,
+        p.r,
+        p.alpha.to_degrees(),
+        p.length(),
+        p.sigma_r
+    );
+    if let Some(l) = lines
+        .iter()
+        .max_by_key(|l| (l.last.min(p.last) + 1).saturating_sub(l.first.max(p.first)))
+        .filter(|l| l.last >= p.first && l.first <= p.last)
+    {
+        println!(
+            "    nearest line beams {}..{} dr {:.3} dalpha {:.1} n {} sd_r {:.4} sd_alpha {:.2}",
+            l.first,
+            l.last,
+            l.r - p.r,
+            laserlines::math::angle_diff(l.alpha, p.alpha)
+                .abs()
+                .to_degrees(),
+            l.points,
+            l.covariance[(0, 0)].sqrt(),
+            l.covariance[(1, 1)].sqrt().to_degrees()
+        );
+    } else {
+        println!("    no line on it");
+    }
 }
 
 /// The chance that a normal error of standard deviation `sd` lies within `tol`.

@@ -15,9 +15,10 @@ use crate::line::Line;
 use crate::math::{Point2, Vector2};
 use crate::noise::RangeNoise;
 
-/// The drop of the sum of squared residuals, in noise variances, beyond which two lines are
-/// two surfaces: the chi-square quantile of 2 degrees of freedom at the 1e-3 level. Unlike
-/// the split's `split_significance`, no search over split points lies behind it.
+/// The rise of the sum of squared residuals from two lines to one, in variances of the noise
+/// across the line, beyond which two lines are two surfaces: the chi-square quantile of 2
+/// degrees of freedom at the 1e-3 level. Unlike the split's `split_significance`, no search
+/// over split points lies behind it.
 const SHARE_CHI2: f64 = 13.82;
 
 /// Most groups a line tries to join (those of the nearest lines before it): bounds the
@@ -206,33 +207,44 @@ fn group_lines(candidates: &[Candidate], noise: &RangeNoise, along: bool, groups
     }
 }
 
-/// True when one line explains the points of `a` and of `b` as well as two lines do: the
-/// rise of each set's sum of squared residuals about the joint line, in variances of the
-/// noise across that line, adds up to less than the chi-square quantile. Range noise lies
-/// along the beams, so across a line it is `sigma(r) cos(incidence)` ([`incidence_cos`]): a
-/// set seen at a glancing angle of the joint line must lie on it that much more closely (two
-/// objects far apart are otherwise explained by a line that passes near the sensor and
-/// meets both at a grazing angle). A set whose own line leaves larger residuals is judged by
-/// those (noise larger than the model never keeps two lines apart). Without `along` (the
-/// `noise_along_beams` parameter) the noise across the line is `sigma(r)`.
+/// True when one line explains the points of `a` and of `b` as well as two lines do.
+///
+/// With `along` (the `noise_along_beams` parameter): the rise of each set's sum of squared
+/// residuals about the joint line, in variances of the noise across that line, adds up to
+/// less than the chi-square quantile. Range noise lies along the beams, so across a line it
+/// is `sigma(r) cos(incidence)` ([`incidence_cos`]): a set seen at a glancing angle of the
+/// joint line must lie on it that much more closely (two objects far apart are otherwise
+/// explained by a line that passes near the sensor and meets both at a grazing angle). A set
+/// whose own line leaves larger residuals is judged by those (noise larger than the model
+/// never keeps two lines apart). The joint line is the unweighted fit, so where the two sets'
+/// variances differ (below the range where `sigma_min` gives way to `fraction * r`) the sum
+/// only approximates a chi-square and errs towards two lines.
+///
+/// Without `along`, or when the joint points fit no line: the joint line's sum of squared
+/// residuals exceeds the two lines' by less than the quantile times `sigma(r)^2` at the
+/// joint centroid, or times the two lines' residual variance when larger.
 fn one_line(a: &FitSums, b: &FitSums, noise: &RangeNoise, along: bool) -> bool {
-    let Some(joint) = a.join(b).normal_fit() else {
-        return true;
-    };
-    let mut chi2 = 0.0;
-    for s in [a, b] {
-        let Some(c) = s.centroid() else { continue };
-        let rise = s.sse_about(joint.normal, joint.r) - s.sse();
-        let cos = incidence_cos(c, joint.normal, along);
-        let own = if s.len() > 2 {
-            s.sse() / (s.len() - 2) as f64
-        } else {
-            0.0
-        };
-        chi2 += rise / (variance_at(s, noise) * cos * cos).max(own);
+    let whole = a.join(b);
+    if let (true, Some(joint)) = (along, whole.normal_fit()) {
+        let mut chi2 = 0.0;
+        for s in [a, b] {
+            let Some(c) = s.centroid() else { continue };
+            let rise = s.sse_about(joint.normal, joint.r) - s.sse();
+            let cos = incidence_cos(c, joint.normal, true);
+            let own = if s.len() > 2 {
+                s.sse() / (s.len() - 2) as f64
+            } else {
+                0.0
+            };
+            chi2 += rise / (variance_at(s, noise) * cos * cos).max(own);
+        }
+        // A NaN (absurd sums) shares nothing.
+        return chi2 <= SHARE_CHI2;
     }
-    // NaN (degenerate sums) shares nothing.
-    chi2 <= SHARE_CHI2
+    let two = a.sse() + b.sse();
+    let dof = whole.len().saturating_sub(4);
+    let residual = if dof > 0 { two / dof as f64 } else { 0.0 };
+    whole.sse() - two <= SHARE_CHI2 * variance_at(&whole, noise).max(residual)
 }
 
 #[cfg(test)]
@@ -335,16 +347,17 @@ mod tests {
     #[test]
     fn objects_far_apart_share_no_line_that_grazes_both() {
         let noise = RangeNoise::new(0.01, 0.01);
-        // Two faces of 6 cm, 3 m off on both sides, facing the sensor: a line x = 0.5
-        // passes within 3 cm of every point, within sigma(3 m) = 3 cm but at 80 deg of
-        // incidence, where the noise across it is 5 mm.
+        // Two faces of 6 cm at 3 and 5 m, facing the sensor: the line x = 0.5 passes within
+        // 3 cm of every point, well within sigma(4 m) = 4 cm, but at 80 and 84 deg of
+        // incidence, where the noise across it is 5 and 4 mm.
         let a = run(Point2::new(0.47, 3.0), Point2::new(0.53, 3.0), 8);
-        let b = run(Point2::new(0.47, -3.0), Point2::new(0.53, -3.0), 8);
+        let b = run(Point2::new(0.47, 5.0), Point2::new(0.53, 5.0), 8);
         assert!(!one_line(&a, &b, &noise, true));
         assert!(one_line(&a, &b, &noise, false));
         // Two pieces of that line itself, as glancing as they are, do share it.
         let a = run(Point2::new(0.5, 2.9), Point2::new(0.5, 3.1), 8);
-        let b = run(Point2::new(0.5, -3.1), Point2::new(0.5, -2.9), 8);
+        let b = run(Point2::new(0.5, 4.9), Point2::new(0.5, 5.1), 8);
         assert!(one_line(&a, &b, &noise, true));
+        assert!(one_line(&a, &b, &noise, false));
     }
 }

@@ -23,6 +23,7 @@ mod linseg;
 mod mixed;
 mod params;
 mod points;
+mod presets;
 mod segment;
 
 pub use crate::params::ParamsError;
