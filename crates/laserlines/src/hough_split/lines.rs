@@ -2,7 +2,7 @@
 //! where each line ends, the least-squares fits with their covariance, and the filters that
 //! keep surfaces and drop legs, posts and clutter.
 
-use super::linseg::{split_is_significant, sums};
+use super::linseg::{incidence_cos, split_is_significant, sums};
 use super::params::HoughSplitParams;
 use super::points::Seg;
 use crate::fit::{FitSums, NormalFit, PolarFit};
@@ -71,8 +71,11 @@ impl Pieces<'_> {
         let left = sums(self.pre, lo, wlo).normal_fit();
         let right = sums(self.pre, whi + 1, next + 1).normal_fit();
         let near = |fit: &NormalFit, k: usize| {
-            fit.distance(self.point(k)).abs()
-                <= self.p.split_sigmas * self.noise.sigma(self.seg.range(k))
+            let q = self.point(k);
+            fit.distance(q).abs()
+                <= self.p.split_sigmas
+                    * self.noise.sigma(self.seg.range(k))
+                    * incidence_cos(q, fit.normal, self.p.noise_along_beams)
         };
         let (left, right) = match (left, right) {
             (Some(l), Some(r)) => (l, r),
@@ -169,7 +172,8 @@ impl Pieces<'_> {
             } else if d.signum() != sign || d.abs() > outermost {
                 bent = false;
             }
-            let noise = self.noise.sigma(self.seg.range(k));
+            let noise = self.noise.sigma(self.seg.range(k))
+                * incidence_cos(sp, normal, self.p.noise_along_beams);
             let t = -sp.x * sa + sp.y * ca;
             let line_var = cov[(0, 0)] - 2.0 * t * cov[(0, 1)] + t * t * cov[(1, 1)];
             chi2 += d * d / ((noise * noise).max(residual) + line_var.max(0.0));
