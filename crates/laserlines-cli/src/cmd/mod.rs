@@ -81,27 +81,23 @@ pub fn make_extractor(algorithm: &str, params: &ParamsArgs) -> Result<BoxedExtra
 
 /// A HoughSplit extractor with its parameters from `params` ([`ParamsArgs::file`]).
 pub fn make_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
-    make_hough_split_with(params, |_| {})
+    make_hough_split_with(params, |p| p)
 }
 
 /// [`make_hough_split`] for scan matching: without shared fits and with `sigma(r)` across
-/// every line ([`laserlines::HoughSplitParams::mapping`]), whatever `params` say of them.
+/// every line ([`laserlines::HoughSplitParams::for_mapping`]), whatever `params` say of them.
 pub fn make_mapping_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
-    make_hough_split_with(params, |p| {
-        p.share_fits = false;
-        p.noise_along_beams = false;
-    })
+    make_hough_split_with(params, laserlines::HoughSplitParams::for_mapping)
 }
 
 /// A HoughSplit extractor with its parameters from `params`, then changed by `adjust`.
 fn make_hough_split_with(
     params: &ParamsArgs,
-    adjust: impl FnOnce(&mut laserlines::HoughSplitParams),
+    adjust: impl FnOnce(laserlines::HoughSplitParams) -> laserlines::HoughSplitParams,
 ) -> Result<HoughSplit> {
     let file = params.file(registry::HOUGH_SPLIT.name)?;
-    let mut p = file.algorithm_params(&registry::HOUGH_SPLIT)?;
-    adjust(&mut p);
-    HoughSplit::new(p).context("hough-split parameters")
+    let p = file.algorithm_params(&registry::HOUGH_SPLIT)?;
+    HoughSplit::new(adjust(p)).context("hough-split parameters")
 }
 
 /// `n` and the noun, in the singular for one (`1 scan`, `2 scans`, `3 passes`).

@@ -229,10 +229,11 @@ fn one_line(a: &FitSums, b: &FitSums, noise: &RangeNoise, along: bool) -> bool {
         let mut chi2 = 0.0;
         for s in [a, b] {
             let Some(c) = s.centroid() else { continue };
-            let rise = s.sse_about(joint.normal, joint.r) - s.sse();
+            let sse = s.sse();
+            let rise = s.sse_about(joint.normal, joint.r) - sse;
             let cos = incidence_cos(c, joint.normal, true);
             let own = if s.len() > 2 {
-                s.sse() / (s.len() - 2) as f64
+                sse / (s.len() - 2) as f64
             } else {
                 0.0
             };

@@ -146,7 +146,8 @@ pub struct HoughSplitParams {
     /// allowing for the split point being the worst of many). Sensible: 10..40.
     pub split_significance: f64,
     /// Range noise lies along the beams: the split (its distance criterion and significance
-    /// test), the merge and the shared fits take the noise across a line as
+    /// test), the merge, where lines end (the cut between two pieces and the trimming of
+    /// their ends) and the shared fits take the noise across a line as
     /// `sigma(r) cos(incidence)` at the points tested (incidence taken at most 84 deg), so
     /// that a surface seen at a glancing angle must lie on its line as closely as its noise
     /// allows, and two objects far apart do not share a line that meets both at a grazing
@@ -160,10 +161,9 @@ pub struct HoughSplitParams {
     /// missing beams) share one fit: when one line explains the points of two lines (their
     /// joint line's sum of squared residuals exceeds theirs by less than the chi-square
     /// quantile of 2 degrees of freedom at the 1e-3 level, 13.8 variances of the noise across
-    /// that line), each keeps
-    /// its own points and extent but takes the joint `r`, `alpha` and covariance, and the
-    /// gates `max_alpha_sd` and `max_r_sd` judge that covariance. Not in the paper. Default
-    /// `true`.
+    /// that line), each keeps its own points and extent but takes the joint `r`, `alpha` and
+    /// covariance, and the gates `max_alpha_sd` and `max_r_sd` judge that covariance. Not in
+    /// the paper. Default `true`.
     pub share_fits: bool,
     /// Refine where pieces end: the shared split point and its neighbours go to the line
     /// that explains them best, a short corner leg or mixed pixel at a line's end is trimmed

@@ -77,10 +77,17 @@ impl HoughSplitParams {
     /// worst pose error rose from 0.235 m to 0.399 m (`laserlines-slam`'s `mapping.rs`).
     #[must_use]
     pub fn mapping() -> Self {
+        Self::default().for_mapping()
+    }
+
+    /// These parameters as scan matching reads them ([`mapping`](Self::mapping)): without
+    /// shared fits and with `sigma(r)` across every line, whatever they said of those.
+    #[must_use]
+    pub fn for_mapping(self) -> Self {
         Self {
             share_fits: false,
             noise_along_beams: false,
-            ..Self::default()
+            ..self
         }
     }
 
