@@ -62,6 +62,7 @@ fn main() {
     };
     let mut lines = Vec::new();
     let (mut ceiling, mut significant) = (0.0, 0usize);
+    let (mut oracle, mut extracted, mut findable_missed) = ([0usize; 2], 0usize, 0usize);
     for s in &scans {
         let Some(truth) = &s.truth else { continue };
         for p in truth.iter().filter(|p| p.significant) {
@@ -69,8 +70,15 @@ fn main() {
             ceiling += within(tr, p.sigma_r) * within(ta, p.sigma_alpha);
             significant += 1;
         }
+        let found = oracle_found(&s.scan, truth, &params, &sensor.model.noise);
+        oracle[0] += found.iter().filter(|f| f.0).count();
+        oracle[1] += found.iter().filter(|f| f.0 || f.1).count();
         hs.extract_into(&s.scan, &mut lines);
+        if std::env::var("SCAN").is_ok_and(|n| n == s.name) {
+            print_detail(&hs, truth, &lines);
+        }
         let m = match_lines(&lines, truth, &params);
+        extracted += m.found;
         let missed: Vec<usize> = (0..truth.len())
             .filter(|&i| truth[i].significant && !m.pairs.iter().any(|p| p.piece == i))
             .collect();
@@ -79,7 +87,9 @@ fn main() {
         }
         println!("{} noise {}", s.name, hs.stages().noise());
         for i in missed {
-            print_missed(i, &truth[i], &lines);
+            let findable = found[i].0 || found[i].1;
+            findable_missed += usize::from(findable);
+            print_missed(i, &truth[i], &lines, findable);
         }
         for &li in &m.false_lines {
             let l = &lines[li];
@@ -116,20 +126,140 @@ fn main() {
         "ideal fit of each piece's own beams: TP rate {:.3} on average over {significant} significant pieces",
         ceiling / significant.max(1) as f64
     );
+    let n = significant.max(1) as f64;
+    println!("hough-split: TP rate {:.3}", extracted as f64 / n);
+    println!(
+        "least-squares fits of the measured beams: TP rate {:.3} fitting each piece alone, {:.3} \
+         also fitting all pieces of its wall together (an upper bound)",
+        oracle[0] as f64 / n,
+        oracle[1] as f64 / n
+    );
+    println!("missed pieces that the joint fit finds: {findable_missed}");
+}
+
+/// Significant pieces of `truth` that a fit of exactly their measured beams finds within the
+/// tolerances: `[fitting the piece alone, alone or with every piece of its wall]`. The fit is
+/// the best one knowing the truth: points more than 5 of their sigmas across the true wall
+/// (mixed pixels) are left out, the others weighted by `1 / (sigma(r) cos(incidence))^2`. The joint
+/// fit skips the overlap condition, so the second is an upper bound of what a least-squares
+/// segmentation of these beams reaches.
+fn oracle_found(
+    scan: &laserlines::Scan,
+    truth: &[ExpectedPiece],
+    params: &MatchParams,
+    noise: &laserlines_sim::Noise,
+) -> Vec<(bool, bool)> {
+    let window = scan.range_window(None);
+    // (x, y, sigma across the truth's line)
+    // The beams of `q` as points, with their sigma across `p`'s wall.
+    let points = |q: &ExpectedPiece, p: &ExpectedPiece| -> Vec<(f64, f64, f64)> {
+        let normal = (p.alpha.cos(), p.alpha.sin());
+        (q.first..=q.last)
+            .filter_map(|i| {
+                let r = *scan.ranges.get(i)?;
+                let (sin, cos) = scan.angle(i).sin_cos();
+                let across = noise.sigma(r) * (cos * normal.0 + sin * normal.1).abs().max(0.1);
+                let (x, y) = (r * cos, r * sin);
+                let off = (x * normal.0 + y * normal.1 - p.r).abs();
+                (window.contains(r) && across > 0.0 && off <= 5.0 * across)
+                    .then_some((x, y, across))
+            })
+            .collect()
+    };
+    let passes = |fit: Option<(f64, f64)>, p: &ExpectedPiece| {
+        let (tr, ta) = params.tolerances(p);
+        fit.is_some_and(|(r, alpha)| {
+            (r - p.r).abs() <= tr && laserlines::math::angle_diff(alpha, p.alpha).abs() <= ta
+        })
+    };
+    let mut found = vec![(false, false); truth.len()];
+    for (p, f) in truth.iter().zip(&mut found).filter(|(p, _)| p.significant) {
+        let own = points(p, p);
+        let wall: Vec<_> = truth
+            .iter()
+            .filter(|q| q.wall == p.wall)
+            .flat_map(|q| points(q, p))
+            .collect();
+        *f = (
+            passes(weighted_fit(own.iter().copied()), p),
+            passes(weighted_fit(wall.iter().copied()), p),
+        );
+    }
+    found
+}
+
+/// Weighted total least squares of `(x, y, sigma)` (weights `1 / sigma^2`): `(r, alpha)`.
+fn weighted_fit(pts: impl Iterator<Item = (f64, f64, f64)> + Clone) -> Option<(f64, f64)> {
+    let (mut w, mut sx, mut sy, mut count) = (0.0, 0.0, 0.0, 0);
+    for (x, y, sd) in pts.clone() {
+        let wi = 1.0 / (sd * sd);
+        (w, sx, sy, count) = (w + wi, sx + wi * x, sy + wi * y, count + 1);
+    }
+    if count < 2 {
+        return None;
+    }
+    let (cx, cy) = (sx / w, sy / w);
+    let (mut mxx, mut myy, mut mxy) = (0.0, 0.0, 0.0);
+    for (x, y, sd) in pts {
+        let wi = 1.0 / (sd * sd);
+        let (dx, dy) = (x - cx, y - cy);
+        (mxx, myy, mxy) = (mxx + wi * dx * dx, myy + wi * dy * dy, mxy + wi * dx * dy);
+    }
+    let mut alpha = 0.5 * (-2.0 * mxy).atan2(myy - mxx);
+    let mut r = cx * alpha.cos() + cy * alpha.sin();
+    if r < 0.0 {
+        r = -r;
+        alpha += std::f64::consts::PI;
+    }
+    Some((r, laserlines::math::wrap_angle(alpha)))
+}
+
+/// Prints every piece, data segment, split and line of the last scan `hs` extracted.
+fn print_detail(hs: &HoughSplit, truth: &[ExpectedPiece], lines: &[Line]) {
+    for (i, p) in truth.iter().enumerate() {
+        println!(
+            "piece {i}: wall {} beams {}..{} r {:.3} alpha {:.1} len {:.2} significant {}",
+            p.wall,
+            p.first,
+            p.last,
+            p.r,
+            p.alpha.to_degrees(),
+            p.length(),
+            p.significant
+        );
+    }
+    let st = hs.stages();
+    println!("removed beams {:?}", st.removed());
+    for (seg, splits) in st.segments().zip(st.split_points()) {
+        println!("segment {}..{} ({} points), splits {splits:?}", seg.first, seg.last, seg.points);
+    }
+    for l in lines {
+        println!(
+            "line beams {}..{} r {:.3} alpha {:.1} len {:.2} n {} rms {:.4}",
+            l.first,
+            l.last,
+            l.r,
+            l.alpha.to_degrees(),
+            l.length(),
+            l.points,
+            l.rms
+        );
+    }
 }
 
 /// Prints missed piece `i` and the line that overlaps it most, if any (with its errors and
 /// standard errors).
-fn print_missed(i: usize, p: &ExpectedPiece, lines: &[Line]) {
+fn print_missed(i: usize, p: &ExpectedPiece, lines: &[Line], findable: bool) {
     println!(
-        "  missed piece {i}: wall {} beams {}..{} r {:.3} alpha {:.1} len {:.2} sigma_r {:.4}",
+        "  missed piece {i}: wall {} beams {}..{} r {:.3} alpha {:.1} len {:.2} sigma_r {:.4}{}",
         p.wall,
         p.first,
         p.last,
         p.r,
         p.alpha.to_degrees(),
         p.length(),
-        p.sigma_r
+        p.sigma_r,
+        if findable { " (the wall's fit finds it)" } else { "" }
     );
     if let Some(l) = lines
         .iter()

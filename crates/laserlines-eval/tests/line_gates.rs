@@ -59,7 +59,7 @@ fn the_defaults_give_far_fewer_false_lines_than_complete_at_every_field_level() 
 #[test]
 fn the_defaults_keep_only_lines_known_to_their_limits() {
     let p = HoughSplitParams::default();
-    assert_eq!(p.max_r_sd, 0.05);
+    assert_eq!(p.max_r_sd, 0.06);
     assert!((p.max_alpha_sd - 3f64.to_radians()).abs() < 1e-15);
     let scans = suite_scans("all", 5, 4, &sensor("urg04lx-1.5x").unwrap()).unwrap();
     let mut hs = HoughSplit::new(p.clone()).unwrap();

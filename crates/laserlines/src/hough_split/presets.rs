@@ -74,26 +74,33 @@ impl HoughSplitParams {
     /// simulated ring lap's loop closure lost to scan matching alone (worst pose error 0.067 m
     /// against 0.038 m; without, 0.050 m against 0.052 m); with the noise taken along the
     /// beams it lost too (0.136 m against 0.070 m), and under 2 % noise the line normals'
-    /// worst pose error rose from 0.235 m to 0.399 m (`laserlines-slam`'s `mapping.rs`).
+    /// worst pose error rose from 0.235 m to 0.399 m (`laserlines-slam`'s `mapping.rs`). Lines
+    /// whose `r` is known worse than 5 cm are left out (`max_r_sd` at most
+    /// [`MAPPING_MAX_R_SD`](Self::MAPPING_MAX_R_SD)), as when the figures were measured.
     #[must_use]
     pub fn mapping() -> Self {
         Self::default().for_mapping()
     }
 
+    /// The largest `max_r_sd` scan matching takes, m: a line it matches must be placed well.
+    pub const MAPPING_MAX_R_SD: f64 = 0.05;
+
     /// These parameters as scan matching reads them ([`mapping`](Self::mapping)): without
-    /// shared fits and with `sigma(r)` across every line, whatever they said of those.
+    /// shared fits and with `sigma(r)` across every line, whatever they said of those, and
+    /// `max_r_sd` at most [`MAPPING_MAX_R_SD`](Self::MAPPING_MAX_R_SD).
     #[must_use]
     pub fn for_mapping(self) -> Self {
         Self {
             share_fits: false,
             noise_along_beams: false,
+            max_r_sd: self.max_r_sd.min(Self::MAPPING_MAX_R_SD),
             ..self
         }
     }
 
     /// The defaults, by name: a map of walls, where a line must be right rather than there.
-    /// Only lines whose standard errors lie within the tolerances of a user who wants walls
-    /// (a line within 5 cm and 3 deg of its wall) are kept (`max_r_sd = 0.05`,
+    /// Only lines whose standard errors lie about within the tolerances of a user who wants
+    /// walls (a line within 5 cm and 3 deg of its wall) are kept (`max_r_sd = 0.06`,
     /// `max_alpha_sd = 3 deg`).
     #[must_use]
     pub fn walls() -> Self {
