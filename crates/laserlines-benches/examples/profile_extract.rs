@@ -4,6 +4,7 @@
 //! ```sh
 //! valgrind --tool=callgrind target/release/examples/profile_extract 1000        # bench scan
 //! valgrind --tool=callgrind target/release/examples/profile_extract 100 real    # 100 x 40 scans
+//! valgrind --tool=callgrind target/release/examples/profile_extract 10 LOG       # 10 x a log's scans
 //! ```
 
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
@@ -11,10 +12,16 @@ use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
 fn main() {
     let mut args = std::env::args().skip(1);
     let n: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(1000);
-    let scans = if args.next().as_deref() == Some("real") {
-        laserlines_benches::real_scans()
-    } else {
-        vec![laserlines_benches::bench_scan()]
+    let scans = match args.next().as_deref() {
+        Some("real") => laserlines_benches::real_scans(),
+        Some(log) => match laserlines_io::reader::open(std::path::Path::new(log), None) {
+            Ok(reader) => reader.filter_map(Result::ok).map(|r| r.scan).collect(),
+            Err(e) => {
+                eprintln!("{e}");
+                std::process::exit(2);
+            }
+        },
+        None => vec![laserlines_benches::bench_scan()],
     };
     let Ok(mut hs) = HoughSplit::new(HoughSplitParams::default()) else {
         return;
