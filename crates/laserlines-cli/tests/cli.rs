@@ -173,7 +173,7 @@ fn preset_option_starts_from_the_preset_and_names_the_presets_it_knows() {
         .arg(&dat));
     assert!(over.status.success(), "{}", stderr(&over));
     assert_ne!(over.stdout, by_option.stdout);
-    // `complete` keeps more lines than the defaults: also those not known to 5 cm and 3 deg.
+    // `complete` keeps more lines than the defaults: also those not known to 6 cm and 3 deg.
     let count = |o: &std::process::Output| {
         String::from_utf8_lossy(&o.stdout)
             .lines()

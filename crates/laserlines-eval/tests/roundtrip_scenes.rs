@@ -10,9 +10,9 @@
 //! ratchet**: each is set just under what the extractor measures on these scenes today (the
 //! README lists both), so that a change that makes any extractor worse here fails; they are
 //! not targets, and are raised when an extractor improves. The requirements every extractor
-//! must meet on every suite are in `suites.rs`. `hough-split` is held to finding 97 % of the
+//! must meet on every suite are in `suites.rs`. `hough-split` is held to finding 98 % of the
 //! pieces here: its line gates drop the lines of far or glancing pieces whose `r` is known
-//! worse than 5 cm even with the fit they share with the rest of their wall (8 of the 356
+//! worse than 6 cm even with the fit they share with the rest of their wall (5 of the 356
 //! pieces; its `complete` preset, with looser gates, is held to end points as well by
 //! `crates/laserlines/tests/roundtrip.rs`). On the
 //! bench scan every extractor must find all six pieces with no false line, except EM, which
@@ -28,7 +28,7 @@ use laserlines_sim::{LaserModel, Rng, SimScan};
 /// `(algorithm, least true-positive rate, largest false-positive rate)` on the round-trip
 /// scenes: a ratchet, just under today's measured figures (see the module docs).
 const TOLERANCE: &[(&str, f64, f64)] = &[
-    ("hough-split", 0.97, 0.01),
+    ("hough-split", 0.98, 0.01),
     ("iterative-hough", 0.98, 0.01),
     ("split-and-merge", 0.98, 0.03),
     ("iepf", 0.98, 0.02),

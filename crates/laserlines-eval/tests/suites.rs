@@ -8,7 +8,7 @@
 //! - on the six suites of walls (all but `clutter`) every extractor finds at least 95 % of the
 //!   significant pieces, with at most 12 % false lines; the paper's `hough-split` finds at
 //!   least 97 % with at most 1 % false lines (its line gates drop far pieces whose `r` no fit
-//!   can know within 5 cm), and its `complete` preset, without those gates, 98 % and 1 %;
+//!   can know within 6 cm), and its `complete` preset, without those gates, 98 % and 1 %;
 //! - in `clutter` (legs, cables, debris) every extractor finds at least 85 %, with at most
 //!   35 % false lines (legs and debris give short lines that match no wall); `hough-split`
 //!   at least 82 %: it takes a wall with a cable or debris a few centimetres in front of it as

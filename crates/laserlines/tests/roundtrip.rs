@@ -6,7 +6,7 @@
 //! no line may stand where no wall is: both ends of every line lie on a wall its beams hit.
 //!
 //! The geometry is checked with [`HoughSplitParams::complete`]: the defaults differ from it
-//! only by their line gates (a line's standard errors within 5 cm and 3 deg), which drop the
+//! only by their line gates (a line's standard errors within 6 cm and 3 deg), which drop the
 //! lines of far or glancing pieces whose `r` no fit can know that well; that they drop exactly
 //! those lines and nothing else is `the_defaults_are_complete_less_the_gated_lines`.
 //!

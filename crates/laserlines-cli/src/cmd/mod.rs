@@ -84,8 +84,9 @@ pub fn make_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
     make_hough_split_with(params, |p| p)
 }
 
-/// [`make_hough_split`] for scan matching: without shared fits and with `sigma(r)` across
-/// every line ([`laserlines::HoughSplitParams::for_mapping`]), whatever `params` say of them.
+/// [`make_hough_split`] for scan matching: without shared fits, with `sigma(r)` across every
+/// line and with `max_r_sd` at most 5 cm ([`laserlines::HoughSplitParams::for_mapping`]),
+/// whatever `params` say of them.
 pub fn make_mapping_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
     make_hough_split_with(params, laserlines::HoughSplitParams::for_mapping)
 }

@@ -434,6 +434,11 @@ mod tests {
             ..HoughSplitParams::default()
         };
         assert_eq!(tight.for_mapping().max_r_sd, 0.02);
+        let nan = HoughSplitParams {
+            max_r_sd: f64::NAN,
+            ..HoughSplitParams::default()
+        };
+        assert!(nan.for_mapping().validate().is_err());
     }
 
     #[test]

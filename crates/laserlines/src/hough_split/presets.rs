@@ -93,7 +93,12 @@ impl HoughSplitParams {
         Self {
             share_fits: false,
             noise_along_beams: false,
-            max_r_sd: self.max_r_sd.min(Self::MAPPING_MAX_R_SD),
+            // A NaN stays, for `validate` to refuse.
+            max_r_sd: if self.max_r_sd.is_nan() {
+                self.max_r_sd
+            } else {
+                self.max_r_sd.min(Self::MAPPING_MAX_R_SD)
+            },
             ..self
         }
     }
