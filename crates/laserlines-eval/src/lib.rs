@@ -71,6 +71,7 @@ pub mod bench;
 pub mod coverage;
 pub mod matching;
 mod report;
+pub mod scanners;
 pub mod truth;
 pub mod tune;
 pub mod workload;

@@ -22,6 +22,10 @@ pub const SENSORS: &[&str] = &[
     "urg04lx-half",
     "urg04lx-full",
     "urg04lx-1.5x",
+    "utm30lx",
+    "lms2xx",
+    "rplidar-a1",
+    "ydlidar-x4",
 ];
 
 /// The noise levels of the field conditions (`urg04lx-half`, `-full`, `-1.5x`), as multiples
@@ -96,7 +100,9 @@ impl Sensor {
 ///   returns dropped;
 /// - `urg04lx-half`, `urg04lx-full`, `urg04lx-1.5x`: the field conditions of
 ///   [`Sensor::field`] at half, once and 1.5 times the data sheet's band as one standard
-///   deviation.
+///   deviation;
+/// - `utm30lx`, `lms2xx`, `rplidar-a1`, `ydlidar-x4`: other scanners at their data sheet's
+///   noise, in the field conditions ([`crate::scanners`]).
 #[must_use]
 pub fn sensor(name: &str) -> Option<Sensor> {
     if let Some((_, level)) = FIELD_LEVELS.iter().find(|(n, _)| *n == name) {
@@ -104,6 +110,10 @@ pub fn sensor(name: &str) -> Option<Sensor> {
     }
     match name {
         "urg04lx" => Some(Sensor::plain(LaserModel::urg04lx())),
+        "utm30lx" => Some(crate::scanners::utm30lx()),
+        "lms2xx" => Some(crate::scanners::lms2xx()),
+        "rplidar-a1" => Some(crate::scanners::rplidar_a1()),
+        "ydlidar-x4" => Some(crate::scanners::ydlidar_x4()),
         "urg04lx-artefacts" => Some(Sensor::plain(LaserModel {
             mixed_pixels: 0.5,
             dropout: 0.01,
@@ -165,7 +175,8 @@ pub fn suite_scans(
                     &mut extra,
                     legs,
                     sensor.leg_diameter,
-                    model.range_max - 0.6,
+                    // Where the URG-04LX would see them, whatever the scanner's reach.
+                    model.range_max.min(5.6) - 0.6,
                 );
             }
             let sim = scene.simulate(&model, &mut rng);

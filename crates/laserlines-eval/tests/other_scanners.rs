@@ -1,0 +1,91 @@
+//! Every extractor on the simulated suites of the other scanners (`laserlines bench --sensor
+//! utm30lx | lms2xx | rplidar-a1 | ydlidar-x4`, [`laserlines_eval::scanners`]): each at its
+//! data sheet's noise, in the field conditions (legs, dropouts, mixed pixels on the
+//! time-of-flight scanners), judged by the field criteria. The classic extractors get the
+//! scanner's noise as `laserlines bench` gives it to them (their noise thresholds scaled,
+//! [`laserlines::registry::noise_scale`]); `hough-split` estimates its own.
+//!
+//! On seed 5, 10 scenes of each of the seven suites, `hough-split` must find what it is
+//! documented to and lead the other seven by F1 (bounds just under what it measures here):
+//! by 0.10 on the UTM-30LX, 0.04 on the RPLIDAR A1 and 0.4 on the YDLIDAR X4. On the SICK
+//! LMS200 (1 deg beams, 15 mm, few pieces of 10 beams or more) the four best lie within 0.01
+//! on these 70 scans, `hough-split` 0.007 below `iterative-hough`; it leads on 700 (`laserlines
+//! bench --sensor lms2xx --criteria field --seed 5`: 0.972 against 0.960), so there it must
+//! stay within 0.01 of the best.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use laserlines::ParamsError;
+use laserlines::extractors::ALGORITHMS;
+use laserlines::registry::{self, Algorithm, BoxedExtractor, Params, Visitor};
+use laserlines_eval::workload::{sensor, suite_scans};
+use laserlines_eval::{MatchParams, TruthTally};
+
+/// Builds an extractor from its defaults with its noise thresholds scaled by `.0`.
+struct Scaled(f64);
+
+impl Visitor for Scaled {
+    type Output = Result<BoxedExtractor, ParamsError>;
+    fn visit<P: Params>(self, algorithm: &'static Algorithm<P>) -> Self::Output {
+        let mut p = (algorithm.defaults)();
+        (algorithm.scale_noise)(&mut p, self.0);
+        (algorithm.build)(p)
+    }
+}
+
+/// `(scanner, least TP rate, largest FP rate, least lead in F1 over the best other)` of
+/// `hough-split`; measured: TP 0.954, 0.954, 0.972 and 0.742, FP 0.059, 0.033, 0.021 and
+/// 0.039, lead 0.138, -0.007, 0.052 and 0.469.
+const BOUNDS: &[(&str, f64, f64, f64)] = &[
+    ("utm30lx", 0.94, 0.065, 0.10),
+    ("lms2xx", 0.94, 0.04, -0.01),
+    ("rplidar-a1", 0.96, 0.03, 0.04),
+    ("ydlidar-x4", 0.72, 0.05, 0.4),
+];
+
+#[test]
+fn hough_split_leads_on_other_scanners() {
+    assert_eq!(ALGORITHMS[0], "hough-split");
+    let params = MatchParams::field();
+    let mut failures = Vec::new();
+    for &(name, least_tp, most_fp, least_lead) in BOUNDS {
+        let sensor = sensor(name).unwrap();
+        let scans = suite_scans("all", 5, 10, &sensor).unwrap();
+        let mut f1 = Vec::new();
+        for algorithm in ALGORITHMS {
+            let mut e = registry::visit(algorithm, Scaled(sensor.noise_scale()))
+                .unwrap()
+                .unwrap();
+            let mut total = TruthTally::default();
+            for s in &scans {
+                let truth = s.truth.as_ref().unwrap();
+                total.add(&TruthTally::of_scan(&e.extract(&s.scan), truth, &params));
+            }
+            let m = total.metrics();
+            println!(
+                "{name} {algorithm:16} TP {:.3} FP {:.3} F1 {:.3}",
+                m.true_positive_rate, m.false_positive_rate, m.f1
+            );
+            if *algorithm == "hough-split"
+                && (m.true_positive_rate < least_tp || m.false_positive_rate > most_fp)
+            {
+                failures.push(format!(
+                    "{name}: hough-split TP {:.3} (least {least_tp}), FP {:.3} (most {most_fp})",
+                    m.true_positive_rate, m.false_positive_rate
+                ));
+            }
+            f1.push((*algorithm, m.f1));
+        }
+        let ours = f1[0].1;
+        let best = f1[1..]
+            .iter()
+            .copied()
+            .fold(("", f64::MIN), |a, b| if b.1 > a.1 { b } else { a });
+        if ours - best.1 < least_lead {
+            failures.push(format!(
+                "{name}: hough-split F1 {ours:.3}, the best other {best:?} (least lead {least_lead})"
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
