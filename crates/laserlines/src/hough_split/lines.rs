@@ -25,6 +25,27 @@ pub(crate) struct Pieces<'a> {
     pub(crate) pre: &'a [FitSums],
     pub(crate) p: &'a HoughSplitParams,
     pub(crate) noise: &'a RangeNoise,
+    /// Points on each side of a split point among which [`Pieces::best_cut`] places the cut
+    /// ([`cut_window`]).
+    pub(crate) cut_window: usize,
+}
+
+/// The angle [`Pieces::best_cut`] searches on each side of a split point: `CUT_WINDOW` beams
+/// of the URG-04LX (360/1024 deg each), rad.
+const CUT_ANGLE: f64 = CUT_WINDOW as f64 * std::f64::consts::TAU / 1024.0;
+
+/// Points on each side of a split point that [`Pieces::best_cut`] searches on a scan of beams
+/// `increment` apart: `CUT_WINDOW`, or as many as span `CUT_ANGLE` on finer scanners (6 at
+/// 0.25 deg), so that the cut is searched over the same angle, where noise moves the split
+/// point as far.
+pub(crate) fn cut_window(increment: f64) -> usize {
+    let beams = (CUT_ANGLE / increment.abs() - 1e-9).ceil();
+    // NaN and infinite increments fail the test and give the fixed window.
+    if beams > CUT_WINDOW as f64 && beams < 64.0 {
+        beams as usize
+    } else {
+        CUT_WINDOW
+    }
 }
 
 impl Pieces<'_> {
@@ -63,8 +84,8 @@ impl Pieces<'_> {
     /// short to fit without the window, the other line takes the window's points for as long
     /// as they lie within `split_sigmas * sigma(r)` of it.
     fn best_cut(&self, lo: usize, b: usize, next: usize) -> usize {
-        let wlo = b.saturating_sub(CUT_WINDOW).max(lo + 1);
-        let whi = (b + CUT_WINDOW).min(next.saturating_sub(1));
+        let wlo = b.saturating_sub(self.cut_window).max(lo + 1);
+        let whi = (b + self.cut_window).min(next.saturating_sub(1));
         if whi < wlo {
             return b + 1;
         }
@@ -388,6 +409,19 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_cut_window_spans_the_urg_04lx_s_angle() {
+        let urg = std::f64::consts::TAU / 1024.0;
+        assert_eq!(cut_window(urg), CUT_WINDOW);
+        assert_eq!(cut_window(-urg), CUT_WINDOW);
+        assert_eq!(cut_window(1f64.to_radians()), CUT_WINDOW);
+        assert_eq!(cut_window(0.25f64.to_radians()), 6);
+        assert_eq!(cut_window(0.1f64.to_radians()), 15);
+        for bad in [0.0, f64::NAN, f64::INFINITY, 1e-12] {
+            assert_eq!(cut_window(bad), CUT_WINDOW, "{bad}");
+        }
+    }
+
+    #[test]
     fn an_l_gives_two_lines_sharing_the_corner_point_once() {
         let mut xy = Vec::new();
         for i in 0..=20 {
@@ -408,6 +442,7 @@ mod tests {
             pre: &scratch.prefix,
             p: &p,
             noise: &noise,
+            cut_window: CUT_WINDOW,
         };
         let mut out = Vec::new();
         let mut breaks = scratch.breaks.clone();

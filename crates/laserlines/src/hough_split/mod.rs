@@ -238,6 +238,7 @@ impl LineExtractor for HoughSplit {
                 pre: &self.scratch.prefix,
                 p: &self.params,
                 noise: &self.noise,
+                cut_window: lines::cut_window(scan.angle_increment),
             };
             lines::emit_lines(&pieces, &mut self.scratch.breaks, out, &mut self.candidates);
         }

@@ -165,8 +165,8 @@ pub struct HoughSplitParams {
     /// covariance, and the gates `max_alpha_sd` and `max_r_sd` judge that covariance. Not in
     /// the paper. Default `true`.
     pub share_fits: bool,
-    /// Refine where pieces end: the shared split point and its neighbours go to the line
-    /// that explains them best, a short corner leg or mixed pixel at a line's end is trimmed
+    /// Refine where pieces end: the shared split point and its neighbours (over the angle of
+    /// four URG-04LX beams) go to the line that explains them best, a short corner leg or mixed pixel at a line's end is trimmed
     /// by a chi-square test, and neighbouring lines that meet at a corner share their end
     /// point at the intersection. Not in the paper. Default `true`.
     pub refine_ends: bool,
