@@ -1,7 +1,7 @@
 //! Mapping speed (`laserlines-slam`) on the bundled real URG-04LX excerpt (40 scans with
 //! wheel odometry), one thread: one point-to-line ICP match of a scan onto the one before,
 //! and the whole excerpt through the `Mapper` (matching, submaps, loop search, a final
-//! optimisation).
+//! optimisation), with the lines `laserlines map` extracts (`HoughSplitParams::mapping`).
 
 use std::hint::black_box;
 
@@ -19,7 +19,7 @@ fn slam(c: &mut Criterion) {
     let Ok(records) = laserlines_io::demo::urg04lx_excerpt() else {
         return;
     };
-    let mut hs = match HoughSplit::new(HoughSplitParams::default()) {
+    let mut hs = match HoughSplit::new(HoughSplitParams::mapping()) {
         Ok(hs) => hs,
         Err(_) => return,
     };
