@@ -239,17 +239,17 @@ fn oracle_found(
             .flat_map(|q| points(q, p))
             .collect();
         *f = (
-            passes(weighted_fit(own.iter().copied()), p),
-            passes(weighted_fit(wall.iter().copied()), p),
+            passes(weighted_fit(&own), p),
+            passes(weighted_fit(&wall), p),
         );
     }
     found
 }
 
 /// Weighted total least squares of `(x, y, sigma)` (weights `1 / sigma^2`): `(r, alpha)`.
-fn weighted_fit(pts: impl Iterator<Item = (f64, f64, f64)> + Clone) -> Option<(f64, f64)> {
+fn weighted_fit(pts: &[(f64, f64, f64)]) -> Option<(f64, f64)> {
     let (mut w, mut sx, mut sy, mut count) = (0.0, 0.0, 0.0, 0);
-    for (x, y, sd) in pts.clone() {
+    for &(x, y, sd) in pts {
         let wi = 1.0 / (sd * sd);
         (w, sx, sy, count) = (w + wi, sx + wi * x, sy + wi * y, count + 1);
     }
@@ -258,7 +258,7 @@ fn weighted_fit(pts: impl Iterator<Item = (f64, f64, f64)> + Clone) -> Option<(f
     }
     let (cx, cy) = (sx / w, sy / w);
     let (mut mxx, mut myy, mut mxy) = (0.0, 0.0, 0.0);
-    for (x, y, sd) in pts {
+    for &(x, y, sd) in pts {
         let wi = 1.0 / (sd * sd);
         let (dx, dy) = (x - cx, y - cy);
         (mxx, myy, mxy) = (mxx + wi * dx * dx, myy + wi * dy * dy, mxy + wi * dx * dy);

@@ -9,71 +9,118 @@ use laserlines_sim::{LaserModel, Noise};
 
 use crate::workload::Sensor;
 
-/// The noise preset `name` (one of [`laserlines::noise::PRESETS`]).
-fn preset(name: &str) -> Noise {
-    Noise::Range(RangeNoise::preset(name).unwrap_or_default())
-}
-
-/// A scanner of `beams` beams from `angle_min` in steps of `increment` (degrees), ranges
-/// `range` (m) in steps of `round_to`, with the noise preset `noise`.
-fn scanner(
+/// One scanner: angles in degrees, ranges in metres, 1 mm resolution.
+struct Scanner {
+    /// Its name as a sensor of the benchmark.
+    name: &'static str,
     beams: usize,
-    (angle_min, increment): (f64, f64),
+    angle_min: f64,
+    increment: f64,
     range: (f64, f64),
-    noise: &str,
-    round_to: f64,
-) -> LaserModel {
-    LaserModel {
-        beams,
-        angle_min: angle_min.to_radians(),
-        angle_increment: increment.to_radians(),
-        range_min: range.0,
-        range_max: range.1,
-        noise: preset(noise),
-        round_to: Some(round_to),
-        ..LaserModel::urg04lx()
-    }
+    /// Its noise preset ([`laserlines::noise::PRESETS`]).
+    noise: &'static str,
+    /// Share of the beams without a return, drawn per scan from this range.
+    dropout: (f64, f64),
+    /// Mixed pixels at half of the depth edges (a time-of-flight scanner).
+    mixed: bool,
 }
 
-/// The field conditions seen by `model`: 0-8 legs of 3-12 cm, dropouts drawn per scan from
-/// `dropout`, mixed pixels at half of the depth edges when `mixed`.
-fn field(model: LaserModel, dropout: (f64, f64), mixed: bool) -> Sensor {
-    Sensor {
+/// The scanners, by name.
+const SCANNERS: &[Scanner] = &[
+    // Hokuyo UTM-30LX: 270 deg in 0.25 deg steps, 0.1-30 m, 30 mm noise.
+    Scanner {
+        name: "utm30lx",
+        beams: 1081,
+        angle_min: -135.0,
+        increment: 0.25,
+        range: (0.1, 30.0),
+        noise: "utm-30lx",
+        dropout: (0.0, 0.05),
+        mixed: true,
+    },
+    // SICK LMS200 in its 8 m, mm mode: 180 deg in 1 deg steps, 15 mm noise.
+    Scanner {
+        name: "lms2xx",
+        beams: 181,
+        angle_min: -90.0,
+        increment: 1.0,
+        range: (0.02, 8.0),
+        noise: "lms2xx",
+        dropout: (0.0, 0.05),
+        mixed: true,
+    },
+    // Slamtec RPLIDAR A1: 360 deg in 1 deg steps, 0.15-12 m, 1 % of the range
+    // (triangulation: no mixed pixels).
+    Scanner {
+        name: "rplidar-a1",
+        beams: 360,
+        angle_min: -180.0,
+        increment: 1.0,
+        range: (0.15, 12.0),
+        noise: "rplidar-a1",
+        dropout: (0.0, 0.05),
+        mixed: false,
+    },
+    // YDLIDAR X4: 360 deg in 0.85 deg steps, 0.12-10 m, 2 % of the range, 30-70 % of the
+    // beams without a return (triangulation: no mixed pixels).
+    Scanner {
+        name: "ydlidar-x4",
+        beams: 424,
+        angle_min: -180.0,
+        increment: 0.85,
+        range: (0.12, 10.0),
+        noise: "ydlidar-x4",
+        dropout: (0.3, 0.7),
+        mixed: false,
+    },
+];
+
+/// The scanner called `name` in the field conditions (0-8 legs of 3-12 cm, its dropouts, its
+/// mixed pixels), or `None` for another name.
+#[must_use]
+pub fn sensor(name: &str) -> Option<Sensor> {
+    let s = SCANNERS.iter().find(|s| s.name == name)?;
+    let noise = RangeNoise::preset(s.noise)?;
+    Some(Sensor {
         model: LaserModel {
-            mixed_pixels: if mixed { 0.5 } else { 0.0 },
-            ..model
+            beams: s.beams,
+            angle_min: s.angle_min.to_radians(),
+            angle_increment: s.increment.to_radians(),
+            range_min: s.range.0,
+            range_max: s.range.1,
+            noise: Noise::Range(noise),
+            round_to: Some(0.001),
+            mixed_pixels: if s.mixed { 0.5 } else { 0.0 },
+            ..LaserModel::urg04lx()
         },
-        dropout: Some(dropout),
+        dropout: Some(s.dropout),
         ..Sensor::field(1.0)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::workload::SENSORS;
+
+    #[test]
+    fn every_scanner_is_a_sensor_with_its_preset() {
+        for s in SCANNERS {
+            assert!(SENSORS.contains(&s.name), "{}", s.name);
+            let sensor = sensor(s.name).unwrap_or_else(|| panic!("{}: no preset", s.name));
+            assert_eq!(sensor.model.beams, s.beams);
+            assert_eq!(
+                sensor.model.noise,
+                Noise::Range(RangeNoise::preset(s.noise).unwrap_or_default())
+            );
+            // The last beam ends where the scanner's field of view does.
+            let last = s.angle_min + (s.beams - 1) as f64 * s.increment;
+            assert!(
+                last <= 180.0 && last >= -s.angle_min - 1.0,
+                "{}: {last}",
+                s.name
+            );
+        }
+        assert!(sensor("urg04lx").is_none());
     }
-}
-
-/// Hokuyo UTM-30LX: 270 deg in 0.25 deg steps (1081 beams), 0.1-30 m, 1 mm, 30 mm noise.
-#[must_use]
-pub fn utm30lx() -> Sensor {
-    let model = scanner(1081, (-135.0, 0.25), (0.1, 30.0), "utm-30lx", 0.001);
-    field(model, (0.0, 0.05), true)
-}
-
-/// SICK LMS200 in its 8 m, mm mode: 180 deg in 1 deg steps (181 beams), 15 mm noise.
-#[must_use]
-pub fn lms2xx() -> Sensor {
-    let model = scanner(181, (-90.0, 1.0), (0.02, 8.0), "lms2xx", 0.001);
-    field(model, (0.0, 0.05), true)
-}
-
-/// Slamtec RPLIDAR A1: 360 deg in 1 deg steps (360 beams), 0.15-12 m, 1 mm, 1 % of the range
-/// (a triangulation scanner: no mixed pixels).
-#[must_use]
-pub fn rplidar_a1() -> Sensor {
-    let model = scanner(360, (-180.0, 1.0), (0.15, 12.0), "rplidar-a1", 0.001);
-    field(model, (0.0, 0.05), false)
-}
-
-/// YDLIDAR X4: 360 deg in 0.85 deg steps (424 beams), 0.12-10 m, 1 mm, 2 % of the range, and
-/// 30-70 % of the beams without a return (a triangulation scanner: no mixed pixels).
-#[must_use]
-pub fn ydlidar_x4() -> Sensor {
-    let model = scanner(424, (-180.0, 0.85), (0.12, 10.0), "ydlidar-x4", 0.001);
-    field(model, (0.3, 0.7), false)
 }

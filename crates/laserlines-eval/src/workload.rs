@@ -110,16 +110,12 @@ pub fn sensor(name: &str) -> Option<Sensor> {
     }
     match name {
         "urg04lx" => Some(Sensor::plain(LaserModel::urg04lx())),
-        "utm30lx" => Some(crate::scanners::utm30lx()),
-        "lms2xx" => Some(crate::scanners::lms2xx()),
-        "rplidar-a1" => Some(crate::scanners::rplidar_a1()),
-        "ydlidar-x4" => Some(crate::scanners::ydlidar_x4()),
         "urg04lx-artefacts" => Some(Sensor::plain(LaserModel {
             mixed_pixels: 0.5,
             dropout: 0.01,
             ..LaserModel::urg04lx()
         })),
-        _ => None,
+        other => crate::scanners::sensor(other),
     }
 }
 

@@ -225,7 +225,7 @@ fn group_lines(candidates: &[Candidate], noise: &RangeNoise, along: bool, groups
 /// joint centroid, or times the two lines' residual variance when larger.
 fn one_line(a: &FitSums, b: &FitSums, noise: &RangeNoise, along: bool) -> bool {
     let whole = a.join(b);
-    if let (true, Some(joint)) = (along, whole.normal_fit()) {
+    if let Some(joint) = along.then(|| whole.normal_fit()).flatten() {
         let mut chi2 = 0.0;
         for s in [a, b] {
             let Some(c) = s.centroid() else { continue };

@@ -224,6 +224,7 @@ impl LineExtractor for HoughSplit {
         );
         // 5-6. Linseg on each segment, then the least-squares lines.
         let kept = &self.segments.kept;
+        let cut_window = lines::cut_window(scan.angle_increment);
         for run in &self.segments.runs {
             let seg = points::Seg(&kept[run.start as usize..run.end as usize]);
             linseg::prefix_sums(seg, &mut self.scratch.prefix);
@@ -238,7 +239,7 @@ impl LineExtractor for HoughSplit {
                 pre: &self.scratch.prefix,
                 p: &self.params,
                 noise: &self.noise,
-                cut_window: lines::cut_window(scan.angle_increment),
+                cut_window,
             };
             lines::emit_lines(&pieces, &mut self.scratch.breaks, out, &mut self.candidates);
         }

@@ -166,9 +166,10 @@ pub struct HoughSplitParams {
     /// the paper. Default `true`.
     pub share_fits: bool,
     /// Refine where pieces end: the shared split point and its neighbours (over the angle of
-    /// four URG-04LX beams) go to the line that explains them best, a short corner leg or mixed pixel at a line's end is trimmed
-    /// by a chi-square test, and neighbouring lines that meet at a corner share their end
-    /// point at the intersection. Not in the paper. Default `true`.
+    /// four URG-04LX beams) go to the line that explains them best, a short corner leg or
+    /// mixed pixel at a line's end is trimmed by a chi-square test, and neighbouring lines
+    /// that meet at a corner share their end point at the intersection. Not in the paper.
+    /// Default `true`.
     pub refine_ends: bool,
     /// Lines with fewer supporting points are dropped. Default 8. At least 2 is enforced.
     pub min_line_points: usize,

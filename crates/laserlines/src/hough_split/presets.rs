@@ -57,8 +57,8 @@ impl HoughSplitParams {
 
     /// Every line the noise lets through, not only those placed within a user's tolerances:
     /// the defaults with the gate on `alpha` widened to 5 deg and none on `r`. It finds more
-    /// of the short and far pieces (under the field criteria, 3.5-5.5 points more of the TP
-    /// rate, at about three times the false lines); see the README's goals for `hough-split`.
+    /// of the short and far pieces (under the field criteria, 0.4-1.2 points more of the TP
+    /// rate, at about twice the false lines); see the README's goals for `hough-split`.
     #[must_use]
     pub fn complete() -> Self {
         Self {
