@@ -38,6 +38,28 @@ const SCANNERS: &[Scanner] = &[
         dropout: (0.0, 0.05),
         mixed: true,
     },
+    // Hokuyo UST-10LX: 270 deg in 0.25 deg steps, 0.06-10 m, 40 mm noise at every range.
+    Scanner {
+        name: "ust10lx",
+        beams: 1081,
+        angle_min: -135.0,
+        increment: 0.25,
+        range: (0.06, 10.0),
+        noise: "ust-10lx",
+        dropout: (0.0, 0.05),
+        mixed: true,
+    },
+    // SICK LMS111: 270 deg in 0.5 deg steps, 0.5-20 m, 12 mm noise.
+    Scanner {
+        name: "lms1xx",
+        beams: 541,
+        angle_min: -135.0,
+        increment: 0.5,
+        range: (0.5, 20.0),
+        noise: "lms1xx",
+        dropout: (0.0, 0.05),
+        mixed: true,
+    },
     // SICK LMS200 in its 8 m, mm mode: 180 deg in 1 deg steps, 15 mm noise.
     Scanner {
         name: "lms2xx",
@@ -58,6 +80,18 @@ const SCANNERS: &[Scanner] = &[
         increment: 1.0,
         range: (0.15, 12.0),
         noise: "rplidar-a1",
+        dropout: (0.0, 0.05),
+        mixed: false,
+    },
+    // Slamtec RPLIDAR A2 at 10 Hz: 360 deg in 0.9 deg steps, 0.15-12 m, 1-2 % of the range
+    // (triangulation: no mixed pixels).
+    Scanner {
+        name: "rplidar-a2",
+        beams: 400,
+        angle_min: -180.0,
+        increment: 0.9,
+        range: (0.15, 12.0),
+        noise: "rplidar-a2",
         dropout: (0.0, 0.05),
         mixed: false,
     },

@@ -23,8 +23,11 @@ pub const SENSORS: &[&str] = &[
     "urg04lx-full",
     "urg04lx-1.5x",
     "utm30lx",
+    "ust10lx",
+    "lms1xx",
     "lms2xx",
     "rplidar-a1",
+    "rplidar-a2",
     "ydlidar-x4",
 ];
 

@@ -18,6 +18,10 @@ const CUT_WINDOW: usize = 4;
 /// are cut only when their joint deviation is that unlikely as noise (and all on one side).
 const CHI2_1E2: [f64; CUT_WINDOW] = [6.63, 9.21, 11.34, 13.28];
 
+/// Incidence (as `r / |centroid|`, its cosine at the line's centroid) beyond which a line
+/// must show that its points advance along it with their beams (`min_advance_t`): 60 deg.
+const ADVANCE_CHECK_COS: f64 = 0.5;
+
 /// A segment's points, their prefix sums, the parameters and the noise: what every step
 /// below reads.
 pub(crate) struct Pieces<'a> {
@@ -216,6 +220,11 @@ impl Pieces<'_> {
         if fit.rms > self.p.max_rms_sigmas * self.noise.sigma(fit.centroid.coords.norm()) {
             return None;
         }
+        let t = self.p.min_advance_t;
+        let glancing = fit.r < ADVANCE_CHECK_COS * fit.centroid.coords.norm();
+        if t > 0.0 && glancing && !advances(self.seg, a, z, fit.alpha, t) {
+            return None;
+        }
         let first = (self.seg.idx(a), self.point(a));
         let last = (self.seg.idx(z - 1), self.point(z - 1));
         let mut line = Line::from_fit(&fit, first, last);
@@ -234,6 +243,37 @@ impl Pieces<'_> {
             },
         ))
     }
+}
+
+/// Whether the points `seg[a..z]` advance along the line of normal angle `alpha` with their
+/// beams: the least-squares slope of their positions along the line against their beam
+/// numbers lies at least `min_t` standard errors from zero (its t statistic, from the
+/// scatter about that slope). Points of a surface seen at a glancing angle move along it by
+/// `r dphi / cos(incidence)` a beam, well beyond their noise; a streak of range noise along
+/// the beams (a leg, a post or a depth edge seen through noise larger than the beam
+/// spacing), to which the fit gives a line at a glancing angle, scatters along it in no
+/// order. `t >= min_t` is `c_it^2 (n - 2 + min_t^2) >= min_t^2 c_ii c_tt` with the centred
+/// sums of products `c`; no division, and a NaN fails.
+fn advances(seg: Seg<'_>, a: usize, z: usize, alpha: f64, min_t: f64) -> bool {
+    let (ca, sa) = (alpha.cos(), alpha.sin());
+    let n = z.saturating_sub(a) as f64;
+    let base = seg.idx(a);
+    let (mut si, mut st, mut sii, mut sit, mut stt) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for k in a..z {
+        let i = seg.idx(k).wrapping_sub(base) as f64;
+        let q = seg.point(k);
+        let t = q.y * ca - q.x * sa;
+        si += i;
+        st += t;
+        sii += i * i;
+        sit += i * t;
+        stt += t * t;
+    }
+    let cii = sii - si * si / n;
+    let cit = sit - si * st / n;
+    let ctt = stt - st * st / n;
+    let t2 = min_t * min_t;
+    cit * cit * (n - 2.0 + t2) >= t2 * cii * ctt
 }
 
 /// A line as [`emit_lines`] gives it, before [`super::collinear::share_fits`].

@@ -96,6 +96,12 @@ pub(super) static HOUGH_SPLIT: &[Knob<HoughSplitParams>] = &[
         max_rms_sigmas,
         &[2.0, 2.5, 3.0, 4.0]
     ),
+    real!(
+        HoughSplitParams,
+        "min_advance_t",
+        min_advance_t,
+        &[0.0, 5.0, 8.0, 12.0]
+    ),
     count!(
         HoughSplitParams,
         "min_segment_points",
