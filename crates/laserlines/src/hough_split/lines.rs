@@ -445,7 +445,7 @@ fn keeps_its_points(far: Point2, near: Point2, corner: Point2, thr: f64, min_len
 #[cfg(test)]
 mod tests {
     use super::super::linseg::{SplitScratch, linseg, prefix_sums};
-    use super::super::points::{Seg, points_at};
+    use super::super::points::{Pt, Seg, points_at};
     use super::*;
 
     #[test]
@@ -459,6 +459,56 @@ mod tests {
         for bad in [0.0, f64::NAN, f64::INFINITY, 1e-12] {
             assert_eq!(cut_window(bad), CUT_WINDOW, "{bad}");
         }
+    }
+
+    /// Points on beams `0.25 deg` apart around the y axis, at ranges `range(i)`, numbered
+    /// from beam 0.
+    fn on_beams(n: usize, range: impl Fn(usize) -> f64) -> Vec<Pt> {
+        let step = 0.25f64.to_radians();
+        (0..n)
+            .map(|i| {
+                let phi = std::f64::consts::FRAC_PI_2 + step * i as f64;
+                let r = range(i);
+                Pt {
+                    x: r * phi.cos(),
+                    y: r * phi.sin(),
+                    range: r,
+                    idx: i,
+                }
+            })
+            .collect()
+    }
+
+    /// The normal angle of the least-squares line of `pts`.
+    fn fitted_alpha(pts: &[Pt]) -> f64 {
+        let sums = FitSums::from_points(pts.iter().map(|p| Point2::new(p.x, p.y)));
+        sums.fit().unwrap().alpha
+    }
+
+    #[test]
+    fn a_streak_of_range_noise_does_not_advance_but_a_glancing_wall_does() {
+        // Fixed deviates in units of sigma, in no order.
+        let dev = [0.9, -1.3, 0.2, 1.6, -0.7, -1.8, 1.1, -0.1, 0.5, -1.0, 1.4];
+        // A leg at 0.8 m under 40 mm of noise (a UST-10LX): 11 beams, 38 mm across, ranges
+        // spread 14 cm along the beams. The fit takes the streak for a line along them.
+        let leg = on_beams(11, |i| 0.8 + 0.04 * dev[i]);
+        let alpha = fitted_alpha(&leg);
+        assert!(!advances(Seg(&leg), 0, 11, alpha, 8.0));
+        // The same beams in order of range do advance: a surface.
+        let mut sorted = dev;
+        sorted.sort_by(f64::total_cmp);
+        let ramp = on_beams(11, |i| 0.8 + 0.04 * sorted[i]);
+        assert!(advances(Seg(&ramp), 0, 11, fitted_alpha(&ramp), 8.0));
+        // A wall 0.3 m from the sensor seen at 80 deg of incidence, 1.7 m away, under the same
+        // noise: its points move 4.3 cm along it a beam, 0.45 m in all.
+        let wall_alpha: f64 = 10f64.to_radians();
+        let wall = on_beams(11, |i| {
+            let phi = std::f64::consts::FRAC_PI_2 + 0.25f64.to_radians() * i as f64;
+            0.3 / (phi - wall_alpha).cos().abs() + 0.04 * dev[i]
+        });
+        assert!(advances(Seg(&wall), 0, 11, fitted_alpha(&wall), 8.0));
+        // Too few points for a slope: none advances.
+        assert!(!advances(Seg(&wall), 0, 2, fitted_alpha(&wall), 8.0));
     }
 
     #[test]
