@@ -104,8 +104,8 @@ impl Sensor {
 /// - `urg04lx-half`, `urg04lx-full`, `urg04lx-1.5x`: the field conditions of
 ///   [`Sensor::field`] at half, once and 1.5 times the data sheet's band as one standard
 ///   deviation;
-/// - `utm30lx`, `lms2xx`, `rplidar-a1`, `ydlidar-x4`: other scanners at their data sheet's
-///   noise, in the field conditions ([`crate::scanners`]).
+/// - `utm30lx`, `ust10lx`, `lms1xx`, `lms2xx`, `rplidar-a1`, `rplidar-a2`, `ydlidar-x4`: other
+///   scanners at their data sheet's noise, in the field conditions ([`crate::scanners`]).
 #[must_use]
 pub fn sensor(name: &str) -> Option<Sensor> {
     if let Some((_, level)) = FIELD_LEVELS.iter().find(|(n, _)| *n == name) {
