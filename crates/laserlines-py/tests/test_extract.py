@@ -89,6 +89,8 @@ def test_parameters_lay_over_the_defaults_like_a_params_file(cli, tmp_path):
     assert laserlines.Extractor(paper=True).params["range_limits"] == [0.03, 3.0]
     defaults = laserlines.Extractor().params
     assert (defaults["max_r_sd"], defaults["max_alpha_sd"]) == (0.06, math.radians(3.0))
+    assert defaults["min_advance_t"] == 8.0
+    assert laserlines.Extractor(paper=True).params["min_advance_t"] == 0.0
     complete = laserlines.Extractor(complete=True).params
     assert (complete["max_r_sd"], complete["max_alpha_sd"]) == (math.inf, math.radians(5.0))
     noise = laserlines.Extractor(noise={"sigma_min": 0.004, "fraction": 0.002})

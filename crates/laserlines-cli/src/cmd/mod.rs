@@ -85,8 +85,8 @@ pub fn make_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
 }
 
 /// [`make_hough_split`] for scan matching: without shared fits, with `sigma(r)` across every
-/// line and with `max_r_sd` at most 5 cm ([`laserlines::HoughSplitParams::for_mapping`]),
-/// whatever `params` say of them.
+/// line, without the advance test of glancing lines and with `max_r_sd` at most 5 cm
+/// ([`laserlines::HoughSplitParams::for_mapping`]), whatever `params` say of them.
 pub fn make_mapping_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
     make_hough_split_with(params, laserlines::HoughSplitParams::for_mapping)
 }

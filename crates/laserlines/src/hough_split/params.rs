@@ -442,6 +442,10 @@ mod tests {
         assert_eq!(m.max_r_sd, HoughSplitParams::MAPPING_MAX_R_SD);
         assert!(HoughSplitParams::default().max_r_sd > m.max_r_sd);
         assert!(!m.share_fits && !m.noise_along_beams);
+        // Scan matching and a robot among obstacles keep glancing streaks; the defaults do not.
+        assert_eq!(m.min_advance_t, 0.0);
+        assert_eq!(HoughSplitParams::navigation().min_advance_t, 0.0);
+        assert!(HoughSplitParams::default().min_advance_t > 0.0);
         let loose = HoughSplitParams::complete().for_mapping();
         assert_eq!(loose.max_r_sd, HoughSplitParams::MAPPING_MAX_R_SD);
         let tight = HoughSplitParams {
@@ -480,6 +484,22 @@ mod tests {
                 ..
             })
         ));
+        for bad in [-1.0, f64::NAN, f64::INFINITY] {
+            let p = HoughSplitParams {
+                min_advance_t: bad,
+                ..HoughSplitParams::default()
+            };
+            assert!(
+                matches!(
+                    p.validate(),
+                    Err(ParamsError::Negative {
+                        field: "min_advance_t",
+                        ..
+                    })
+                ),
+                "{bad}"
+            );
+        }
     }
 
     #[test]
