@@ -8,7 +8,7 @@
 //!
 //! On seed 5, 10 scenes of each of the seven suites, `hough-split` must find what it is
 //! documented to and lead the other seven by F1 (bounds just under what it measures here):
-//! by 0.14 on the UTM-30LX, 0.2 on the UST-10LX, 0.04 on the LMS1xx and the RPLIDAR A1, 0.13
+//! by 0.14 on the UTM-30LX, 0.18 on the UST-10LX, 0.04 on the LMS1xx and the RPLIDAR A1, 0.13
 //! on the RPLIDAR A2 and 0.4 on the YDLIDAR X4. On the SICK
 //! LMS200 (1 deg beams, 15 mm, few pieces of 10 beams or more) the four best lie within 0.01
 //! on these 70 scans, `hough-split` 0.007 below `iterative-hough`; it leads on 700 (`laserlines
@@ -37,11 +37,12 @@ impl Visitor for Scaled {
 
 /// `(scanner, least TP rate, largest FP rate, least lead in F1 over the best other)` of
 /// `hough-split`; measured in this order: TP 0.958, 0.939, 0.965, 0.954, 0.972, 0.921 and
-/// 0.742, FP 0.029, 0.036, 0.015, 0.033, 0.021, 0.020 and 0.037, lead 0.154, 0.210, 0.043,
-/// -0.007, 0.052, 0.139 and 0.470.
+/// 0.742, FP 0.029, 0.036, 0.015, 0.033, 0.021, 0.020 and 0.037, lead 0.154, 0.196, 0.043,
+/// -0.007, 0.052, 0.139 and 0.470. Without the advance test of glancing lines
+/// (`min_advance_t = 0`) the UTM-30LX's and the UST-10LX's FP rates here are 0.055 and 0.085.
 const BOUNDS: &[(&str, f64, f64, f64)] = &[
     ("utm30lx", 0.945, 0.04, 0.14),
-    ("ust10lx", 0.93, 0.045, 0.2),
+    ("ust10lx", 0.93, 0.045, 0.18),
     ("lms1xx", 0.955, 0.025, 0.04),
     ("lms2xx", 0.94, 0.04, -0.01),
     ("rplidar-a1", 0.96, 0.03, 0.04),
