@@ -207,8 +207,9 @@ impl Pieces<'_> {
     }
 
     /// The line of `seg[a..z]` and the sums of its points, when it has enough points, is long
-    /// enough and its RMS residual lies within `max_rms_sigmas` of the noise at its centroid;
-    /// [`Candidate::certain`] tells whether its covariance also passes the gates
+    /// enough and its RMS residual lies within `max_rms_sigmas` of the noise at its centroid,
+    /// and, seen at more than 60 deg of incidence, its points advance along it with their beams
+    /// ([`advances`], `min_advance_t`); [`Candidate::certain`] tells whether its covariance also passes the gates
     /// ([`certain`]). Its covariance takes the point noise as the larger of the residual
     /// variance and the model's noise across the line ([`floored_covariance`]).
     fn line(&self, a: usize, z: usize) -> Option<(Line, Candidate)> {
@@ -252,15 +253,20 @@ impl Pieces<'_> {
 /// `r dphi / cos(incidence)` a beam, well beyond their noise; a streak of range noise along
 /// the beams (a leg, a post or a depth edge seen through noise larger than the beam
 /// spacing), to which the fit gives a line at a glancing angle, scatters along it in no
-/// order. `t >= min_t` is `c_it^2 (n - 2 + min_t^2) >= min_t^2 c_ii c_tt` with the centred
-/// sums of products `c`; no division, and a NaN fails.
+/// order. `t >= min_t` is `c_it^2 (n - 2) >= min_t^2 (c_ii c_tt - c_it^2)` with the centred
+/// sums of products `c` (no division by them, and a NaN fails); fewer than three points have
+/// no scatter about a slope and do not advance.
 fn advances(seg: Seg<'_>, a: usize, z: usize, alpha: f64, min_t: f64) -> bool {
+    if z < a + 3 {
+        return false;
+    }
     let (ca, sa) = (alpha.cos(), alpha.sin());
-    let n = z.saturating_sub(a) as f64;
+    let n = (z - a) as f64;
     let base = seg.idx(a);
     let (mut si, mut st, mut sii, mut sit, mut stt) = (0.0, 0.0, 0.0, 0.0, 0.0);
     for k in a..z {
-        let i = seg.idx(k).wrapping_sub(base) as f64;
+        // Beam numbers increase along a segment.
+        let i = (seg.idx(k) - base) as f64;
         let q = seg.point(k);
         let t = q.y * ca - q.x * sa;
         si += i;
@@ -272,8 +278,7 @@ fn advances(seg: Seg<'_>, a: usize, z: usize, alpha: f64, min_t: f64) -> bool {
     let cii = sii - si * si / n;
     let cit = sit - si * st / n;
     let ctt = stt - st * st / n;
-    let t2 = min_t * min_t;
-    cit * cit * (n - 2.0 + t2) >= t2 * cii * ctt
+    cit * cit * (n - 2.0) >= min_t * min_t * (cii * ctt - cit * cit)
 }
 
 /// A line as [`emit_lines`] gives it, before [`super::collinear::share_fits`].
@@ -489,7 +494,7 @@ mod tests {
     fn a_streak_of_range_noise_does_not_advance_but_a_glancing_wall_does() {
         // Fixed deviates in units of sigma, in no order.
         let dev = [0.9, -1.3, 0.2, 1.6, -0.7, -1.8, 1.1, -0.1, 0.5, -1.0, 1.4];
-        // A leg at 0.8 m under 40 mm of noise (a UST-10LX): 11 beams, 38 mm across, ranges
+        // A leg at 0.8 m under 40 mm of noise (a UST-10LX): 11 beams, 35 mm across, ranges
         // spread 14 cm along the beams. The fit takes the streak for a line along them.
         let leg = on_beams(11, |i| 0.8 + 0.04 * dev[i]);
         let alpha = fitted_alpha(&leg);
@@ -500,7 +505,7 @@ mod tests {
         let ramp = on_beams(11, |i| 0.8 + 0.04 * sorted[i]);
         assert!(advances(Seg(&ramp), 0, 11, fitted_alpha(&ramp), 8.0));
         // A wall 0.3 m from the sensor seen at 80 deg of incidence, 1.7 m away, under the same
-        // noise: its points move 4.3 cm along it a beam, 0.45 m in all.
+        // noise: its points move 5-7 cm along it a beam, 0.58 m in all.
         let wall_alpha: f64 = 10f64.to_radians();
         let wall = on_beams(11, |i| {
             let phi = std::f64::consts::FRAC_PI_2 + 0.25f64.to_radians() * i as f64;
@@ -509,6 +514,8 @@ mod tests {
         assert!(advances(Seg(&wall), 0, 11, fitted_alpha(&wall), 8.0));
         // Too few points for a slope: none advances.
         assert!(!advances(Seg(&wall), 0, 2, fitted_alpha(&wall), 8.0));
+        // However strict the threshold, a scattered set never passes.
+        assert!(!advances(Seg(&leg), 0, 11, alpha, f64::MAX));
     }
 
     #[test]

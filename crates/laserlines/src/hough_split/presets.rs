@@ -10,8 +10,8 @@ impl HoughSplitParams {
     /// grid connectivity only, Linseg with a fixed distance criterion (1 cm, growing by 2 %
     /// of the range beyond 0.5 m: four standard deviations of the URG-04LX read as in its
     /// data sheet) with `sigma(r)` across every line, no merge, no shared fits, no end
-    /// refinement, no significance test, no minimum length and no RMS limit; data segments
-    /// and lines need three points.
+    /// refinement, no significance test, no minimum length, no RMS limit and no advance test
+    /// of glancing lines; data segments and lines need three points.
     #[must_use]
     pub fn paper() -> Self {
         Self {
