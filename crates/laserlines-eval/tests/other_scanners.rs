@@ -1,9 +1,9 @@
 //! Every extractor on the simulated suites of the other scanners (`laserlines bench --sensor
 //! utm30lx | ust10lx | lms1xx | lms2xx | rplidar-a1 | rplidar-a2 | ydlidar-x4`,
-//! [`laserlines_eval::scanners`]): each at its
-//! data sheet's noise, in the field conditions (legs, dropouts, mixed pixels on the
-//! time-of-flight scanners), judged by the field criteria. The classic extractors get the
-//! scanner's noise as `laserlines bench` gives it to them (their noise thresholds scaled,
+//! [`laserlines_eval::scanners`]): each at its data sheet's noise, in the field conditions
+//! (legs, dropouts, mixed pixels on the time-of-flight scanners), judged by the field
+//! criteria. The classic extractors get the scanner's noise as `laserlines bench` gives it to
+//! them (`ParamsFile::extractor_for_noise`: their noise thresholds scaled,
 //! [`laserlines::registry::noise_scale`]); `hough-split` estimates its own.
 //!
 //! On seed 5, 10 scenes of each of the seven suites, `hough-split` must find what it is
@@ -17,23 +17,10 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use laserlines::ParamsError;
 use laserlines::extractors::ALGORITHMS;
-use laserlines::registry::{self, Algorithm, BoxedExtractor, Params, Visitor};
 use laserlines_eval::workload::{sensor, suite_scans};
 use laserlines_eval::{MatchParams, TruthTally};
-
-/// Builds an extractor from its defaults with its noise thresholds scaled by `.0`.
-struct Scaled(f64);
-
-impl Visitor for Scaled {
-    type Output = Result<BoxedExtractor, ParamsError>;
-    fn visit<P: Params>(self, algorithm: &'static Algorithm<P>) -> Self::Output {
-        let mut p = (algorithm.defaults)();
-        (algorithm.scale_noise)(&mut p, self.0);
-        (algorithm.build)(p)
-    }
-}
+use laserlines_io::params::ParamsFile;
 
 /// `(scanner, least TP rate, largest FP rate, least lead in F1 over the best other)` of
 /// `hough-split`; measured in this order: TP 0.958, 0.939, 0.965, 0.954, 0.972, 0.921 and
@@ -59,9 +46,11 @@ fn hough_split_leads_on_other_scanners() {
         let sensor = sensor(name).unwrap();
         let scans = suite_scans("all", 5, 10, &sensor).unwrap();
         let mut f1 = Vec::new();
+        // No params file: every extractor's defaults, as `laserlines bench` builds them.
+        let defaults = ParamsFile::default();
         for algorithm in ALGORITHMS {
-            let mut e = registry::visit(algorithm, Scaled(sensor.noise_scale()))
-                .unwrap()
+            let mut e = defaults
+                .extractor_for_noise(algorithm, sensor.noise_scale())
                 .unwrap();
             let mut total = TruthTally::default();
             for s in &scans {

@@ -7,7 +7,7 @@ use super::params::HoughSplitParams;
 use super::points::Seg;
 use crate::fit::{FitSums, NormalFit, PolarFit};
 use crate::line::Line;
-use crate::math::{Matrix2, Point2};
+use crate::math::{Matrix2, Point2, Vector2};
 use crate::noise::RangeNoise;
 
 /// Points on each side of a shared end point that [`Pieces::best_cut`] may move to the other
@@ -208,9 +208,9 @@ impl Pieces<'_> {
 
     /// The line of `seg[a..z]` and the sums of its points, when it has enough points, is long
     /// enough and its RMS residual lies within `max_rms_sigmas` of the noise at its centroid,
-    /// and, seen at more than 60 deg of incidence, its points advance along it with their beams
-    /// ([`advances`], `min_advance_t`); [`Candidate::certain`] tells whether its covariance also passes the gates
-    /// ([`certain`]). Its covariance takes the point noise as the larger of the residual
+    /// and, seen at more than 60 deg of incidence, its points advance along it with their
+    /// beams ([`advances`], `min_advance_t`); [`Candidate::certain`] tells whether its
+    /// covariance also passes the gates ([`certain`]). Its covariance takes the point noise as the larger of the residual
     /// variance and the model's noise across the line ([`floored_covariance`]).
     fn line(&self, a: usize, z: usize) -> Option<(Line, Candidate)> {
         if z <= a || z - a < self.p.min_line_points.max(2) {
@@ -223,7 +223,7 @@ impl Pieces<'_> {
         }
         let t = self.p.min_advance_t;
         let glancing = fit.r < ADVANCE_CHECK_COS * fit.centroid.coords.norm();
-        if t > 0.0 && glancing && !advances(self.seg, a, z, fit.alpha, t) {
+        if t > 0.0 && glancing && !advances(self.seg, a, z, fit.normal(), t) {
             return None;
         }
         let first = (self.seg.idx(a), self.point(a));
@@ -246,7 +246,7 @@ impl Pieces<'_> {
     }
 }
 
-/// Whether the points `seg[a..z]` advance along the line of normal angle `alpha` with their
+/// Whether the points `seg[a..z]` advance along the line of unit normal `normal` with their
 /// beams: the least-squares slope of their positions along the line against their beam
 /// numbers lies at least `min_t` standard errors from zero (its t statistic, from the
 /// scatter about that slope). Points of a surface seen at a glancing angle move along it by
@@ -256,11 +256,11 @@ impl Pieces<'_> {
 /// order. `t >= min_t` is `c_it^2 (n - 2) >= min_t^2 (c_ii c_tt - c_it^2)` with the centred
 /// sums of products `c` (no division by them, and a NaN fails); fewer than three points have
 /// no scatter about a slope and do not advance.
-fn advances(seg: Seg<'_>, a: usize, z: usize, alpha: f64, min_t: f64) -> bool {
+fn advances(seg: Seg<'_>, a: usize, z: usize, normal: Vector2, min_t: f64) -> bool {
     if z < a + 3 {
         return false;
     }
-    let (ca, sa) = (alpha.cos(), alpha.sin());
+    let (ca, sa) = (normal.x, normal.y);
     let n = (z - a) as f64;
     let base = seg.idx(a);
     let (mut si, mut st, mut sii, mut sit, mut stt) = (0.0, 0.0, 0.0, 0.0, 0.0);
@@ -484,10 +484,10 @@ mod tests {
             .collect()
     }
 
-    /// The normal angle of the least-squares line of `pts`.
-    fn fitted_alpha(pts: &[Pt]) -> f64 {
+    /// The unit normal of the least-squares line of `pts`.
+    fn fitted_normal(pts: &[Pt]) -> Vector2 {
         let sums = FitSums::from_points(pts.iter().map(|p| Point2::new(p.x, p.y)));
-        sums.fit().unwrap().alpha
+        sums.fit().unwrap().normal()
     }
 
     #[test]
@@ -497,13 +497,13 @@ mod tests {
         // A leg at 0.8 m under 40 mm of noise (a UST-10LX): 11 beams, 35 mm across, ranges
         // spread 14 cm along the beams. The fit takes the streak for a line along them.
         let leg = on_beams(11, |i| 0.8 + 0.04 * dev[i]);
-        let alpha = fitted_alpha(&leg);
-        assert!(!advances(Seg(&leg), 0, 11, alpha, 8.0));
+        let normal = fitted_normal(&leg);
+        assert!(!advances(Seg(&leg), 0, 11, normal, 8.0));
         // The same beams in order of range do advance: a surface.
         let mut sorted = dev;
         sorted.sort_by(f64::total_cmp);
         let ramp = on_beams(11, |i| 0.8 + 0.04 * sorted[i]);
-        assert!(advances(Seg(&ramp), 0, 11, fitted_alpha(&ramp), 8.0));
+        assert!(advances(Seg(&ramp), 0, 11, fitted_normal(&ramp), 8.0));
         // A wall 0.3 m from the sensor seen at 80 deg of incidence, 1.7 m away, under the same
         // noise: its points move 5-7 cm along it a beam, 0.58 m in all.
         let wall_alpha: f64 = 10f64.to_radians();
@@ -511,11 +511,11 @@ mod tests {
             let phi = std::f64::consts::FRAC_PI_2 + 0.25f64.to_radians() * i as f64;
             0.3 / (phi - wall_alpha).cos().abs() + 0.04 * dev[i]
         });
-        assert!(advances(Seg(&wall), 0, 11, fitted_alpha(&wall), 8.0));
+        assert!(advances(Seg(&wall), 0, 11, fitted_normal(&wall), 8.0));
         // Too few points for a slope: none advances.
-        assert!(!advances(Seg(&wall), 0, 2, fitted_alpha(&wall), 8.0));
+        assert!(!advances(Seg(&wall), 0, 2, fitted_normal(&wall), 8.0));
         // However strict the threshold, a scattered set never passes.
-        assert!(!advances(Seg(&leg), 0, 11, alpha, f64::MAX));
+        assert!(!advances(Seg(&leg), 0, 11, normal, f64::MAX));
     }
 
     #[test]
