@@ -18,14 +18,16 @@
 //! by their noise across the wall, fitted alone and with the other pieces of its wall, a
 //! reference that a segmentation of these beams rarely beats. A missed piece that such a fit
 //! finds is marked so. `SCAN=NAME` (a scan's name as printed) also prints every piece, data
-//! segment, split and line of that scan.
+//! segment, split and line of that scan. The suite `arenas` takes its arenas from `ARENAS`,
+//! `.raf` files separated by commas.
 
 use laserlines::Line;
 use laserlines::registry;
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
 use laserlines_eval::truth::ExpectedPiece;
-use laserlines_eval::workload::{BenchScan, TEST_SEED, sensor, suite_scans};
+use laserlines_eval::workload::{BenchScan, Sensor, TEST_SEED, arena_scans, sensor, suite_scans};
 use laserlines_eval::{MatchParams, match_lines};
+use laserlines_sim::arena::{ArenaOptions, load_raf};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -40,7 +42,12 @@ fn main() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(TEST_SEED);
-    let scans = match suite_scans(suite, seed, count, &sensor) {
+    let scans = if suite == "arenas" {
+        arena_suite(seed, count, &sensor)
+    } else {
+        suite_scans(suite, seed, count, &sensor).map_err(Into::into)
+    };
+    let scans = match scans {
         Ok(s) => s,
         Err(e) => {
             eprintln!("{e}");
@@ -78,6 +85,23 @@ fn main() {
         tally.add(s, truth, &hs, &lines, &params, &found);
     }
     tally.print();
+}
+
+/// `count` scans in each arena of the `.raf` files listed in `ARENAS` (comma-separated).
+fn arena_suite(
+    seed: u64,
+    count: usize,
+    sensor: &Sensor,
+) -> Result<Vec<BenchScan>, Box<dyn std::error::Error>> {
+    let list = std::env::var("ARENAS").map_err(|_| "suite arenas needs ARENAS=a.raf,b.raf")?;
+    let mut arenas = Vec::new();
+    for path in list.split(',') {
+        arenas.push(load_raf(
+            std::path::Path::new(path),
+            &ArenaOptions::default(),
+        )?);
+    }
+    Ok(arena_scans(&arenas, seed, count, sensor))
 }
 
 /// What [`main`] counts over the scans.

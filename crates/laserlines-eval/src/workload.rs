@@ -2,8 +2,9 @@
 //! without it (real logs).
 
 use laserlines::{RangeNoise, Scan};
+use laserlines_sim::arena::{Arena, arena_scenes};
 use laserlines_sim::rng::mix_seed;
-use laserlines_sim::scenes::{self, ALL, SUITES, UnknownSuite, add_legs};
+use laserlines_sim::scenes::{self, ALL, SUITES, Scene, UnknownSuite, add_legs};
 use laserlines_sim::{LaserModel, Noise, Rng};
 
 use crate::truth::{ExpectedPiece, expected_pieces};
@@ -157,37 +158,69 @@ pub fn suite_scans(
     let mut out = Vec::new();
     for (si, suite) in names.iter().enumerate() {
         let scenes = scenes::suite(suite, seed, count)?;
-        for (k, scene) in scenes.iter().enumerate() {
-            let stream = ((si as u64) << 40) ^ k as u64;
-            let mut rng = Rng::new(mix_seed(mix_seed(seed, stream), 0x006E_6F69_7365));
-            let mut model = sensor.model;
-            let mut scene = scene.clone();
-            if sensor.legs > 0 || sensor.dropout.is_some() {
-                // The conditions draw from their own stream: the plain scans stay as they were.
-                let mut extra = Rng::new(mix_seed(mix_seed(seed, stream), 0x6C65_6773));
-                if let Some((lo, hi)) = sensor.dropout {
-                    model.dropout = extra.range(lo, hi);
-                }
-                let legs = extra.below(sensor.legs + 1);
-                add_legs(
-                    &mut scene,
-                    &mut extra,
-                    legs,
-                    sensor.leg_diameter,
-                    // Where the URG-04LX would see them, whatever the scanner's reach.
-                    model.range_max.min(5.6) - 0.6,
-                );
-            }
-            let sim = scene.simulate(&model, &mut rng);
-            out.push(BenchScan {
-                name: scene.name.clone(),
-                group: (*suite).to_string(),
-                truth: Some(expected_pieces(&sim, &model.noise)),
-                scan: sim.scan,
-            });
-        }
+        out.extend(simulate_scenes(suite, si as u64, &scenes, seed, sensor));
     }
     Ok(out)
+}
+
+/// Stream of the arena suite's scans (the scene suites use their index in [`SUITES`]).
+const ARENA_STREAM: u64 = 0x61;
+
+/// `count` scans in each of `arenas` (group `arenas`): the laser at random free poses inside
+/// each ([`laserlines_sim::arena::arena_scenes`], straight runs of panels joined into one
+/// wall), seen by `sensor` in its conditions, with the ground truth. Scenes the extractors'
+/// defaults were not chosen on: their parameters come from the scene suites.
+#[must_use]
+pub fn arena_scans(arenas: &[Arena], seed: u64, count: usize, sensor: &Sensor) -> Vec<BenchScan> {
+    let mut out = Vec::new();
+    for (k, arena) in arenas.iter().enumerate() {
+        let stream = mix_seed(ARENA_STREAM, k as u64);
+        let scenes = arena_scenes(arena, mix_seed(seed, stream), count);
+        out.extend(simulate_scenes("arenas", stream, &scenes, seed, sensor));
+    }
+    out
+}
+
+/// Scans of `scenes` (group `group`, random stream `index`) seen by `sensor` in its
+/// conditions, with their ground truth.
+fn simulate_scenes(
+    group: &str,
+    index: u64,
+    scenes: &[Scene],
+    seed: u64,
+    sensor: &Sensor,
+) -> Vec<BenchScan> {
+    let mut out = Vec::with_capacity(scenes.len());
+    for (k, scene) in scenes.iter().enumerate() {
+        let stream = (index << 40) ^ k as u64;
+        let mut rng = Rng::new(mix_seed(mix_seed(seed, stream), 0x006E_6F69_7365));
+        let mut model = sensor.model;
+        let mut scene = scene.clone();
+        if sensor.legs > 0 || sensor.dropout.is_some() {
+            // The conditions draw from their own stream: the plain scans stay as they were.
+            let mut extra = Rng::new(mix_seed(mix_seed(seed, stream), 0x6C65_6773));
+            if let Some((lo, hi)) = sensor.dropout {
+                model.dropout = extra.range(lo, hi);
+            }
+            let legs = extra.below(sensor.legs + 1);
+            add_legs(
+                &mut scene,
+                &mut extra,
+                legs,
+                sensor.leg_diameter,
+                // Where the URG-04LX would see them, whatever the scanner's reach.
+                model.range_max.min(5.6) - 0.6,
+            );
+        }
+        let sim = scene.simulate(&model, &mut rng);
+        out.push(BenchScan {
+            name: scene.name.clone(),
+            group: group.to_string(),
+            truth: Some(expected_pieces(&sim, &model.noise)),
+            scan: sim.scan,
+        });
+    }
+    out
 }
 
 /// Scans without ground truth (e.g. from a real log), grouped under `group`, named

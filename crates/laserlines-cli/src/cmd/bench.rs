@@ -12,9 +12,11 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use laserlines::{LineExtractor, registry};
 use laserlines_eval::{
     BenchOptions, BenchReport, BenchScan, DEFAULT_SCANS_PER_SUITE, MatchParams, SENSORS,
-    SpeedRatio, TEST_SEED, TRAIN_SEED, plain_scans, sensor, suite_scans,
+    SpeedRatio, TEST_SEED, TRAIN_SEED, arena_scans, plain_scans, sensor, suite_scans,
 };
+use laserlines_harness::arenas;
 use laserlines_render::ScatterChart;
+use laserlines_sim::arena::ArenaOptions;
 use serde::Serialize;
 
 use super::ALGORITHMS;
@@ -28,9 +30,15 @@ const BASELINE: &str = "iterative-hough";
 #[derive(Debug, Args)]
 pub struct BenchArgs {
     /// Simulated scene suite with ground truth: rooms, corridors, maze, boxes, clutter,
-    /// glancing, far, or all (the default when no --data is given).
+    /// glancing, far, or all (the default when no --data is given); or arenas: random free
+    /// poses inside RoboCup Rescue arenas (the bundled ones, or those of --arenas), scenes
+    /// no default was chosen on.
     #[arg(long, conflicts_with = "data")]
     suite: Option<String>,
+    /// With --suite arenas: the arenas, as `.raf` files or names of bundled arenas (default:
+    /// the four bundled ones). Implies --suite arenas.
+    #[arg(long, num_args = 1.., conflicts_with = "data")]
+    arenas: Vec<String>,
     /// Real logs to run on instead (any format `extract` reads); no ground truth.
     #[arg(long, num_args = 1..)]
     data: Vec<PathBuf>,
@@ -220,9 +228,19 @@ fn simulated_sensor(args: &BenchArgs) -> Result<laserlines_eval::workload::Senso
 
 fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
     if args.data.is_empty() {
-        let suite = args.suite.as_deref().unwrap_or("all");
+        let suite = args.suite.as_deref().unwrap_or(if args.arenas.is_empty() {
+            "all"
+        } else {
+            ARENAS
+        });
         let model = simulated_sensor(args)?;
         let count = args.scans.unwrap_or(DEFAULT_SCANS_PER_SUITE);
+        if suite == ARENAS {
+            return arena_suite(args, seed, count, &model);
+        }
+        if !args.arenas.is_empty() {
+            bail!("--arenas needs --suite arenas, not --suite {suite}");
+        }
         let scans = suite_scans(suite, seed, count, &model)?;
         let source = format!(
             "suite {suite}, seed {seed}, {count} scans per suite, sensor {}",
@@ -251,6 +269,38 @@ fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
         all.extend(plain_scans(&group, scans));
     }
     Ok((format!("data: {}", parts.join(", ")), all))
+}
+
+/// The suite of scenes inside arenas.
+const ARENAS: &str = "arenas";
+
+/// `--suite arenas`: `count` scans in each arena of `--arenas` (default: the bundled ones).
+fn arena_suite(
+    args: &BenchArgs,
+    seed: u64,
+    count: usize,
+    sensor: &laserlines_eval::workload::Sensor,
+) -> Result<(String, Vec<BenchScan>)> {
+    let names: Vec<String> = if args.arenas.is_empty() {
+        arenas::BUNDLED
+            .iter()
+            .map(|(n, _)| (*n).to_string())
+            .collect()
+    } else {
+        args.arenas.clone()
+    };
+    let mut loaded = Vec::with_capacity(names.len());
+    for name in &names {
+        loaded.push(arenas::load(name, &ArenaOptions::default())?);
+    }
+    let scans = arena_scans(&loaded, seed, count, sensor);
+    let listed: Vec<&str> = loaded.iter().map(|a| a.name.as_str()).collect();
+    let source = format!(
+        "suite arenas ({}), seed {seed}, {count} scans per arena, sensor {}",
+        listed.join(", "),
+        args.sensor
+    );
+    Ok((source, scans))
 }
 
 fn progress_bar(len: u64) -> ProgressBar {

@@ -73,6 +73,7 @@ mod elements;
 mod outline;
 mod start;
 mod tags;
+mod views;
 
 use cut::{Builder, Piece, cut_solid, cut_wall};
 use element::Element;
@@ -80,6 +81,7 @@ use elements::{Kind, element_type};
 pub use outline::{ArenaOutline, OUTLINE_CELL, SEAL_GAP};
 pub use start::{START_SEARCH_CELL, interior_start};
 use tags::Tags;
+pub use views::{JOIN_TOLERANCE, SCENE_CLEARANCE, arena_scenes, join_collinear_walls};
 
 use crate::world::World;
 
