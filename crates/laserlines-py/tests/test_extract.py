@@ -91,6 +91,8 @@ def test_parameters_lay_over_the_defaults_like_a_params_file(cli, tmp_path):
     assert (defaults["max_r_sd"], defaults["max_alpha_sd"]) == (0.06, math.radians(3.0))
     assert defaults["min_advance_t"] == 8.0
     assert laserlines.Extractor(paper=True).params["min_advance_t"] == 0.0
+    assert defaults["arc_significance"] == 2.0
+    assert laserlines.Extractor(paper=True).params["arc_significance"] == 0.0
     complete = laserlines.Extractor(complete=True).params
     assert (complete["max_r_sd"], complete["max_alpha_sd"]) == (math.inf, math.radians(5.0))
     noise = laserlines.Extractor(noise={"sigma_min": 0.004, "fraction": 0.002})

@@ -190,7 +190,8 @@ fn errors_name_the_file_the_table_and_the_key() {
          `bridge_max_gap`, `min_segment_points`, `split_sigmas`, `split_significance`, \
          `noise_along_beams`, `merge_collinear`, `share_fits`, `refine_ends`, \
          `min_line_points`, \
-         `min_line_length`, `max_rms_sigmas`, `min_advance_t`, `max_alpha_sd`, `max_r_sd`, \
+         `min_line_length`, `max_rms_sigmas`, `min_advance_t`, `arc_significance`, \
+         `max_alpha_sd`, `max_r_sd`, \
          `remove_mixed_pixels`, `min_range`, `range_limits`"
     );
     assert_eq!(

@@ -279,6 +279,7 @@ mod tests {
                 sums,
                 ends,
                 certain,
+                span: (0, n as u32),
             },
         )
     }

@@ -2,6 +2,7 @@
 //! where each line ends, the least-squares fits with their covariance, and the filters that
 //! keep surfaces and drop legs, posts and clutter.
 
+use super::arcs::drop_arcs;
 use super::linseg::{incidence_cos, split_is_significant, sums};
 use super::params::HoughSplitParams;
 use super::points::Seg;
@@ -12,7 +13,7 @@ use crate::noise::RangeNoise;
 
 /// Points on each side of a shared end point that [`Pieces::best_cut`] may move to the other
 /// line, and most points [`Pieces::trim_ends`] cuts from an end.
-const CUT_WINDOW: usize = 4;
+pub(crate) const CUT_WINDOW: usize = 4;
 
 /// The chi-square quantiles at the 1e-2 level for 1..=4 degrees of freedom: `k` end points
 /// are cut only when their joint deviation is that unlikely as noise (and all on one side).
@@ -241,6 +242,7 @@ impl Pieces<'_> {
                 sums,
                 ends,
                 certain,
+                span: (a as u32, z as u32),
             },
         ))
     }
@@ -288,6 +290,8 @@ pub(crate) struct Candidate {
     pub(crate) sums: FitSums,
     /// Its first and last supporting points.
     pub(crate) ends: (Point2, Point2),
+    /// Its points in its data segment, `seg[span.0..span.1]`.
+    pub(crate) span: (u32, u32),
     /// Its direction is known to `max_alpha_sd` and its distance from the sensor to
     /// `max_r_sd` (one standard deviation each, from its own fit); an uncertain line is kept
     /// only when it shares the fit of another line that makes it certain.
@@ -360,6 +364,9 @@ pub(crate) fn emit_lines(
             candidates.push(c);
         }
         lo = hi;
+    }
+    if p.arc_significance > 0.0 {
+        drop_arcs(pieces, out, candidates, first_line);
     }
     if p.refine_ends {
         join_corners(

@@ -16,6 +16,7 @@
 //! ```
 
 mod accumulator;
+mod arcs;
 mod collinear;
 mod components;
 mod lines;

@@ -29,6 +29,7 @@ impl HoughSplitParams {
             min_line_length: 0.0,
             max_rms_sigmas: f64::INFINITY,
             min_advance_t: 0.0,
+            arc_significance: 0.0,
             max_alpha_sd: f64::INFINITY,
             max_r_sd: f64::INFINITY,
             remove_mixed_pixels: false,
@@ -55,6 +56,7 @@ impl HoughSplitParams {
             share_fits: false,
             noise_along_beams: false,
             min_advance_t: 0.0,
+            arc_significance: 0.0,
             ..Self::complete()
         }
     }
@@ -104,6 +106,7 @@ impl HoughSplitParams {
             share_fits: false,
             noise_along_beams: false,
             min_advance_t: 0.0,
+            arc_significance: 0.0,
             // A NaN stays, for `validate` to refuse.
             max_r_sd: if self.max_r_sd.is_nan() {
                 self.max_r_sd

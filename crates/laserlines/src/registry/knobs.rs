@@ -102,6 +102,12 @@ pub(super) static HOUGH_SPLIT: &[Knob<HoughSplitParams>] = &[
         min_advance_t,
         &[0.0, 5.0, 8.0, 12.0]
     ),
+    real!(
+        HoughSplitParams,
+        "arc_significance",
+        arc_significance,
+        &[0.0, 9.0, 16.0, 25.0]
+    ),
     count!(
         HoughSplitParams,
         "min_segment_points",

@@ -1,0 +1,179 @@
+//! Step 6b: neighbouring lines that are chords of one round obstacle are dropped. A barrel
+//! or a pillar seen from nearby fills a data segment with an arc, which the split cuts into
+//! chords of a few decimetres; each bends from its chord by less than the noise over its
+//! width, and so passes every test of a line. The points of two neighbouring chords together
+//! show it: a circle of small radius, bulging towards the sensor, explains them significantly
+//! better than the two lines do, where the two faces of a box's corner fit two lines and no
+//! circle.
+
+use super::lines::{CUT_WINDOW, Candidate, Pieces};
+use super::linseg::{sums, variance_at};
+use crate::line::Line;
+use crate::math::{Point2, Vector2};
+
+/// Largest radius of a round obstacle, m: posts, pillars and barrels up to 2 m across. A
+/// wall bent more gently is still taken as lines.
+pub(crate) const MAX_ARC_RADIUS: f64 = 1.0;
+
+/// Fewest points a circle is fitted to.
+const MIN_ARC_POINTS: usize = 8;
+
+/// A circle fitted to points.
+#[derive(Debug, Clone, Copy)]
+struct Circle {
+    centre: Point2,
+    radius: f64,
+}
+
+/// The circle through `points` by the algebraic fit (Kasa: least squares of
+/// `|p - c|^2 - R^2`), about their centroid; `None` for fewer than three points or points on
+/// one line.
+fn fit_circle(points: impl Iterator<Item = Point2> + Clone) -> Option<Circle> {
+    let (mut n, mut sx, mut sy) = (0.0, 0.0, 0.0);
+    for p in points.clone() {
+        n += 1.0;
+        sx += p.x;
+        sy += p.y;
+    }
+    if n < 3.0 {
+        return None;
+    }
+    let m = Point2::new(sx / n, sy / n);
+    let (mut suu, mut suv, mut svv, mut suz, mut svz, mut sz) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    for p in points {
+        let (u, v) = (p.x - m.x, p.y - m.y);
+        let z = u * u + v * v;
+        suu += u * u;
+        suv += u * v;
+        svv += v * v;
+        suz += u * z;
+        svz += v * z;
+        sz += z;
+    }
+    let det = suu * svv - suv * suv;
+    // Points on one line (or one point) give no circle; NaN fails too.
+    let scale = suu + svv;
+    if det.is_nan() || det <= 1e-12 * scale * scale {
+        return None;
+    }
+    // |p - c|^2 = R^2 as u^2 + v^2 + D u + E v + F = 0: the centre is -(D, E) / 2.
+    let d = -(suz * svv - svz * suv) / det;
+    let e = -(svz * suu - suz * suv) / det;
+    let f = -sz / n;
+    let r2 = (d * d + e * e) / 4.0 - f;
+    if !(r2 > 0.0 && r2.is_finite()) {
+        return None;
+    }
+    Some(Circle {
+        centre: m + Vector2::new(-d / 2.0, -e / 2.0),
+        radius: r2.sqrt(),
+    })
+}
+
+/// Whether the lines of the points `seg[a..m]` and `seg[m..z]` (whose own squared residuals
+/// about their lines sum to `sse_lines`) are chords of one round obstacle: a circle of at most
+/// [`MAX_ARC_RADIUS`] through `seg[a..z]`, its centre beyond the points, leaves a sum of
+/// squared distances smaller than the two lines by more than `significance` times the noise
+/// variance (`sigma(r)^2` at their centroid, or their scatter about the circle when larger).
+fn chords_of_a_circle(
+    pieces: &Pieces<'_>,
+    (a, z): (usize, usize),
+    sse_lines: f64,
+    significance: f64,
+) -> bool {
+    if z < a + MIN_ARC_POINTS {
+        return false;
+    }
+    let points = (a..z).map(|k| pieces.seg.point(k));
+    let Some(circle) = fit_circle(points.clone()) else {
+        return false;
+    };
+    // A positive finite radius (see `fit_circle`).
+    if circle.radius > MAX_ARC_RADIUS {
+        return false;
+    }
+    let all = sums(pieces.pre, a, z);
+    // Convex towards the sensor: the centre lies beyond the points.
+    if circle.centre.coords.norm_squared() <= all.centroid_norm_squared() {
+        return false;
+    }
+    let sse_circle: f64 = points
+        .map(|p| {
+            let d = (p - circle.centre).norm() - circle.radius;
+            d * d
+        })
+        .sum();
+    let n = (z - a) as f64;
+    let variance = variance_at(&all, pieces.noise).max(sse_circle / (n - 3.0));
+    sse_lines - sse_circle > significance * variance
+}
+
+/// Drops the lines from `first_line` on (one segment's, in order) of which two neighbours
+/// are chords of one round obstacle ([`chords_of_a_circle`]).
+pub(crate) fn drop_arcs(
+    pieces: &Pieces<'_>,
+    out: &mut Vec<Line>,
+    candidates: &mut Vec<Candidate>,
+    first_line: usize,
+) {
+    let n = out.len().min(candidates.len());
+    if n < first_line + 2 {
+        return;
+    }
+    // Bit k: line first_line + k is dropped (a segment gives at most a few dozen lines; the
+    // lines beyond the 64th are left as they are).
+    let mut dropped = 0u64;
+    for k in 1..(n - first_line).min(64) {
+        let (prev, next) = (&candidates[first_line + k - 1], &candidates[first_line + k]);
+        // Neighbours: at most the points trimmed from their ends lie between them.
+        if next.span.0.saturating_sub(prev.span.1) as usize > 2 * CUT_WINDOW {
+            continue;
+        }
+        let span = (prev.span.0 as usize, next.span.1 as usize);
+        let sse = prev.sums.sse() + next.sums.sse();
+        if chords_of_a_circle(pieces, span, sse, pieces.p.arc_significance) {
+            dropped |= 0b11 << (k - 1);
+        }
+    }
+    if dropped == 0 {
+        return;
+    }
+    let mut kept = first_line;
+    for j in first_line..n {
+        let k = j - first_line;
+        if k < 64 && dropped & (1 << k) != 0 {
+            continue;
+        }
+        out[kept] = out[j];
+        candidates[kept] = candidates[j];
+        kept += 1;
+    }
+    out.truncate(kept);
+    candidates.truncate(kept);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_algebraic_fit_finds_an_exact_circle_and_refuses_a_line() {
+        let c = Point2::new(1.5, -0.4);
+        let arc = (0..20).map(|k| {
+            let t = 2.5 + 0.05 * f64::from(k);
+            c + Vector2::new(t.cos(), t.sin()) * 0.29
+        });
+        let got = fit_circle(arc).unwrap();
+        assert!((got.centre - c).norm() < 1e-9, "{got:?}");
+        assert!((got.radius - 0.29).abs() < 1e-9);
+        let line = (0..20).map(|k| Point2::new(1.0, 0.1 * f64::from(k)));
+        assert!(fit_circle(line).is_none());
+        assert!(fit_circle([Point2::new(1.0, 1.0); 2].into_iter()).is_none());
+        let nan = [
+            Point2::new(f64::NAN, 0.0),
+            Point2::new(1.0, 0.0),
+            Point2::new(0.0, 1.0),
+        ];
+        assert!(fit_circle(nan.into_iter()).is_none());
+    }
+}
