@@ -90,8 +90,9 @@ fn hough_split_leads_in_the_bundled_arenas() {
         ]
         .map(|n| dir.join(format!("{n}.raf"))),
     );
-    // Measured: TP 0.861, FP 0.054, a lead of 0.130 over `ransac`.
-    check(&rates(&arenas, 20), 0.84, 0.065, 0.1);
+    // Measured: TP 0.861, FP 0.044, a lead of 0.134 over `ransac` (without the test of
+    // round obstacles, `arc_significance = 0`: FP 0.054).
+    check(&rates(&arenas, 20), 0.84, 0.055, 0.1);
 }
 
 #[test]
@@ -112,7 +113,8 @@ fn hough_split_leads_in_arenas_of_other_teams() {
         ]
         .map(|n| dir.join(format!("{n}.raf"))),
     );
-    // Measured: TP 0.877, FP 0.090, a lead of 0.120 over `ransac`. Most false lines lie on
-    // barrels (0.58 m across): their 0.2 m chords bend from a line by less than the noise.
-    check(&rates(&arenas, 20), 0.85, 0.10, 0.1);
+    // Measured: TP 0.877, FP 0.080, a lead of 0.125 over `ransac` (without the test of round
+    // obstacles: FP 0.090). Most false lines lie on barrels (0.58 m across): at this noise a
+    // pair of their 0.2 m chords often fits two lines as well as one circle.
+    check(&rates(&arenas, 20), 0.85, 0.09, 0.1);
 }
