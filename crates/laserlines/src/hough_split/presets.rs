@@ -10,8 +10,9 @@ impl HoughSplitParams {
     /// grid connectivity only, Linseg with a fixed distance criterion (1 cm, growing by 2 %
     /// of the range beyond 0.5 m: four standard deviations of the URG-04LX read as in its
     /// data sheet) with `sigma(r)` across every line, no merge, no shared fits, no end
-    /// refinement, no significance test, no minimum length, no RMS limit and no advance test
-    /// of glancing lines; data segments and lines need three points.
+    /// refinement, no significance test, no minimum length, no RMS limit, no advance test
+    /// of glancing lines and no test of round obstacles; data segments and lines need three
+    /// points.
     #[must_use]
     pub fn paper() -> Self {
         Self {
@@ -45,7 +46,8 @@ impl HoughSplitParams {
     /// without shared fits (`share_fits = false`): each line lies on its own points, where the
     /// robot meets them, with `sigma(r)` across every line (`noise_along_beams = false`),
     /// and lines on streaks of points along the beams too (`min_advance_t = 0`): a leg seen
-    /// through noise larger than the beam spacing is still in the robot's way.
+    /// through noise larger than the beam spacing is still in the robot's way; so are the
+    /// chords of a barrel (`arc_significance = 0`).
     /// The explorer of `laserlines simulate` uses it; with shared fits it covered less of the
     /// bundled big arena (8 seeds of the fence test: mean 0.897, worst 0.639, against 0.970
     /// and 0.919), and with the noise taken along the beams too (mean 0.913, worst 0.655).
@@ -88,7 +90,8 @@ impl HoughSplitParams {
     /// heavy noise that the test leaves out; with it, the line normals' worst pose error under
     /// 2 % noise rose from 0.235 m to 0.375 m, and the MIT CSAIL log with 2 % noise added
     /// (`laserlines-cli`'s `map_noise.rs`) lost its way (mean translational error 1.49 m
-    /// against 0.074 m).
+    /// against 0.074 m). Round obstacles' chords are kept too (`arc_significance = 0`), as
+    /// when those figures were measured.
     #[must_use]
     pub fn mapping() -> Self {
         Self::default().for_mapping()
@@ -98,8 +101,8 @@ impl HoughSplitParams {
     pub const MAPPING_MAX_R_SD: f64 = 0.05;
 
     /// These parameters as scan matching reads them ([`mapping`](Self::mapping)): without
-    /// shared fits, with `sigma(r)` across every line and without `min_advance_t`, whatever
-    /// they said of those, and `max_r_sd` at most [`MAPPING_MAX_R_SD`](Self::MAPPING_MAX_R_SD).
+    /// shared fits, with `sigma(r)` across every line and without `min_advance_t` and
+    /// `arc_significance`, whatever they said of those, and `max_r_sd` at most [`MAPPING_MAX_R_SD`](Self::MAPPING_MAX_R_SD).
     #[must_use]
     pub fn for_mapping(self) -> Self {
         Self {
