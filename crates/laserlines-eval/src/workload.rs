@@ -51,6 +51,10 @@ pub struct Sensor {
     pub legs: usize,
     /// Leg diameters, m.
     pub leg_diameter: (f64, f64),
+    /// Share of the beams whose reading is spurious (sunlight, dust, a retroreflector's
+    /// echo): replaced by a range drawn uniformly between 0.1 m and 0.1 m short of the
+    /// nearer of `range_max` and 5.6 m. The ground truth stays that of the clean scan.
+    pub spurious: f64,
 }
 
 impl Sensor {
@@ -62,6 +66,7 @@ impl Sensor {
             dropout: None,
             legs: 0,
             leg_diameter: (0.03, 0.12),
+            spurious: 0.0,
         }
     }
 
@@ -93,6 +98,7 @@ impl Sensor {
             dropout: Some((0.0, 0.05)),
             legs: 8,
             leg_diameter: (0.03, 0.12),
+            spurious: 0.0,
         }
     }
 }
@@ -212,11 +218,22 @@ fn simulate_scenes(
                 model.range_max.min(5.6) - 0.6,
             );
         }
-        let sim = scene.simulate(&model, &mut rng);
+        let mut sim = scene.simulate(&model, &mut rng);
+        let truth = expected_pieces(&sim, &model.noise);
+        if sensor.spurious > 0.0 {
+            // Their own stream too.
+            let mut extra = Rng::new(mix_seed(mix_seed(seed, stream), 0x7370_7572));
+            let top = model.range_max.min(5.6) - 0.1;
+            for r in &mut sim.scan.ranges {
+                if extra.range(0.0, 1.0) < sensor.spurious {
+                    *r = extra.range(0.1, top);
+                }
+            }
+        }
         out.push(BenchScan {
             name: scene.name.clone(),
             group: group.to_string(),
-            truth: Some(expected_pieces(&sim, &model.noise)),
+            truth: Some(truth),
             scan: sim.scan,
         });
     }

@@ -66,6 +66,11 @@ pub struct BenchArgs {
     /// 3 deg, half of the line on the wall).
     #[arg(long, default_value = "strict", value_parser = ["strict", "field"], conflicts_with = "data")]
     criteria: String,
+    /// Share of each simulated scan's beams whose reading is spurious (sunlight, dust, a
+    /// retroreflector's echo): a range anywhere from 0.1 m to the sensor's reach (at most
+    /// 5.5 m), the ground truth that of the clean scan. 0..=1.
+    #[arg(long, default_value_t = 0.0, conflicts_with = "data")]
+    spurious: f64,
     /// Timed extractions of each scan by each extractor (at least 1); the fastest counts.
     #[arg(long, default_value_t = 1, value_parser = super::at_least_one, allow_negative_numbers = true)]
     repeat: usize,
@@ -216,14 +221,34 @@ fn noise_scale(args: &BenchArgs) -> Result<f64> {
     Ok(simulated_sensor(args)?.noise_scale())
 }
 
+/// The sensor's name, and the share of spurious returns when there are any.
+fn sensor_text(args: &BenchArgs) -> String {
+    if args.spurious > 0.0 {
+        format!(
+            "{} with {} of the beams spurious",
+            args.sensor, args.spurious
+        )
+    } else {
+        args.sensor.clone()
+    }
+}
+
 fn simulated_sensor(args: &BenchArgs) -> Result<laserlines_eval::workload::Sensor> {
-    sensor(&args.sensor).ok_or_else(|| {
+    let mut s = sensor(&args.sensor).ok_or_else(|| {
         anyhow!(
             "unknown sensor {:?}: expected one of {}",
             args.sensor,
             SENSORS.join(", ")
         )
-    })
+    })?;
+    if !(0.0..=1.0).contains(&args.spurious) {
+        bail!(
+            "--spurious {}: expected a share of the beams from 0 to 1",
+            args.spurious
+        );
+    }
+    s.spurious = args.spurious;
+    Ok(s)
 }
 
 fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
@@ -244,7 +269,7 @@ fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
         let scans = suite_scans(suite, seed, count, &model)?;
         let source = format!(
             "suite {suite}, seed {seed}, {count} scans per suite, sensor {}",
-            args.sensor
+            sensor_text(args)
         );
         return Ok((source, scans));
     }
@@ -298,7 +323,7 @@ fn arena_suite(
     let source = format!(
         "suite arenas ({}), seed {seed}, {count} scans per arena, sensor {}",
         listed.join(", "),
-        args.sensor
+        sensor_text(args)
     );
     Ok((source, scans))
 }
