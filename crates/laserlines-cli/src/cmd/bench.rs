@@ -319,9 +319,22 @@ fn arena_suite(
         loaded.push(arenas::load(name, &ArenaOptions::default())?);
     }
     let scans = arena_scans(&loaded, seed, count, sensor);
-    let listed: Vec<&str> = loaded.iter().map(|a| a.name.as_str()).collect();
+    // Scene names end in the arena's name; an arena with little free floor gives fewer.
+    let mut listed = Vec::with_capacity(loaded.len());
+    for arena in &loaded {
+        let stem = arena.name.strip_suffix(".raf").unwrap_or(&arena.name);
+        let suffix = format!("/{stem}");
+        let got = scans.iter().filter(|s| s.name.ends_with(&suffix)).count();
+        if got == 0 {
+            eprintln!(
+                "warning: {}: no free floor inside it was found, no scans",
+                arena.name
+            );
+        }
+        listed.push(format!("{} ({got})", arena.name));
+    }
     let source = format!(
-        "suite arenas ({}), seed {seed}, {count} scans per arena, sensor {}",
+        "suite arenas ({}), seed {seed}, up to {count} scans per arena, sensor {}",
         listed.join(", "),
         sensor_text(args)
     );

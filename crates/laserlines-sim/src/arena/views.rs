@@ -24,7 +24,8 @@ const ENCLOSED_RAYS: usize = 36;
 /// See [`ENCLOSED_RAYS`], m.
 const ENCLOSED_RANGE: f64 = 30.0;
 
-/// Poses tried per scene asked for before giving up (an arena with little free floor).
+/// Poses tried per scene asked for before giving up (an arena with little free floor), and
+/// poses tried without finding any before deciding that an arena has no free floor inside.
 const TRIES_PER_SCENE: usize = 2000;
 
 /// `world` with every set of touching collinear walls (ends within [`JOIN_TOLERANCE`] of one
@@ -40,7 +41,9 @@ pub fn join_collinear_walls(world: &World) -> World {
         while i < walls.len() {
             let mut j = i + 1;
             while j < walls.len() {
-                if let Some(both) = join(walls[i], walls[j]) {
+                // Either way round: a wall too short for a direction of its own joins a longer
+                // one only as the second.
+                if let Some(both) = join(walls[i], walls[j]).or_else(|| join(walls[j], walls[i])) {
                     walls[i] = both;
                     walls.swap_remove(j);
                     joined = true;
@@ -85,7 +88,8 @@ fn join(s: (Point2, Point2), t: (Point2, Point2)) -> Option<(Point2, Point2)> {
     Some((s.0 + u * lo.min(0.0), s.0 + u * hi.max(len)))
 }
 
-/// `count` scenes of `arena` (fewer when its free floor is too small to find them): the
+/// `count` scenes of `arena` (fewer when its free floor is too small to find them, none when
+/// 2000 poses in a row find none): the
 /// laser at poses drawn uniformly over the walls' bounding box with any heading, kept when
 /// they lie [`SCENE_CLEARANCE`] from everything and inside the arena (every one of 36 rays
 /// hits a wall within 30 m), in the arena with its collinear walls joined
@@ -98,9 +102,12 @@ pub fn arena_scenes(arena: &Arena, seed: u64, count: usize) -> Vec<Scene> {
     };
     let name = arena.name.strip_suffix(".raf").unwrap_or(&arena.name);
     let mut rng = Rng::new(mix_seed(seed, 0x6172_656E_6173));
-    let mut out = Vec::with_capacity(count);
-    let mut tries = 0;
-    while out.len() < count && tries < TRIES_PER_SCENE * count {
+    let mut out = Vec::new();
+    let mut tries = 0usize;
+    while out.len() < count && tries < TRIES_PER_SCENE.saturating_mul(count) {
+        if out.is_empty() && tries >= TRIES_PER_SCENE {
+            break;
+        }
         tries += 1;
         let p = Point2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
         let yaw = rng.range(-std::f64::consts::PI, std::f64::consts::PI);
@@ -141,7 +148,9 @@ mod tests {
     fn panels_end_to_end_become_one_wall_and_corners_stay_apart() {
         let mut w = World::new();
         // Three panels in a row (one reversed), a panel at a right angle to them, a
-        // collinear panel beyond a 0.5 m door gap, and an overlapping duplicate.
+        // collinear panel beyond a 0.5 m door gap, and an overlapping duplicate; first of all
+        // a sliver (too short for a direction) on the row, which joins it only as the second.
+        w.add_segment(p(2.0, 0.0), p(2.001, 0.0));
         w.add_segment(p(0.0, 0.0), p(1.2, 0.0));
         w.add_segment(p(2.4, 0.0), p(1.2, 0.0));
         w.add_segment(p(2.4, 0.0), p(3.6, 0.0));
@@ -207,18 +216,46 @@ mod tests {
             arena_scenes(&arena, 4, 20)[7].world_from_laser,
             scenes[7].world_from_laser
         );
-        // No floor to stand on: no scene, and no endless search.
-        assert!(
-            arena_scenes(
-                &Arena {
-                    name: "none".into(),
-                    world: World::new(),
-                    report: Default::default()
-                },
-                1,
-                3
-            )
-            .is_empty()
-        );
+        // No floor to stand on: no scene, and no endless search, however many are asked for.
+        let none = Arena {
+            name: "none".into(),
+            world: World::new(),
+            report: Default::default(),
+        };
+        assert!(arena_scenes(&none, 1, 3).is_empty());
+        let mut open = World::new();
+        open.add_segment(p(0.0, 0.0), p(6.0, 0.0));
+        open.add_segment(p(0.0, 1.0), p(6.0, 2.0));
+        let open = Arena {
+            name: "open".into(),
+            world: open,
+            report: Default::default(),
+        };
+        assert!(arena_scenes(&open, 1, usize::MAX).is_empty());
+    }
+
+    #[test]
+    fn scenes_lie_inside_an_l_shaped_room() {
+        let mut w = World::new();
+        w.add_polygon(&[
+            p(0.0, 0.0),
+            p(6.0, 0.0),
+            p(6.0, 2.0),
+            p(2.0, 2.0),
+            p(2.0, 6.0),
+            p(0.0, 6.0),
+        ]);
+        let arena = Arena {
+            name: "l.raf".into(),
+            world: w,
+            report: Default::default(),
+        };
+        let scenes = arena_scenes(&arena, 9, 40);
+        assert_eq!(scenes.len(), 40);
+        for s in &scenes {
+            let at = s.laser_position();
+            // Never in the bounding box's empty corner, outside the walls.
+            assert!(at.x < 2.0 || at.y < 2.0, "{at}");
+        }
     }
 }

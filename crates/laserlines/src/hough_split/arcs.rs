@@ -70,21 +70,23 @@ fn fit_circle(points: impl Iterator<Item = Point2> + Clone) -> Option<Circle> {
     })
 }
 
-/// Whether the lines of the points `seg[a..m]` and `seg[m..z]` (whose own squared residuals
-/// about their lines sum to `sse_lines`) are chords of one round obstacle: a circle of at most
-/// [`MAX_ARC_RADIUS`] through `seg[a..z]`, its centre beyond the points, leaves a sum of
-/// squared distances smaller than the two lines by more than `significance` times the noise
-/// variance (`sigma(r)^2` at their centroid, or their scatter about the circle when larger).
+/// Whether the lines of the points `seg[a0..z0]` and `seg[a1..z1]` (whose own squared
+/// residuals about their lines sum to `sse_lines`) are chords of one round obstacle: a circle
+/// of at most [`MAX_ARC_RADIUS`] through those points, the sensor outside it and its centre
+/// beyond their centroid, leaves a sum of squared distances smaller than the two lines by more
+/// than `significance` times the noise variance (`sigma(r)^2` at their centroid, or their
+/// scatter about the circle when larger).
 fn chords_of_a_circle(
     pieces: &Pieces<'_>,
-    (a, z): (usize, usize),
+    [(a0, z0), (a1, z1)]: [(usize, usize); 2],
     sse_lines: f64,
     significance: f64,
 ) -> bool {
-    if z < a + MIN_ARC_POINTS {
+    let count = z0.saturating_sub(a0) + z1.saturating_sub(a1);
+    if count < MIN_ARC_POINTS {
         return false;
     }
-    let points = (a..z).map(|k| pieces.seg.point(k));
+    let points = (a0..z0).chain(a1..z1).map(|k| pieces.seg.point(k));
     let Some(circle) = fit_circle(points.clone()) else {
         return false;
     };
@@ -92,9 +94,11 @@ fn chords_of_a_circle(
     if circle.radius > MAX_ARC_RADIUS {
         return false;
     }
-    let all = sums(pieces.pre, a, z);
-    // Convex towards the sensor: the centre lies beyond the points.
-    if circle.centre.coords.norm_squared() <= all.centroid_norm_squared() {
+    let all = sums(pieces.pre, a0, z0).join(&sums(pieces.pre, a1, z1));
+    // Convex towards the sensor: the sensor outside the circle, its centre beyond the points
+    // (from inside a round room, the wall's arc bends away from the sensor).
+    let centre2 = circle.centre.coords.norm_squared();
+    if centre2 <= circle.radius * circle.radius || centre2 <= all.centroid_norm_squared() {
         return false;
     }
     let sse_circle: f64 = points
@@ -103,8 +107,7 @@ fn chords_of_a_circle(
             d * d
         })
         .sum();
-    let n = (z - a) as f64;
-    let variance = variance_at(&all, pieces.noise).max(sse_circle / (n - 3.0));
+    let variance = variance_at(&all, pieces.noise).max(sse_circle / (count - 3) as f64);
     sse_lines - sse_circle > significance * variance
 }
 
@@ -129,9 +132,9 @@ pub(crate) fn drop_arcs(
         if next.span.0.saturating_sub(prev.span.1) as usize > 2 * CUT_WINDOW {
             continue;
         }
-        let span = (prev.span.0 as usize, next.span.1 as usize);
+        let spans = [prev.span, next.span].map(|(a, z)| (a as usize, z as usize));
         let sse = prev.sums.sse() + next.sums.sse();
-        if chords_of_a_circle(pieces, span, sse, pieces.p.arc_significance) {
+        if chords_of_a_circle(pieces, spans, sse, pieces.p.arc_significance) {
             dropped |= 0b11 << (k - 1);
         }
     }

@@ -106,7 +106,7 @@ pub(super) static HOUGH_SPLIT: &[Knob<HoughSplitParams>] = &[
         HoughSplitParams,
         "arc_significance",
         arc_significance,
-        &[0.0, 9.0, 16.0, 25.0]
+        &[0.0, 1.0, 2.0, 4.0, 9.0]
     ),
     count!(
         HoughSplitParams,
