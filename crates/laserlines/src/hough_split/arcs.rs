@@ -70,6 +70,27 @@ fn fit_circle(points: impl Iterator<Item = Point2> + Clone) -> Option<Circle> {
     })
 }
 
+/// The quick tests before a circle is fitted to the points `seg[a0..z0]` and `seg[a1..z1]`:
+/// their outer ends lie within a circle's diameter of [`MAX_ARC_RADIUS`] (and a tenth of a
+/// metre for the noise), and they bend towards the sensor (the last point of the first lies
+/// on the sensor's side of the chord between the outer ends). A room's walls, longer or
+/// meeting in corners seen from inside, fail them.
+fn could_be_chords(pieces: &Pieces<'_>, [(a0, z0), (a1, z1)]: [(usize, usize); 2]) -> bool {
+    if z0 <= a0 || z1 <= a1 {
+        return false;
+    }
+    let (a, j, b) = (
+        pieces.seg.point(a0),
+        pieces.seg.point(z0 - 1),
+        pieces.seg.point(z1 - 1),
+    );
+    let chord = b - a;
+    let reach = 2.0 * MAX_ARC_RADIUS + 0.1;
+    let cross = |q: Point2| chord.x * (q.y - a.y) - chord.y * (q.x - a.x);
+    // The sensor sits at the origin; NaN fails.
+    chord.norm_squared() <= reach * reach && cross(j) * cross(Point2::origin()) > 0.0
+}
+
 /// Whether the lines of the points `seg[a0..z0]` and `seg[a1..z1]` (whose own squared
 /// residuals about their lines sum to `sse_lines`) are chords of one round obstacle: a circle
 /// of at most [`MAX_ARC_RADIUS`] through those points, the sensor outside it and its centre
@@ -133,6 +154,9 @@ pub(crate) fn drop_arcs(
             continue;
         }
         let spans = [prev.span, next.span].map(|(a, z)| (a as usize, z as usize));
+        if !could_be_chords(pieces, spans) {
+            continue;
+        }
         let sse = prev.sums.sse() + next.sums.sse();
         if chords_of_a_circle(pieces, spans, sse, pieces.p.arc_significance) {
             dropped |= 0b11 << (k - 1);
