@@ -85,6 +85,6 @@ pub use matching::{MatchParams, Pair, ScanMatch, match_lines};
 pub use truth::{ExpectedPiece, expected_pieces};
 pub use tune::{TuneError, TuneResult, tune};
 pub use workload::{
-    BenchScan, DEFAULT_SCANS_PER_SUITE, SENSORS, TEST_SEED, TRAIN_SEED, arena_scans, plain_scans,
-    sensor, suite_scans,
+    BenchScan, DEFAULT_SCANS_PER_SUITE, SENSORS, TEST_SEED, TRAIN_SEED, arena_scans,
+    arena_scans_counted, plain_scans, sensor, suite_scans,
 };

@@ -52,8 +52,9 @@ pub struct Sensor {
     /// Leg diameters, m.
     pub leg_diameter: (f64, f64),
     /// Share of the beams whose reading is spurious (sunlight, dust, a retroreflector's
-    /// echo): replaced by a range drawn uniformly between 0.1 m and 0.1 m short of the
-    /// nearer of `range_max` and 5.6 m. The ground truth stays that of the clean scan.
+    /// echo): replaced by a range drawn uniformly between the larger of `range_min` and
+    /// 0.1 m and 0.1 m short of the nearer of `range_max` and 5.6 m (none when that leaves
+    /// no room). The ground truth stays that of the clean scan.
     pub spurious: f64,
 }
 
@@ -178,13 +179,27 @@ const ARENA_STREAM: u64 = 0x61;
 /// defaults were not chosen on: their parameters come from the scene suites.
 #[must_use]
 pub fn arena_scans(arenas: &[Arena], seed: u64, count: usize, sensor: &Sensor) -> Vec<BenchScan> {
+    arena_scans_counted(arenas, seed, count, sensor).0
+}
+
+/// [`arena_scans`], with the number of scans each arena gave (fewer than `count` when its
+/// free floor is small, none when none was found).
+#[must_use]
+pub fn arena_scans_counted(
+    arenas: &[Arena],
+    seed: u64,
+    count: usize,
+    sensor: &Sensor,
+) -> (Vec<BenchScan>, Vec<usize>) {
     let mut out = Vec::new();
+    let mut counts = Vec::with_capacity(arenas.len());
     for (k, arena) in arenas.iter().enumerate() {
         let stream = mix_seed(ARENA_STREAM, k as u64);
         let scenes = arena_scenes(arena, mix_seed(seed, stream), count);
+        counts.push(scenes.len());
         out.extend(simulate_scenes("arenas", stream, &scenes, seed, sensor));
     }
-    out
+    (out, counts)
 }
 
 /// Scans of `scenes` (group `group`, random stream `index`) seen by `sensor` in its
@@ -220,13 +235,13 @@ fn simulate_scenes(
         }
         let mut sim = scene.simulate(&model, &mut rng);
         let truth = expected_pieces(&sim, &model.noise);
-        if sensor.spurious > 0.0 {
+        let (bottom, top) = (model.range_min.max(0.1), model.range_max.min(5.6) - 0.1);
+        if sensor.spurious > 0.0 && bottom < top {
             // Their own stream too.
             let mut extra = Rng::new(mix_seed(mix_seed(seed, stream), 0x7370_7572));
-            let top = model.range_max.min(5.6) - 0.1;
             for r in &mut sim.scan.ranges {
                 if extra.range(0.0, 1.0) < sensor.spurious {
-                    *r = extra.range(0.1, top);
+                    *r = extra.range(bottom, top);
                 }
             }
         }

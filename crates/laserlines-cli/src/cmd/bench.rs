@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use laserlines::{LineExtractor, registry};
 use laserlines_eval::{
     BenchOptions, BenchReport, BenchScan, DEFAULT_SCANS_PER_SUITE, MatchParams, SENSORS,
-    SpeedRatio, TEST_SEED, TRAIN_SEED, arena_scans, plain_scans, sensor, suite_scans,
+    SpeedRatio, TEST_SEED, TRAIN_SEED, arena_scans_counted, plain_scans, sensor, suite_scans,
 };
 use laserlines_harness::arenas;
 use laserlines_render::ScatterChart;
@@ -67,9 +67,14 @@ pub struct BenchArgs {
     #[arg(long, default_value = "strict", value_parser = ["strict", "field"], conflicts_with = "data")]
     criteria: String,
     /// Share of each simulated scan's beams whose reading is spurious (sunlight, dust, a
-    /// retroreflector's echo): a range anywhere from 0.1 m to the sensor's reach (at most
-    /// 5.5 m), the ground truth that of the clean scan. 0..=1.
-    #[arg(long, default_value_t = 0.0, conflicts_with = "data")]
+    /// retroreflector's echo): a range anywhere from the sensor's minimum (at least 0.1 m)
+    /// to its reach (at most 5.5 m), the ground truth that of the clean scan. 0..=1.
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        allow_negative_numbers = true,
+        conflicts_with = "data"
+    )]
     spurious: f64,
     /// Timed extractions of each scan by each extractor (at least 1); the fastest counts.
     #[arg(long, default_value_t = 1, value_parser = super::at_least_one, allow_negative_numbers = true)]
@@ -318,14 +323,11 @@ fn arena_suite(
     for name in &names {
         loaded.push(arenas::load(name, &ArenaOptions::default())?);
     }
-    let scans = arena_scans(&loaded, seed, count, sensor);
-    // Scene names end in the arena's name; an arena with little free floor gives fewer.
+    let (scans, counts) = arena_scans_counted(&loaded, seed, count, sensor);
+    // An arena with little free floor gives fewer.
     let mut listed = Vec::with_capacity(loaded.len());
-    for arena in &loaded {
-        let stem = arena.name.strip_suffix(".raf").unwrap_or(&arena.name);
-        let suffix = format!("/{stem}");
-        let got = scans.iter().filter(|s| s.name.ends_with(&suffix)).count();
-        if got == 0 {
+    for (arena, &got) in loaded.iter().zip(&counts) {
+        if got == 0 && count > 0 {
             eprintln!(
                 "warning: {}: no free floor inside it was found, no scans",
                 arena.name

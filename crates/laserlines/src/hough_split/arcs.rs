@@ -8,6 +8,7 @@
 
 use super::lines::{CUT_WINDOW, Candidate, Pieces};
 use super::linseg::{sums, variance_at};
+use super::points::Seg;
 use crate::line::Line;
 use crate::math::{Point2, Vector2};
 
@@ -75,15 +76,11 @@ fn fit_circle(points: impl Iterator<Item = Point2> + Clone) -> Option<Circle> {
 /// metre for the noise), and they bend towards the sensor (the last point of the first lies
 /// on the sensor's side of the chord between the outer ends). A room's walls, longer or
 /// meeting in corners seen from inside, fail them.
-fn could_be_chords(pieces: &Pieces<'_>, [(a0, z0), (a1, z1)]: [(usize, usize); 2]) -> bool {
-    if z0 <= a0 || z1 <= a1 {
+fn could_be_chords(seg: Seg<'_>, [(a0, z0), (a1, z1)]: [(usize, usize); 2]) -> bool {
+    if z0 <= a0 || z1 <= a1 || z1 > seg.len() {
         return false;
     }
-    let (a, j, b) = (
-        pieces.seg.point(a0),
-        pieces.seg.point(z0 - 1),
-        pieces.seg.point(z1 - 1),
-    );
+    let (a, j, b) = (seg.point(a0), seg.point(z0 - 1), seg.point(z1 - 1));
     let chord = b - a;
     let reach = 2.0 * MAX_ARC_RADIUS + 0.1;
     let cross = |q: Point2| chord.x * (q.y - a.y) - chord.y * (q.x - a.x);
@@ -154,7 +151,7 @@ pub(crate) fn drop_arcs(
             continue;
         }
         let spans = [prev.span, next.span].map(|(a, z)| (a as usize, z as usize));
-        if !could_be_chords(pieces, spans) {
+        if !could_be_chords(pieces.seg, spans) {
             continue;
         }
         let sse = prev.sums.sse() + next.sums.sse();
@@ -181,7 +178,71 @@ pub(crate) fn drop_arcs(
 
 #[cfg(test)]
 mod tests {
+    use super::super::linseg::prefix_sums;
+    use super::super::params::HoughSplitParams;
+    use super::super::points::points_at;
     use super::*;
+    use crate::fit::FitSums;
+    use crate::noise::RangeNoise;
+
+    /// Points on a circle of `radius` about `centre`, at angles `from + k step`, `k < n`.
+    fn arc(centre: (f64, f64), radius: f64, from: f64, step: f64, n: usize) -> Vec<(f64, f64)> {
+        (0..n)
+            .map(|k| {
+                let t = from + step * k as f64;
+                (centre.0 + radius * t.cos(), centre.1 + radius * t.sin())
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_quick_tests_pass_a_barrel_and_refuse_a_room_seen_from_inside() {
+        // The near side of a barrel 1.5 m ahead: two halves of its arc.
+        let barrel = points_at(&arc((1.5, 0.0), 0.29, 2.4, 0.05, 30));
+        assert!(could_be_chords(Seg(&barrel), [(0, 15), (15, 30)]));
+        // A round room's wall seen from inside (the sensor 0.7 m off the centre of a circle
+        // of 1 m): it bends away from the sensor.
+        let room = points_at(&arc((-0.7, 0.0), 1.0, -0.4, 0.03, 30));
+        assert!(!could_be_chords(Seg(&room), [(0, 15), (15, 30)]));
+        // Ends 3 m apart: no circle of 1 m.
+        let long = points_at(&arc((3.0, 0.0), 2.0, 2.3, 0.06, 30));
+        assert!(!could_be_chords(Seg(&long), [(0, 15), (15, 30)]));
+        // Empty or out-of-range spans, and NaN points.
+        assert!(!could_be_chords(Seg(&barrel), [(5, 5), (5, 30)]));
+        assert!(!could_be_chords(Seg(&barrel), [(0, 15), (15, 31)]));
+        let mut nan = barrel.clone();
+        nan[14].x = f64::NAN;
+        assert!(!could_be_chords(Seg(&nan), [(0, 15), (15, 30)]));
+    }
+
+    #[test]
+    fn a_circle_around_the_sensor_or_too_large_is_no_obstacle() {
+        let p = HoughSplitParams::default();
+        let noise = RangeNoise::new(0.005, 0.005);
+        let check = |pts: &[(f64, f64)], sse_lines: f64| {
+            let seg = points_at(pts);
+            let mut pre: Vec<FitSums> = Vec::new();
+            prefix_sums(Seg(&seg), &mut pre);
+            let pieces = Pieces {
+                seg: Seg(&seg),
+                pre: &pre,
+                p: &p,
+                noise: &noise,
+                cut_window: CUT_WINDOW,
+            };
+            let half = pts.len() / 2;
+            chords_of_a_circle(&pieces, [(0, half), (half, pts.len())], sse_lines, 2.0)
+        };
+        // Exact points, two lines said to leave 1 m^2: a barrel's arc is a round obstacle.
+        assert!(check(&arc((1.5, 0.0), 0.29, 2.4, 0.05, 30), 1.0));
+        // ... but not when the lines explain the points as well as the circle.
+        assert!(!check(&arc((1.5, 0.0), 0.29, 2.4, 0.05, 30), 0.0));
+        // The sensor inside the circle, its centre still beyond the points' centroid.
+        let around = arc((0.5, 0.0), 0.6, std::f64::consts::PI - 0.5, 0.035, 30);
+        assert!(!check(&around, 1.0));
+        // A radius above 1 m.
+        assert!(!check(&arc((3.0, 0.0), 1.2, 2.6, 0.03, 30), 1.0));
+    }
 
     #[test]
     fn the_algebraic_fit_finds_an_exact_circle_and_refuses_a_line() {
