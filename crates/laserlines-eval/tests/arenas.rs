@@ -11,12 +11,11 @@
 
 use std::path::{Path, PathBuf};
 
-use laserlines::extractors::ALGORITHMS;
+use laserlines_eval::arena_scans;
 use laserlines_eval::workload::Sensor;
-use laserlines_eval::{MatchParams, TruthTally, arena_scans};
-use laserlines_io::params::ParamsFile;
 use laserlines_sim::arena::{Arena, ArenaOptions, load_raf};
 
+mod common;
 #[path = "../../../tests/shared_data.rs"]
 mod shared_data;
 
@@ -26,31 +25,10 @@ fn rates(arenas: &[Arena], count: usize) -> Vec<(&'static str, f64, f64, f64)> {
     let sensor = Sensor::field(1.0);
     let scans = arena_scans(arenas, 3, count, &sensor);
     assert_eq!(scans.len(), count * arenas.len());
-    let params = MatchParams::field();
-    let defaults = ParamsFile::default();
-    let mut out = Vec::new();
-    for algorithm in ALGORITHMS {
-        let mut e = defaults
-            .extractor_for_noise(algorithm, sensor.noise_scale())
-            .unwrap();
-        let mut total = TruthTally::default();
-        for s in &scans {
-            let truth = s.truth.as_ref().unwrap();
-            total.add(&TruthTally::of_scan(&e.extract(&s.scan), truth, &params));
-        }
-        let m = total.metrics();
-        println!(
-            "{algorithm:16} TP {:.3} FP {:.3} F1 {:.3}",
-            m.true_positive_rate, m.false_positive_rate, m.f1
-        );
-        out.push((
-            *algorithm,
-            m.true_positive_rate,
-            m.false_positive_rate,
-            m.f1,
-        ));
-    }
-    out
+    common::field_metrics(&scans, sensor.noise_scale(), "arenas")
+        .into_iter()
+        .map(|(a, m)| (a, m.true_positive_rate, m.false_positive_rate, m.f1))
+        .collect()
 }
 
 /// Asserts `hough-split`'s TP and FP rates and its lead in F1 over the best other.

@@ -19,8 +19,8 @@
 
 use laserlines::extractors::ALGORITHMS;
 use laserlines_eval::workload::{sensor, suite_scans};
-use laserlines_eval::{MatchParams, TruthTally};
-use laserlines_io::params::ParamsFile;
+
+mod common;
 
 /// `(scanner, least TP rate, largest FP rate, least lead in F1 over the best other)` of
 /// `hough-split`; measured in this order: TP 0.958, 0.939, 0.965, 0.954, 0.972, 0.921 and
@@ -40,29 +40,13 @@ const BOUNDS: &[(&str, f64, f64, f64)] = &[
 #[test]
 fn hough_split_leads_on_other_scanners() {
     assert_eq!(ALGORITHMS[0], "hough-split");
-    let params = MatchParams::field();
     let mut failures = Vec::new();
     for &(name, least_tp, most_fp, least_lead) in BOUNDS {
         let sensor = sensor(name).unwrap();
         let scans = suite_scans("all", 5, 10, &sensor).unwrap();
         let mut f1 = Vec::new();
-        // No params file: every extractor's defaults, as `laserlines bench` builds them.
-        let defaults = ParamsFile::default();
-        for algorithm in ALGORITHMS {
-            let mut e = defaults
-                .extractor_for_noise(algorithm, sensor.noise_scale())
-                .unwrap();
-            let mut total = TruthTally::default();
-            for s in &scans {
-                let truth = s.truth.as_ref().unwrap();
-                total.add(&TruthTally::of_scan(&e.extract(&s.scan), truth, &params));
-            }
-            let m = total.metrics();
-            println!(
-                "{name} {algorithm:16} TP {:.3} FP {:.3} F1 {:.3}",
-                m.true_positive_rate, m.false_positive_rate, m.f1
-            );
-            if *algorithm == "hough-split"
+        for (algorithm, m) in common::field_metrics(&scans, sensor.noise_scale(), name) {
+            if algorithm == "hough-split"
                 && (m.true_positive_rate < least_tp || m.false_positive_rate > most_fp)
             {
                 failures.push(format!(
@@ -70,7 +54,7 @@ fn hough_split_leads_on_other_scanners() {
                     m.true_positive_rate, m.false_positive_rate
                 ));
             }
-            f1.push((*algorithm, m.f1));
+            f1.push((algorithm, m.f1));
         }
         let ours = f1[0].1;
         let best = f1[1..]

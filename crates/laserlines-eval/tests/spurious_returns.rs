@@ -8,10 +8,9 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use laserlines::extractors::ALGORITHMS;
 use laserlines_eval::workload::{sensor, suite_scans};
-use laserlines_eval::{MatchParams, TruthTally};
-use laserlines_io::params::ParamsFile;
+
+mod common;
 
 /// `(TP, FP, F1)` of every extractor, `hough-split` first, with `share` of the beams
 /// spurious.
@@ -19,26 +18,9 @@ fn rates(share: f64) -> Vec<(&'static str, f64, f64, f64)> {
     let mut sensor = sensor("urg04lx-full").unwrap();
     sensor.spurious = share;
     let scans = suite_scans("all", 4, 20, &sensor).unwrap();
-    let defaults = ParamsFile::default();
-    let params = MatchParams::field();
-    ALGORITHMS
-        .iter()
-        .map(|&algorithm| {
-            let mut e = defaults
-                .extractor_for_noise(algorithm, sensor.noise_scale())
-                .unwrap();
-            let mut total = TruthTally::default();
-            for s in &scans {
-                let truth = s.truth.as_ref().unwrap();
-                total.add(&TruthTally::of_scan(&e.extract(&s.scan), truth, &params));
-            }
-            let m = total.metrics();
-            println!(
-                "{share}: {algorithm:16} TP {:.3} FP {:.3} F1 {:.3}",
-                m.true_positive_rate, m.false_positive_rate, m.f1
-            );
-            (algorithm, m.true_positive_rate, m.false_positive_rate, m.f1)
-        })
+    common::field_metrics(&scans, sensor.noise_scale(), &format!("{share}:"))
+        .into_iter()
+        .map(|(a, m)| (a, m.true_positive_rate, m.false_positive_rate, m.f1))
         .collect()
 }
 
