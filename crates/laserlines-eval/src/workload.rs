@@ -170,7 +170,8 @@ pub fn suite_scans(
     Ok(out)
 }
 
-/// Stream of the arena suite's scans (the scene suites use their index in [`SUITES`]).
+/// Stream of the arena suite's scans (the scene suites use their position in the run: 0
+/// for a single suite, their index in [`SUITES`] for `all`).
 const ARENA_STREAM: u64 = 0x61;
 
 /// `count` scans in each of `arenas` (group `arenas`): the laser at random free poses inside

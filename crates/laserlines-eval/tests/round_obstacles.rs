@@ -50,6 +50,14 @@ fn lines_on_obstacle(scene: &Scene, noise: RangeNoise, params: HoughSplitParams)
     (on_obstacle, wall_seen)
 }
 
+/// The defaults without the test of round obstacles.
+fn without_the_test() -> HoughSplitParams {
+    HoughSplitParams {
+        arc_significance: 0.0,
+        ..HoughSplitParams::default()
+    }
+}
+
 const LEVELS: [(&str, RangeNoise); 2] = [
     ("real noise", RangeNoise::new(0.003, 0.0015)),
     ("half band", RangeNoise::new(0.005, 0.005)),
@@ -59,10 +67,6 @@ const LEVELS: [(&str, RangeNoise); 2] = [
 fn a_barrel_gives_few_lines() {
     // Measured over the ten cases, lines on the barrel: 161 with the test, 425 without (at
     // 2 m under the real noise 12 against 104; at 1.5 m at half the band 46 against 105).
-    let off = HoughSplitParams {
-        arc_significance: 0.0,
-        ..HoughSplitParams::default()
-    };
     let (mut with, mut without) = (0, 0);
     for d in [0.7, 1.0, 1.5, 2.0, 3.0] {
         let barrel = scene(|w| {
@@ -70,7 +74,7 @@ fn a_barrel_gives_few_lines() {
         });
         for (what, noise) in LEVELS {
             let (on, seen) = lines_on_obstacle(&barrel, noise, HoughSplitParams::default());
-            let (on_off, _) = lines_on_obstacle(&barrel, noise, off.clone());
+            let (on_off, _) = lines_on_obstacle(&barrel, noise, without_the_test());
             println!("barrel at {d} m, {what}: {on} lines with the test, {on_off} without");
             assert_eq!(seen, 50, "{d} m, {what}: the wall");
             with += on;
@@ -91,12 +95,8 @@ fn a_box_corner_keeps_its_two_faces() {
             w.add_box(Point2::new(d, 0.3), 0.4, 0.4, 45f64.to_radians());
         });
         for (what, noise) in LEVELS {
-            let off = HoughSplitParams {
-                arc_significance: 0.0,
-                ..HoughSplitParams::default()
-            };
             let (with, seen) = lines_on_obstacle(&boxed, noise, HoughSplitParams::default());
-            let (without, _) = lines_on_obstacle(&boxed, noise, off);
+            let (without, _) = lines_on_obstacle(&boxed, noise, without_the_test());
             println!("box at {d} m, {what}: {with} lines with the test, {without} without");
             // Both faces in nearly every scan, and the same lines with the test as without.
             assert!(without >= 95, "{d} m, {what}: {without}");
@@ -129,11 +129,7 @@ fn a_round_room_seen_from_inside_keeps_its_lines() {
             ..LaserModel::urg04lx()
         };
         let mut with = HoughSplit::new(HoughSplitParams::default()).unwrap();
-        let mut without = HoughSplit::new(HoughSplitParams {
-            arc_significance: 0.0,
-            ..HoughSplitParams::default()
-        })
-        .unwrap();
+        let mut without = HoughSplit::new(without_the_test()).unwrap();
         let (mut a, mut b) = (0, 0);
         for seed in 0..20 {
             let sim = room.simulate(&model, &mut Rng::new(seed));

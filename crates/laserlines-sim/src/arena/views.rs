@@ -5,6 +5,7 @@
 use laserlines::math::{Isometry2, Point2};
 
 use super::Arena;
+use crate::cells::extent;
 use crate::rng::{Rng, mix_seed};
 use crate::scenes::Scene;
 use crate::world::World;
@@ -89,15 +90,15 @@ fn join(s: (Point2, Point2), t: (Point2, Point2)) -> Option<(Point2, Point2)> {
 }
 
 /// `count` scenes of `arena` (fewer when its free floor is too small to find them, none when
-/// 2000 poses in a row find none): the
-/// laser at poses drawn uniformly over the walls' bounding box with any heading, kept when
-/// they lie [`SCENE_CLEARANCE`] from everything and inside the arena (every one of 36 rays
-/// hits a wall within 30 m), in the arena with its collinear walls joined
-/// ([`join_collinear_walls`]). Named `arenas/<index>/<arena name>`; seeded by `seed`.
+/// 2000 poses in a row find none): the laser at poses drawn uniformly over the walls'
+/// bounding box with any heading, kept when they lie [`SCENE_CLEARANCE`] from everything and
+/// inside the arena (every one of 36 rays hits a wall within 30 m), in the arena with its
+/// collinear walls joined ([`join_collinear_walls`]). Named `arenas/<index>/<arena name>`;
+/// seeded by `seed`.
 #[must_use]
 pub fn arena_scenes(arena: &Arena, seed: u64, count: usize) -> Vec<Scene> {
     let world = join_collinear_walls(&arena.world);
-    let Some((lo, hi)) = bounds(&world) else {
+    let Some((lo, hi)) = extent(world.walls.iter().flat_map(|w| [w.a, w.b])) else {
         return Vec::new();
     };
     let name = arena.name.strip_suffix(".raf").unwrap_or(&arena.name);
@@ -121,18 +122,6 @@ pub fn arena_scenes(arena: &Arena, seed: u64, count: usize) -> Vec<Scene> {
         });
     }
     out
-}
-
-/// The corners of the walls' bounding box; `None` without walls.
-fn bounds(world: &World) -> Option<(Point2, Point2)> {
-    let mut ends = world.walls.iter().flat_map(|w| [w.a, w.b]);
-    let first = ends.next()?;
-    Some(ends.fold((first, first), |(lo, hi), p| {
-        (
-            Point2::new(lo.x.min(p.x), lo.y.min(p.y)),
-            Point2::new(hi.x.max(p.x), hi.y.max(p.y)),
-        )
-    }))
 }
 
 #[cfg(test)]

@@ -211,8 +211,9 @@ impl Pieces<'_> {
     /// enough and its RMS residual lies within `max_rms_sigmas` of the noise at its centroid,
     /// and, seen at more than 60 deg of incidence, its points advance along it with their
     /// beams ([`advances`], `min_advance_t`); [`Candidate::certain`] tells whether its
-    /// covariance also passes the gates ([`certain`]). Its covariance takes the point noise as the larger of the residual
-    /// variance and the model's noise across the line ([`floored_covariance`]).
+    /// covariance also passes the gates ([`certain`]). Its covariance takes the point noise as
+    /// the larger of the residual variance and the model's noise across the line
+    /// ([`floored_covariance`]).
     fn line(&self, a: usize, z: usize) -> Option<(Line, Candidate)> {
         if z <= a || z - a < self.p.min_line_points.max(2) {
             return None;

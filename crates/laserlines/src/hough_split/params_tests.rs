@@ -61,35 +61,20 @@ fn bad_fields_are_named() {
             ..
         })
     ));
+    type Setter = fn(&mut HoughSplitParams, f64);
+    let fields: [(&str, Setter); 2] = [
+        ("min_advance_t", |p, v| p.min_advance_t = v),
+        ("arc_significance", |p, v| p.arc_significance = v),
+    ];
     for bad in [-1.0, f64::NAN, f64::INFINITY] {
-        let p = HoughSplitParams {
-            min_advance_t: bad,
-            ..HoughSplitParams::default()
-        };
-        assert!(
-            matches!(
-                p.validate(),
-                Err(ParamsError::Negative {
-                    field: "min_advance_t",
-                    ..
-                })
-            ),
-            "{bad}"
-        );
-        let p = HoughSplitParams {
-            arc_significance: bad,
-            ..HoughSplitParams::default()
-        };
-        assert!(
-            matches!(
-                p.validate(),
-                Err(ParamsError::Negative {
-                    field: "arc_significance",
-                    ..
-                })
-            ),
-            "{bad}"
-        );
+        for (name, set) in fields {
+            let mut p = HoughSplitParams::default();
+            set(&mut p, bad);
+            assert!(
+                matches!(p.validate(), Err(ParamsError::Negative { field, .. }) if field == name),
+                "{name} = {bad}"
+            );
+        }
     }
 }
 
