@@ -221,6 +221,19 @@ fn bad_topics_and_bags_are_clean_errors() {
         "{err}"
     );
     assert_eq!(jsonl(&out).len(), 3);
+    // Without --skip-bad: the same scans, what was written, then the error.
+    let o = run(bin().args(["extract", "-o"]).arg(&out).arg(&cut));
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    let written = err.find("3 scans with").expect(&err);
+    let error = err
+        .find("cut.bag: byte 8827: expected chunk data")
+        .expect(&err);
+    assert!(
+        written < error && err.contains("written before the error"),
+        "{err}"
+    );
+    assert_eq!(jsonl(&out).len(), 3);
     // --jobs 0.
     let o = run(bin()
         .args(["extract", "--jobs", "0"])

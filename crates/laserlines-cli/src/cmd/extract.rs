@@ -131,9 +131,21 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     // The lines of every scan before an error stay readable: the output is closed either way
     // (a Parquet file gets its footer, an MCAP its summary, a gzip stream its end).
     let closed = writer.close();
-    let waiting = written?;
-    closed?;
     progress.finish_and_clear();
+    let waiting = match written {
+        Ok(waiting) => waiting,
+        Err(e) => {
+            // What was written before the error, then the error itself (from `main`).
+            eprintln!(
+                "{name}: {} with {} written before the error, in {:.2} s",
+                super::count(totals.scans, "scan"),
+                super::count(totals.lines, "line"),
+                start.elapsed().as_secs_f64()
+            );
+            return Err(e);
+        }
+    };
+    closed?;
     let reader = reader_back
         .recv()
         .map_err(|_| anyhow::anyhow!("internal error: the reader did not come back"))?;
