@@ -176,6 +176,27 @@ fn live_tells_when_the_sensor_leaves_and_comes_back() {
     );
 }
 
+#[test]
+fn live_counts_the_scans_lost_to_an_outage_still_going_on_at_the_end() {
+    // 20 scans (half a second at 40 Hz), then the sensor is away for longer than the run:
+    // about 2.5 s of scans, 100, are lost, and the summary counts them.
+    let (_emulator, addr) = emulator_with(&["--drop-after", "20", "--down-for", "60"]);
+    let o = bin()
+        .args(["live", &addr, "--duration", "3"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    let summary = err.lines().rfind(|l| l.contains(" scans, ")).expect(&err);
+    let lost: u64 = summary
+        .split(", ")
+        .find_map(|part| part.strip_suffix(" disconnected"))
+        .and_then(|n| n.rsplit(' ').next())
+        .and_then(|n| n.parse().ok())
+        .expect(summary);
+    assert!((60..=140).contains(&lost), "{lost} lost: {summary}");
+}
+
 /// The messages of each topic of an MCAP file, with their log times and schema names, read
 /// by the `mcap` crate's own reader.
 fn mcap_topics(bytes: &[u8]) -> HashMap<String, Vec<(u64, String, Vec<u8>)>> {

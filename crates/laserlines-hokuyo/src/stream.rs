@@ -121,6 +121,9 @@ pub struct Scanner {
     request: ScanRequest,
     stats: ScannerStats,
     last_raw: Option<u32>,
+    /// When the last scan delivered was received (`None` before the first, and after
+    /// [`Scanner::count_missed_until_now`]).
+    last_good_at: Option<Instant>,
     last_stamp: f64,
     dropped_since_good: u64,
     after_reconnect: bool,
@@ -165,6 +168,7 @@ impl Scanner {
             request,
             stats,
             last_raw: None,
+            last_good_at: None,
             last_stamp: f64::NEG_INFINITY,
             dropped_since_good: 0,
             after_reconnect: false,
@@ -278,6 +282,7 @@ impl Scanner {
             }
         }
         self.last_raw = Some(raw);
+        self.last_good_at = Some(scan.received);
         self.dropped_since_good = 0;
         self.after_reconnect = false;
         let host_recv = self.host.at(scan.received);
@@ -292,6 +297,36 @@ impl Scanner {
         }
         self.stats.delivered += 1;
         Some(scan)
+    }
+
+    /// Counts the scans the sensor made since the last one delivered that never came, for a
+    /// run that ends while the sensor is away or silent: [`Scanner::next_scan`] counts such
+    /// scans only when the next one arrives, from the gap in the sensor's stamps. Without the
+    /// sensor's stamps this count comes from the host clock: the scan periods elapsed since
+    /// the last scan was received, less the one that may be on its way and the scans already
+    /// counted as dropped, as `disconnected` while the link is down (or was, since that scan)
+    /// and as `gap` otherwise. Counts once: a second call adds nothing.
+    pub fn count_missed_until_now(&mut self) {
+        let Some(at) = self.last_good_at.take() else {
+            return;
+        };
+        let periods = at.elapsed().as_secs_f64() * 1000.0 / self.period_ms();
+        // NaN or negative gives 0.
+        let slots = if periods >= 1.0 {
+            periods.floor() as u64
+        } else {
+            0
+        };
+        let missing = slots
+            .saturating_sub(1)
+            .saturating_sub(self.dropped_since_good);
+        let reason = if self.session.is_none() || self.after_reconnect {
+            DropReason::Disconnected
+        } else {
+            DropReason::Gap
+        };
+        self.stats.dropped.add(reason, missing);
+        self.dropped_since_good += missing;
     }
 
     fn lose_link(&mut self, why: String) {

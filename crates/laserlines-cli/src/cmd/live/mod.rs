@@ -201,7 +201,9 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         &mut tally,
         &stop,
     );
-    // QT on every way out: the end of the run, Ctrl-C, an output error.
+    // QT on every way out: the end of the run, Ctrl-C, an output error. Scans lost to an
+    // outage still going on are counted first.
+    scanner.count_missed_until_now();
     let stats = scanner.stats().clone();
     tally.close_window(Instant::now());
     let quit = scanner.close();
