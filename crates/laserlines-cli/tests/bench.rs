@@ -212,7 +212,7 @@ fn unknown_algorithm_suite_and_sensor_are_clean_errors() {
         .arg(&out));
     assert_clean_error(&o, &["unknown algorithm", "nope", "iterative-hough"]);
     let o = run(bin().args(["bench", "--suite", "moon", "-o"]).arg(&out));
-    assert_clean_error(&o, &["unknown scene suite", "moon", "rooms"]);
+    assert_clean_error(&o, &["unknown scene suite", "moon", "rooms", "all, arenas"]);
     let o = run(bin()
         .args(["bench", "--sensor", "lidar9000", "-o"])
         .arg(&out));

@@ -135,8 +135,14 @@ fn values_out_of_range_are_errors_not_clamped() {
             &["demo", "--figure-scan", "40"][..],
             "--figure-scan must be less than 40",
         ),
-        (&["demo", "--repeat", "0"][..], "must be at least 1, got 0"),
-        (&["bench", "--repeat", "0"][..], "must be at least 1, got 0"),
+        (
+            &["demo", "--repeat", "0"][..],
+            "must be from 1 to 1000, got 0",
+        ),
+        (
+            &["bench", "--repeat", "0"][..],
+            "must be from 1 to 1000, got 0",
+        ),
         (
             &["simulate", "--duration", "-5"][..],
             "--duration must be a positive number",

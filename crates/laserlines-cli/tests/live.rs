@@ -152,7 +152,7 @@ fn the_duration_ends_a_run_whose_sensor_went_away() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(
-        err.contains("--silence must be seconds > 0, got 0"),
+        err.contains("--silence must be seconds, more than 0 up to 1e9, got 0"),
         "{err}"
     );
 }

@@ -201,15 +201,24 @@ impl LiveServer {
 }
 
 /// Paces a replay: tells how long to wait before each scan so that scan times (s) pass at
-/// `rate` times real time. A time before the previous one restarts the pacing from there.
+/// `rate` times real time. A time before the previous one (a backward step) is shown at once
+/// and restarts the pacing from there; a step of more than [`Pacer::MAX_STEP_S`] (a gap) is
+/// waited for as a step of that much, so that no scan waits longer than `MAX_STEP_S / rate`.
+/// Both are counted.
 #[derive(Debug, Clone)]
 pub struct Pacer {
     rate: f64,
     base: Option<(Instant, f64)>,
     last: f64,
+    gaps: u64,
+    backward_steps: u64,
 }
 
 impl Pacer {
+    /// The longest step between two scan times that is waited for in full, s; a longer one
+    /// (a gap in the log) is waited for as this long, divided by the rate.
+    pub const MAX_STEP_S: f64 = 1.0;
+
     /// A pacer at `rate` (1.0 = real time, 2.0 = twice as fast); `rate` must be positive and
     /// finite, anything else plays as fast as possible.
     #[must_use]
@@ -218,24 +227,55 @@ impl Pacer {
             rate,
             base: None,
             last: f64::NEG_INFINITY,
+            gaps: 0,
+            backward_steps: 0,
         }
     }
 
     /// How long to wait from `now` before showing a scan of time `t` (s).
     pub fn delay(&mut self, t: f64, now: Instant) -> Duration {
-        if !(self.rate.is_finite() && self.rate > 0.0 && t.is_finite()) {
+        if !t.is_finite() {
             return Duration::ZERO;
         }
+        let step = t - self.last;
         let (wall, start) = match self.base {
-            Some(b) if t >= self.last => b,
-            _ => {
+            Some(_) if step < 0.0 => {
+                self.backward_steps += 1;
+                self.base = Some((now, t));
+                (now, t)
+            }
+            Some((wall, start)) if step > Self::MAX_STEP_S => {
+                // The gap counts as a step of MAX_STEP_S: the pacing moves on by the rest.
+                self.gaps += 1;
+                let shifted = (wall, start + step - Self::MAX_STEP_S);
+                self.base = Some(shifted);
+                shifted
+            }
+            Some(b) => b,
+            None => {
                 self.base = Some((now, t));
                 (now, t)
             }
         };
         self.last = t;
+        if !(self.rate.is_finite() && self.rate > 0.0) {
+            return Duration::ZERO;
+        }
         let due = Duration::try_from_secs_f64((t - start) / self.rate).unwrap_or(Duration::MAX);
-        (wall + due).saturating_duration_since(now)
+        wall.checked_add(due)
+            .map_or(Duration::MAX, |at| at.saturating_duration_since(now))
+    }
+
+    /// Steps of more than [`Pacer::MAX_STEP_S`] between two scan times so far.
+    #[must_use]
+    pub fn gaps(&self) -> u64 {
+        self.gaps
+    }
+
+    /// Scan times before the previous one so far.
+    #[must_use]
+    pub fn backward_steps(&self) -> u64 {
+        self.backward_steps
     }
 }
 
@@ -257,7 +297,33 @@ mod tests {
         assert_eq!(p.delay(12.5, t0 + Duration::from_secs(5)), Duration::ZERO);
         // Time going backwards restarts the pacing.
         assert_eq!(p.delay(3.0, t0 + Duration::from_secs(6)), Duration::ZERO);
+        assert_eq!((p.gaps(), p.backward_steps()), (0, 1));
         assert_eq!(Pacer::new(0.0).delay(100.0, t0), Duration::ZERO);
         assert_eq!(Pacer::new(f64::NAN).delay(100.0, t0), Duration::ZERO);
+    }
+
+    #[test]
+    fn a_gap_in_the_scan_times_waits_one_step_of_at_most_a_second_over_the_rate() {
+        let t0 = Instant::now();
+        for rate in [1.0, 4.0] {
+            let mut p = Pacer::new(rate);
+            assert_eq!(p.delay(10.0, t0), Duration::ZERO);
+            // 2^32 s later: one capped step, then the pacing goes on from there.
+            let cap = Duration::from_secs_f64(Pacer::MAX_STEP_S / rate);
+            let wait = p.delay(10.0 + 4.3e9, t0);
+            assert!(wait.abs_diff(cap) < Duration::from_millis(1), "{wait:?}");
+            let after = Duration::from_secs_f64((Pacer::MAX_STEP_S + 0.5) / rate);
+            let wait = p.delay(10.5 + 4.3e9, t0);
+            assert!(wait.abs_diff(after) < Duration::from_millis(1), "{wait:?}");
+            // Backwards: no wait.
+            assert_eq!(p.delay(5.0, t0 + cap), Duration::ZERO);
+            assert_eq!((p.gaps(), p.backward_steps()), (1, 1), "rate {rate}");
+        }
+        // Counted as fast as possible too.
+        let mut p = Pacer::new(0.0);
+        for t in [1.0, 0.5, 100.0] {
+            assert_eq!(p.delay(t, t0), Duration::ZERO);
+        }
+        assert_eq!((p.gaps(), p.backward_steps()), (1, 1));
     }
 }

@@ -23,11 +23,12 @@ use crate::{LASER_FRAME, LINES_ENTITY, ODOM_FRAME, ROBOT_FRAME, WORLD_FRAME};
 /// Time given to a scan without a stamp, after the previous scan's, s.
 pub const DEFAULT_SCAN_PERIOD: f64 = 0.1;
 
-/// Gives each scan its time: its stamp when finite and not negative, else
+/// Gives each scan its time: its stamp when finite, not negative and below 2^32 s, else
 /// [`DEFAULT_SCAN_PERIOD`] after the previous one.
 #[derive(Debug, Clone, Default)]
 pub struct SceneClock {
     last: Option<f64>,
+    unusable: u64,
 }
 
 impl SceneClock {
@@ -41,10 +42,20 @@ impl SceneClock {
     pub fn time_of(&mut self, stamp: Option<f64>) -> f64 {
         let t = match stamp {
             Some(s) if s.is_finite() && s >= 0.0 && s < f64::from(u32::MAX) => s,
-            _ => self.last.map_or(0.0, |l| l + DEFAULT_SCAN_PERIOD),
+            other => {
+                self.unusable += u64::from(other.is_some());
+                self.last.map_or(0.0, |l| l + DEFAULT_SCAN_PERIOD)
+            }
         };
         self.last = Some(t);
         t
+    }
+
+    /// Stamps so far that were not taken (not finite, negative, or 2^32 s and more); scans
+    /// without a stamp are not counted.
+    #[must_use]
+    pub fn unusable(&self) -> u64 {
+        self.unusable
     }
 }
 
@@ -178,6 +189,8 @@ mod tests {
         assert_eq!(c.time_of(Some(5.0)), 5.0);
         assert!((c.time_of(Some(f64::NAN)) - 5.1).abs() < 1e-12);
         assert!((c.time_of(Some(-1.0)) - 5.2).abs() < 1e-12);
+        assert!((c.time_of(Some(4.29497e9)) - 5.3).abs() < 1e-12);
+        assert_eq!(c.unusable(), 3);
         assert_eq!(log_time_ns(1.5), 1_500_000_000);
     }
 

@@ -332,10 +332,21 @@ impl ParamsFile {
             Some(toml::Value::Table(given)) => {
                 let mut given = given.clone();
                 let mut start = base;
+                let mut chosen: Option<&str> = None;
                 for (preset, make) in algorithm.presets {
                     match given.remove(*preset) {
                         None => {}
-                        Some(toml::Value::Boolean(true)) => start = make(),
+                        Some(toml::Value::Boolean(true)) => {
+                            if let Some(first) = chosen {
+                                let message = format!(
+                                    "a second preset: {first} = true and {preset} = true; \
+                                     set at most one preset to true"
+                                );
+                                return Err(self.key_error(table, preset, message));
+                            }
+                            chosen = Some(preset);
+                            start = make();
+                        }
                         Some(toml::Value::Boolean(false)) => {}
                         Some(other) => {
                             let message = format!("expected true or false, found {other}");

@@ -201,7 +201,7 @@ fn a_truncated_chunk_ends_with_an_error_naming_its_offset_after_the_scans_before
             errors,
             vec![format!(
                 "t.bag: byte {third}: expected chunk data ({len} bytes), found {} bytes \
-                 before the end of the input (a truncated bag)",
+                 before the end of the input (a truncated bag or a corrupt length field)",
                 len / 2
             )],
             "{name}"
@@ -337,6 +337,26 @@ fn a_corrupt_top_level_header_length_ends_the_reader() {
         vec![format!(
             "t.bag: byte {second}: expected a record header of at most 16777216 bytes, found a \
              header length of 4294967295 bytes (a corrupt record)"
+        )]
+    );
+}
+
+#[test]
+fn a_data_length_past_the_end_names_a_corrupt_length_field_as_a_cause() {
+    let mut bytes = fixture("laserscans.bag");
+    let (second, data, len) = chunks(&bytes)[1];
+    // The second chunk claims 100 kB more data than the whole bag holds after it.
+    let claimed = (bytes.len() - data + 100_000) as u32;
+    bytes[data - 4..data].copy_from_slice(&claimed.to_le_bytes());
+    let (items, _) = read_bytes(&bytes, None);
+    let (_, errors) = scans_and_errors(&items);
+    let rest = bytes.len() - data;
+    assert!(rest > len, "{rest} {len}");
+    assert_eq!(
+        errors,
+        vec![format!(
+            "t.bag: byte {second}: expected chunk data ({claimed} bytes), found {rest} bytes \
+             before the end of the input (a truncated bag or a corrupt length field)"
         )]
     );
 }

@@ -158,7 +158,7 @@ fn without_its_index_a_recording_cut_short_still_gives_its_scans() {
         e,
         format!(
             "t.bag: byte {}: expected message data ({} bytes), found 10 bytes before the end \
-             of the input (a truncated bag)",
+             of the input (a truncated bag or a corrupt length field)",
             third.0, third.3
         )
     );

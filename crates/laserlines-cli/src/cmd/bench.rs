@@ -76,8 +76,8 @@ pub struct BenchArgs {
         conflicts_with = "data"
     )]
     spurious: f64,
-    /// Timed extractions of each scan by each extractor (at least 1); the fastest counts.
-    #[arg(long, default_value_t = 1, value_parser = super::at_least_one, allow_negative_numbers = true)]
+    /// Timed extractions of each scan by each extractor (1 to 1000); the fastest counts.
+    #[arg(long, default_value_t = 1, value_parser = super::repeat_count, allow_negative_numbers = true)]
     repeat: usize,
     /// TOML file of parameters (one table per algorithm), as for `extract`.
     #[arg(long)]
@@ -267,6 +267,14 @@ fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
         let count = args.scans.unwrap_or(DEFAULT_SCANS_PER_SUITE);
         if suite == ARENAS {
             return arena_suite(args, seed, count, &model);
+        }
+        if suite != laserlines_sim::scenes::ALL && !laserlines_sim::scenes::SUITES.contains(&suite)
+        {
+            bail!(
+                "unknown scene suite {suite:?}; known suites: {}, {}, {ARENAS}",
+                laserlines_sim::scenes::SUITES.join(", "),
+                laserlines_sim::scenes::ALL
+            );
         }
         if !args.arenas.is_empty() {
             bail!("--arenas needs --suite arenas, not --suite {suite}");

@@ -19,8 +19,8 @@ pub struct DemoArgs {
     /// Scan to draw as the paper's figures (0-based; the excerpt holds 40 scans).
     #[arg(long, default_value_t = 20, value_parser = super::index, allow_negative_numbers = true)]
     figure_scan: usize,
-    /// Timing passes over the whole excerpt (at least 1).
-    #[arg(long, default_value_t = 50, value_parser = super::at_least_one, allow_negative_numbers = true)]
+    /// Timing passes over the whole excerpt (1 to 1000).
+    #[arg(long, default_value_t = 50, value_parser = super::repeat_count, allow_negative_numbers = true)]
     repeat: usize,
 }
 

@@ -54,9 +54,10 @@ pub struct ExtractArgs {
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.
     #[arg(long)]
     skip_bad: bool,
-    /// Extraction threads (default: one per core). The output is the same for any number.
-    #[arg(short, long)]
-    jobs: Option<usize>,
+    /// Extraction threads, 1 to 256 (default: one per core). The output is the same for any
+    /// number.
+    #[arg(short, long, allow_negative_numbers = true)]
+    jobs: Option<i64>,
 }
 
 /// A record or the error in its place.
@@ -95,11 +96,16 @@ struct Totals {
     noise: (f64, f64, u64),
 }
 
+/// Most extraction threads `--jobs` takes: more only add threads that wait.
+pub const MAX_JOBS: usize = 256;
+
 /// Runs the command.
 pub fn run(args: &ExtractArgs) -> Result<()> {
     let jobs = match args.jobs {
-        Some(0) => anyhow::bail!("--jobs must be at least 1"),
-        Some(n) => n,
+        Some(n) => usize::try_from(n)
+            .ok()
+            .filter(|n| (1..=MAX_JOBS).contains(n))
+            .ok_or_else(|| anyhow::anyhow!("--jobs must be from 1 to {MAX_JOBS}, got {n}"))?,
         None => std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get),
     };
     let pool = rayon::ThreadPoolBuilder::new()

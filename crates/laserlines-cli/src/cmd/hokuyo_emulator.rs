@@ -32,17 +32,20 @@ pub struct HokuyoEmulatorArgs {
     /// bundled maze_10m_x_14m).
     #[arg(long, conflicts_with = "log")]
     arena: Option<PathBuf>,
-    /// Replay a recorded log instead (any format `extract` reads), over and over.
+    /// Replay a recorded log instead (any format `extract` reads), over and over: from its
+    /// first scan again after its last. The whole log is read before serving: a bad record
+    /// (named by file and line or byte offset, as `extract` names it) or a log without scans
+    /// is an error.
     #[arg(long)]
     log: Option<PathBuf>,
     /// Scans per second (default: the model's, 10 or 40).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     rate: Option<f64>,
     /// Seed of the simulated noise.
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Stop after this many seconds (default: until Ctrl-C).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     duration: Option<f64>,
     /// Write every scan sent as a JSON line (connection, time stamp, fault, readings in mm).
     #[arg(long)]
@@ -57,7 +60,7 @@ pub struct HokuyoEmulatorArgs {
     #[arg(long, default_value_t = 0)]
     drop_after: u64,
     /// Fault: stay unreachable this many seconds after dropping a connection.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     down_for: f64,
     /// Fault: start in SCIP 1.1 (the host must switch with SCIP2.0).
     #[arg(long)]
@@ -69,15 +72,11 @@ pub struct HokuyoEmulatorArgs {
     #[arg(long, default_value_t = 0)]
     stall_after: u64,
     /// ... for this many seconds.
-    #[arg(long, default_value_t = 5.0)]
+    #[arg(long, default_value_t = 5.0, allow_negative_numbers = true)]
     stall_for: f64,
     /// Fault: the sensor clock at start, ms (16777215 wraps at once; 16775216 after 2 s).
     #[arg(long, default_value_t = 0)]
     clock_start_ms: u32,
-}
-
-fn seconds(name: &str, s: f64) -> Result<Duration> {
-    Duration::try_from_secs_f64(s).map_err(|_| anyhow!("--{name} must be seconds >= 0, got {s}"))
 }
 
 fn feed(args: &HokuyoEmulatorArgs) -> Result<Box<dyn ScanFeed>> {
@@ -87,9 +86,12 @@ fn feed(args: &HokuyoEmulatorArgs) -> Result<Box<dyn ScanFeed>> {
             format: None,
             topic: None,
         };
+        check_log(&input)?;
         let reopen = Box::new(move || {
             let reader = super::open_input(&input).map_err(|e| format!("{e:#}"))?;
-            Ok(Box::new(reader.filter_map(Result::ok).map(|r| r.scan))
+            // The log was read whole without error: a record that fails now (the file
+            // changed) ends the pass, and the replay starts over.
+            Ok(Box::new(reader.map_while(Result::ok).map(|r| r.scan))
                 as Box<dyn Iterator<Item = laserlines::Scan> + Send>)
         });
         return Ok(Box::new(LogFeed::new(reopen).map_err(|e| anyhow!(e))?));
@@ -104,25 +106,47 @@ fn feed(args: &HokuyoEmulatorArgs) -> Result<Box<dyn ScanFeed>> {
     Ok(Box::new(ArenaFeed::new(&arena.world, start, args.seed)))
 }
 
+/// Reads the log of `--log` whole: its first bad record is the error, and so is a log that
+/// gives no scan.
+fn check_log(input: &InputArgs) -> Result<()> {
+    let mut reader = super::open_input(input)?;
+    let mut scans = 0u64;
+    for item in reader.by_ref() {
+        item?;
+        scans += 1;
+    }
+    if scans == 0 {
+        return Err(super::no_scans(reader.name(), reader.skipped()));
+    }
+    Ok(())
+}
+
 /// Runs the command.
 pub fn run(args: &HokuyoEmulatorArgs) -> Result<()> {
     let name: ModelName = args.model.parse().map_err(|e: String| anyhow!(e))?;
     let mut model = Model::new(name);
     if let Some(rate) = args.rate {
         if !(rate.is_finite() && rate > 0.0 && rate <= 1000.0) {
-            bail!("--rate must be scans per second in (0, 1000], got {rate}");
+            bail!(
+                "--rate must be scans per second, more than 0 up to 1000, got {}",
+                super::compact(rate)
+            );
         }
         model.scan_rpm = (rate * 60.0).round().max(1.0) as u32;
     }
+    let duration = args
+        .duration
+        .map(|d| super::seconds("--duration", d, true))
+        .transpose()?;
     let faults = Faults {
         bad_checksum_every: args.bad_checksum_every,
         truncate_every: args.truncate_every,
         drop_after: args.drop_after,
-        down_for: seconds("down-for", args.down_for)?,
+        down_for: super::seconds("--down-for", args.down_for, true)?,
         start_in_scip11: args.scip11,
         reply_delay: Duration::from_millis(args.reply_delay_ms),
         stall_after: args.stall_after,
-        stall_for: seconds("stall-for", args.stall_for)?,
+        stall_for: super::seconds("--stall-for", args.stall_for, true)?,
         clock_start_ms: args.clock_start_ms,
     };
     let log = match &args.served {
@@ -151,11 +175,7 @@ pub fn run(args: &HokuyoEmulatorArgs) -> Result<()> {
     let stop = Arc::new(AtomicBool::new(false));
     let s = stop.clone();
     ctrlc::set_handler(move || s.store(true, Ordering::Relaxed)).context("cannot catch Ctrl-C")?;
-    let until = args
-        .duration
-        .map(|d| seconds("duration", d))
-        .transpose()?
-        .map(|d| Instant::now() + d);
+    let until = duration.map(|d| Instant::now() + d);
     while !stop.load(Ordering::Relaxed)
         && until.is_none_or(|u| Instant::now() < u)
         && !handle.is_finished()

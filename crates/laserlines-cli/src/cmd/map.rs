@@ -63,7 +63,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
     if !(0.005..=10.0).contains(&args.resolution) {
         bail!(
             "--resolution must lie from 0.005 to 10 m, got {}",
-            args.resolution
+            super::compact(args.resolution)
         );
     }
     let reader = super::open_input(&args.input)?;

@@ -11,6 +11,7 @@ pub mod map_outputs;
 pub mod relations;
 pub mod render;
 pub mod simulate;
+pub mod simulate_world;
 pub mod view;
 
 use std::path::{Path, PathBuf};
@@ -117,13 +118,52 @@ pub fn algorithm_parser() -> clap::builder::PossibleValuesParser {
     clap::builder::PossibleValuesParser::new(ALGORITHMS)
 }
 
-/// A value parser for counts of at least one (`--repeat`).
-pub fn at_least_one(s: &str) -> Result<usize, String> {
+/// Most repetitions `--repeat` takes (`bench`, `demo`).
+pub const MAX_REPEAT: usize = 1000;
+
+/// A value parser for repetition counts, 1 to [`MAX_REPEAT`] (`--repeat`).
+pub fn repeat_count(s: &str) -> Result<usize, String> {
     match s.trim().parse::<i64>() {
-        Ok(n) if n >= 1 => usize::try_from(n).map_err(|e| e.to_string()),
-        Ok(n) => Err(format!("must be at least 1, got {n}")),
-        Err(_) => Err(format!("expected a whole number of at least 1, got {s:?}")),
+        Ok(n) if (1..=MAX_REPEAT as i64).contains(&n) => {
+            usize::try_from(n).map_err(|e| e.to_string())
+        }
+        Ok(n) => Err(format!("must be from 1 to {MAX_REPEAT}, got {n}")),
+        Err(_) => Err(format!(
+            "expected a whole number from 1 to {MAX_REPEAT}, got {s:?}"
+        )),
     }
+}
+
+/// Most seconds a time option takes (about 31.7 years).
+pub const MAX_SECONDS: f64 = 1e9;
+
+/// `v` for a message: as written for ordinary magnitudes, in exponent form (`1e300`) for
+/// very large or very small ones, so that a message never spells out hundreds of digits.
+pub fn compact(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 || !a.is_finite() || (1e-4..1e9).contains(&a) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
+/// `value` seconds given to `flag` as a duration: from 0 (more than 0 unless `zero`) up to
+/// [`MAX_SECONDS`]; anything else is refused with the allowed range.
+pub fn seconds(flag: &str, value: f64, zero: bool) -> Result<std::time::Duration> {
+    let low_ok = value > 0.0 || (zero && value == 0.0);
+    if low_ok
+        && value <= MAX_SECONDS
+        && let Ok(d) = std::time::Duration::try_from_secs_f64(value)
+    {
+        return Ok(d);
+    }
+    let low = if zero { "from 0" } else { "more than 0" };
+    Err(anyhow!(
+        "{flag} must be seconds, {low} up to {}, got {}",
+        compact(MAX_SECONDS),
+        compact(value)
+    ))
 }
 
 /// A value parser for 0-based indices (`--scan`), with a plain message for negative ones.

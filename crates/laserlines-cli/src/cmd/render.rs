@@ -45,19 +45,14 @@ pub struct RenderArgs {
 pub fn run(args: &RenderArgs) -> Result<()> {
     check_output(&args.output)?;
     if !(400.0..=8000.0).contains(&args.width) {
-        anyhow::bail!("--width must lie from 400 to 8000 px, got {}", args.width);
+        anyhow::bail!(
+            "--width must lie from 400 to 8000 px, got {}",
+            super::compact(args.width)
+        );
     }
     super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "render")?;
     let to_stdout = args.output == Path::new("-");
-    let mut reader = super::open_input(&args.input)?;
-    let record = reader.by_ref().nth(args.scan).ok_or_else(|| {
-        anyhow!(
-            "{}: has no scan {} (it holds {})",
-            args.input.input.display(),
-            args.scan,
-            super::count(reader.records(), "scan")
-        )
-    })??;
+    let record = nth_scan(&args.input, args.scan)?;
     let opts = RenderOptions {
         width: args.width,
         ..RenderOptions::default()
@@ -123,6 +118,25 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         .with_context(|| format!("cannot write {}", args.output.display()))?;
     eprintln!("wrote {}", args.output.display());
     Ok(())
+}
+
+/// Scan `index` of the input, counting scans from 0; a bad record before it is the error
+/// (as `extract` gives it), not a shortage of scans.
+fn nth_scan(input: &InputArgs, index: usize) -> Result<laserlines_io::ScanRecord> {
+    let mut reader = super::open_input(input)?;
+    let mut seen = 0usize;
+    for item in reader.by_ref() {
+        let record = item?;
+        if seen == index {
+            return Ok(record);
+        }
+        seen += 1;
+    }
+    Err(anyhow!(
+        "{}: has no scan {index} (it holds {})",
+        input.input.display(),
+        super::count(seen as u64, "scan")
+    ))
 }
 
 /// `render` writes SVG: to a `.svg` file or standard output (`-`); any other name (a `.png`

@@ -18,9 +18,10 @@ use laserlines_nav::ExplorerParams;
 use laserlines_render::{ExplorationMap, exploration_map_svg, sectors_svg};
 use laserlines_sim::World;
 use laserlines_sim::arena::{ArenaOptions, ArenaReport, WallLength, interior_start};
-use laserlines_sim::cells::extent;
 use laserlines_sim::maze::{MazeParams, generate};
 use laserlines_sim::robot::RobotParams;
+
+use super::simulate_world::{check_start_inside, parse_start, report_skipped, warn_if_cramped};
 
 /// Arguments of `laserlines simulate`.
 #[derive(Debug, Args)]
@@ -36,7 +37,8 @@ pub struct SimulateArgs {
     /// Give the maze islands (wall groups not connected to the outer wall).
     #[arg(long, requires = "maze")]
     islands: bool,
-    /// Cut the corners of this many of the maze's turning cells by 45-degree walls.
+    /// Cut the corners of this many of the maze's turning cells by 45-degree walls (more
+    /// than the maze has is refused, naming its number).
     #[arg(long, value_name = "N", requires = "maze")]
     diagonals: Option<usize>,
     /// Simulated time limit, s.
@@ -61,9 +63,10 @@ pub struct SimulateArgs {
     /// Output folder.
     #[arg(short, long, default_value = "laserlines-simulate")]
     output: PathBuf,
-    /// TOML file of settings: `[robot]` (footprint, drive limits, odometry noise, laser
-    /// mount, rates), `[explorer]` (followed side, distances, speeds, timeouts) and
-    /// `[hough-split]` (the line extractor); keys as in the README.
+    /// TOML file of settings: `[robot]` (footprint, drive limits, wheel base, laser mount),
+    /// `[simulator]` (odometry noise, laser model, scan and physics periods, laser height),
+    /// `[explorer]` (followed side, distances, speeds, timeouts) and `[hough-split]` (the
+    /// line extractor); keys as in the README.
     #[arg(long, value_name = "FILE.toml")]
     params: Option<PathBuf>,
     /// Keep the robot inside the arena's bounds (the bounding box of its largest group of
@@ -122,15 +125,16 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     if !(args.duration.is_finite() && args.duration > 0.0) {
         bail!(
             "--duration must be a positive number of seconds, got {}",
-            args.duration
+            super::compact(args.duration)
         );
     }
     if let Some(t) = args.snapshot
         && !(t.is_finite() && (0.0..=args.duration).contains(&t))
     {
         bail!(
-            "--snapshot must lie within the run, from 0 to --duration ({} s), got {t}",
-            args.duration
+            "--snapshot must lie within the run, from 0 to --duration ({} s), got {}",
+            super::compact(args.duration),
+            super::compact(t)
         );
     }
     let setup = setup(args)?;
@@ -388,6 +392,15 @@ fn world_of(
             ..MazeParams::default()
         };
         let maze = generate(&params, seed);
+        if maze.diagonals < params.diagonals {
+            bail!(
+                "--diagonals {}: maze {seed} has {} turning cells whose corner can be cut, so \
+                 --diagonals must be from 0 to {} for it",
+                params.diagonals,
+                maze.diagonals,
+                maze.diagonals
+            );
+        }
         let mut name = format!("maze {seed}");
         if args.islands {
             name.push_str(&format!(" with {} islands", maze.islands));
@@ -413,88 +426,10 @@ fn world_of(
     Ok((arena.name.clone(), arena.world, start, Some(arena.report)))
 }
 
-/// Says on standard error which elements the arena loader skipped, by type and count.
-fn report_skipped(name: &str, report: &ArenaReport) {
-    if report.skipped_count() == 0 {
-        return;
-    }
-    let list = report
-        .skipped
-        .iter()
-        .map(|(t, n)| format!("{t} x {n}"))
-        .collect::<Vec<_>>()
-        .join(", ");
-    eprintln!(
-        "laserlines: {name}: skipped {} elements whose shape at the laser's height of {} m is not modelled: {list}",
-        report.skipped_count(),
-        report.laser_height_m
-    );
-    let unknown = report.unknown_types();
-    if !unknown.is_empty() {
-        eprintln!(
-            "laserlines: {name}: unknown element types: {}",
-            unknown.join(", ")
-        );
-    }
-}
-
 /// The simulated time of the sector picture: `--snapshot`, or 20 s, or half the run when
 /// that is shorter.
 fn snapshot_time(args: &SimulateArgs) -> f64 {
     args.snapshot.unwrap_or(20.0_f64.min(0.5 * args.duration))
-}
-
-/// A start given by hand must lie among the walls: within their bounding box.
-fn check_start_inside(name: &str, world: &World, start: Isometry2) -> Result<()> {
-    let ends = world.walls.iter().flat_map(|w| [w.a, w.b]);
-    // No walls: nothing is among them.
-    let (lo, hi) = extent(ends).unwrap_or((
-        Point2::new(f64::INFINITY, f64::INFINITY),
-        Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
-    ));
-    let p = start.translation.vector;
-    let inside = lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y;
-    if !inside {
-        bail!(
-            "--start ({}, {}): outside {name}, whose walls span x {:.2}..{:.2} m, y {:.2}..{:.2} m",
-            p.x,
-            p.y,
-            lo.x,
-            hi.x,
-            lo.y,
-            hi.y
-        );
-    }
-    Ok(())
-}
-
-/// Says on standard error when a start given by hand lies nearer an obstacle than the
-/// robot's turning radius: turning on the spot there touches it (the run counts it).
-fn warn_if_cramped(world: &World, start: Isometry2, radius: f64) {
-    let p = Point2::from(start.translation.vector);
-    let clearance = world.clearance(p);
-    if clearance < radius {
-        eprintln!(
-            "laserlines: warning: --start ({}, {}) lies {clearance:.2} m from the nearest obstacle, \
-             within the robot's turning radius of {radius:.2} m: turning on the spot there \
-             touches it",
-            p.x, p.y
-        );
-    }
-}
-
-fn parse_start(s: &str) -> Result<Isometry2> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|t| t.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .with_context(|| format!("--start {s:?}: expected x,y,yaw_deg"))?;
-    match v.as_slice() {
-        [x, y, yaw] if v.iter().all(|a| a.is_finite()) => {
-            Ok(Isometry2::new(Vector2::new(*x, *y), yaw.to_radians()))
-        }
-        _ => bail!("--start {s:?}: expected three finite numbers x,y,yaw_deg"),
-    }
 }
 
 /// What `wall_time_s` of `metrics.json` includes, in words.

@@ -24,7 +24,9 @@ pub struct ViewArgs {
     #[command(flatten)]
     params: super::ParamsArgs,
     /// Replay speed: 1.0 is real time (scan stamps, or 10 scans/s without), 2.0 twice as
-    /// fast, 0 as fast as possible.
+    /// fast, 0 as fast as possible. No scan waits longer than 1 s / rate: a jump of the
+    /// stamps by more than 1 s counts as 1 s, a step backwards is not waited for (both are
+    /// counted in a warning and the summary).
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     rate: f64,
     /// Port to serve on, on 127.0.0.1 (0 picks a free one).
@@ -47,7 +49,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     if !(args.rate.is_finite() && args.rate >= 0.0) {
         bail!(
             "--rate must be a number >= 0 (0 = as fast as possible), got {}",
-            args.rate
+            super::compact(args.rate)
         );
     }
     super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "view")?;
@@ -124,6 +126,8 @@ impl Replay<'_> {
         let mut pacer = Pacer::new(self.rate);
         let (mut scans, mut total_lines) = (0u64, 0u64);
         let mut lines: Vec<Line> = Vec::new();
+        let mut warned = false;
+        let name = reader.name().to_owned();
         for item in reader.by_ref() {
             if self.stop.load(Ordering::Relaxed) {
                 break;
@@ -138,20 +142,67 @@ impl Replay<'_> {
             };
             extractor.extract_into(&record.scan, &mut lines);
             let time = clock.time_of(record.scan.stamp);
-            nap(pacer.delay(time, Instant::now()), self.stop);
+            let wait = pacer.delay(time, Instant::now());
+            if !warned && !stamp_notes(&clock, &pacer).is_empty() {
+                warned = true;
+                eprintln!(
+                    "laserlines: warning: {}: scan {scans} has a stamp that {}; no scan waits \
+                     longer than {} s / --rate (counted in the summary)",
+                    name,
+                    stamp_trouble(&pacer),
+                    Pacer::MAX_STEP_S
+                );
+            }
+            nap(wait, self.stop);
             self.server.publish(&record, &lines, time);
             scans += 1;
             total_lines += lines.len() as u64;
         }
+        let notes = stamp_notes(&clock, &pacer);
         eprintln!(
-            "{}: {}, {} replayed in {:.1} s, skipped: {}",
+            "{}: {}, {} replayed in {:.1} s, skipped: {}{}",
             reader.name(),
             super::count(scans, "scan"),
             super::count(total_lines, "line"),
             start.elapsed().as_secs_f64(),
-            reader.skipped()
+            reader.skipped(),
+            if notes.is_empty() {
+                String::new()
+            } else {
+                format!(", stamps: {notes}")
+            }
         );
         Ok(scans)
+    }
+}
+
+/// What was wrong with the scans' stamps so far, counted (empty when nothing was).
+fn stamp_notes(clock: &SceneClock, pacer: &Pacer) -> String {
+    let mut notes = Vec::new();
+    if pacer.gaps() > 0 {
+        let gaps = super::count(pacer.gaps(), "gap");
+        notes.push(format!("{gaps} over {} s", Pacer::MAX_STEP_S));
+    }
+    if pacer.backward_steps() > 0 {
+        notes.push(super::count(pacer.backward_steps(), "backward step"));
+    }
+    if clock.unusable() > 0 {
+        let unusable = super::count(clock.unusable(), "unusable stamp");
+        notes.push(format!("{unusable} (paced 0.1 s apart)"));
+    }
+    notes.join(", ")
+}
+
+/// The first trouble with the stamps, in words, for the warning.
+fn stamp_trouble(pacer: &Pacer) -> String {
+    if pacer.gaps() > 0 {
+        format!("jumps ahead by more than {} s", Pacer::MAX_STEP_S)
+    } else if pacer.backward_steps() > 0 {
+        "steps backwards".to_owned()
+    } else {
+        "is not usable (not finite, negative, or 2^32 s and more): such scans are paced 0.1 s \
+         apart"
+            .to_owned()
     }
 }
 

@@ -208,11 +208,19 @@ impl BagSource {
         }
     }
 
+    /// The error of `what` (`wanted` bytes) cut short by the end of the input after `got`
+    /// bytes. Only a length field itself (`what` ends with "length") is surely cut by the
+    /// end of the file: any other size was read from a length field, which may be corrupt.
     fn truncated(&self, start: u64, what: &str, wanted: u64, got: u64) -> ReadError {
+        let why = if what.ends_with(" length") {
+            "a truncated bag"
+        } else {
+            "a truncated bag or a corrupt length field"
+        };
         ReadError::Syntax {
             pos: SourcePos::byte(&self.name, start),
             expected: format!("{what} ({wanted} bytes)"),
-            found: format!("{got} bytes before the end of the input (a truncated bag)"),
+            found: format!("{got} bytes before the end of the input ({why})"),
         }
     }
 

@@ -106,6 +106,22 @@ fn a_preset_by_option_replaces_the_tables_preset_and_keeps_its_keys() {
 }
 
 #[test]
+fn two_presets_in_one_table_are_an_error_naming_both() {
+    let e = error("[hough-split]\npaper = true\nwalls = true\n", "hough-split");
+    assert_eq!(
+        e,
+        "p.toml: [hough-split] walls: a second preset: paper = true and walls = true; set at \
+         most one preset to true"
+    );
+    // One preset true and another false is one preset.
+    let f = file("[hough-split]\npaper = false\nwalls = true\n");
+    assert_eq!(
+        f.algorithm_params(&registry::HOUGH_SPLIT).unwrap(),
+        HoughSplitParams::walls()
+    );
+}
+
+#[test]
 fn tables_lay_over_defaults_and_presets() {
     let f = file("[hough-split]\nring_step = 0.05\nweight = \"one\"\nrange_limits = [0.1, 2.0]\n");
     let p = f.algorithm_params(&registry::HOUGH_SPLIT).unwrap();

@@ -54,7 +54,7 @@ pub struct LiveArgs {
     #[arg(long)]
     scans: Option<u64>,
     /// Stop after this many seconds.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     duration: Option<f64>,
     /// Cluster count: so many neighbouring steps per beam (1..=99).
     #[arg(long, default_value_t = 1)]
@@ -67,15 +67,8 @@ pub struct LiveArgs {
     ms: bool,
     /// Treat the link as lost after this many seconds without data (default: 10 scan
     /// periods, at least 1 s).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     silence: Option<f64>,
-}
-
-/// Seconds given to `flag` as a duration.
-fn seconds(value: Option<f64>, flag: &str) -> Result<Option<Duration>> {
-    value
-        .map(|s| Duration::try_from_secs_f64(s).map_err(|_| anyhow!("{flag} must be seconds >= 0")))
-        .transpose()
 }
 
 /// Opens the sensor with the request the options ask for (the whole measurement area, as
@@ -165,14 +158,12 @@ pub fn run(args: &LiveArgs) -> Result<()> {
     }
     let silence = args
         .silence
-        .map(|s| {
-            Duration::try_from_secs_f64(s)
-                .ok()
-                .filter(|d| !d.is_zero())
-                .ok_or_else(|| anyhow!("--silence must be seconds > 0, got {s}"))
-        })
+        .map(|s| super::seconds("--silence", s, false))
         .transpose()?;
-    let duration = seconds(args.duration, "--duration")?;
+    let duration = args
+        .duration
+        .map(|s| super::seconds("--duration", s, true))
+        .transpose()?;
     super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "live")?;
     let mut extractor = super::make_extractor(&args.algorithm, &args.params)?;
     let stop = Arc::new(AtomicBool::new(false));

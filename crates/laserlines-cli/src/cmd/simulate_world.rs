@@ -1,0 +1,86 @@
+//! `laserlines simulate`: the checks and notes of its world and start pose.
+
+use anyhow::{Context, Result, bail};
+use laserlines::math::{Isometry2, Point2, Vector2};
+use laserlines_sim::World;
+use laserlines_sim::arena::ArenaReport;
+use laserlines_sim::cells::extent;
+
+/// Says on standard error which elements the arena loader skipped, by type and count.
+pub fn report_skipped(name: &str, report: &ArenaReport) {
+    if report.skipped_count() == 0 {
+        return;
+    }
+    let list = report
+        .skipped
+        .iter()
+        .map(|(t, n)| format!("{t} x {n}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    eprintln!(
+        "laserlines: {name}: skipped {} elements whose shape at the laser's height of {} m is not modelled: {list}",
+        report.skipped_count(),
+        report.laser_height_m
+    );
+    let unknown = report.unknown_types();
+    if !unknown.is_empty() {
+        eprintln!(
+            "laserlines: {name}: unknown element types: {}",
+            unknown.join(", ")
+        );
+    }
+}
+
+/// A start given by hand must lie among the walls: within their bounding box.
+pub fn check_start_inside(name: &str, world: &World, start: Isometry2) -> Result<()> {
+    let ends = world.walls.iter().flat_map(|w| [w.a, w.b]);
+    // No walls: nothing is among them.
+    let (lo, hi) = extent(ends).unwrap_or((
+        Point2::new(f64::INFINITY, f64::INFINITY),
+        Point2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
+    ));
+    let p = start.translation.vector;
+    let inside = lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y;
+    if !inside {
+        bail!(
+            "--start ({}, {}): outside {name}, whose walls span x {:.2}..{:.2} m, y {:.2}..{:.2} m",
+            p.x,
+            p.y,
+            lo.x,
+            hi.x,
+            lo.y,
+            hi.y
+        );
+    }
+    Ok(())
+}
+
+/// Says on standard error when a start given by hand lies nearer an obstacle than the
+/// robot's turning radius: turning on the spot there touches it (the run counts it).
+pub fn warn_if_cramped(world: &World, start: Isometry2, radius: f64) {
+    let p = Point2::from(start.translation.vector);
+    let clearance = world.clearance(p);
+    if clearance < radius {
+        eprintln!(
+            "laserlines: warning: --start ({}, {}) lies {clearance:.2} m from the nearest obstacle, \
+             within the robot's turning radius of {radius:.2} m: turning on the spot there \
+             touches it",
+            p.x, p.y
+        );
+    }
+}
+
+/// `--start x,y,yaw_deg` (m, m, deg) as a pose.
+pub fn parse_start(s: &str) -> Result<Isometry2> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("--start {s:?}: expected x,y,yaw_deg"))?;
+    match v.as_slice() {
+        [x, y, yaw] if v.iter().all(|a| a.is_finite()) => {
+            Ok(Isometry2::new(Vector2::new(*x, *y), yaw.to_radians()))
+        }
+        _ => bail!("--start {s:?}: expected three finite numbers x,y,yaw_deg"),
+    }
+}

@@ -1,0 +1,307 @@
+//! Limits and bad input across the commands: option values beyond their bounds, logs whose
+//! stamps jump or step back, logs cut short or unreadable given to `render` and to the
+//! emulator, and the README's printed examples as the binary prints them.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::io::Read as _;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+mod common;
+use common::{bin, excerpt, repo, run, stderr, text, tmp};
+
+/// Exit code 2, every one of `needles` in the message, no panic.
+fn fails_with(o: &Output, needles: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
+    for needle in needles {
+        assert!(
+            err.contains(needle),
+            "stderr does not say {needle:?}: {err}"
+        );
+    }
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+/// Runs `cmd` with stdout and stdin closed, killing it after `deadline`; its exit status
+/// (`None` when it had to be killed) and its whole stderr.
+fn run_until(cmd: &mut Command, deadline: Duration) -> (Option<std::process::ExitStatus>, String) {
+    let mut child = cmd
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut pipe = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        pipe.read_to_string(&mut s).unwrap();
+        s
+    });
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break Some(status);
+        }
+        if start.elapsed() > deadline {
+            child.kill().unwrap();
+            child.wait().unwrap();
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    (status, reader.join().unwrap())
+}
+
+#[test]
+fn view_caps_the_wait_at_a_gap_and_does_not_wait_on_a_backward_step() {
+    // Stamps: 0.1 s steps, back by 50 s, ahead by 4950 s, and one that is not usable.
+    let log = tmp("gaps.jsonl");
+    let lines: Vec<String> = [100.0, 100.1, 50.0, 50.1, 5000.0, 5000.1, -1.0]
+        .iter()
+        .map(|s| {
+            format!(
+                "{{\"angle_min\": -1.0, \"angle_increment\": 0.1, \"range_min\": 0.02, \
+                 \"range_max\": 5.6, \"ranges\": [1.0, 1.0, 1.0, 1.0, 1.0], \"stamp\": {s}}}"
+            )
+        })
+        .collect();
+    std::fs::write(&log, lines.join("\n")).unwrap();
+    let started = Instant::now();
+    let (status, err) = run_until(
+        bin()
+            .arg("view")
+            .arg(&log)
+            .args(["--no-wait", "--port", "0"]),
+        Duration::from_secs(30),
+    );
+    assert!(
+        status.is_some_and(|s| s.success()),
+        "{status:?} after {:?}: {err}",
+        started.elapsed()
+    );
+    // At most 1 s at the gap, 0.1 s at four steps and half a second at the end.
+    assert!(started.elapsed() < Duration::from_secs(15), "{err}");
+    assert_eq!(err.matches("warning").count(), 1, "{err}");
+    assert!(
+        err.contains("laserlines: warning: ")
+            && err.contains("scan 2 has a stamp that steps backwards"),
+        "{err}"
+    );
+    assert!(err.contains(": 7 scans, "), "{err}");
+    assert!(
+        err.contains(
+            "stamps: 1 gap over 1 s, 1 backward step, 1 unusable stamp (paced 0.1 s apart)"
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn the_emulator_refuses_a_log_it_cannot_read_whole() {
+    let dir = tmp("emulator-logs");
+    std::fs::create_dir_all(&dir).unwrap();
+    let cut = dir.join("cut.clf");
+    std::fs::write(
+        &cut,
+        "FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0\nFLASER 3 1 1 1 0 0 0 0 0 0 1.1 h 1.1\nFLASER 3 1 1",
+    )
+    .unwrap();
+    let empty = dir.join("empty.clf");
+    std::fs::write(&empty, "").unwrap();
+    let noise = dir.join("noise.clf");
+    std::fs::write(&noise, [0xf2u8, 0x00, 0x9c, 0xff, 0x13, 0x80, 0xfe, 0x01]).unwrap();
+    let missing = dir.join("nonexistent.clf");
+    for (log, needles) in [
+        (&cut, &["cut.clf:3: expected 14 tokens for FLASER"][..]),
+        (&empty, &["empty.clf", "expected laser scans"][..]),
+        (&noise, &["noise.clf:1:1: expected UTF-8 text"][..]),
+        (&missing, &["nonexistent.clf: cannot open"][..]),
+    ] {
+        // Before the fix these served (zeros) until --duration ended them with success.
+        let (status, err) = run_until(
+            bin()
+                .args(["hokuyo-emulator", "--tcp", "127.0.0.1:0", "--duration", "2"])
+                .arg("--log")
+                .arg(log),
+            Duration::from_secs(30),
+        );
+        assert_eq!(status.and_then(|s| s.code()), Some(2), "{log:?}: {err}");
+        for needle in needles {
+            assert!(err.contains(needle), "{log:?}: {err}");
+        }
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    // The OS error once, with the file's name.
+    let (_, err) = run_until(
+        bin()
+            .args(["hokuyo-emulator", "--tcp", "127.0.0.1:0", "--log"])
+            .arg(&missing),
+        Duration::from_secs(30),
+    );
+    assert_eq!(err.matches("os error").count(), 1, "{err}");
+    // A good log is served until --duration.
+    let (status, err) = run_until(
+        bin()
+            .args([
+                "hokuyo-emulator",
+                "--tcp",
+                "127.0.0.1:0",
+                "--duration",
+                "0.3",
+            ])
+            .arg("--log")
+            .arg(excerpt()),
+        Duration::from_secs(30),
+    );
+    assert!(status.is_some_and(|s| s.success()), "{err}");
+}
+
+#[test]
+fn counts_and_seconds_beyond_their_bounds_are_refused_with_the_range() {
+    for (args, needle) in [
+        (
+            &["extract", "-j", "100000", "-o", "/dev/null", "EXCERPT"][..],
+            "--jobs must be from 1 to 256, got 100000",
+        ),
+        (
+            &["extract", "-j", "0", "-o", "/dev/null", "EXCERPT"][..],
+            "--jobs must be from 1 to 256, got 0",
+        ),
+        (
+            &["bench", "--repeat", "1001"][..],
+            "must be from 1 to 1000, got 1001",
+        ),
+        (
+            &["demo", "--repeat", "100000"][..],
+            "must be from 1 to 1000, got 100000",
+        ),
+        (
+            &["live", "x", "--silence", "1e300"][..],
+            "--silence must be seconds, more than 0 up to 1e9, got 1e300",
+        ),
+        (
+            &["live", "x", "--duration", "1e300"][..],
+            "--duration must be seconds, from 0 up to 1e9, got 1e300",
+        ),
+        (
+            &["live", "x", "--duration", "-2"][..],
+            "--duration must be seconds, from 0 up to 1e9, got -2",
+        ),
+        (
+            &["hokuyo-emulator", "--down-for", "1e300"][..],
+            "--down-for must be seconds, from 0 up to 1e9, got 1e300",
+        ),
+        (
+            &["hokuyo-emulator", "--stall-for", "-0.5"][..],
+            "--stall-for must be seconds, from 0 up to 1e9, got -0.5",
+        ),
+        (
+            &["hokuyo-emulator", "--duration", "1e12"][..],
+            "--duration must be seconds, from 0 up to 1e9, got 1e12",
+        ),
+        (
+            &["hokuyo-emulator", "--rate", "1e300"][..],
+            "--rate must be scans per second, more than 0 up to 1000, got 1e300",
+        ),
+        (&["view", "EXCERPT", "--rate", "-1e300"][..], "got -1e300"),
+    ] {
+        let excerpt = excerpt();
+        let args: Vec<&std::ffi::OsStr> = args
+            .iter()
+            .map(|a| {
+                if *a == "EXCERPT" {
+                    excerpt.as_os_str()
+                } else {
+                    a.as_ref()
+                }
+            })
+            .collect();
+        let (status, err) = run_until(bin().args(&args), Duration::from_secs(60));
+        assert_eq!(status.and_then(|s| s.code()), Some(2), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!err.contains("0000000000"), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn simulate_refuses_more_diagonals_than_the_maze_has_and_its_help_places_odometry() {
+    let o = run(bin()
+        .args(["simulate", "--maze", "1", "--diagonals", "1000", "-o"])
+        .arg(tmp("diagonals")));
+    fails_with(
+        &o,
+        &[
+            "--diagonals 1000: maze 1 has 58 turning cells",
+            "from 0 to 58",
+        ],
+    );
+    let o = run(bin().args(["simulate", "--help"]));
+    assert!(o.status.success());
+    let help = text(&o.stdout)
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert!(
+        help.contains("`[robot]` (footprint, drive limits, wheel base, laser mount)")
+            && help.contains("`[simulator]` (odometry noise,"),
+        "{help}"
+    );
+}
+
+#[test]
+fn bench_names_every_suite_it_takes() {
+    let o = run(bin()
+        .args(["bench", "--suite", "foo", "-o"])
+        .arg(tmp("bench-foo")));
+    fails_with(
+        &o,
+        &["known suites: rooms, corridors, maze, boxes, clutter, glancing, far, all, arenas"],
+    );
+}
+
+#[test]
+fn render_reports_the_bad_record_that_ends_the_log_before_the_scan() {
+    let cut = tmp("render-cut.clf");
+    std::fs::write(
+        &cut,
+        "FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0\nFLASER 3 1 1 1 0 0 0 0 0 0 1.1 h 1.1\nFLASER 3 1 1",
+    )
+    .unwrap();
+    let o = run(bin()
+        .arg("render")
+        .arg(&cut)
+        .args(["--scan", "200", "-o"])
+        .arg(tmp("render-cut.svg")));
+    fails_with(&o, &["render-cut.clf:3: expected 14 tokens for FLASER"]);
+    assert!(!stderr(&o).contains("has no scan"), "{}", stderr(&o));
+    // A log that simply ends before the scan still says how many it holds.
+    let whole = tmp("render-whole.clf");
+    std::fs::write(&whole, "FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0\n").unwrap();
+    let o = run(bin()
+        .arg("render")
+        .arg(&whole)
+        .args(["--scan", "200", "-o"])
+        .arg(tmp("render-whole.svg")));
+    fails_with(&o, &["has no scan 200 (it holds 1 scan)"]);
+}
+
+#[test]
+fn the_readme_sectors_example_prints_what_the_readme_shows() {
+    let readme = std::fs::read_to_string(repo("README.md")).unwrap();
+    let mut lines = readme.lines().map(str::trim);
+    let command = lines
+        .find(|l| l.starts_with("$ laserlines render ") && l.contains("--sectors"))
+        .expect("the README shows a render --sectors example");
+    let shown: Vec<&str> = lines.take_while(|l| !l.starts_with("```")).collect();
+    let args: Vec<&str> = command["$ laserlines ".len()..]
+        .split_whitespace()
+        .map(|a| if a == "fig.svg" { "-" } else { a })
+        .collect();
+    let o = run(bin().current_dir(repo("")).args(&args));
+    assert!(o.status.success(), "{}", stderr(&o));
+    // With `-o -` the SVG goes to stdout and the sector lines to stderr.
+    let printed: Vec<String> = stderr(&o).lines().map(str::to_owned).collect();
+    assert_eq!(printed, shown, "{command}");
+}
