@@ -140,6 +140,7 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     progress.finish_and_clear();
     let waiting = match written {
         Ok(waiting) => waiting,
+        Err(e) if super::is_broken_pipe(&e) => return Err(e),
         Err(e) => {
             // What was written before the error, then the error itself (from `main`).
             eprintln!(

@@ -207,3 +207,12 @@ pub fn no_scans(name: &str, skipped: &laserlines_io::SkipCounts) -> anyhow::Erro
         anyhow!("{name}: no scans read: every record was skipped ({skipped})")
     }
 }
+
+/// True when the error comes from writing to a closed pipe (standard output closed by its
+/// reader, as `| head` does): not an error of ours, and nothing to report.
+pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
