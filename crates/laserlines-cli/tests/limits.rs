@@ -11,6 +11,10 @@ use std::time::{Duration, Instant};
 mod common;
 use common::{bin, excerpt, repo, run, stderr, text, tmp};
 
+/// A CARMEN log of two scans cut in the middle of its third line.
+const CUT_CLF: &str =
+    "FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0\nFLASER 3 1 1 1 0 0 0 0 0 0 1.1 h 1.1\nFLASER 3 1 1";
+
 /// Exit code 2, every one of `needles` in the message, no panic.
 fn fails_with(o: &Output, needles: &[&str]) {
     let err = stderr(o);
@@ -103,11 +107,7 @@ fn the_emulator_refuses_a_log_it_cannot_read_whole() {
     let dir = tmp("emulator-logs");
     std::fs::create_dir_all(&dir).unwrap();
     let cut = dir.join("cut.clf");
-    std::fs::write(
-        &cut,
-        "FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0\nFLASER 3 1 1 1 0 0 0 0 0 0 1.1 h 1.1\nFLASER 3 1 1",
-    )
-    .unwrap();
+    std::fs::write(&cut, CUT_CLF).unwrap();
     let empty = dir.join("empty.clf");
     std::fs::write(&empty, "").unwrap();
     let noise = dir.join("noise.clf");
@@ -119,7 +119,7 @@ fn the_emulator_refuses_a_log_it_cannot_read_whole() {
         (&noise, &["noise.clf:1:1: expected UTF-8 text"][..]),
         (&missing, &["nonexistent.clf: cannot open"][..]),
     ] {
-        // Before the fix these served (zeros) until --duration ended them with success.
+        // A log that cannot be read whole is an error, not served as scans of zeros.
         let (status, err) = run_until(
             bin()
                 .args(["hokuyo-emulator", "--tcp", "127.0.0.1:0", "--duration", "2"])
@@ -203,7 +203,11 @@ fn counts_and_seconds_beyond_their_bounds_are_refused_with_the_range() {
         ),
         (
             &["hokuyo-emulator", "--rate", "1e300"][..],
-            "--rate must be scans per second, more than 0 up to 1000, got 1e300",
+            "--rate must be scans per second, from 1/60 (one a minute) up to 1000, got 1e300",
+        ),
+        (
+            &["hokuyo-emulator", "--rate", "0.001"][..],
+            "--rate must be scans per second, from 1/60 (one a minute) up to 1000, got 0.001",
         ),
         (&["view", "EXCERPT", "--rate", "-1e300"][..], "got -1e300"),
     ] {
@@ -264,11 +268,7 @@ fn bench_names_every_suite_it_takes() {
 #[test]
 fn render_reports_the_bad_record_that_ends_the_log_before_the_scan() {
     let cut = tmp("render-cut.clf");
-    std::fs::write(
-        &cut,
-        "FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0\nFLASER 3 1 1 1 0 0 0 0 0 0 1.1 h 1.1\nFLASER 3 1 1",
-    )
-    .unwrap();
+    std::fs::write(&cut, CUT_CLF).unwrap();
     let o = run(bin()
         .arg("render")
         .arg(&cut)

@@ -247,7 +247,14 @@ impl Pacer {
             Some((wall, start)) if step > Self::MAX_STEP_S => {
                 // The gap counts as a step of MAX_STEP_S: the pacing moves on by the rest.
                 self.gaps += 1;
-                let shifted = (wall, start + step - Self::MAX_STEP_S);
+                let moved = start + step - Self::MAX_STEP_S;
+                // Stamps near the limits of f64 overflow the sum: the pacing starts afresh,
+                // one capped step before this scan.
+                let shifted = if moved.is_finite() {
+                    (wall, moved)
+                } else {
+                    (now, t - Self::MAX_STEP_S)
+                };
                 self.base = Some(shifted);
                 shifted
             }
@@ -319,6 +326,14 @@ mod tests {
             assert_eq!(p.delay(5.0, t0 + cap), Duration::ZERO);
             assert_eq!((p.gaps(), p.backward_steps()), (1, 1), "rate {rate}");
         }
+        // Stamps at the limits of f64: the wait stays one capped step.
+        let mut p = Pacer::new(2.0);
+        assert_eq!(p.delay(-1e308, t0), Duration::ZERO);
+        let wait = p.delay(1e308, t0);
+        assert!(
+            wait <= Duration::from_secs_f64(Pacer::MAX_STEP_S / 2.0),
+            "{wait:?}"
+        );
         // Counted as fast as possible too.
         let mut p = Pacer::new(0.0);
         for t in [1.0, 0.5, 100.0] {

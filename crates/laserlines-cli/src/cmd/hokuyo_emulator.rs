@@ -38,7 +38,9 @@ pub struct HokuyoEmulatorArgs {
     /// is an error.
     #[arg(long)]
     log: Option<PathBuf>,
-    /// Scans per second (default: the model's, 10 or 40).
+    /// Scans per second (default: the model's, 10 or 40), from 1/60 (one turn of the
+    /// mirror a minute) up to 1000; the motor turns a whole number of times a minute, so the
+    /// rate is rounded to the nearest multiple of 1/60.
     #[arg(long, allow_negative_numbers = true)]
     rate: Option<f64>,
     /// Seed of the simulated noise.
@@ -126,13 +128,15 @@ pub fn run(args: &HokuyoEmulatorArgs) -> Result<()> {
     let name: ModelName = args.model.parse().map_err(|e: String| anyhow!(e))?;
     let mut model = Model::new(name);
     if let Some(rate) = args.rate {
-        if !(rate.is_finite() && rate > 0.0 && rate <= 1000.0) {
+        // The motor's speed in whole turns a minute, at least one.
+        let rpm = (rate * 60.0).round();
+        if !(rate.is_finite() && rate <= 1000.0 && rpm >= 1.0) {
             bail!(
-                "--rate must be scans per second, more than 0 up to 1000, got {}",
+                "--rate must be scans per second, from 1/60 (one a minute) up to 1000, got {}",
                 super::compact(rate)
             );
         }
-        model.scan_rpm = (rate * 60.0).round().max(1.0) as u32;
+        model.scan_rpm = rpm as u32;
     }
     let duration = args
         .duration

@@ -206,14 +206,30 @@ fn stamp_trouble(pacer: &Pacer) -> String {
     }
 }
 
-/// Sleeps for `d`, in slices of 50 ms, ending early when `stop` is set.
+/// Sleeps for `d` (however long: `Duration::MAX` at a rate near 0), in slices of 50 ms,
+/// ending early when `stop` is set.
 fn nap(d: Duration, stop: &AtomicBool) {
-    let end = Instant::now() + d;
+    let start = Instant::now();
     loop {
-        let left = end.saturating_duration_since(Instant::now());
+        let left = d.saturating_sub(start.elapsed());
         if left.is_zero() || stop.load(Ordering::Relaxed) {
             return;
         }
         std::thread::sleep(left.min(Duration::from_millis(50)));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::sync::atomic::AtomicBool;
+    use std::time::Duration;
+
+    use super::nap;
+
+    #[test]
+    fn a_nap_of_any_length_ends_when_stopped() {
+        // At `--rate 1e-300` a scan's wait is `Duration::MAX`, past any `Instant`.
+        nap(Duration::MAX, &AtomicBool::new(true));
+        nap(Duration::from_millis(1), &AtomicBool::new(false));
     }
 }

@@ -26,9 +26,8 @@ const SHARE_CHI2: f64 = 13.82;
 /// pieces (short, far, noisy) pass the test for almost any line through both centroids, and
 /// the joint fit then claims the certainty of their lever arm: pieces of two walls metres
 /// apart, even perpendicular ones, took one fit 25 and 65 deg off both at 2 % noise. The
-/// stricter level removes about a third of such pairs on scans of 1-3 % noise and on
-/// long-range scanners, and keeps nearly all pieces of one wall (the field suites' TP rate
-/// moves by 0.001).
+/// stricter level keeps such pairs apart more often, and nearly all pieces of one wall
+/// together (the field suites' TP rate moves by 0.001).
 const SHARE_CHI2_UNANCHORED: f64 = 9.21;
 
 /// Most groups a line tries to join (those of the nearest lines before it): bounds the
@@ -418,6 +417,45 @@ mod tests {
         let lines = share(&pieces, &noise);
         assert_eq!(lines.len(), 2);
         assert!((lines[0].r - 2.0).abs() < 0.01 && (lines[1].r - 2.0).abs() < 0.01);
+    }
+
+    #[test]
+    fn a_group_with_a_certain_line_takes_pieces_by_the_looser_test() {
+        // 3 cm noise: a 10-point piece 6 cm off the wall lies between the two quantiles of
+        // its chi-square against a 70-point piece of the wall.
+        let noise = RangeNoise::new(0.03, 0.0);
+        let long = piece(-60..10, 0.02, 2.0, &noise);
+        let off = piece(60..70, 0.02, 2.06, &noise);
+        assert!(long.1.certain && !off.1.certain);
+        let (a, b) = (&long.1.sums, &off.1.sums);
+        assert!(one_line(a, b, &noise, true, SHARE_CHI2));
+        assert!(!one_line(a, b, &noise, true, SHARE_CHI2_UNANCHORED));
+        let shared = |lines: &[Line]| {
+            lines
+                .windows(2)
+                .all(|w| (w[0].r, w[0].alpha) == (w[1].r, w[1].alpha))
+        };
+        // The certain line first, or joining the uncertain one.
+        for pieces in [[long, off], [off, long]] {
+            let lines = share(&pieces, &noise);
+            assert!(lines.len() == 2 && shared(&lines), "{lines:?}");
+        }
+        // A group made certain by a later line: an uncertain piece on the wall, the certain
+        // one, then a piece 5 cm off the wall, between the quantiles against the two.
+        let before = piece(-80..-70, 0.02, 2.0, &noise);
+        let off = piece(60..70, 0.02, 2.05, &noise);
+        assert!(!before.1.certain);
+        let group = before.1.sums.join(&long.1.sums);
+        assert!(one_line(&group, &off.1.sums, &noise, true, SHARE_CHI2));
+        assert!(!one_line(
+            &group,
+            &off.1.sums,
+            &noise,
+            true,
+            SHARE_CHI2_UNANCHORED
+        ));
+        let lines = share(&[before, long, off], &noise);
+        assert!(lines.len() == 3 && shared(&lines), "{lines:?}");
     }
 
     /// The sums of `n` points from `a` to `b`.
