@@ -4,21 +4,10 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::process::Output;
-
 use laserlines::extractors::ALGORITHMS;
 
 mod common;
-use common::{bin, excerpt, run, text, tmp};
-
-fn assert_clean_error(o: &Output, needles: &[&str]) {
-    let err = text(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
-    for n in needles {
-        assert!(err.contains(n), "error does not say {n:?}: {err}");
-    }
-    assert!(!err.contains("panicked"), "panic: {err}");
-}
+use common::{bin, excerpt, fails_with, run, text, tmp};
 
 #[test]
 fn bench_on_a_tiny_suite_writes_table_json_csv_and_chart() {
@@ -201,7 +190,7 @@ fn a_preset_applies_to_the_extractors_that_have_it() {
     assert!(complete.0 > plain.0, "{complete:?} against {plain:?}");
     assert_eq!(complete.1, plain.1);
     let o = run(bin().args(["bench", "--algorithms", "iepf", "--preset", "walls"]));
-    assert_clean_error(&o, &["--preset walls", "none of the extractors"]);
+    fails_with(&o, &["--preset walls", "none of the extractors"]);
 }
 
 #[test]
@@ -210,17 +199,17 @@ fn unknown_algorithm_suite_and_sensor_are_clean_errors() {
     let o = run(bin()
         .args(["bench", "--algorithms", "hough-split,nope", "-o"])
         .arg(&out));
-    assert_clean_error(&o, &["unknown algorithm", "nope", "iterative-hough"]);
+    fails_with(&o, &["unknown algorithm", "nope", "iterative-hough"]);
     let o = run(bin().args(["bench", "--suite", "moon", "-o"]).arg(&out));
-    assert_clean_error(&o, &["unknown scene suite", "moon", "rooms", "all, arenas"]);
+    fails_with(&o, &["unknown scene suite", "moon", "rooms", "all, arenas"]);
     let o = run(bin()
         .args(["bench", "--sensor", "lidar9000", "-o"])
         .arg(&out));
-    assert_clean_error(&o, &["unknown sensor", "lidar9000"]);
+    fails_with(&o, &["unknown sensor", "lidar9000"]);
     let o = run(bin().args(["bench", "--tune", "nope"]));
-    assert_clean_error(&o, &["unknown algorithm", "nope"]);
+    fails_with(&o, &["unknown algorithm", "nope"]);
     let o = run(bin().arg("bench").arg("--data").arg(tmp("missing.dat")));
-    assert_clean_error(&o, &["missing.dat"]);
+    fails_with(&o, &["missing.dat"]);
     // Options of the simulated suites are refused with real logs, not ignored.
     for option in [
         ["--sensor", "urg04lx-full"],
@@ -228,7 +217,7 @@ fn unknown_algorithm_suite_and_sensor_are_clean_errors() {
         ["--seed", "3"],
     ] {
         let o = run(bin().arg("bench").args(option).arg("--data").arg(excerpt()));
-        assert_clean_error(&o, &[option[0], "cannot be used with"]);
+        fails_with(&o, &[option[0], "cannot be used with"]);
     }
 }
 
@@ -263,5 +252,5 @@ fn extract_and_render_accept_every_algorithm() {
         .args(["extract", "--algorithm", "iepf", "--params"])
         .arg(&params)
         .arg(&dat));
-    assert_clean_error(&o, &["iepf.toml", "split_distanc"]);
+    fails_with(&o, &["iepf.toml", "split_distanc"]);
 }

@@ -5,28 +5,15 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::io::Read as _;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 mod common;
-use common::{bin, excerpt, repo, run, stderr, text, tmp};
+use common::{bin, excerpt, fails_with, repo, run, stderr, text, tmp};
 
 /// A CARMEN log of two scans cut in the middle of its third line.
 const CUT_CLF: &str =
     "FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0\nFLASER 3 1 1 1 0 0 0 0 0 0 1.1 h 1.1\nFLASER 3 1 1";
-
-/// Exit code 2, every one of `needles` in the message, no panic.
-fn fails_with(o: &Output, needles: &[&str]) {
-    let err = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
-    for needle in needles {
-        assert!(
-            err.contains(needle),
-            "stderr does not say {needle:?}: {err}"
-        );
-    }
-    assert!(!err.contains("panicked"), "{err}");
-}
 
 /// Runs `cmd` with stdout and stdin closed, killing it after `deadline`; its exit status
 /// (`None` when it had to be killed) and its whole stderr.
@@ -267,23 +254,21 @@ fn bench_names_every_suite_it_takes() {
 
 #[test]
 fn render_reports_the_bad_record_that_ends_the_log_before_the_scan() {
-    let cut = tmp("render-cut.clf");
-    std::fs::write(&cut, CUT_CLF).unwrap();
-    let o = run(bin()
-        .arg("render")
-        .arg(&cut)
-        .args(["--scan", "200", "-o"])
-        .arg(tmp("render-cut.svg")));
+    // `render --scan 200` of a log named `name` holding `text`.
+    let render_200 = |name: &str, text: &str| {
+        let log = tmp(&format!("{name}.clf"));
+        std::fs::write(&log, text).unwrap();
+        run(bin()
+            .arg("render")
+            .arg(&log)
+            .args(["--scan", "200", "-o"])
+            .arg(tmp(&format!("{name}.svg"))))
+    };
+    let o = render_200("render-cut", CUT_CLF);
     fails_with(&o, &["render-cut.clf:3: expected 14 tokens for FLASER"]);
     assert!(!stderr(&o).contains("has no scan"), "{}", stderr(&o));
     // A log that simply ends before the scan still says how many it holds.
-    let whole = tmp("render-whole.clf");
-    std::fs::write(&whole, "FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0\n").unwrap();
-    let o = run(bin()
-        .arg("render")
-        .arg(&whole)
-        .args(["--scan", "200", "-o"])
-        .arg(tmp("render-whole.svg")));
+    let o = render_200("render-whole", "FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0\n");
     fails_with(&o, &["has no scan 200 (it holds 1 scan)"]);
 }
 

@@ -57,6 +57,19 @@ pub fn stderr(o: &Output) -> String {
     text(&o.stderr)
 }
 
+/// Asserts a clean failure: exit code 2, every one of `needles` in the message, no panic.
+pub fn fails_with(o: &Output, needles: &[&str]) {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
+    for needle in needles {
+        assert!(
+            err.contains(needle),
+            "stderr does not say {needle:?}: {err}"
+        );
+    }
+    assert!(!err.contains("panicked"), "{err}");
+}
+
 /// The Freiburg benchmark's MIT CSAIL log with its ground-truth relations, or `None` (with a
 /// notice; a failure when `LASERLINES_REQUIRE_SHARED=1`) when `../shared` is absent.
 pub fn mit_csail() -> Option<(PathBuf, PathBuf)> {

@@ -208,15 +208,25 @@ impl BagSource {
         }
     }
 
-    /// The error of `what` (`wanted` bytes) cut short by the end of the input after `got`
-    /// bytes. Only a length field itself (`what` ends with "length") is surely cut by the
-    /// end of the file: any other size was read from a length field, which may be corrupt.
+    /// The error of `what` (`wanted` bytes, a size read from a length field, which may be
+    /// corrupt) cut short by the end of the input after `got` bytes.
     fn truncated(&self, start: u64, what: &str, wanted: u64, got: u64) -> ReadError {
-        let why = if what.ends_with(" length") {
-            "a truncated bag"
-        } else {
-            "a truncated bag or a corrupt length field"
-        };
+        self.cut_short(
+            start,
+            what,
+            (wanted, got),
+            "a truncated bag or a corrupt length field",
+        )
+    }
+
+    /// The error of the 4-byte length field `what` cut short by the end of the input after
+    /// `got` bytes: surely a truncated bag.
+    fn truncated_length(&self, start: u64, what: &str, got: usize) -> ReadError {
+        self.cut_short(start, what, (4, got as u64), "a truncated bag")
+    }
+
+    /// The error of `what`, `wanted` bytes of which `got` came before the end, for `why`.
+    fn cut_short(&self, start: u64, what: &str, (wanted, got): (u64, u64), why: &str) -> ReadError {
         ReadError::Syntax {
             pos: SourcePos::byte(&self.name, start),
             expected: format!("{what} ({wanted} bytes)"),
@@ -280,7 +290,7 @@ impl BagSource {
             return Ok(None);
         }
         if got < 4 {
-            return Err(self.truncated(start, "a record header length", 4, got as u64));
+            return Err(self.truncated_length(start, "a record header length", got));
         }
         let header_len = u64::from(u32::from_le_bytes(len));
         if header_len > MAX_HEADER_BYTES {
@@ -317,7 +327,7 @@ impl BagSource {
             .read_full(&mut len)
             .map_err(|e| self.io_error(e))?;
         if got < 4 {
-            return Err(self.truncated(start, "a record data length", 4, got as u64));
+            return Err(self.truncated_length(start, "a record data length", got));
         }
         let data_len = u64::from(u32::from_le_bytes(len));
         let data_start = start + 4 + header_len + 4;

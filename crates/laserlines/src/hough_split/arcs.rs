@@ -92,13 +92,17 @@ fn circle_sse(circle: &Circle, points: impl Iterator<Item = Point2>) -> f64 {
         .sum()
 }
 
-/// `circle` moved by Gauss-Newton steps towards the least squares of the distances of
-/// `points` from it (the geometric fit), each step kept only when it lowers their sum of
-/// squares; returns the circle and that sum. The algebraic fit draws a short, noisy arc's
-/// circle too small (0.21 m for a 0.26 m pillar under 1 cm of noise) and leaves residuals
-/// larger than two chords do, which the geometric fit does not.
-fn refine_circle(circle: Circle, points: impl Iterator<Item = Point2> + Clone) -> (Circle, f64) {
-    let (mut best, mut sse) = (circle, circle_sse(&circle, points.clone()));
+/// `circle`, whose sum of squared distances from `points` is `sse`, moved by Gauss-Newton
+/// steps towards the least squares of those distances (the geometric fit), each step kept
+/// only when it lowers their sum of squares; returns the circle and that sum. The algebraic
+/// fit draws a short, noisy arc's circle too small (0.21 m for a 0.26 m pillar under 1 cm of
+/// noise) and leaves residuals larger than two chords do, which the geometric fit does not.
+fn refine_circle(
+    circle: Circle,
+    sse: f64,
+    points: impl Iterator<Item = Point2> + Clone,
+) -> (Circle, f64) {
+    let (mut best, mut sse) = (circle, sse);
     for _ in 0..REFINE_STEPS {
         // Normal equations of the residuals `|p - c| - R` in (cx, cy, R).
         let mut jtj = nalgebra::Matrix3::<f64>::zeros();
@@ -195,7 +199,7 @@ fn chords_of_a_circle(
     if kasa_sse.partial_cmp(&(KASA_MARGIN * sse_lines)) != Some(std::cmp::Ordering::Less) {
         return false;
     }
-    let (circle, sse_circle) = refine_circle(kasa, points);
+    let (circle, sse_circle) = refine_circle(kasa, kasa_sse, points);
     round(&circle) && better(sse_circle)
 }
 
@@ -265,6 +269,24 @@ mod tests {
             .collect()
     }
 
+    /// `points` each moved along its beam (from the origin) by range noise of standard
+    /// deviation `sigma`: sums of 12 uniform draws of a generator seeded with `seed`.
+    fn along_beams(points: impl Iterator<Item = Point2>, sigma: f64, seed: u64) -> Vec<Point2> {
+        let mut state = seed;
+        let mut uniform = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        points
+            .map(|q| {
+                let noise = sigma * (0..12).map(|_| uniform()).sum::<f64>();
+                q + q.coords.normalize() * noise
+            })
+            .collect()
+    }
+
     #[test]
     fn the_quick_tests_pass_a_barrel_and_refuse_a_room_seen_from_inside() {
         // The near side of a barrel 1.5 m ahead: two halves of its arc.
@@ -315,24 +337,12 @@ mod tests {
         // A wall of 1.05 m radius under 1 cm of range noise: the algebraic circle (0.68 m)
         // passes, the refined one (1.16 m) explains the points better than lines leaving
         // 0.005 m^2 would, but is too large.
-        let mut state = 2u64;
-        let mut uniform = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        let wide: Vec<(f64, f64)> = arc((2.5, 0.0), 1.05, std::f64::consts::PI - 0.3, 0.02, 30)
-            .into_iter()
-            .map(|(x, y)| {
-                let noise = 0.01 * (0..12).map(|_| uniform()).sum::<f64>();
-                let norm = x.hypot(y);
-                (x + x / norm * noise, y + y / norm * noise)
-            })
-            .collect();
-        let pts: Vec<Point2> = wide.iter().map(|&(x, y)| Point2::new(x, y)).collect();
+        let wall = arc((2.5, 0.0), 1.05, std::f64::consts::PI - 0.3, 0.02, 30);
+        let pts = along_beams(wall.iter().map(|&(x, y)| Point2::new(x, y)), 0.01, 2);
+        let wide: Vec<(f64, f64)> = pts.iter().map(|p| (p.x, p.y)).collect();
         let kasa = fit_circle(pts.iter().copied()).unwrap();
-        let (refined, sse) = refine_circle(kasa, pts.iter().copied());
+        let kasa_sse = circle_sse(&kasa, pts.iter().copied());
+        let (refined, sse) = refine_circle(kasa, kasa_sse, pts.iter().copied());
         assert!(
             kasa.radius < 0.8 && refined.radius > MAX_ARC_RADIUS,
             "{kasa:?} {refined:?}"
@@ -367,24 +377,14 @@ mod tests {
         // A pillar of 0.26 m radius 1.2 m ahead, 67 points over 85 deg of its near side,
         // each moved along its beam by 1 cm range noise (sums of uniform draws).
         let (c, radius) = (Point2::new(1.2, 0.0), 0.26);
-        let mut state = 7u64;
-        let mut uniform = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1);
-            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        let points: Vec<Point2> = (0..67)
-            .map(|k| {
-                let t = std::f64::consts::PI - 0.74 + 0.0225 * f64::from(k);
-                let q = c + Vector2::new(t.cos(), t.sin()) * radius;
-                let noise = 0.01 * (0..12).map(|_| uniform()).sum::<f64>();
-                q + q.coords.normalize() * noise
-            })
-            .collect();
+        let near_side = (0..67).map(|k| {
+            let t = std::f64::consts::PI - 0.74 + 0.0225 * f64::from(k);
+            c + Vector2::new(t.cos(), t.sin()) * radius
+        });
+        let points = along_beams(near_side, 0.01, 7);
         let kasa = fit_circle(points.iter().copied()).unwrap();
         let kasa_sse = circle_sse(&kasa, points.iter().copied());
-        let (geometric, sse) = refine_circle(kasa, points.iter().copied());
+        let (geometric, sse) = refine_circle(kasa, kasa_sse, points.iter().copied());
         // Better by more than the arc test's two noise variances (Kasa: 0.212 m).
         assert!(
             kasa_sse - sse > 2.0 * 0.01 * 0.01,
@@ -396,14 +396,15 @@ mod tests {
         );
         assert!(off < kasa_off, "{geometric:?} against {kasa:?}");
         // Its steps reach the least squares: more steps find nothing lower.
-        let (_, again) = refine_circle(geometric, points.iter().copied());
+        let (_, again) = refine_circle(geometric, sse, points.iter().copied());
         assert!(again > sse * (1.0 - 1e-9), "{again} after {sse}");
         // An exact circle stays where it is.
         let exact: Vec<Point2> = (0..20)
             .map(|k| c + Vector2::new(f64::from(k).cos(), f64::from(k).sin()) * radius)
             .collect();
         let fit = fit_circle(exact.iter().copied()).unwrap();
-        let (same, sse) = refine_circle(fit, exact.iter().copied());
+        let fit_sse = circle_sse(&fit, exact.iter().copied());
+        let (same, sse) = refine_circle(fit, fit_sse, exact.iter().copied());
         assert!(sse < 1e-20 && (same.radius - radius).abs() < 1e-9);
     }
 }
