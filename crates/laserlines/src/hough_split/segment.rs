@@ -334,14 +334,25 @@ fn runs_of<const BRIDGE: bool>(
     let mut run_start = 0usize;
     // The last kept point.
     let mut last = Pt::default();
-    for (&pt, &cell) in points.iter().zip(cell_of) {
+    for (i, (&pt, &cell)) in points.iter().zip(cell_of).enumerate() {
         let root = root_of[cell as usize];
         if root == NONE {
             continue;
         }
-        let gap = pt.idx - last.idx;
+        let mut gap = pt.idx - last.idx;
+        let mut far = BRIDGE && run_root != NONE && !bp.joins(&last, (pt.x, pt.y), gap);
+        if far && root == run_root && m >= run_start + 2 && lone(bp, &kept[m - 2], &last, &pt) {
+            // The last point was the jump: it goes, and the point before it, which `pt`
+            // joins, is the last.
+            m -= 1;
+            last = kept[m - 1];
+            gap = pt.idx - last.idx;
+            far = false;
+        } else if far && spike_ahead(input, i, run_root, &last) {
+            continue;
+        }
         let cut = BRIDGE
-            && (!bp.joins(&last, (pt.x, pt.y), gap)
+            && (far
                 || (gap > 1
                     && run_root != NONE
                     && !bp.joins(&last, (pt.x, pt.y), 1)
@@ -363,6 +374,45 @@ fn runs_of<const BRIDGE: bool>(
     m
 }
 
+/// How far, in sigma of the range noise, a dropped lone jump may lie from the range between
+/// its neighbours: beyond, it is something in front of or behind the surface (a leg, a
+/// mixed pixel), and the run is cut there as at any edge.
+const SPIKE_SIGMAS: f64 = 5.0;
+
+/// True when the point `points[i]`, too far from `last` to join it, is a lone jump (see
+/// [`lone`]) before the next surviving point within the bridge's reach, which belongs to
+/// `last`'s component `root`.
+fn spike_ahead(input: &RunInput<'_>, i: usize, root: u32, last: &Pt) -> bool {
+    let RunInput {
+        points,
+        cell_of,
+        root_of,
+        bp,
+        ..
+    } = *input;
+    let reach = last.idx + bp.reach();
+    points
+        .iter()
+        .zip(cell_of)
+        .skip(i + 1)
+        .take_while(|(q, _)| q.idx <= reach)
+        .find(|(_, c)| root_of[**c as usize] != NONE)
+        .is_some_and(|(q, c)| root_of[*c as usize] == root && lone(bp, last, &points[i], q))
+}
+
+/// True when `b`, between `a` and `c` in beam order, is a lone jump of the noise rather than
+/// an edge: `c` joins `a` within the breakpoint distance, and `b` lies within
+/// [`SPIKE_SIGMAS`] of the range between theirs. Such a point is dropped and the run goes
+/// on. A wall seen by thousands of beams has pairs of neighbours whose noise differs by more
+/// than the breakpoint distance's `bridge_sigmas` (one pair in 370 at 3 sigma), and cutting
+/// there broke it into pieces; an edge keeps the points after it away.
+fn lone(bp: &Breakpoints, a: &Pt, b: &Pt, c: &Pt) -> bool {
+    let t = (b.idx - a.idx) as f64 / (c.idx - a.idx) as f64;
+    let between = a.range + t * (c.range - a.range);
+    (b.range - between).abs() <= SPIKE_SIGMAS * bp.noise.sigma(between)
+        && bp.joins(a, (c.x, c.y), c.idx - a.idx)
+}
+
 /// Ends the run of kept points `start..m`: a data segment when it has `min` points or more,
 /// else its points are dropped. Returns the number of kept points.
 fn close_run(runs: &mut Vec<SegmentRun>, m: usize, start: usize, min: usize) -> usize {
@@ -374,5 +424,86 @@ fn close_run(runs: &mut Vec<SegmentRun>, m: usize, start: usize, min: usize) -> 
         m
     } else {
         start
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Points of beams `0..ranges.len()` straight ahead (the beams 0.02 deg apart, so that
+    /// `D` is almost all noise term), all in cell 1, a component of its own.
+    fn cut(ranges: &[f64]) -> Vec<(u32, u32)> {
+        let p = HoughSplitParams::default();
+        let increment = 0.02f64.to_radians();
+        let noise = RangeNoise::new(0.01, 0.0);
+        let mut bp = Breakpoints::default();
+        bp.prepare(&p, increment, noise, (0.0, f64::INFINITY));
+        let points: Vec<Pt> = ranges
+            .iter()
+            .enumerate()
+            .map(|(idx, &range)| {
+                let a = idx as f64 * increment;
+                Pt {
+                    x: range * a.cos(),
+                    y: range * a.sin(),
+                    range,
+                    idx,
+                }
+            })
+            .collect();
+        let cell_of = vec![1; points.len()];
+        let root_of = [NONE, 1];
+        let input = RunInput {
+            ranges,
+            points: &points,
+            cell_of: &cell_of,
+            root_of: &root_of,
+            bp: &bp,
+            min: 1,
+        };
+        let mut kept = vec![Pt::default(); points.len()];
+        let mut runs = Vec::new();
+        let m = runs_of::<true>(&input, &mut kept, &mut runs);
+        // Each run as its first and last beam.
+        runs.iter()
+            .map(|r| {
+                let (a, b) = (r.start as usize, r.end as usize - 1);
+                assert!(b < m);
+                (kept[a].idx as u32, kept[b].idx as u32)
+            })
+            .collect()
+    }
+
+    /// 40 beams at 2 m; sigma is 1 cm, `D` about 4.3 cm.
+    fn flat() -> Vec<f64> {
+        vec![2.0; 40]
+    }
+
+    #[test]
+    fn a_lone_jump_of_the_noise_does_not_cut_a_run() {
+        // 4.5 sigma out, then back: the point goes, the run goes on.
+        let mut r = flat();
+        r[20] = 2.045;
+        assert_eq!(cut(&r), [(0, 39)]);
+        // The same on the other side, with the jump seen from the point after it: the
+        // point before the jump joins it, the one after does not.
+        let mut r = flat();
+        r[19] = 2.0;
+        r[20] = 2.04;
+        r[21] = 1.995;
+        assert_eq!(cut(&r), [(0, 39)]);
+    }
+
+    #[test]
+    fn a_point_well_off_the_run_or_a_step_still_cuts_it() {
+        // 10 sigma in front: an edge, even when the run comes back behind it.
+        let mut r = flat();
+        r[20] = 1.9;
+        assert_eq!(cut(&r), [(0, 19), (20, 20), (21, 39)]);
+        // A step that stays.
+        let mut r = flat();
+        r[20..].fill(2.1);
+        assert_eq!(cut(&r), [(0, 19), (20, 39)]);
     }
 }
