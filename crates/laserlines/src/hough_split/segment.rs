@@ -341,14 +341,21 @@ fn runs_of<const BRIDGE: bool>(
         }
         let mut gap = pt.idx - last.idx;
         let mut far = BRIDGE && run_root != NONE && !bp.joins(&last, (pt.x, pt.y), gap);
-        if far && root == run_root && m >= run_start + 2 && lone(bp, &kept[m - 2], &last, &pt) {
+        if far
+            && root == run_root
+            && m >= run_start + 2
+            && lone(bp, &kept[m - 2], &last, &pt)
+            && next_in(input, i, root, &kept[m - 2])
+                .is_some_and(|d| bp.joins(&kept[m - 2], (d.x, d.y), 1))
+        {
             // The last point was the jump: it goes, and the point before it, which `pt`
-            // joins, is the last.
+            // and the point after `pt` join, is the last.
             m -= 1;
             last = kept[m - 1];
             gap = pt.idx - last.idx;
             far = false;
-        } else if far && spike_ahead(input, i, run_root, &last) {
+        } else if far && next_in(input, i, run_root, &last).is_some_and(|c| lone(bp, &last, &pt, c))
+        {
             continue;
         }
         let cut = BRIDGE
@@ -379,10 +386,9 @@ fn runs_of<const BRIDGE: bool>(
 /// mixed pixel), and the run is cut there as at any edge.
 const SPIKE_SIGMAS: f64 = 5.0;
 
-/// True when the point `points[i]`, too far from `last` to join it, is a lone jump (see
-/// [`lone`]) before the next surviving point within the bridge's reach, which belongs to
-/// `last`'s component `root`.
-fn spike_ahead(input: &RunInput<'_>, i: usize, root: u32, last: &Pt) -> bool {
+/// The next surviving point after `points[i]`, when it lies within the bridge's reach of
+/// `from` and belongs to the component `root`.
+fn next_in<'a>(input: &RunInput<'a>, i: usize, root: u32, from: &Pt) -> Option<&'a Pt> {
     let RunInput {
         points,
         cell_of,
@@ -390,18 +396,20 @@ fn spike_ahead(input: &RunInput<'_>, i: usize, root: u32, last: &Pt) -> bool {
         bp,
         ..
     } = *input;
-    let reach = last.idx + bp.reach();
+    let reach = from.idx + bp.reach();
     points
         .iter()
         .zip(cell_of)
         .skip(i + 1)
         .take_while(|(q, _)| q.idx <= reach)
         .find(|(_, c)| root_of[**c as usize] != NONE)
-        .is_some_and(|(q, c)| root_of[*c as usize] == root && lone(bp, last, &points[i], q))
+        .and_then(|(q, c)| (root_of[*c as usize] == root).then_some(q))
 }
 
 /// True when `b`, between `a` and `c` in beam order, is a lone jump of the noise rather than
-/// an edge: `c` joins `a` within the breakpoint distance, and `b` lies within
+/// an edge: `c` lies within the breakpoint distance of neighbouring beams from `a` (not of
+/// beams two apart: across an edge between two surfaces nearer than that, a mixed pixel
+/// would look like such a jump), and `b` lies within
 /// [`SPIKE_SIGMAS`] of the range between theirs. Such a point is dropped and the run goes
 /// on. A wall seen by thousands of beams has pairs of neighbours whose noise differs by more
 /// than the breakpoint distance's `bridge_sigmas` (one pair in 370 at 3 sigma), and cutting
@@ -410,7 +418,7 @@ fn lone(bp: &Breakpoints, a: &Pt, b: &Pt, c: &Pt) -> bool {
     let t = (b.idx - a.idx) as f64 / (c.idx - a.idx) as f64;
     let between = a.range + t * (c.range - a.range);
     (b.range - between).abs() <= SPIKE_SIGMAS * bp.noise.sigma(between)
-        && bp.joins(a, (c.x, c.y), c.idx - a.idx)
+        && bp.joins(a, (c.x, c.y), 1)
 }
 
 /// Ends the run of kept points `start..m`: a data segment when it has `min` points or more,
@@ -505,5 +513,12 @@ mod tests {
         let mut r = flat();
         r[20..].fill(2.1);
         assert_eq!(cut(&r), [(0, 19), (20, 39)]);
+        // A step of 7 cm blurred by the noise: the first point past it happens to join the
+        // point before the last, but the next one does not, so the last point is no jump.
+        let mut r = flat();
+        r[20] = 2.04;
+        r[21] = 1.985;
+        r[22..].fill(1.93);
+        assert_eq!(cut(&r), [(0, 20), (21, 21), (22, 39)]);
     }
 }
