@@ -242,8 +242,8 @@ pub(crate) struct Segments {
 /// runs of one component, and (with `bridge_beams`) a run is also cut where consecutive
 /// points lie more than the bridge's missing beams ([`HoughSplitParams::bridge_for`]) or more than the breakpoint distance
 /// `D` apart, or where a beam between them saw through ([`Breakpoints::sees_through`]), so
-/// that no segment, and no line, spans empty space. Runs shorter than
-/// `min_segment_points` are removed too.
+/// that no segment, and no line, spans empty space; a lone jump of the noise ([`lone`]) is
+/// dropped instead of cutting. Runs shorter than `min_segment_points` are removed too.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn cut_segments(
     ranges: &[f64],
