@@ -15,7 +15,7 @@ pub const MIN_BAND_SAMPLES: usize = 24;
 /// samples are then taken together as one band (a short scan, or a sparse one).
 pub const MIN_POOLED_SAMPLES: usize = 12;
 
-/// The largest fraction of the range [`NoiseModel::Auto`] reports: no 2D laser scanner we know
+/// The largest fraction of the range [`NoiseModel::Auto`](super::NoiseModel::Auto) reports: no 2D laser scanner we know
 /// of is noisier than 2 % of the range, and a larger estimate means clutter, not noise.
 pub const MAX_AUTO_FRACTION: f64 = 0.02;
 
