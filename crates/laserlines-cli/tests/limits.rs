@@ -197,6 +197,18 @@ fn counts_and_seconds_beyond_their_bounds_are_refused_with_the_range() {
             "--rate must be scans per second, from 1/60 (one a minute) up to 1000, got 0.001",
         ),
         (&["view", "EXCERPT", "--rate", "-1e300"][..], "got -1e300"),
+        (
+            &["simulate", "--duration", "1e10", "-o", "/nonexistent/s"][..],
+            "--duration must be seconds, more than 0 up to 1e9, got 1e10",
+        ),
+        (
+            &["simulate", "--duration", "0", "-o", "/nonexistent/s"][..],
+            "--duration must be seconds, more than 0 up to 1e9, got 0",
+        ),
+        (
+            &["hokuyo-emulator", "--reply-delay-ms", "10000000000000"][..],
+            "--reply-delay-ms must be milliseconds, from 0 up to 1e12, got 1e13",
+        ),
     ] {
         let excerpt = excerpt();
         let args: Vec<&std::ffi::OsStr> = args

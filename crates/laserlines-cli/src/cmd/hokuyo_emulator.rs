@@ -67,7 +67,7 @@ pub struct HokuyoEmulatorArgs {
     /// Fault: start in SCIP 1.1 (the host must switch with SCIP2.0).
     #[arg(long)]
     scip11: bool,
-    /// Fault: answer every command this many milliseconds late.
+    /// Fault: answer every command this many milliseconds late (up to 1e12).
     #[arg(long, default_value_t = 0)]
     reply_delay_ms: u64,
     /// Fault: after N scans on a connection, fall silent ...
@@ -148,7 +148,7 @@ pub fn run(args: &HokuyoEmulatorArgs) -> Result<()> {
         drop_after: args.drop_after,
         down_for: super::seconds("--down-for", args.down_for, true)?,
         start_in_scip11: args.scip11,
-        reply_delay: Duration::from_millis(args.reply_delay_ms),
+        reply_delay: super::milliseconds("--reply-delay-ms", args.reply_delay_ms)?,
         stall_after: args.stall_after,
         stall_for: super::seconds("--stall-for", args.stall_for, true)?,
         clock_start_ms: args.clock_start_ms,

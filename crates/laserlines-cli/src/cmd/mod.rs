@@ -166,6 +166,20 @@ pub fn seconds(flag: &str, value: f64, zero: bool) -> Result<std::time::Duration
     ))
 }
 
+/// `value` milliseconds given to `flag` as a duration: from 0 up to [`MAX_SECONDS`] (1e12
+/// ms); anything more is refused with the allowed range.
+pub fn milliseconds(flag: &str, value: u64) -> Result<std::time::Duration> {
+    let max_ms = MAX_SECONDS * 1e3;
+    if value as f64 <= max_ms {
+        return Ok(std::time::Duration::from_millis(value));
+    }
+    Err(anyhow!(
+        "{flag} must be milliseconds, from 0 up to {}, got {}",
+        compact(max_ms),
+        compact(value as f64)
+    ))
+}
+
 /// A value parser for 0-based indices (`--scan`), with a plain message for negative ones.
 pub fn index(s: &str) -> Result<usize, String> {
     match s.trim().parse::<i64>() {

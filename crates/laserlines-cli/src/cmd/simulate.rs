@@ -41,7 +41,7 @@ pub struct SimulateArgs {
     /// than the maze has is refused, naming its number).
     #[arg(long, value_name = "N", requires = "maze")]
     diagonals: Option<usize>,
-    /// Simulated time limit, s.
+    /// Simulated time limit, s, more than 0 up to 1e9.
     #[arg(long, default_value_t = 900.0, allow_negative_numbers = true)]
     duration: f64,
     /// Seed of the laser and odometry noise.
@@ -122,12 +122,7 @@ struct Setup {
 
 /// Runs the command.
 pub fn run(args: &SimulateArgs) -> Result<()> {
-    if !(args.duration.is_finite() && args.duration > 0.0) {
-        bail!(
-            "--duration must be a positive number of seconds, got {}",
-            super::compact(args.duration)
-        );
-    }
+    super::seconds("--duration", args.duration, false)?;
     if let Some(t) = args.snapshot
         && !(t.is_finite() && (0.0..=args.duration).contains(&t))
     {
