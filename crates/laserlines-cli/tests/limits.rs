@@ -229,6 +229,44 @@ fn counts_and_seconds_beyond_their_bounds_are_refused_with_the_range() {
 }
 
 #[test]
+fn negative_numbers_reach_the_range_checks() {
+    let excerpt = excerpt();
+    let ex = excerpt.to_str().unwrap();
+    let out = tmp("negative");
+    let out = out.to_str().unwrap();
+    for (args, needles) in [
+        (
+            &["map", ex, "--resolution", "-1", "-o", out][..],
+            &["--resolution must lie from 0.005 to 10 m, got -1"][..],
+        ),
+        (
+            &["relations", "a.tum", "b.tum", "--every", "-5"][..],
+            &["--every", "must be 1 or more, got -5"][..],
+        ),
+        (
+            &["simulate", "--maze", "-1", "-o", out][..],
+            &["--maze", "must be 0 or more, got -1"][..],
+        ),
+        (
+            &["live", "x", "--cluster", "-1"][..],
+            &["--cluster", "must be from 1 to 99, got -1"][..],
+        ),
+        (
+            &["view", ex, "--port", "-1"][..],
+            &["--port", "must be from 0 to 65535, got -1"][..],
+        ),
+        (
+            &["hokuyo-emulator", "--stall-after", "-2"][..],
+            &["--stall-after", "must be 0 or more, got -2"][..],
+        ),
+    ] {
+        let o = run(bin().args(args));
+        fails_with(&o, needles);
+        assert!(!stderr(&o).contains("unexpected argument"), "{args:?}");
+    }
+}
+
+#[test]
 fn simulate_refuses_more_diagonals_than_the_maze_has_and_its_help_places_odometry() {
     let o = run(bin()
         .args(["simulate", "--maze", "1", "--diagonals", "1000", "-o"])

@@ -46,11 +46,16 @@ pub struct BenchArgs {
     #[arg(long, default_value = "all")]
     algorithms: String,
     /// Scans per suite (simulated), or at most this many scans per log (default: all).
-    #[arg(long)]
+    #[arg(long, value_parser = super::whole::<usize>, allow_negative_numbers = true)]
     scans: Option<usize>,
     /// Seed of the simulated suites (default: the test seed, 2; with --tune the training
     /// seed, 1).
-    #[arg(long, conflicts_with = "data")]
+    #[arg(
+        long,
+        conflicts_with = "data",
+        value_parser = super::whole::<u64>,
+        allow_negative_numbers = true
+    )]
     seed: Option<u64>,
     /// Simulated sensor and conditions: urg04lx, urg04lx-artefacts (mixed pixels and
     /// dropouts), or the field conditions urg04lx-half, urg04lx-full, urg04lx-1.5x (noise at

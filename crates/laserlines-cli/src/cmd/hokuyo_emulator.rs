@@ -44,7 +44,7 @@ pub struct HokuyoEmulatorArgs {
     #[arg(long, allow_negative_numbers = true)]
     rate: Option<f64>,
     /// Seed of the simulated noise.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = super::whole::<u64>, allow_negative_numbers = true)]
     seed: u64,
     /// Stop after this many seconds (default: until Ctrl-C).
     #[arg(long, allow_negative_numbers = true)]
@@ -53,13 +53,13 @@ pub struct HokuyoEmulatorArgs {
     #[arg(long)]
     served: Option<PathBuf>,
     /// Fault: every N-th scan with a wrong check character.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = super::whole::<u64>, allow_negative_numbers = true)]
     bad_checksum_every: u64,
     /// Fault: every N-th scan with a data line cut short.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = super::whole::<u64>, allow_negative_numbers = true)]
     truncate_every: u64,
     /// Fault: after N scans on a connection, send half a scan and drop the connection.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = super::whole::<u64>, allow_negative_numbers = true)]
     drop_after: u64,
     /// Fault: stay unreachable this many seconds after dropping a connection.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
@@ -68,16 +68,16 @@ pub struct HokuyoEmulatorArgs {
     #[arg(long)]
     scip11: bool,
     /// Fault: answer every command this many milliseconds late (up to 1e12).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = super::whole::<u64>, allow_negative_numbers = true)]
     reply_delay_ms: u64,
     /// Fault: after N scans on a connection, fall silent ...
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = super::whole::<u64>, allow_negative_numbers = true)]
     stall_after: u64,
     /// ... for this many seconds.
     #[arg(long, default_value_t = 5.0, allow_negative_numbers = true)]
     stall_for: f64,
     /// Fault: the sensor clock at start, ms (16777215 wraps at once; 16775216 after 2 s).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = super::whole::<u32>, allow_negative_numbers = true)]
     clock_start_ms: u32,
 }
 

@@ -47,7 +47,7 @@ pub struct MapArgs {
     #[command(flatten)]
     pub params: super::ParamsArgs,
     /// Side of an occupancy grid cell, m.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
     pub resolution: f64,
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.
     /// Without it, the scans before a bad record are still mapped and written, and the run

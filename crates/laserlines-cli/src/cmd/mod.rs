@@ -180,6 +180,47 @@ pub fn milliseconds(flag: &str, value: u64) -> Result<std::time::Duration> {
     ))
 }
 
+/// Unsigned integer types that options take, with their largest value.
+pub trait Whole: TryFrom<i128> + Copy + Send + Sync + 'static {
+    /// The largest value of the type.
+    const MAX: i128;
+}
+
+macro_rules! whole {
+    ($($t:ty),*) => {$(
+        impl Whole for $t {
+            const MAX: i128 = <$t>::MAX as i128;
+        }
+    )*};
+}
+whole!(u16, u32, u64, usize);
+
+/// A value parser for whole numbers from `low` to `high` (at most `T`'s largest value), with a
+/// message stating the range for anything else, negative numbers included (their options
+/// also take `allow_negative_numbers`, so that clap hands them over). A range up to the
+/// largest 64-bit value is stated as `low or more`.
+pub fn whole_in<T: Whole>(s: &str, low: i128, high: i128) -> Result<T, String> {
+    let high = high.min(T::MAX);
+    let range = if high >= i128::from(u64::MAX) {
+        format!("{low} or more")
+    } else {
+        format!("from {low} to {high}")
+    };
+    match s.trim().parse::<i128>() {
+        Ok(n) if (low..=high).contains(&n) => {
+            T::try_from(n).map_err(|_| format!("must be {range}, got {n}"))
+        }
+        Ok(n) if n > high => Err(format!("must be from {low} to {high}, got {n}")),
+        Ok(n) => Err(format!("must be {range}, got {n}")),
+        Err(_) => Err(format!("expected a whole number, {range}, got {s:?}")),
+    }
+}
+
+/// A value parser for any whole number of `T` from 0 ([`whole_in`]).
+pub fn whole<T: Whole>(s: &str) -> Result<T, String> {
+    whole_in(s, 0, T::MAX)
+}
+
 /// A value parser for 0-based indices (`--scan`), with a plain message for negative ones.
 pub fn index(s: &str) -> Result<usize, String> {
     match s.trim().parse::<i64>() {
@@ -229,4 +270,39 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
         c.downcast_ref::<std::io::Error>()
             .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{whole, whole_in};
+
+    #[test]
+    fn whole_numbers_state_their_range() {
+        assert_eq!(whole::<u16>("65535"), Ok(65535));
+        assert_eq!(
+            whole::<u16>("-1"),
+            Err("must be from 0 to 65535, got -1".to_owned())
+        );
+        assert_eq!(
+            whole::<u16>("65536"),
+            Err("must be from 0 to 65535, got 65536".to_owned())
+        );
+        assert_eq!(
+            whole::<u64>("-3"),
+            Err("must be 0 or more, got -3".to_owned())
+        );
+        assert_eq!(
+            whole::<u64>("18446744073709551616"),
+            Err("must be from 0 to 18446744073709551615, got 18446744073709551616".to_owned())
+        );
+        assert_eq!(whole_in::<u32>(" 7 ", 1, 99), Ok(7));
+        assert_eq!(
+            whole_in::<u32>("0", 1, 99),
+            Err("must be from 1 to 99, got 0".to_owned())
+        );
+        assert_eq!(
+            whole_in::<usize>("x", 1, i128::MAX),
+            Err("expected a whole number, 1 or more, got \"x\"".to_owned())
+        );
+    }
 }

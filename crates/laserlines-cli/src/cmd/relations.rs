@@ -26,7 +26,7 @@ pub struct RelationsArgs {
     pub relations: PathBuf,
     /// Take relations between the poses of the reference trajectory this many poses apart
     /// (trajectories with the same stamps pose for pose are paired by order).
-    #[arg(long)]
+    #[arg(long, value_parser = every, allow_negative_numbers = true)]
     pub every: Option<usize>,
     /// Score only the relations whose two times the trajectory covers (a trajectory of part
     /// of a log), and say how many were left out; without it, such a relation is an error.
@@ -34,12 +34,16 @@ pub struct RelationsArgs {
     pub covered: bool,
 }
 
+/// The value parser of `--every`: a whole number of poses, at least 1.
+fn every(s: &str) -> Result<usize, String> {
+    super::whole_in(s, 1, i128::MAX)
+}
+
 /// Runs `laserlines relations`.
 pub fn run(args: &RelationsArgs) -> Result<()> {
     let mut traj = read_trajectory(&args.trajectory)?;
     let rel_name = args.relations.display().to_string();
     let relations: Vec<Relation> = match args.every {
-        Some(0) => bail!("--every must be at least 1"),
         Some(n) => {
             let mut reference = read_trajectory(&args.relations)?;
             // Two trajectories of one log (as `laserlines map` writes them) pair pose by pose,

@@ -32,20 +32,26 @@ pub struct SimulateArgs {
     #[arg(long, conflicts_with = "maze")]
     arena: Option<String>,
     /// A seeded procedural maze on the 1.2 m grid instead of an arena.
-    #[arg(long, value_name = "SEED")]
+    #[arg(long, value_name = "SEED", value_parser = super::whole::<u64>, allow_negative_numbers = true)]
     maze: Option<u64>,
     /// Give the maze islands (wall groups not connected to the outer wall).
     #[arg(long, requires = "maze")]
     islands: bool,
     /// Cut the corners of this many of the maze's turning cells by 45-degree walls (more
     /// than the maze has is refused, naming its number).
-    #[arg(long, value_name = "N", requires = "maze")]
+    #[arg(
+        long,
+        value_name = "N",
+        requires = "maze",
+        value_parser = super::whole::<usize>,
+        allow_negative_numbers = true
+    )]
     diagonals: Option<usize>,
     /// Simulated time limit, s, more than 0 up to 1e9.
     #[arg(long, default_value_t = 900.0, allow_negative_numbers = true)]
     duration: f64,
     /// Seed of the laser and odometry noise.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = super::whole::<u64>, allow_negative_numbers = true)]
     seed: u64,
     /// Start pose `x,y,yaw_deg` (m, m, deg) in the arena frame; default for arenas: the
     /// grid cell centre nearest the origin in the largest free region inside the arena's

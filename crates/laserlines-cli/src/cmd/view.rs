@@ -30,7 +30,7 @@ pub struct ViewArgs {
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     rate: f64,
     /// Port to serve on, on 127.0.0.1 (0 picks a free one).
-    #[arg(long, default_value_t = 8765)]
+    #[arg(long, default_value_t = 8765, value_parser = super::whole::<u16>, allow_negative_numbers = true)]
     port: u16,
     /// Start at once instead of waiting for a viewer to subscribe to /scan.
     #[arg(long)]

@@ -10,7 +10,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, Result, anyhow, bail};
+use anyhow::{Context, Result, anyhow};
 use clap::Args;
 use laserlines::Line;
 use laserlines::registry::BoxedExtractor;
@@ -27,7 +27,7 @@ pub struct LiveArgs {
     /// The sensor: a serial device (/dev/ttyACM0, COM3) or HOST:PORT (192.168.0.10:10940).
     device: String,
     /// Fix the serial bit rate (default: try 115200, 19200, 38400).
-    #[arg(long)]
+    #[arg(long, value_parser = super::whole::<u32>, allow_negative_numbers = true)]
     baud: Option<u32>,
     /// Line extraction algorithm.
     #[arg(long, default_value = "hough-split")]
@@ -38,7 +38,7 @@ pub struct LiveArgs {
     #[arg(long)]
     view: bool,
     /// Port of the live view (0 picks a free one).
-    #[arg(long, default_value_t = 8765)]
+    #[arg(long, default_value_t = 8765, value_parser = super::whole::<u16>, allow_negative_numbers = true)]
     port: u16,
     /// Record scans and lines to this MCAP file.
     #[arg(long)]
@@ -51,16 +51,16 @@ pub struct LiveArgs {
     #[arg(long)]
     sectors: bool,
     /// Stop after this many scans.
-    #[arg(long)]
+    #[arg(long, value_parser = super::whole::<u64>, allow_negative_numbers = true)]
     scans: Option<u64>,
     /// Stop after this many seconds.
     #[arg(long, allow_negative_numbers = true)]
     duration: Option<f64>,
     /// Cluster count: so many neighbouring steps per beam (1..=99).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = |s: &str| super::whole_in::<u32>(s, 1, 99), allow_negative_numbers = true)]
     cluster: u32,
     /// Scans to skip between two sent (0..=9).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, value_parser = |s: &str| super::whole_in::<u32>(s, 0, 9), allow_negative_numbers = true)]
     skip: u32,
     /// Use MS (2-character ranges, up to 4095 mm) instead of MD.
     #[arg(long)]
@@ -152,9 +152,6 @@ pub fn run(args: &LiveArgs) -> Result<()> {
     let mut endpoint: Endpoint = args.device.parse().map_err(|e| anyhow!("{e}"))?;
     if let (Endpoint::Serial { baud, .. }, Some(b)) = (&mut endpoint, args.baud) {
         *baud = Some(b);
-    }
-    if !(1..=99).contains(&args.cluster) || args.skip > 9 {
-        bail!("--cluster must be 1..=99 and --skip 0..=9");
     }
     let silence = args
         .silence
