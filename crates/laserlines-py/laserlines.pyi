@@ -200,7 +200,9 @@ def read(
     (``json``, ``jsonl``, ``csv``, ``dat``, ``mcap``, ``carmen``, ``bag``, ``db3``,
     ``parquet``; an unknown name is a ValueError). ``topic`` picks a topic (MCAP, bags) or a
     laser (CARMEN). A bad record raises ValueError naming the file and line (or byte offset or
-    row); ``skip_bad=True`` skips and counts it. A missing file raises FileNotFoundError."""
+    row); ``skip_bad=True`` skips and counts it. A failed read of the file itself (an I/O
+    error, a corrupt gzip stream) raises OSError, with ``skip_bad=True`` too. A missing file
+    raises FileNotFoundError."""
 
 def extract_file(
     path: Path,

@@ -274,3 +274,71 @@ fn real_logs_extract_in_order_with_every_thread_count() {
         );
     }
 }
+
+/// The first `n` lines of the bundled excerpt, gzipped, with the stream's CRC-32 (the
+/// trailer's first 4 bytes) flipped: every line inflates, then the read fails its check.
+fn corrupt_gzip(n: usize) -> Vec<u8> {
+    use std::io::{Read as _, Write as _};
+    let mut text = String::new();
+    flate2::read::GzDecoder::new(std::fs::File::open(common::excerpt()).unwrap())
+        .read_to_string(&mut text)
+        .unwrap();
+    let head: String = text.lines().take(n).map(|l| format!("{l}\n")).collect();
+    let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    enc.write_all(head.as_bytes()).unwrap();
+    let mut gz = enc.finish().unwrap();
+    let crc = gz.len() - 8;
+    gz[crc] ^= 0xff;
+    gz
+}
+
+#[test]
+fn a_failed_read_ends_the_run_even_with_skip_bad() {
+    let input = tmp("crc.dat.gz");
+    std::fs::write(&input, corrupt_gzip(10)).unwrap();
+    let out = tmp("crc.jsonl");
+    for skip in [&["--skip-bad"][..], &[]] {
+        let o = run(bin()
+            .arg("extract")
+            .args(skip)
+            .arg("-o")
+            .arg(&out)
+            .arg(&input));
+        assert_eq!(o.status.code(), Some(2), "{skip:?}: {}", stderr(&o));
+        let err = stderr(&o);
+        assert!(
+            err.contains("crc.dat.gz: 10 scans with")
+                && err.contains("written before the error")
+                && err.contains("crc.dat.gz:11: read failed: "),
+            "{skip:?}: {err}"
+        );
+        assert!(!err.contains("skipped"), "{skip:?}: {err}");
+        // The scans before the failed read stay written.
+        assert_eq!(jsonl(&out).len(), 10, "{skip:?}");
+    }
+    // convert and map stop there too.
+    let o = run(bin()
+        .arg("convert")
+        .arg(&input)
+        .arg(tmp("crc-scans.jsonl"))
+        .arg("--skip-bad"));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("crc.dat.gz:11: read failed: "),
+        "{}",
+        stderr(&o)
+    );
+    let o = run(bin()
+        .arg("map")
+        .arg(&input)
+        .arg("--skip-bad")
+        .arg("-o")
+        .arg(tmp("crc-map")));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("the map of the 10 scans before it is written")
+            && err.contains("crc.dat.gz:11: read failed: "),
+        "{err}"
+    );
+}

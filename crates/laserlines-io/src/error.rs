@@ -111,7 +111,9 @@ impl fmt::Display for SourcePos {
 /// After an error, a [`crate::ScanReader`] goes on with the next record where the format
 /// allows it (a JSONL line, a `.dat` line, an element of a JSON array); after an error that
 /// leaves it lost (a read failure, broken JSON framing, any CSV error) it ends. So a caller can
-/// stop at the first error, or count the error and keep iterating.
+/// stop at the first error, or skip a bad record and keep iterating. A failed read of the
+/// input itself ([`ReadError::Io`]) is no bad record ([`ReadError::is_bad_record`]): nothing
+/// after it can be read, so a caller that skips bad records still stops there.
 #[derive(Debug, thiserror::Error)]
 pub enum ReadError {
     /// A topic was asked for that the format does not have (a single-stream format such as
@@ -147,7 +149,8 @@ pub enum ReadError {
         found: String,
     },
     /// Reading failed part way (I/O error, corrupt or truncated gzip stream, invalid UTF-8
-    /// where text is required, a line too long). Ends the reader.
+    /// where text is required, a line too long). Ends the reader; not a bad record
+    /// ([`ReadError::is_bad_record`]) and not counted as a skip.
     #[error("{pos}: read failed: {source}")]
     Io {
         /// Where reading failed (the line being read).
@@ -228,6 +231,25 @@ impl ReadError {
     #[must_use]
     pub fn line(&self) -> Option<usize> {
         self.pos().and_then(|p| p.at.line())
+    }
+
+    /// True for a bad record, which a caller may skip (counted in [`crate::SkipCounts`]
+    /// under [`ReadError::reason`]) and read on; false for a failed read of the input itself
+    /// ([`ReadError::Io`]: an I/O error, a corrupt or truncated gzip stream, a line or JSON
+    /// element too long), after which nothing more can be read, and for the errors of
+    /// opening. Skipping the latter would lose the rest of the input: they end the reading.
+    #[must_use]
+    pub fn is_bad_record(&self) -> bool {
+        match self {
+            Self::Open { .. }
+            | Self::UnknownFormat { .. }
+            | Self::Topic { .. }
+            | Self::Io { .. } => false,
+            Self::Syntax { .. }
+            | Self::Json { .. }
+            | Self::Field { .. }
+            | Self::InvalidScan { .. } => true,
+        }
     }
 
     /// A short reason, used as the key of [`crate::SkipCounts`] (e.g. `malformed JSON`).

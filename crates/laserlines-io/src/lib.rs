@@ -24,7 +24,9 @@
 //! and found, e.g.
 //! `exp1.dat:17: expected 707 tokens (timestamp, 23 fields, 682 ranges, 1 trailing), found 412`.
 //! After an error the reader goes on with the next record where the format allows it, so a
-//! caller can stop at the first error or count it and go on.
+//! caller can stop at the first error or count it and go on. A failed read of the input
+//! itself (an I/O error, a corrupt or truncated gzip stream) ends the reader and is no bad
+//! record to skip ([`ReadError::is_bad_record`]).
 //!
 //! Units are SI: metres, radians, seconds.
 //!

@@ -76,8 +76,10 @@ impl std::fmt::Debug for Pending {
 /// A streaming reader of scans: an iterator of records (or errors) that reads its input
 /// piece by piece, so memory stays flat on long inputs.
 ///
-/// It counts what it skipped ([`ScanReader::skipped`]): every error item it returned, under
-/// [`ReadError::reason`], and anything its format skips by design.
+/// It counts what it skipped ([`ScanReader::skipped`]): every bad record it returned as an
+/// error ([`ReadError::is_bad_record`]), under [`ReadError::reason`], and anything its format
+/// skips by design. A failed read of the input ([`ReadError::Io`]) is returned, not counted:
+/// it ends the reader, and is no skip.
 pub struct ScanReader {
     name: String,
     format: Format,
@@ -143,7 +145,8 @@ impl ScanReader {
     ///
     /// Errors of deferred items appear only when they are parsed: they are not in
     /// [`ScanReader::skipped`], and [`ScanReader::records`] does not count deferred records.
-    /// The caller counts them (e.g. `skipped.add(e.reason())`, then [`SkipCounts::merge`]).
+    /// The caller counts the bad records among them (e.g. `skipped.add(e.reason())`, then
+    /// [`SkipCounts::merge`]).
     pub fn next_pending(&mut self) -> Option<Pending> {
         if self.finished {
             return None;
@@ -152,7 +155,8 @@ impl ScanReader {
         match &pending {
             None => self.finished = true,
             Some(Pending::Ready(Ok(_))) => self.records += 1,
-            Some(Pending::Ready(Err(e))) => self.skipped.add(e.reason()),
+            Some(Pending::Ready(Err(e))) if e.is_bad_record() => self.skipped.add(e.reason()),
+            Some(Pending::Ready(Err(_))) => {}
             Some(Pending::Deferred(_)) => {}
         }
         pending
@@ -176,7 +180,9 @@ impl Iterator for ScanReader {
                 Some(Ok(record))
             }
             Some(Err(e)) => {
-                self.skipped.add(e.reason());
+                if e.is_bad_record() {
+                    self.skipped.add(e.reason());
+                }
                 Some(Err(e))
             }
         }

@@ -4,8 +4,9 @@ use std::fmt;
 
 /// Counts of skipped records by reason, in the order the reasons first occurred.
 ///
-/// A [`crate::ScanReader`] counts every record it did not produce: each error item it
-/// returned (under [`crate::ReadError::reason`]) and anything a format skips by design. The
+/// A [`crate::ScanReader`] counts every record it did not produce: each bad record it
+/// returned as an error (under [`crate::ReadError::reason`]) and anything a format skips by
+/// design. A failed read of the input ends the reading and is not counted here. The
 /// caller may add its own reasons (e.g. scans it dropped) with [`SkipCounts::add`].
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct SkipCounts {

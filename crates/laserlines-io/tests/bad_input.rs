@@ -329,7 +329,40 @@ fn truncated_gzip_is_a_read_error_naming_the_line_and_ends_the_reader() {
         "{items:?}"
     );
     assert!(before.len() < 2, "{items:?}");
-    assert_eq!(reader.skipped().to_string(), "1 × read failed");
+    // A failed read is no bad record: it ends the reading and is not counted as a skip.
+    assert_eq!(reader.skipped().to_string(), "none");
+}
+
+#[test]
+fn a_corrupt_gzip_stream_is_no_bad_record_and_no_skip() {
+    use std::io::Write;
+    let text = std::fs::read("tests/fixtures/two_scans.dat").unwrap();
+    let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    enc.write_all(&text).unwrap();
+    let mut gz = enc.finish().unwrap();
+    // The stored CRC-32 of the data (the trailer's first 4 bytes), flipped: every line
+    // inflates, then the stream fails its check.
+    let crc = gz.len() - 8;
+    gz[crc] ^= 0xff;
+    let mut reader = from_reader("crc.dat.gz", Cursor::new(gz), Format::BreezyDat).unwrap();
+    let items: Vec<Result<_, _>> = reader.by_ref().collect();
+    assert_eq!(items.len(), 3, "{items:?}");
+    assert!(items[..2].iter().all(Result::is_ok), "{items:?}");
+    let e = items[2].as_ref().unwrap_err();
+    assert!(!e.is_bad_record(), "{e}");
+    assert_eq!(e.reason(), "read failed");
+    assert!(
+        e.to_string().starts_with("crc.dat.gz:3: read failed: "),
+        "{e}"
+    );
+    assert_eq!(reader.skipped().to_string(), "none");
+    assert_eq!(reader.records(), 2);
+    let bad = ReadError::Syntax {
+        pos: laserlines_io::SourcePos::line("x.dat", 1),
+        expected: "707 tokens".to_owned(),
+        found: "3".to_owned(),
+    };
+    assert!(bad.is_bad_record());
 }
 
 #[test]

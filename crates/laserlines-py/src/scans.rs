@@ -181,7 +181,8 @@ impl ScanIterator {
             match item {
                 None => return Ok(None),
                 Some(Ok(record)) => return Ok(Some(Scan::of_record(py, record))),
-                Some(Err(e)) if self.skip_bad => {
+                // A failed read of the file itself is no bad record: it is raised.
+                Some(Err(e)) if self.skip_bad && e.is_bad_record() => {
                     *self
                         .skipped
                         .lock()

@@ -144,7 +144,8 @@ pub fn extract_path<'py>(
         for item in reader.by_ref() {
             let record = match item {
                 Ok(record) => record,
-                Err(_) if skip_bad => {
+                // A failed read of the file itself is no bad record: it is raised.
+                Err(e) if skip_bad && e.is_bad_record() => {
                     skipped += 1;
                     continue;
                 }

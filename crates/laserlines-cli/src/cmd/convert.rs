@@ -25,6 +25,8 @@ pub struct ConvertArgs {
     #[arg(long)]
     to: Option<String>,
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.
+    /// A failed read of the input itself (an I/O error, a corrupt gzip stream) still ends the
+    /// run with an error.
     #[arg(long)]
     skip_bad: bool,
 }
@@ -40,12 +42,12 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
         for item in reader.by_ref() {
             let record = match item {
                 Ok(r) => r,
-                Err(e) if args.skip_bad => {
+                Err(e) if super::skips(args.skip_bad, &e) => {
                     // The reader counts it under its reason for the summary.
                     eprintln!("laserlines: skipped: {e}");
                     continue;
                 }
-                Err(e) => return Err(e.into()),
+                Err(e) => return Err(super::read_error(e, args.skip_bad)),
             };
             sink.write(&record)?;
             scans += 1;

@@ -52,6 +52,8 @@ pub struct ExtractArgs {
     #[command(flatten)]
     params: super::ParamsArgs,
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.
+    /// A failed read of the input itself (an I/O error, a corrupt gzip stream) still ends the
+    /// run with an error.
     #[arg(long)]
     skip_bad: bool,
     /// Extraction threads, 1 to 256 (default: one per core). The output is the same for any
@@ -355,12 +357,12 @@ fn write_batch(
         let record = match slot.item {
             Some(Ok(record)) => record,
             Some(Err(e)) => {
-                if slot.deferred {
+                if slot.deferred && e.is_bad_record() {
                     // The reader counted the others.
                     totals.skipped.add(e.reason());
                 }
-                if !skip_bad {
-                    return Err(e.into());
+                if !super::skips(skip_bad, &e) {
+                    return Err(super::read_error(e, skip_bad));
                 }
                 progress.suspend(|| eprintln!("laserlines: skipped: {e}"));
                 continue;

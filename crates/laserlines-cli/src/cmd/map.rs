@@ -50,6 +50,8 @@ pub struct MapArgs {
     #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
     pub resolution: f64,
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.
+    /// A failed read of the input itself (an I/O error, a corrupt gzip stream) still ends the
+    /// run with an error.
     /// Without it, the scans before a bad record are still mapped and written, and the run
     /// ends with the error.
     #[arg(long)]
@@ -121,7 +123,7 @@ fn map_log(
     for item in reader.by_ref() {
         let record = match item {
             Ok(r) => r,
-            Err(e) if args.skip_bad => {
+            Err(e) if super::skips(args.skip_bad, &e) => {
                 // The reader counts it under its reason for the summary.
                 progress.suspend(|| eprintln!("laserlines: skipped: {e}"));
                 continue;
@@ -182,12 +184,19 @@ fn map_log(
         eprintln!("{name}: skipped: {}", reader.skipped());
     }
     Ok(stopped.map(|e| {
-        anyhow::Error::from(e).context(format!(
-            "{name}: stopped at a bad record; the map of the {} before it is written \
-             ({}; --skip-bad skips bad records)",
-            super::count(stamps.len() as u64, "scan"),
-            args.output.display()
-        ))
+        let mapped = super::count(stamps.len() as u64, "scan");
+        let dir = args.output.display();
+        if e.is_bad_record() {
+            anyhow::Error::from(e).context(format!(
+                "{name}: stopped at a bad record; the map of the {mapped} before it is written \
+                 ({dir}; --skip-bad skips bad records)"
+            ))
+        } else {
+            anyhow::Error::from(e).context(format!(
+                "{name}: stopped where the input could not be read further; the map of the \
+                 {mapped} before it is written ({dir})"
+            ))
+        }
     }))
 }
 

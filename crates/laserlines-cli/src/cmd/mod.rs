@@ -254,6 +254,23 @@ pub fn note_unused_tables(params: Option<&Path>, used: &[&str], command: &str) -
     Ok(())
 }
 
+/// True when `--skip-bad` (`skip_bad`) skips `e`: a bad record. A failed read of the input
+/// itself ([`laserlines_io::ReadError::is_bad_record`] false: an I/O error, a corrupt gzip
+/// stream) is never skipped: nothing after it can be read.
+pub fn skips(skip_bad: bool, e: &laserlines_io::ReadError) -> bool {
+    skip_bad && e.is_bad_record()
+}
+
+/// The error that ends a run at `e`; under `--skip-bad`, a failed read says why it was not
+/// skipped.
+pub fn read_error(e: laserlines_io::ReadError, skip_bad: bool) -> anyhow::Error {
+    if skip_bad && !e.is_bad_record() {
+        anyhow!("{e} (a failed read of the input, not a bad record: --skip-bad does not skip it)")
+    } else {
+        e.into()
+    }
+}
+
 /// The error of an input that gave no scan: empty, or every record skipped.
 pub fn no_scans(name: &str, skipped: &laserlines_io::SkipCounts) -> anyhow::Error {
     if skipped.is_empty() {

@@ -40,6 +40,8 @@ pub struct ViewArgs {
     #[arg(long = "loop")]
     repeat: bool,
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.
+    /// A failed read of the input itself (an I/O error, a corrupt gzip stream) still ends the
+    /// run with an error.
     #[arg(long)]
     skip_bad: bool,
 }
@@ -134,11 +136,11 @@ impl Replay<'_> {
             }
             let record = match item {
                 Ok(r) => r,
-                Err(e) if self.skip_bad => {
+                Err(e) if super::skips(self.skip_bad, &e) => {
                     eprintln!("laserlines: skipped: {e}");
                     continue;
                 }
-                Err(e) => return Err(e.into()),
+                Err(e) => return Err(super::read_error(e, self.skip_bad)),
             };
             extractor.extract_into(&record.scan, &mut lines);
             let time = clock.time_of(record.scan.stamp);
