@@ -22,7 +22,7 @@ fn run_ok(cmd: &mut Command) -> Output {
 }
 
 /// `extract scans.parquet` reads the scans `convert` wrote: the same lines as from the same
-/// scans written as JSONL (exact decimal text of every float32 range).
+/// scans written as JSONL (exact decimal text of every range).
 #[test]
 fn scans_parquet_is_a_scan_source() {
     let scans = tmp("scans.parquet");

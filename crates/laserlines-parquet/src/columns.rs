@@ -28,7 +28,7 @@ pub struct ColumnError {
 const NUMBER: &str = "a column of float64 (or float32)";
 const INDEX: &str = "a column of int64";
 const LIST: &str =
-    "a column of list<float32> (or list, large_list or fixed_size_list of float32 or float64)";
+    "a column of list<float64> (or list, large_list or fixed_size_list of float64 or float32)";
 
 fn is_float(t: &DataType) -> bool {
     matches!(t, DataType::Float64 | DataType::Float32)

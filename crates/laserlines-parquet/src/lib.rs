@@ -18,7 +18,7 @@
 //! use laserlines_io::{Pose2, ScanRecord};
 //! use laserlines_parquet::{ScansParquetWriter, read};
 //!
-//! let mut record = ScanRecord::new(Scan::new(-0.5, 0.25, 0.1, 8.0, vec![1.0, 2.5, f64::NAN])?);
+//! let mut record = ScanRecord::new(Scan::new(-0.5, 0.25, 0.1, 8.0, vec![1.234, 2.5, f64::NAN])?);
 //! record.scan.stamp = Some(12.5);
 //! record.pose = Some(Pose2::new(1.0, -2.0, 0.3));
 //! let mut writer = ScansParquetWriter::new(Vec::new(), "memory")?;
@@ -28,7 +28,7 @@
 //! let mut reader = read::from_bytes("memory", bytes)?;
 //! let back = reader.next().expect("one scan")?;
 //! assert_eq!(back.scan.stamp, Some(12.5));
-//! assert_eq!(back.scan.ranges[1], 2.5); // stored as float32: 2.5 is exact
+//! assert_eq!(back.scan.ranges[..2], [1.234, 2.5]); // float64: every bit kept
 //! assert!(back.scan.ranges[2].is_nan());
 //! assert_eq!(back.pose, record.pose);
 //! assert!(reader.next().is_none());

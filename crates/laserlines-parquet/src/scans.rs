@@ -1,14 +1,14 @@
 //! The scans table: one row per scan ([`crate::schema::scans_schema`]), filled record by
-//! record ([`ScansColumns`]) and written to Parquet ([`ScansParquetWriter`]). Ranges and
-//! intensities are stored as `float32`, as `sensor_msgs/LaserScan` holds them; geometry,
-//! limits, stamp, pose and odometry keep all 64 bits.
+//! record ([`ScansColumns`]) and written to Parquet ([`ScansParquetWriter`]). Every number
+//! keeps all 64 bits, ranges and intensities too: a scan read back is the scan written, so a
+//! log and its Parquet conversion give the same lines.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 use std::sync::Arc;
 
-use arrow_array::{ArrayRef, Float32Array, Float64Array, Int64Array, ListArray, RecordBatch};
+use arrow_array::{ArrayRef, Float64Array, Int64Array, ListArray, RecordBatch};
 use arrow_buffer::{BooleanBuffer, NullBuffer, OffsetBuffer, ScalarBuffer};
 use arrow_schema::{ArrowError, DataType, Field};
 use laserlines_io::{ScanRecord, WriteError};
@@ -18,18 +18,18 @@ use crate::table::{TableWriter, io_error};
 
 /// Scans per batch handed to the Parquet writer.
 const BATCH_ROWS: usize = 1024;
-/// Scans per row group (4096 scans of 1081 beams: about 17 MB before compression).
+/// Scans per row group (4096 scans of 1081 beams: about 35 MB before compression).
 const ROW_GROUP: usize = 4096;
 
-/// A `list<float32>` column being filled.
+/// A `list<float64>` column being filled.
 #[derive(Debug, Clone)]
-struct F32Lists {
+struct F64Lists {
     offsets: Vec<i32>,
-    values: Vec<f32>,
+    values: Vec<f64>,
     valid: Vec<bool>,
 }
 
-impl Default for F32Lists {
+impl Default for F64Lists {
     fn default() -> Self {
         Self {
             offsets: vec![0],
@@ -39,7 +39,7 @@ impl Default for F32Lists {
     }
 }
 
-impl F32Lists {
+impl F64Lists {
     /// Appends one list (`None`: a null list). More than `i32::MAX` values in all are an
     /// error, and change nothing.
     fn push(&mut self, list: Option<&[f64]>) -> Result<(), ArrowError> {
@@ -48,7 +48,7 @@ impl F32Lists {
             ArrowError::ComputeError("more than 2^31 values in one batch".to_owned())
         })?;
         if let Some(list) = list {
-            self.values.extend(list.iter().map(|&v| v as f32));
+            self.values.extend_from_slice(list);
         }
         self.offsets.push(end);
         self.valid.push(list.is_some());
@@ -61,9 +61,9 @@ impl F32Lists {
         } else {
             Some(NullBuffer::new(BooleanBuffer::from(self.valid)))
         };
-        let item = Arc::new(Field::new("item", DataType::Float32, true));
+        let item = Arc::new(Field::new("item", DataType::Float64, true));
         let offsets = OffsetBuffer::new(ScalarBuffer::from(self.offsets));
-        let values = Arc::new(Float32Array::from(self.values));
+        let values = Arc::new(Float64Array::from(self.values));
         Arc::new(ListArray::new(item, offsets, values, nulls))
     }
 }
@@ -77,8 +77,8 @@ pub struct ScansColumns {
     odometry: [Vec<Option<f64>>; 3],
     /// angle_min, angle_increment, range_min, range_max.
     geometry: [Vec<f64>; 4],
-    ranges: F32Lists,
-    intensities: F32Lists,
+    ranges: F64Lists,
+    intensities: F64Lists,
 }
 
 impl ScansColumns {

@@ -30,8 +30,8 @@
 //! | `angle_min` | float64 | no | angle of the first beam, rad |
 //! | `angle_increment` | float64 | no | angle between beams, rad (negative: clockwise) |
 //! | `range_min`, `range_max` | float64 | no | valid ranges, m (`range_max` = inf: no limit) |
-//! | `ranges` | list\<float32\> | no | ranges, m; NaN, inf or a null item = no return |
-//! | `intensities` | list\<float32\> | yes | intensities, one per range, when the source has them |
+//! | `ranges` | list\<float64\> | no | ranges, m; NaN, inf or a null item = no return |
+//! | `intensities` | list\<float64\> | yes | intensities, one per range, when the source has them |
 //!
 //! A pose, or the odometry, is present when all three of its columns are (`ScanRecord::pose`
 //! and `ScanRecord::odometry`). The reader also takes `float32` for any `float64` column,
@@ -80,9 +80,9 @@ pub const LINE_BEAMS: [&str; 3] = ["first", "last", "points"];
 /// The `float64` columns after the beams: residual and covariance.
 pub const LINE_FIT: [&str; 4] = ["rms", "cov_rr", "cov_ralpha", "cov_alphaalpha"];
 
-/// The item of a list column: `float32`, nullable, named `item` as pyarrow names it.
-fn f32_list() -> DataType {
-    DataType::List(Arc::new(Field::new("item", DataType::Float32, true)))
+/// The item of a list column: `float64`, nullable, named `item` as pyarrow names it.
+fn f64_list() -> DataType {
+    DataType::List(Arc::new(Field::new("item", DataType::Float64, true)))
 }
 
 /// The scan's index, stamp and pose: the first columns of both tables.
@@ -126,8 +126,8 @@ pub fn scans_schema() -> SchemaRef {
     for name in [ANGLE_MIN, ANGLE_INCREMENT, RANGE_MIN, RANGE_MAX] {
         fields.push(Field::new(name, DataType::Float64, false));
     }
-    fields.push(Field::new(RANGES, f32_list(), false));
-    fields.push(Field::new(INTENSITIES, f32_list(), true));
+    fields.push(Field::new(RANGES, f64_list(), false));
+    fields.push(Field::new(INTENSITIES, f64_list(), true));
     Arc::new(Schema::new(fields))
 }
 

@@ -46,8 +46,8 @@ SCANS_SCHEMA = pa.schema(
         for n in ["angle_min", "angle_increment", "range_min", "range_max"]
     ]
     + [
-        pa.field("ranges", pa.list_(pa.float32()), nullable=False),
-        pa.field("intensities", pa.list_(pa.float32())),
+        pa.field("ranges", pa.list_(F64), nullable=False),
+        pa.field("intensities", pa.list_(F64)),
     ]
 )
 
@@ -99,7 +99,7 @@ def test_lines_parquet_holds_the_lines_of_lines_jsonl(written):
         )
 
 
-def test_scans_parquet_holds_the_scans_as_float32(written):
+def test_scans_parquet_holds_the_scans_bit_for_bit(written):
     t = pq.read_table(written / "scans.parquet")
     scans = list(laserlines.read(EXCERPT))
     assert t.num_rows == len(scans) == 40
@@ -111,18 +111,18 @@ def test_scans_parquet_holds_the_scans_as_float32(written):
         assert s.odometry is not None
         assert (row["odometry_x"], row["odometry_y"], row["odometry_theta"]) == s.odometry
         assert row["angle_increment"] == s.angle_increment
-        assert np.array_equal(
-            np.array(row["ranges"], dtype=np.float32), s.ranges.astype(np.float32)
-        )
+        assert np.array_equal(np.array(row["ranges"], dtype=np.float64), s.ranges, equal_nan=True)
         assert row["intensities"] is None
-    # Read back by the bindings, as by the CLI: the float32 values, widened.
+    # Read back by the bindings, as by the CLI: the scans written.
     back = list(laserlines.read(written / "scans.parquet"))
     assert [b.odometry for b in back] == [s.odometry for s in scans]
-    assert np.array_equal(back[3].ranges, scans[3].ranges.astype(np.float32).astype(np.float64))
+    for b, s in zip(back, scans):
+        assert np.array_equal(b.ranges, s.ranges, equal_nan=True)
 
 
 def test_a_table_pyarrow_writes_is_read_by_the_cli(cli, tmp_path):
     scans = list(laserlines.read(EXCERPT))[:12]
+    # float32 ranges, as sensor_msgs/LaserScan holds them: the reader widens them.
     ranges = [s.ranges.astype(np.float32) for s in scans]
     table = pa.table(
         {
@@ -139,11 +139,12 @@ def test_a_table_pyarrow_writes_is_read_by_the_cli(cli, tmp_path):
             "intensities": pa.nulls(len(scans), pa.list_(pa.float32())),
         }
     )
-    # The documented columns and types but the optional odometry (a table without it reads
-    # as scans without odometry); pyarrow makes every column nullable.
-    assert [(f.name, f.type) for f in table.schema] == [
-        (f.name, f.type) for f in SCANS_SCHEMA if not f.name.startswith("odometry_")
+    # The documented columns but the optional odometry (a table without it reads as scans
+    # without odometry), ranges as float32; pyarrow makes every column nullable.
+    assert [f.name for f in table.schema] == [
+        f.name for f in SCANS_SCHEMA if not f.name.startswith("odometry_")
     ]
+    assert table.schema.field("ranges").type == pa.list_(pa.float32())
     path = tmp_path / "from-pyarrow.parquet"
     pq.write_table(table, path)  # pyarrow's defaults: snappy, nullable columns
     out = tmp_path / "lines.jsonl"
