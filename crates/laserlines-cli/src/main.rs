@@ -67,8 +67,8 @@ enum Command {
 #[derive(Debug, Clone, Args)]
 pub struct InputArgs {
     /// Input file (.json, .jsonl, .csv, .dat, .mcap, .clf/.log for CARMEN, .bag for ROS 1,
-    /// .db3; optionally .gz), a ROS 2 bag directory (MCAP or sqlite3 storage), or `-` for
-    /// stdin.
+    /// .db3; optionally .gz; .parquet, not gzipped), a ROS 2 bag directory (MCAP or sqlite3
+    /// storage), or `-` for stdin.
     pub input: PathBuf,
     /// Input format, overriding the file extension (json, jsonl, csv, dat, mcap, carmen, bag,
     /// db3, parquet).

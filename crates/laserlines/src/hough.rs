@@ -43,7 +43,7 @@ pub const MAX_CELLS: usize = 1 << 22;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum HoughError {
     /// A field that must be finite and positive is not.
-    #[error("{field} must be finite and > 0, got {value}")]
+    #[error("{field} must be finite and > 0, got {}", crate::scan::Short(*value))]
     NotPositive {
         /// field name
         field: &'static str,

@@ -7,13 +7,13 @@ use crate::math::Point2;
 pub enum ScanError {
     /// `angle_min` is NaN, infinite, or beyond [`MAX_ANGLE_MIN`] (where the angles of
     /// neighbouring beams would round to one).
-    #[error("angle_min must be finite and within +-1000 rad, got {0}")]
+    #[error("angle_min must be finite and within +-1000 rad, got {}", Short(*.0))]
     AngleMinNotFinite(f64),
     /// `angle_increment` is zero, NaN or infinite.
-    #[error("angle_increment must be finite and non-zero, got {0}")]
+    #[error("angle_increment must be finite and non-zero, got {}", Short(*.0))]
     BadAngleIncrement(f64),
     /// The beams span more than one full turn.
-    #[error("{beams} beams of {increment} rad span more than a full turn")]
+    #[error("{beams} beams of {} rad span more than a full turn", Short(*increment))]
     SpanTooLarge {
         /// number of beams
         beams: usize,
@@ -441,6 +441,27 @@ mod tests {
             s.validate(),
             Err(ScanError::IntensityLength { .. })
         ));
+    }
+
+    #[test]
+    fn huge_values_are_named_in_e_notation() {
+        let msg = |r: Result<Scan, ScanError>| r.unwrap_err().to_string();
+        assert_eq!(
+            msg(Scan::new(-1e300, 0.1, 0.0, 1.0, vec![1.0])),
+            "angle_min must be finite and within +-1000 rad, got -1e300"
+        );
+        assert_eq!(
+            msg(Scan::new(0.0, 1e200, 0.0, 1.0, vec![1.0; 3])),
+            "3 beams of 1e200 rad span more than a full turn"
+        );
+        assert_eq!(
+            msg(Scan::new(0.0, f64::INFINITY, 0.0, 1.0, vec![1.0])),
+            "angle_increment must be finite and non-zero, got inf"
+        );
+        assert_eq!(
+            msg(Scan::new(0.0, 0.1, 1e300, 2.5, vec![1.0])),
+            "range limits must satisfy 0 <= range_min < range_max (finite), got 1e300..2.5"
+        );
     }
 
     #[test]
