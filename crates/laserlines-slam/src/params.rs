@@ -48,7 +48,7 @@ pub struct MapperParams {
     /// Rotation between the retried seeds, rad (default 0.15).
     pub retry_rotation_rad: f64,
     /// Without odometry, the motion between two scans is searched within this distance of
-    /// the last motion repeated, m (default 1.5) ...
+    /// the last motion, itself cut to this distance (and rotation), m (default 1.5) ...
     pub motion_window_m: f64,
     /// ... and this rotation, rad (default 1.0).
     pub motion_window_rad: f64,
