@@ -145,7 +145,7 @@ fn values_out_of_range_are_errors_not_clamped() {
         ),
         (
             &["simulate", "--duration", "-5"][..],
-            "--duration must be a positive number",
+            "--duration must be seconds, more than 0 up to 1e9, got -5",
         ),
         (
             &["simulate", "--snapshot", "-1"][..],
