@@ -459,6 +459,38 @@ fn maps_a_carmen_log_by_its_odometry_triple_never_its_laser_pose() {
     );
 }
 
+/// Odometry that jumps 1.5 km between two scans: the grid would not fit, and `map` says at
+/// which cell size it would, after writing the trajectory and the line map.
+#[test]
+fn a_map_too_large_for_its_grid_names_the_cell_size_that_fits() {
+    let mut log = String::from("# hand-made: the odometry jumps 1.5 km\n");
+    for (k, x) in [0.0, 0.0, 1500.0].into_iter().enumerate() {
+        // Far off, a room of a third the size: nothing like the first.
+        let scale = if x > 0.0 { 1.0 / 3.0 } else { 1.0 };
+        let ranges: Vec<String> = room_ranges(0.0, 0.0, 0.0)
+            .iter()
+            .map(|r| format!("{:.4}", r * scale))
+            .collect();
+        let time = 10.0 + 0.1 * k as f64;
+        log.push_str(&format!(
+            "FLASER 181 {} {x} 0 0 {x} 0 0 {time:.3} host {time:.3}\n",
+            ranges.join(" ")
+        ));
+    }
+    let path = tmp("jump.clf");
+    std::fs::write(&path, &log).unwrap();
+    let dir = tmp("jump");
+    let o = run(bin().arg("map").arg(&path).arg("-o").arg(&dir));
+    assert_clean_error(&o, "jump.clf", "occupancy grid: the map would be 30");
+    assert!(
+        text(&o.stderr).contains("more than 20000 on a side (cells of 0.076 m would fit; the trajectory and lines.json are written in"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert_eq!(tum_rows(&dir.join("trajectory.tum")).len(), 3);
+    assert!(dir.join("lines.json").is_file());
+}
+
 #[test]
 #[cfg_attr(
     debug_assertions,

@@ -74,6 +74,18 @@ pub struct GridTooLarge {
     pub max: usize,
 }
 
+impl GridTooLarge {
+    /// The smallest cell side, m, at which the same extent fits (two significant digits,
+    /// rounded up).
+    #[must_use]
+    pub fn fitting_resolution(&self) -> f64 {
+        let side = self.width.max(self.height) as f64;
+        let needed = self.resolution * side / self.max.max(1) as f64;
+        let per_unit = 10f64.powf(1.0 - needed.log10().floor());
+        (needed * per_unit).ceil() / per_unit
+    }
+}
+
 impl OccupancyGrid {
     /// Traces every scan (`points` in the sensor frame, seen from `map_from_sensor`).
     ///
@@ -273,10 +285,22 @@ mod tests {
     #[test]
     fn a_huge_map_is_refused() {
         let pts = [Point2::new(1e6, 0.0)];
-        let r = OccupancyGrid::build(
+        let e = OccupancyGrid::build(
             [(Se2::IDENTITY, &pts[..])].into_iter(),
             &OccupancyParams::default(),
-        );
-        assert!(r.is_err());
+        )
+        .unwrap_err();
+        assert!(e.width > e.max);
+        // A cell of that side fits the same extent, and is at most 10 % coarser than needed.
+        let fit = e.fitting_resolution();
+        let needed = e.width.max(e.height) as f64 * e.resolution / e.max as f64;
+        assert!(fit >= needed && fit <= 1.1 * needed, "{fit} {needed}");
+        let g = GridTooLarge {
+            width: 28563,
+            height: 32052,
+            resolution: 0.05,
+            max: 20000,
+        };
+        assert_eq!(g.fitting_resolution(), 0.081);
     }
 }

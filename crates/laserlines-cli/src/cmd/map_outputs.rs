@@ -79,13 +79,25 @@ pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
             files.push(write_file(o.dir, file, |w| write_tum(w, &logged))?);
         }
     }
+    let walls = o.mapper.line_map(&LineMapParams::default());
+    files.push(write_file(o.dir, "lines.json", |w| {
+        write_line_map(w, &walls)
+    })?);
     let grid = o
         .mapper
         .occupancy_grid(&OccupancyParams {
             resolution_m: o.resolution_m,
             ..OccupancyParams::default()
         })
-        .with_context(|| format!("{}: occupancy grid", o.name))?;
+        .map_err(|e| {
+            anyhow::anyhow!(
+                "{}: occupancy grid: {e} (cells of {} m would fit; the trajectory and \
+                 lines.json are written in {})",
+                o.name,
+                e.fitting_resolution(),
+                o.dir.display()
+            )
+        })?;
     let pixels = grid.to_pixels();
     let image = MapImage {
         pixels: &pixels,
@@ -105,10 +117,6 @@ pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
     files.push(pgm);
     let png = encode_grey_png(&pixels, grid.width, grid.height).context("map.png")?;
     files.push(write_file(o.dir, "map.png", |w| w.write_all(&png))?);
-    let walls = o.mapper.line_map(&LineMapParams::default());
-    files.push(write_file(o.dir, "lines.json", |w| {
-        write_line_map(w, &walls)
-    })?);
     let svg = map_svg(o, &grid, &pixels, &walls)?;
     files.push(write_file(o.dir, "map.svg", |w| {
         w.write_all(svg.as_bytes())
