@@ -144,6 +144,10 @@ fn values_out_of_range_are_errors_not_clamped() {
             "must be from 1 to 1000, got 0",
         ),
         (
+            &["bench", "--scans", "10000000", "--algorithms", "iepf"][..],
+            "--scans must be from 1 to 20000 per simulated suite, got 10000000",
+        ),
+        (
             &["simulate", "--duration", "-5"][..],
             "--duration must be seconds, more than 0 up to 1e9, got -5",
         ),
@@ -351,4 +355,28 @@ fn a_long_input_name_wraps_in_the_sectors_title() {
         !svg.contains(&std::env::temp_dir().display().to_string()),
         "the whole path"
     );
+}
+
+/// An output that is the input, by its name or through a hard link, is refused before
+/// anything is written: the input stays as it was.
+#[test]
+fn the_input_is_never_its_own_output() {
+    let scans = tmp("same.jsonl");
+    let o = run(bin().arg("convert").arg(excerpt()).arg(&scans));
+    assert!(o.status.success(), "{}", stderr(&o));
+    let before = std::fs::read(&scans).unwrap();
+    let link = tmp("same-link.jsonl");
+    std::fs::hard_link(&scans, &link).unwrap();
+    for output in [&scans, &link] {
+        let o = run(bin().arg("extract").arg(&scans).arg("-o").arg(output));
+        fails_with(&o, "the output is the input");
+        let o = run(bin().arg("convert").arg(&scans).arg(output));
+        fails_with(&o, "writing it would destroy the input");
+        assert_eq!(std::fs::read(&scans).unwrap(), before);
+    }
+    // Another file of the same content is no problem.
+    let copy = tmp("same-copy.jsonl");
+    std::fs::copy(&scans, &copy).unwrap();
+    let o = run(bin().arg("convert").arg(&scans).arg(&copy));
+    assert!(o.status.success(), "{}", stderr(&o));
 }

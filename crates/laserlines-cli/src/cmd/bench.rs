@@ -45,7 +45,8 @@ pub struct BenchArgs {
     /// Extractors to compare: `all` or a comma-separated list of names.
     #[arg(long, default_value = "all")]
     algorithms: String,
-    /// Scans per suite (simulated), or at most this many scans per log (default: all).
+    /// Scans per simulated suite (1 to 20000; default 100), or at most this many scans per log
+    /// (default: all).
     #[arg(long, value_parser = super::whole::<usize>, allow_negative_numbers = true)]
     scans: Option<usize>,
     /// Seed of the simulated suites (default: the test seed, 2; with --tune the training
@@ -261,6 +262,10 @@ fn simulated_sensor(args: &BenchArgs) -> Result<laserlines_eval::workload::Senso
     Ok(s)
 }
 
+/// Most scans per simulated suite (all of them are drawn before the run and held, about
+/// 1 GB for the seven suites at this count).
+const MAX_SIMULATED_SCANS: usize = 20_000;
+
 fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
     if args.data.is_empty() {
         let suite = args.suite.as_deref().unwrap_or(if args.arenas.is_empty() {
@@ -270,6 +275,12 @@ fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
         });
         let model = simulated_sensor(args)?;
         let count = args.scans.unwrap_or(DEFAULT_SCANS_PER_SUITE);
+        if !(1..=MAX_SIMULATED_SCANS).contains(&count) {
+            // The scans are drawn and held before the run: bounded, so memory is.
+            bail!(
+                "--scans must be from 1 to {MAX_SIMULATED_SCANS} per simulated suite, got {count}"
+            );
+        }
         if suite == ARENAS {
             return arena_suite(args, seed, count, &model);
         }

@@ -27,6 +27,42 @@ use crate::InputArgs;
 /// The algorithms `--algorithm` accepts.
 pub use laserlines::registry::ALGORITHMS;
 
+/// Refuses an output that is the input itself (the same file by another name or link too):
+/// writing it would truncate the input before it is read, and a failed conversion would
+/// remove it. `-` (stdin, stdout) and an output that does not exist yet pass.
+pub fn refuse_same_file(input: &Path, output: &Path) -> Result<()> {
+    let dash = |p: &Path| p.as_os_str() == "-";
+    if dash(input) || dash(output) {
+        return Ok(());
+    }
+    let (Ok(a), Ok(b)) = (std::fs::metadata(input), std::fs::metadata(output)) else {
+        return Ok(());
+    };
+    if a.is_file() && same_file(input, output, &a, &b) {
+        return Err(anyhow!(
+            "{}: the output is the input ({}): writing it would destroy the input; give \
+             another output file",
+            output.display(),
+            input.display()
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(unix)]
+fn same_file(_: &Path, _: &Path, a: &std::fs::Metadata, b: &std::fs::Metadata) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    a.dev() == b.dev() && a.ino() == b.ino()
+}
+
+#[cfg(not(unix))]
+fn same_file(x: &Path, y: &Path, _: &std::fs::Metadata, _: &std::fs::Metadata) -> bool {
+    matches!(
+        (std::fs::canonicalize(x), std::fs::canonicalize(y)),
+        (Ok(a), Ok(b)) if a == b
+    )
+}
+
 /// Opens the input of a command (MCAP or any format of `laserlines-io`, chosen by
 /// `laserlines_foxglove::open_scans`).
 pub fn open_input(input: &InputArgs) -> Result<ScanReader> {
