@@ -286,11 +286,22 @@ pub fn load_raf(path: &Path, options: &ArenaOptions) -> Result<Arena, ArenaError
     parse_raf(&text, &name, options)
 }
 
+/// The line of an `<elements>` opening tag that no `</elements>` closes: a file cut between
+/// two elements is still well-formed up to its end, but holds only part of the arena.
+fn unclosed_root(text: &str) -> Option<usize> {
+    let start = text.find("<elements")?;
+    let tag_end = start + text[start..].find('>')?;
+    let empty = text[..tag_end].ends_with('/');
+    let closed = text[tag_end..].contains("</elements");
+    (!empty && !closed).then(|| 1 + text[..start].matches('\n').count())
+}
+
 /// Parses the text of a `.raf` file named `name` (used in errors), see the
 /// [module docs](self).
 ///
 /// # Errors
-/// [`ArenaError::Xml`] for malformed markup (an unclosed tag or comment, a bad attribute),
+/// [`ArenaError::Xml`] for malformed markup (an unclosed tag or comment, a bad attribute,
+/// an `<elements>` that the file ends without closing),
 /// [`ArenaError::MissingAttribute`] or [`ArenaError::BadAttribute`] for an element without
 /// `type`, `rotation`, `x` or `y`, or with a rotation other than a multiple of 90, a
 /// coordinate that is not an integer grid index, an offset that is not a number or a
@@ -307,6 +318,17 @@ pub fn parse_raf(text: &str, name: &str, options: &ArenaOptions) -> Result<Arena
         if tag.name == "element" {
             elements.push(Element::from_tag(&tag, name)?);
         }
+    }
+    if let Some(line) = unclosed_root(text) {
+        return Err(ArenaError::Xml {
+            name: name.to_owned(),
+            line,
+            message: format!(
+                "unclosed <elements>: the file ends after {} elements without </elements> \
+                 (cut short?)",
+                elements.len()
+            ),
+        });
     }
     let height = options.height();
     let mut report = ArenaReport {

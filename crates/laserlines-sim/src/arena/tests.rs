@@ -184,6 +184,16 @@ fn bad_input_is_an_error_naming_the_line() {
     );
     let e = parse("<elements>\n<element type=\"small_wall").unwrap_err();
     assert!(matches!(e, ArenaError::Xml { line: 2, .. }), "{e}");
+    // Cut between two elements: well-formed up to its end, but only part of the arena.
+    let cut = "<?xml version=\"1.0\"?>\n<elements>\n<element type=\"small_wall\" rotation=\"0\" x=\"0\" y=\"0\"/>\n";
+    let e = parse(cut).unwrap_err();
+    assert!(matches!(e, ArenaError::Xml { line: 2, .. }), "{e}");
+    assert!(
+        e.to_string()
+            .contains("ends after 1 elements without </elements>"),
+        "{e}"
+    );
+    assert!(parse(&format!("{cut}</elements>\n")).is_ok());
     let e = parse("<!-- never closed").unwrap_err();
     assert!(matches!(e, ArenaError::Xml { .. }), "{e}");
     let e = parse("<element type=small_wall/>").unwrap_err();
