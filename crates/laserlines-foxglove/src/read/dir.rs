@@ -79,7 +79,38 @@ pub(super) fn bag_files(dir: &Path) -> Result<(Storage, Vec<PathBuf>), ReadError
         }
     };
     files.sort_by(|a, b| natural_cmp(&a.to_string_lossy(), &b.to_string_lossy()));
+    if !dir.join("metadata.yaml").is_file()
+        && let Some(odd) = not_one_split_set(&files)
+    {
+        return Err(open_error(io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!(
+                "a directory is read as a ROS 2 bag, but this one has no metadata.yaml and its \
+                 files are not one bag's split files (NAME_0, NAME_1, ...: {odd} is not): give \
+                 the file itself, or restore the bag's metadata (`ros2 bag reindex`)"
+            ),
+        )));
+    }
     Ok((storage, files))
+}
+
+/// Without `metadata.yaml` (a recording cut off before rosbag2 wrote it), the directory's
+/// files must be named as one bag's split files are, `NAME_N` with one `NAME`: the first file
+/// that is not, by its name. A folder of unrelated `.mcap` files is not read as one input.
+fn not_one_split_set(files: &[PathBuf]) -> Option<String> {
+    let stem_of = |p: &PathBuf| -> Option<String> {
+        let stem = p.file_stem()?.to_str()?;
+        let (name, n) = stem.rsplit_once('_')?;
+        (!n.is_empty() && n.bytes().all(|b| b.is_ascii_digit())).then(|| name.to_owned())
+    };
+    let first = files.first().and_then(stem_of);
+    files
+        .iter()
+        .find(|p| first.is_none() || stem_of(p) != first)
+        .map(|p| {
+            p.file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+        })
 }
 
 /// Compares names with runs of digits compared as numbers (`bag_2` before `bag_10`).
@@ -152,8 +183,31 @@ impl ScanSource for McapFilesSource {
 
 #[cfg(test)]
 mod tests {
-    use super::natural_cmp;
+    use super::{natural_cmp, not_one_split_set};
     use std::cmp::Ordering;
+    use std::path::PathBuf;
+
+    #[test]
+    fn without_metadata_only_one_bags_split_files_make_a_bag() {
+        let files = |names: &[&str]| -> Vec<PathBuf> { names.iter().map(PathBuf::from).collect() };
+        assert_eq!(
+            not_one_split_set(&files(&["run_0.mcap", "run_1.mcap"])),
+            None
+        );
+        assert_eq!(not_one_split_set(&files(&["d/my_bag_0.db3"])), None);
+        assert_eq!(
+            not_one_split_set(&files(&["a.mcap", "b.mcap"])).as_deref(),
+            Some("a.mcap")
+        );
+        assert_eq!(
+            not_one_split_set(&files(&["run_0.mcap", "other_1.mcap"])).as_deref(),
+            Some("other_1.mcap")
+        );
+        assert_eq!(
+            not_one_split_set(&files(&["run_0.mcap", "run_x.mcap"])).as_deref(),
+            Some("run_x.mcap")
+        );
+    }
 
     #[test]
     fn numbers_in_names_compare_as_numbers() {
