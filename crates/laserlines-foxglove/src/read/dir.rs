@@ -96,8 +96,12 @@ pub(super) fn bag_files(dir: &Path) -> Result<(Storage, Vec<PathBuf>), ReadError
 
 /// Without `metadata.yaml` (a recording cut off before rosbag2 wrote it), the directory's
 /// files must be named as one bag's split files are, `NAME_N` with one `NAME`: the first file
-/// that is not, by its name. A folder of unrelated `.mcap` files is not read as one input.
+/// that is not, by its name. A folder of unrelated `.mcap` files is not read as one input;
+/// a folder of one file is that file, whatever its name.
 fn not_one_split_set(files: &[PathBuf]) -> Option<String> {
+    if files.len() < 2 {
+        return None;
+    }
     let stem_of = |p: &PathBuf| -> Option<String> {
         let stem = p.file_stem()?.to_str()?;
         let (name, n) = stem.rsplit_once('_')?;
@@ -195,6 +199,7 @@ mod tests {
             None
         );
         assert_eq!(not_one_split_set(&files(&["d/my_bag_0.db3"])), None);
+        assert_eq!(not_one_split_set(&files(&["d/recording.mcap"])), None);
         assert_eq!(
             not_one_split_set(&files(&["a.mcap", "b.mcap"])).as_deref(),
             Some("a.mcap")
