@@ -128,6 +128,7 @@ impl McapScanSource {
         let log_time = b.u64("log time")?;
         let _publish_time = b.u64("publish time")?;
         let data = b.rest();
+        *self.seen.entry(channel_id).or_default() += 1;
         let Some(channel) = self.channels.get(&channel_id) else {
             skipped.add(SKIP_UNKNOWN_CHANNEL);
             return Ok(());

@@ -45,7 +45,7 @@ mod dir;
 mod records;
 mod tail;
 
-pub use tail::SKIP_CUT_SUMMARY;
+pub use tail::{SKIP_CUT_SUMMARY, SKIP_LOST_SCAN};
 
 use channels::ChannelInfo;
 use db3::Db3FilesSource;
@@ -129,6 +129,8 @@ pub struct McapScanSource {
     /// Latest `X -> odom` from `/tf`.
     world_from_odom: Option<Pose2>,
     pending: VecDeque<Result<ScanRecord, ReadError>>,
+    /// Messages met per channel id, to compare with the file's `Statistics` record.
+    seen: HashMap<u16, u64>,
     body: Vec<u8>,
     chunk: Vec<u8>,
 }
@@ -162,6 +164,7 @@ impl McapScanSource {
             odometry: None,
             world_from_odom: None,
             pending: VecDeque::new(),
+            seen: HashMap::new(),
             body: Vec::new(),
             chunk: Vec::new(),
         }
