@@ -405,6 +405,37 @@ fn maps_a_carmen_log_by_its_odometry_triple_never_its_laser_pose() {
         .arg(&dir)
         .args(["--loop-closure", "off"]));
     assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(!text(&o.stderr).contains("stamps"), "{}", text(&o.stderr));
+    // The same log with every stamp 0 (as some Radish logs have): mapped alike, the stamps
+    // kept as written, and a note says they do not increase.
+    let zero = tmp("zero-stamps.clf");
+    let zeroed: String = log
+        .lines()
+        .map(|l| match l.rsplitn(4, ' ').collect::<Vec<_>>()[..] {
+            [_, host, _, head] if l.starts_with("FLASER") => format!("{head} 0 {host} 0\n"),
+            _ => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(&zero, zeroed).unwrap();
+    let zero_dir = tmp("zero-stamps");
+    let z = run(bin()
+        .arg("map")
+        .arg(&zero)
+        .arg("-o")
+        .arg(&zero_dir)
+        .args(["--loop-closure", "off"]));
+    assert!(z.status.success(), "{}", text(&z.stderr));
+    assert!(
+        text(&z.stderr).contains(
+            "zero-stamps.clf: the scans' stamps do not increase (all are 0 s): the trajectory \
+             files keep them as written"
+        ),
+        "{}",
+        text(&z.stderr)
+    );
+    let zero_traj = tum_rows(&zero_dir.join("trajectory.tum"));
+    assert_eq!(zero_traj.len(), 40);
+    assert!(zero_traj.iter().all(|row| row[0] == 0.0));
     // The files of the log's own poses hold each triple where it belongs.
     let odometry = tum_rows(&dir.join("odometry.tum"));
     let logged = tum_rows(&dir.join("log-poses.tum"));

@@ -153,6 +153,9 @@ fn map_log(
             None => super::no_scans(name, reader.skipped()),
         });
     }
+    if let Some(note) = stamp_note(&stamps) {
+        progress.suspend(|| eprintln!("laserlines: {name}: {note}"));
+    }
     progress.set_message("optimising");
     mapper
         .optimize()
@@ -257,4 +260,31 @@ fn summary(name: &str, mapper: &Mapper, mapped_s: f64, total_s: f64, files: &[Pa
     );
     let list: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
     eprintln!("wrote {}", list.join(", "));
+}
+
+/// Words for stamps that do not increase from scan to scan (broken in some logs: all zero,
+/// or printed with too few digits), which leave a trajectory that cannot be paired with
+/// another by time; `None` when they increase.
+fn stamp_note(stamps: &[f64]) -> Option<String> {
+    let stuck = stamps
+        .windows(2)
+        .filter(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+        .count();
+    if stuck == 0 {
+        return None;
+    }
+    let all_same = stamps.iter().all(|&t| t == stamps[0]);
+    let how = if all_same {
+        format!("all are {} s", stamps[0])
+    } else {
+        format!(
+            "{stuck} of {} steps go back or stand still",
+            stamps.len() - 1
+        )
+    };
+    Some(format!(
+        "the scans' stamps do not increase ({how}): the trajectory files keep them as \
+         written, so they cannot be paired with another trajectory by time; `laserlines \
+         relations --every N` pairs two trajectories of this log pose by pose"
+    ))
 }
