@@ -135,6 +135,28 @@ fn maps_the_bundled_excerpt_with_every_output() {
         out.contains("translational error              0.000000 +-   0.000000 m"),
         "{out}"
     );
+    // A trajectory given as the relations: said so, with the option that takes one.
+    let o = run(bin()
+        .arg("relations")
+        .arg(dir.join("trajectory.tum"))
+        .arg(dir.join("log-poses.tum")));
+    assert_clean_error(
+        &o,
+        "log-poses.tum",
+        "a TUM trajectory (t x y z qx qy qz qw), not relations (t1 t2 x y z roll pitch yaw): \
+         to check against a reference trajectory, give --every N",
+    );
+    // Relations further apart than the trajectory is long.
+    let o = run(bin()
+        .arg("relations")
+        .arg(dir.join("trajectory.tum"))
+        .arg(dir.join("trajectory.tum"))
+        .args(["--every", "40"]));
+    assert_clean_error(
+        &o,
+        "trajectory.tum",
+        "no relations: --every 40 needs more than 40 poses of the reference",
+    );
 }
 
 /// A log converted to Parquet keeps its wheel odometry and its ranges bit for bit: it maps

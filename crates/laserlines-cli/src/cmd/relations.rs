@@ -57,7 +57,8 @@ pub fn run(args: &RelationsArgs) -> Result<()> {
             }
             relations_from_trajectory(&reference, n)
         }
-        None => read_relations(&rel_name, open(&args.relations)?)?
+        None => read_relations(&rel_name, open(&args.relations)?)
+            .map_err(|e| not_a_trajectory(&args.relations, e.into()))?
             .into_iter()
             .map(|r| Relation {
                 t1: r.t1,
@@ -67,7 +68,13 @@ pub fn run(args: &RelationsArgs) -> Result<()> {
             .collect(),
     };
     if relations.is_empty() {
-        bail!("{rel_name}: no relations");
+        match args.every {
+            Some(n) => bail!(
+                "{rel_name}: no relations: --every {n} needs more than {n} poses of the \
+                 reference that pair with the trajectory's"
+            ),
+            None => bail!("{rel_name}: no relations"),
+        }
     }
     let all = relations.len();
     let relations = if args.covered {
@@ -92,13 +99,18 @@ pub fn run(args: &RelationsArgs) -> Result<()> {
         relations
     };
     let score = score_relations(&traj, &relations).map_err(|e| {
-        anyhow::anyhow!(
+        let e = anyhow::anyhow!(
             "{rel_name}: relation {} (t = {}): no pose of {} within {MAX_TIME_GAP_S} s \
              (--covered scores only the relations the trajectory covers)",
             e.index + 1,
             e.time,
             args.trajectory.display()
-        )
+        );
+        if args.every.is_none() {
+            not_a_trajectory(&args.relations, e)
+        } else {
+            e
+        }
     })?;
     outln!(
         "{} of {rel_name}, {} of {}",
@@ -123,6 +135,25 @@ pub fn run(args: &RelationsArgs) -> Result<()> {
     row("rotational error", "deg", &score.rotation_deg);
     row("squared rotational error", "deg^2", &score.rotation_sq_deg2);
     Ok(())
+}
+
+/// `e`, or when the relations file reads as a TUM trajectory (8 numbers per row too, but
+/// a unit quaternion at the end), an error that says so and names `--every`.
+fn not_a_trajectory(path: &Path, e: anyhow::Error) -> anyhow::Error {
+    let name = path.display().to_string();
+    let tum = open(path)
+        .ok()
+        .and_then(|input| read_tum(&name, input).ok())
+        .is_some_and(|poses| !poses.is_empty());
+    if tum {
+        anyhow::anyhow!(
+            "{name}: a TUM trajectory (t x y z qx qy qz qw), not relations (t1 t2 x y z roll \
+             pitch yaw): to check against a reference trajectory, give --every N (relations \
+             between its poses N apart)"
+        )
+    } else {
+        e
+    }
 }
 
 fn open(path: &Path) -> Result<BufReader<File>> {
