@@ -234,6 +234,51 @@ fn simulate_records_the_run_as_mcap() {
     .unwrap();
     assert_eq!(records.len() as u64, scans);
     assert!(records.iter().all(|r| r.scan.ranges.len() == 682));
+    // Each with the true pose and the wheel odometry: both start at the origin, and the
+    // odometry drifts from the truth by its noise only (3 s of driving: centimetres).
+    let (first, last) = (&records[0], &records[records.len() - 1]);
+    let (p, o) = (first.pose.unwrap(), first.odometry.unwrap());
+    assert!(
+        p.x.abs() < 1e-12 && p.y.abs() < 1e-12 && p.theta.abs() < 1e-12,
+        "{p:?}"
+    );
+    assert!(
+        o.x.abs() < 1e-12 && o.y.abs() < 1e-12 && o.theta.abs() < 1e-12,
+        "{o:?}"
+    );
+    let (p, o) = (last.pose.unwrap(), last.odometry.unwrap());
+    let drift = (p.x - o.x).hypot(p.y - o.y);
+    assert!(p.x.hypot(p.y) > 0.3, "the robot moved: {p:?}");
+    assert!(drift < 0.05 && drift > 0.0, "odometry {o:?}, truth {p:?}");
+
+    // `map` takes the run back with its odometry (the default) and follows the truth.
+    let map_dir = dir.join("map");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_laserlines"))
+        .arg("map")
+        .arg(&mcap_path)
+        .arg("-o")
+        .arg(&map_dir)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let traj = std::fs::read_to_string(map_dir.join("trajectory.tum")).unwrap();
+    let end: Vec<f64> = traj
+        .lines()
+        .rfind(|l| !l.starts_with('#'))
+        .unwrap()
+        .split_whitespace()
+        .map(|v| v.parse().unwrap())
+        .collect();
+    // The map frame is the first scan's laser frame, 0.15 m ahead of the robot's start.
+    let (s, c) = p.theta.sin_cos();
+    let (lx, ly) = (p.x + 0.15 * c - 0.15, p.y + 0.15 * s);
+    let off = (end[1] - lx).hypot(end[2] - ly);
+    assert!(
+        off < 0.05,
+        "mapped end ({}, {}), true ({lx}, {ly})",
+        end[1],
+        end[2]
+    );
 
     // Every message by topic, with the stock reader of the `mcap` crate.
     let bytes = std::fs::read(&mcap_path).unwrap();
@@ -271,22 +316,33 @@ fn simulate_records_the_run_as_mcap() {
         walls.entities[0].lines[0].points.len(),
         2 * arena.world.walls.len()
     );
-    // Three transforms per scan; the first places the robot at the start (the origin,
-    // facing +x) and the laser 0.15 m ahead of the axle.
+    // Four transforms per scan, a tree (REP 105): `world -> odom -> base_link -> laser` and
+    // the estimate; the first two place the robot at the start (the origin, facing +x) and
+    // the laser 0.15 m ahead of the axle.
     let tf = &by_topic["/tf"];
-    assert_eq!(tf.len() as u64, 3 * scans);
-    let world = FrameTransform::decode(tf[0].as_slice()).unwrap();
-    let laser = FrameTransform::decode(tf[1].as_slice()).unwrap();
-    let estimate = FrameTransform::decode(tf[2].as_slice()).unwrap();
+    assert_eq!(tf.len() as u64, 4 * scans);
+    let frames: Vec<FrameTransform> = tf[..4]
+        .iter()
+        .map(|d| FrameTransform::decode(d.as_slice()).unwrap())
+        .collect();
+    let pairs: Vec<(&str, &str)> = frames
+        .iter()
+        .map(|f| (f.parent_frame_id.as_str(), f.child_frame_id.as_str()))
+        .collect();
     assert_eq!(
-        (
-            world.parent_frame_id.as_str(),
-            world.child_frame_id.as_str()
-        ),
-        ("world", "base_link")
+        pairs,
+        [
+            ("world", "odom"),
+            ("odom", "base_link"),
+            ("base_link", "laser"),
+            ("world", "base_link_estimate")
+        ]
     );
-    let t = world.translation.unwrap();
-    assert_eq!((t.x, t.y), (0.0, 0.0));
+    for f in &frames[..2] {
+        let t = f.translation.as_ref().unwrap();
+        assert_eq!((t.x, t.y), (0.0, 0.0));
+    }
+    let (laser, estimate) = (&frames[2], &frames[3]);
     assert_eq!(laser.child_frame_id, "laser");
     assert!((laser.translation.unwrap().x - 0.15).abs() < 1e-12);
     assert_eq!(estimate.child_frame_id, "base_link_estimate");

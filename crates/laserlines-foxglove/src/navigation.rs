@@ -6,7 +6,7 @@
 //! | topic | schema | frame | content |
 //! |---|---|---|---|
 //! | `/arena` | `foxglove.SceneUpdate` | `world` | the walls (`LINE_LIST`) and round obstacles (cylinders), once at t = 0 |
-//! | `/tf` | `foxglove.FrameTransform` | `world` -> `base_link` | the robot's true pose, every scan |
+//! | `/tf` | `foxglove.FrameTransform` | `world` -> `odom` -> `base_link` | the robot's true pose as the wheel odometry and the odometry frame's place in the world (REP 105), every scan; without odometry `world` -> `base_link` |
 //! | `/tf` | `foxglove.FrameTransform` | `base_link` -> `laser` | the laser's mount, every scan |
 //! | `/tf` | `foxglove.FrameTransform` | `world` -> `base_link_estimate` | the robot's own pose estimate (odometry corrected by scan matching), every scan |
 //! | `/scan` | `foxglove.LaserScan` | `laser` | the scan |
@@ -33,7 +33,7 @@ use crate::proto::{timestamp, transform_from_pose};
 use crate::sectors::sectors_update;
 use crate::shapes::{color, line_list, point3, pose_at};
 use crate::write::McapSceneWriter;
-use crate::{LASER_FRAME, ROBOT_FRAME, WORLD_FRAME};
+use crate::{LASER_FRAME, ODOM_FRAME, ROBOT_FRAME, WORLD_FRAME};
 
 /// Topic of the arena walls.
 pub const ARENA_TOPIC: &str = "/arena";
@@ -51,6 +51,10 @@ pub struct NavFrame<'a> {
     pub time_s: f64,
     /// The robot's pose (the true one in simulation).
     pub world_from_robot: Isometry2,
+    /// The wheel odometry's pose in the odometry frame, when the robot has odometry: recorded
+    /// as `odom` -> `base_link` under `world` -> `odom`, so that `laserlines map` reads the
+    /// run back with its odometry.
+    pub odom_from_robot: Option<Isometry2>,
     /// The robot's own estimate of its pose, placed in the world by the start pose.
     pub estimated_world_from_robot: Isometry2,
     /// Where the laser sits on the robot.
@@ -245,8 +249,24 @@ impl NavRecorder {
 
     fn write_frame(&mut self, frame: &NavFrame<'_>) -> Result<(), WriteError> {
         let t = frame.time_s;
-        for tf in [
-            transform_from_pose(WORLD_FRAME, ROBOT_FRAME, pose2(&frame.world_from_robot), t),
+        let robot = match frame.odom_from_robot {
+            Some(odom) => vec![
+                transform_from_pose(
+                    WORLD_FRAME,
+                    ODOM_FRAME,
+                    pose2(&(frame.world_from_robot * odom.inverse())),
+                    t,
+                ),
+                transform_from_pose(ODOM_FRAME, ROBOT_FRAME, pose2(&odom), t),
+            ],
+            None => vec![transform_from_pose(
+                WORLD_FRAME,
+                ROBOT_FRAME,
+                pose2(&frame.world_from_robot),
+                t,
+            )],
+        };
+        for tf in robot.into_iter().chain([
             transform_from_pose(ROBOT_FRAME, LASER_FRAME, pose2(&frame.robot_from_laser), t),
             transform_from_pose(
                 WORLD_FRAME,
@@ -254,7 +274,7 @@ impl NavRecorder {
                 pose2(&frame.estimated_world_from_robot),
                 t,
             ),
-        ] {
+        ]) {
             self.writer.write_transform(&tf)?;
         }
         self.writer

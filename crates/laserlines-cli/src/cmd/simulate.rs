@@ -100,6 +100,7 @@ impl RunObserver for Watch<'_> {
             m.record(&NavFrame {
                 time_s: frame.time_s,
                 world_from_robot: frame.world_from_robot,
+                odom_from_robot: Some(frame.odom_from_robot),
                 estimated_world_from_robot: frame.estimated_world_from_robot,
                 robot_from_laser: frame.robot_from_laser,
                 scan: frame.scan,
