@@ -10,8 +10,8 @@ use laserlines::Scan;
 use laserlines_io::{Pose2, ReadError, ScanRecord, SourcePos};
 
 use crate::schema::{
-    ANGLE_INCREMENT, ANGLE_MIN, INTENSITIES, ODOMETRY_THETA, ODOMETRY_X, ODOMETRY_Y, POSE_THETA,
-    POSE_X, POSE_Y, RANGE_MAX, RANGE_MIN, RANGES, SCAN, STAMP,
+    ANGLE_INCREMENT, ANGLE_MIN, INTENSITIES, LINE_GEOMETRY, ODOMETRY_THETA, ODOMETRY_X, ODOMETRY_Y,
+    POSE_THETA, POSE_X, POSE_Y, RANGE_MAX, RANGE_MIN, RANGES, SCAN, STAMP,
 };
 
 /// A column that does not hold what the reader needs.
@@ -73,10 +73,16 @@ pub fn check_schema(schema: &Schema) -> Result<(), ColumnError> {
                 if needed {
                     let columns: Vec<&str> =
                         schema.fields().iter().map(|f| f.name().as_str()).collect();
+                    let lines_file = LINE_GEOMETRY.iter().all(|c| columns.contains(c));
+                    let what = if lines_file {
+                        "; this is a lines file, as `laserlines extract` writes, not a file of scans"
+                    } else {
+                        ""
+                    };
                     return Err(ColumnError {
                         column: name,
                         expected,
-                        found: format!("no such column (columns: {})", columns.join(", ")),
+                        found: format!("no such column (columns: {}){what}", columns.join(", ")),
                     });
                 }
                 continue;

@@ -70,6 +70,15 @@ fn lines_table_holds_every_line_of_every_scan() {
         expected.extend(lines.into_iter().map(|l| (k, r.scan.stamp, r.pose, l)));
     }
     let bytes = bytes::Bytes::from(w.finish().unwrap());
+    // Given where scans are expected, the file is named for what it is.
+    let e = error_of(bytes.to_vec());
+    assert!(
+        e.starts_with("bad.parquet: row 0: angle_min: expected a column of float64")
+            && e.ends_with(
+                "; this is a lines file, as `laserlines extract` writes, not a file of scans"
+            ),
+        "{e}"
+    );
     let builder = ParquetRecordBatchReaderBuilder::try_new(bytes).unwrap();
     assert_eq!(builder.schema().fields(), lines_schema().fields());
     let batches: Vec<RecordBatch> = builder.build().unwrap().collect::<Result<_, _>>().unwrap();
