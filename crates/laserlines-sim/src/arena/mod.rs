@@ -301,7 +301,8 @@ fn unclosed_root(text: &str) -> Option<usize> {
 ///
 /// # Errors
 /// [`ArenaError::Xml`] for malformed markup (an unclosed tag or comment, a bad attribute,
-/// an `<elements>` that the file ends without closing),
+/// an `<elements>` that the file ends without closing) and for text with neither
+/// `<elements>` nor `<element>` tags (an empty file is [`ArenaError::Empty`]),
 /// [`ArenaError::MissingAttribute`] or [`ArenaError::BadAttribute`] for an element without
 /// `type`, `rotation`, `x` or `y`, or with a rotation other than a multiple of 90, a
 /// coordinate that is not an integer grid index, an offset that is not a number or a
@@ -318,6 +319,16 @@ pub fn parse_raf(text: &str, name: &str, options: &ArenaOptions) -> Result<Arena
         if tag.name == "element" {
             elements.push(Element::from_tag(&tag, name)?);
         }
+    }
+    if elements.is_empty() && !text.trim().is_empty() && !text.contains("<elements") {
+        return Err(ArenaError::Xml {
+            name: name.to_owned(),
+            line: 1,
+            message: "no <elements> and no <element> tag: not an arena layout (a .raf file \
+                      is XML, <elements> holding <element type=\"T\" rotation=\"R\" x=\"X\" \
+                      y=\"Y\"/>)"
+                .to_owned(),
+        });
     }
     if let Some(line) = unclosed_root(text) {
         return Err(ArenaError::Xml {

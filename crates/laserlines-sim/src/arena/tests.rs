@@ -194,6 +194,18 @@ fn bad_input_is_an_error_naming_the_line() {
         "{e}"
     );
     assert!(parse(&format!("{cut}</elements>\n")).is_ok());
+    // Not XML, or XML of something else: not an arena, rather than an empty one.
+    for other in [
+        "hello world\n",
+        "{\"a\": 1}",
+        "<?xml version=\"1.0\"?>\n<world/>\n",
+    ] {
+        let e = parse(other).unwrap_err();
+        assert!(matches!(e, ArenaError::Xml { line: 1, .. }), "{e}");
+        assert!(e.to_string().contains("not an arena layout"), "{e}");
+    }
+    let e = parse("<elements>\n</elements>\n").unwrap_err();
+    assert!(matches!(e, ArenaError::Empty { .. }), "{e}");
     let e = parse("<!-- never closed").unwrap_err();
     assert!(matches!(e, ArenaError::Xml { .. }), "{e}");
     let e = parse("<element type=small_wall/>").unwrap_err();
