@@ -35,7 +35,9 @@ pub struct RelationRecord {
     pub delta: Pose2,
 }
 
-/// Writes poses as TUM lines (`t x y 0 0 0 qz qw`), every number in its shortest exact form.
+/// Writes poses as TUM lines (`t x y 0 0 0 qz qw`), every number in its shortest exact form
+/// (in e-notation when it is below 1e-5 or from 1e16 in size, so that `2.7e-27` is not
+/// written with 26 zeros).
 ///
 /// # Errors
 /// The writer's error.
@@ -46,14 +48,28 @@ pub fn write_tum(out: &mut impl Write, poses: &[StampedPose]) -> std::io::Result
         writeln!(
             out,
             "{} {} {} 0 0 0 {} {}",
-            p.t,
-            p.pose.x,
-            p.pose.y,
-            half.sin(),
-            half.cos()
+            Short(p.t),
+            Short(p.pose.x),
+            Short(p.pose.y),
+            Short(half.sin()),
+            Short(half.cos())
         )?;
     }
     Ok(())
+}
+
+/// A number in its shortest exact form, in e-notation when very small or very large.
+struct Short(f64);
+
+impl std::fmt::Display for Short {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = self.0.abs();
+        if a != 0.0 && !(1e-5..1e16).contains(&a) {
+            write!(f, "{:e}", self.0)
+        } else {
+            write!(f, "{}", self.0)
+        }
+    }
 }
 
 /// Reads a TUM trajectory. `name` is used in messages.
@@ -232,11 +248,20 @@ mod tests {
                 t: 2.0,
                 pose: Pose2::new(0.0, 0.0, -3.0),
             },
+            StampedPose {
+                t: 3.0,
+                pose: Pose2::new(2.744_740_301_962_794_4e-27, -1e20, 1e-30),
+            },
         ];
         let mut buf = Vec::new();
         write_tum(&mut buf, &poses).unwrap();
+        let text = String::from_utf8(buf.clone()).unwrap();
+        assert!(
+            text.ends_with("\n3 2.7447403019627944e-27 -1e20 0 0 0 5e-31 1\n"),
+            "{text}"
+        );
         let back = read_tum("t.tum", buf.as_slice()).unwrap();
-        assert_eq!(back.len(), 2);
+        assert_eq!(back.len(), 3);
         for (a, b) in poses.iter().zip(&back) {
             assert_eq!(a.t, b.t);
             assert_eq!((a.pose.x, a.pose.y), (b.pose.x, b.pose.y));
