@@ -533,7 +533,7 @@ def check_simulate(bin_, fails, tmp):
     n = metrics["scans"]
     for topic in ("/scan", "/lines", "/sectors", "/explorer"):
         fails.eq(f"{at} {topic} count", len(by_topic.get(topic, [])), n)
-    fails.eq(f"{at} /tf count", len(by_topic.get("/tf", [])), 3 * n)
+    fails.eq(f"{at} /tf count", len(by_topic.get("/tf", [])), 4 * n)
     arena = by_topic.get("/arena", [])
     fails.eq(f"{at} /arena once", len(arena), 1)
     if arena:
@@ -541,11 +541,14 @@ def check_simulate(bin_, fails, tmp):
         fails.eq(f"{at} /arena frame", e.frame_id, "world")
         fails.eq(f"{at} /arena wall ends", len(e.lines[0].points) % 2, 0)
     tfs = by_topic.get("/tf", [])
-    if len(tfs) >= 3:
-        world, laser, est = (t[2] for t in tfs[:3])
-        fails.eq(f"{at} /tf frames", [(t.parent_frame_id, t.child_frame_id) for t in (world, laser, est)],
-                 [("world", "base_link"), ("base_link", "laser"), ("world", "base_link_estimate")])
-        fails.eq(f"{at} start pose", (world.translation.x, world.translation.y, world.rotation.w), (0.0, 0.0, 1.0))
+    if len(tfs) >= 4:
+        # REP 105: world -> odom -> base_link (the odometry frame is the start pose), the
+        # laser's mount and the robot's own estimate.
+        world, odom, laser, est = (t[2] for t in tfs[:4])
+        fails.eq(f"{at} /tf frames", [(t.parent_frame_id, t.child_frame_id) for t in (world, odom, laser, est)],
+                 [("world", "odom"), ("odom", "base_link"), ("base_link", "laser"), ("world", "base_link_estimate")])
+        for name, t in (("world -> odom", world), ("odom -> base_link", odom)):
+            fails.eq(f"{at} start {name}", (t.translation.x, t.translation.y, t.rotation.w), (0.0, 0.0, 1.0))
         fails.eq(f"{at} laser mount within 1e-12", abs(laser.translation.x - 0.15) < 1e-12, True)
     objects = 0
     for k, (scan_item, lines_item, sect_item) in enumerate(zip(by_topic["/scan"], by_topic["/lines"], by_topic["/sectors"])):
