@@ -9,25 +9,12 @@
 
 mod common;
 
-use common::Rng;
+use common::{Rng, hit};
 use laserlines::math::{Point2, Vector2, angle_diff};
 use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, Scan};
 
 /// Beams per turn.
 const BEAMS: usize = 20_000;
-
-/// Range of the beam at `angle` to the segment `a`-`b`, if it meets it.
-fn hit(angle: f64, a: Point2, b: Point2) -> Option<f64> {
-    let d = Vector2::new(angle.cos(), angle.sin());
-    let e = b - a;
-    let den = d.x * e.y - d.y * e.x;
-    if den.abs() < 1e-12 {
-        return None;
-    }
-    let t = (a.x * e.y - a.y * e.x) / den;
-    let s = (a.x * d.y - a.y * d.x) / den;
-    (t > 0.0 && (0.0..=1.0).contains(&s)).then_some(t)
-}
 
 /// A 360 deg scan of `BEAMS` beams seeing only the wall `a`-`b`, with range noise
 /// `max(sigma_min, fraction r)` along the beams.

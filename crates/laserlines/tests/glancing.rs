@@ -6,23 +6,10 @@
 
 mod common;
 
-use common::{BEAMS, Rng, angle_min, increment};
+use common::{BEAMS, Rng, angle_min, hit, increment};
 use laserlines::math::{Point2, Vector2, angle_diff};
 use laserlines::noise::{NoiseModel, RangeNoise};
 use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, Scan};
-
-/// Range of the beam at `angle` to the segment `a`-`b`, if it meets it.
-fn hit(angle: f64, a: Point2, b: Point2) -> Option<f64> {
-    let d = Vector2::new(angle.cos(), angle.sin());
-    let e = b - a;
-    let den = d.x * e.y - d.y * e.x;
-    if den.abs() < 1e-12 {
-        return None;
-    }
-    let t = (a.x * e.y - a.y * e.x) / den;
-    let s = (a.x * d.y - a.y * d.x) / den;
-    (t > 0.0 && (0.0..=1.0).contains(&s)).then_some(t)
-}
 
 /// A wall along `x = 1` from `y = 0.5` to `2.5`, bent there by `bend` towards the sensor's
 /// far side for 2 m more, seen by a URG-04LX with range noise `noise` (no other surface).

@@ -2,6 +2,8 @@
 
 #![allow(dead_code)]
 
+use laserlines::math::{Point2, Vector2};
+
 /// SplitMix64, for the test's own noise.
 pub struct Rng(pub u64);
 
@@ -66,4 +68,17 @@ pub fn any_increment() -> impl proptest::strategy::Strategy<Value = f64> {
         1 => Just(f64::NAN),
         1 => Just(1e-300),
     ]
+}
+
+/// Range of the beam at `angle` to the segment `a`-`b`, if it meets it.
+pub fn hit(angle: f64, a: Point2, b: Point2) -> Option<f64> {
+    let d = Vector2::new(angle.cos(), angle.sin());
+    let e = b - a;
+    let den = d.x * e.y - d.y * e.x;
+    if den.abs() < 1e-12 {
+        return None;
+    }
+    let t = (a.x * e.y - a.y * e.x) / den;
+    let s = (a.x * d.y - a.y * d.x) / den;
+    (t > 0.0 && (0.0..=1.0).contains(&s)).then_some(t)
 }
