@@ -3,7 +3,8 @@
 //! The reader walks the file's records front to back (magic, then `opcode: u8, length: u64,
 //! body` records), reading one record, or one chunk, at a time: memory is bounded by the
 //! largest chunk, not by the file. It does not trust the summary section or the indexes; it
-//! stops at the `DataEnd` record (or the footer).
+//! stops at the `DataEnd` record (or the footer), and reads of the summary only the
+//! `Statistics` record, to count the scans of a skipped chunk.
 //!
 //! Messages come out in file order. Three LaserScan encodings are read:
 //!
