@@ -110,3 +110,22 @@ pub fn map_and_score(log: &Path, relations: &Path, name: &str) -> (f64, f64, Str
     };
     (mean("translational error"), mean("rotational error"), out)
 }
+
+/// Asserts a clean failure: exit code 2, a message naming `file` and `needle`, no panic.
+pub fn assert_clean_error(o: &Output, file: &str, needle: &str) {
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
+    assert!(err.contains(file), "error does not name {file}: {err}");
+    assert!(err.contains(needle), "error does not say {needle:?}: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+}
+
+/// The 8 numbers of each non-comment line of a TUM file.
+pub fn tum_rows(path: &Path) -> Vec<Vec<f64>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect())
+        .collect()
+}
