@@ -46,6 +46,21 @@ fn room_ranges(x: f64, y: f64, theta: f64) -> Vec<f64> {
         .collect()
 }
 
+/// A `FLASER` line of 181 `ranges` (printed to 0.1 mm) with its laser pose and odometry
+/// triples and `time` as both the IPC and the logger time stamp.
+fn flaser(
+    ranges: &[f64],
+    (lx, ly, lt): (f64, f64, f64),
+    (ox, oy, ot): (f64, f64, f64),
+    time: f64,
+) -> String {
+    let ranges: Vec<String> = ranges.iter().map(|r| format!("{r:.4}")).collect();
+    format!(
+        "FLASER 181 {} {lx:.6} {ly:.6} {lt:.6} {ox:.6} {oy:.6} {ot:.6} {time:.3} host {time:.3}\n",
+        ranges.join(" ")
+    )
+}
+
 /// The yaw of a TUM row's quaternion (`qz`, `qw`).
 fn tum_yaw(row: &[f64]) -> f64 {
     2.0 * row[6].atan2(row[7])
@@ -73,16 +88,12 @@ fn maps_a_carmen_log_by_its_odometry_triple_never_its_laser_pose() {
     };
     let mut log = String::from("# hand-made: odometry triple true, laser pose triple not\n");
     for (k, t) in truth.iter().enumerate() {
-        let ranges: Vec<String> = room_ranges(t.0, t.1, t.2)
-            .iter()
-            .map(|r| format!("{r:.4}"))
-            .collect();
-        let (lx, ly, lt) = laser_pose(k);
-        let (ox, oy, ot) = odom(t);
         let time = 10.0 + 0.1 * k as f64;
-        log.push_str(&format!(
-            "FLASER 181 {} {lx:.6} {ly:.6} {lt:.6} {ox:.6} {oy:.6} {ot:.6} {time:.3} host {time:.3}\n",
-            ranges.join(" ")
+        log.push_str(&flaser(
+            &room_ranges(t.0, t.1, t.2),
+            laser_pose(k),
+            odom(t),
+            time,
         ));
     }
     let path = tmp("two-triples.clf");
@@ -188,15 +199,12 @@ fn a_map_too_large_for_its_grid_names_the_cell_size_that_fits() {
     for (k, x) in [0.0, 0.0, 1500.0].into_iter().enumerate() {
         // Far off, a room of a third the size: nothing like the first.
         let scale = if x > 0.0 { 1.0 / 3.0 } else { 1.0 };
-        let ranges: Vec<String> = room_ranges(0.0, 0.0, 0.0)
+        let ranges: Vec<f64> = room_ranges(0.0, 0.0, 0.0)
             .iter()
-            .map(|r| format!("{:.4}", r * scale))
+            .map(|r| r * scale)
             .collect();
         let time = 10.0 + 0.1 * k as f64;
-        log.push_str(&format!(
-            "FLASER 181 {} {x} 0 0 {x} 0 0 {time:.3} host {time:.3}\n",
-            ranges.join(" ")
-        ));
+        log.push_str(&flaser(&ranges, (x, 0.0, 0.0), (x, 0.0, 0.0), time));
     }
     let path = tmp("jump.clf");
     std::fs::write(&path, &log).unwrap();
