@@ -47,12 +47,13 @@ pub enum ScanError {
 pub const MAX_ANGLE_MIN: f64 = 1000.0;
 
 /// A number in a message: as Rust prints it, but in exponent form from 1e16 on (the largest
-/// finite number, "no limit", is 309 digits in full).
+/// finite number, "no limit", is 309 digits in full) and below 1e-5 (`1e-300` would be 300).
 pub(crate) struct Short(pub(crate) f64);
 
 impl std::fmt::Display for Short {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        if self.0.abs() >= 1e16 && self.0.is_finite() {
+        let a = self.0.abs();
+        if a.is_finite() && a != 0.0 && !(1e-5..1e16).contains(&a) {
             write!(f, "{:e}", self.0)
         } else {
             write!(f, "{}", self.0)

@@ -30,8 +30,8 @@ mod segment;
 pub use crate::params::ParamsError;
 pub use accumulator::Cell;
 pub use params::{
-    Bridge, GAP_CHANCE, HoughSplitParams, MAX_BRIDGE_GAP, MAX_WINDOW_RINGS, MIN_RING_STEP,
-    PAPER_SECTOR_BEAMS, Weight,
+    Bridge, GAP_CHANCE, HoughSplitParams, MAX_BRIDGE_GAP, MAX_RING_STEP, MAX_WINDOW_RINGS,
+    MIN_RING_STEP, PAPER_SECTOR_BEAMS, Weight,
 };
 
 use crate::extractor::LineExtractor;

@@ -8,6 +8,10 @@ use crate::scan::RangeWindow;
 /// at tens of metres.
 pub const MIN_RING_STEP: f64 = 1e-4;
 
+/// The widest `ring_step`, m: a ring wider than any 2D scanner's range holds every point of
+/// a sector, and the Hough grouping means nothing.
+pub const MAX_RING_STEP: f64 = 100.0;
+
 /// The widest `window`, in `ring_step`s: a point votes in every ring its window meets.
 pub const MAX_WINDOW_RINGS: f64 = 64.0;
 
@@ -82,8 +86,8 @@ pub enum Weight {
     serde(default, deny_unknown_fields)
 )]
 pub struct HoughSplitParams {
-    /// Ring step `dd` of the accumulator, m. Paper: 0.03 m. Sensible: 0.01..0.10; at least
-    /// [`MIN_RING_STEP`].
+    /// Ring step `dd` of the accumulator, m. Paper: 0.03 m. Sensible: 0.01..0.10; from
+    /// [`MIN_RING_STEP`] to [`MAX_RING_STEP`].
     pub ring_step: f64,
     /// Sector step `dgamma` of the accumulator, rad. Paper: 2.47 deg (about 7 beams of a
     /// URG-04LX). Sensible: 1..10 beam increments; below a full turn.
@@ -355,6 +359,14 @@ impl HoughSplitParams {
                 field: "ring_step",
                 value: self.ring_step,
                 min: MIN_RING_STEP,
+            });
+        }
+        if self.ring_step > MAX_RING_STEP {
+            return Err(ParamsError::AboveField {
+                field: "ring_step",
+                value: self.ring_step,
+                limit_field: "100 m",
+                limit: MAX_RING_STEP,
             });
         }
         if self.window > MAX_WINDOW_RINGS * self.ring_step {

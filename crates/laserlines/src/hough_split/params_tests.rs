@@ -90,6 +90,10 @@ fn grids_that_would_exhaust_memory_and_empty_range_limits_are_refused() {
         e.starts_with("ring_step must be finite and >= 0.0001"),
         "{e}"
     );
+    let e = with(|p| p.ring_step = 1e-300).unwrap_err();
+    assert_eq!(e, "ring_step must be finite and >= 0.0001, got 1e-300");
+    let e = with(|p| p.ring_step = 1e300).unwrap_err();
+    assert_eq!(e, "ring_step must be at most 100 (100 m), got 1e300");
     let e = with(|p| p.window = 1e6).unwrap_err();
     assert!(
         e.starts_with("window must be at most 1.92 (64 ring_step)"),
@@ -111,6 +115,13 @@ fn grids_that_would_exhaust_memory_and_empty_range_limits_are_refused() {
     };
     assert_eq!(with(finest), Ok(()));
     assert_eq!(with(|p| p.window = 64.0 * p.ring_step), Ok(()));
+    assert_eq!(
+        with(|p| {
+            p.ring_step = MAX_RING_STEP;
+            p.window = MAX_RING_STEP / 2.0;
+        }),
+        Ok(())
+    );
 }
 
 #[test]
