@@ -380,3 +380,24 @@ fn the_input_is_never_its_own_output() {
     let o = run(bin().arg("convert").arg(&scans).arg(&copy));
     assert!(o.status.success(), "{}", stderr(&o));
 }
+
+#[test]
+fn an_output_in_a_missing_folder_names_the_folder() {
+    let missing = tmp("no-such-folder");
+    let _ = std::fs::remove_dir_all(&missing);
+    for (args, file) in [
+        (&["extract", "IN", "-o", "OUT"][..], "lines.jsonl"),
+        (&["convert", "IN", "OUT"][..], "scans.mcap"),
+        (&["render", "IN", "-o", "OUT"][..], "scan.svg"),
+    ] {
+        let out = missing.join(file);
+        let o = run(bin().args(args.iter().map(|a| match *a {
+            "IN" => excerpt().into_os_string(),
+            "OUT" => out.clone().into_os_string(),
+            a => a.into(),
+        })));
+        fails_with(&o, "cannot write: the folder");
+        assert!(stderr(&o).contains(&format!("{} does not exist", missing.display())));
+        assert!(!missing.exists(), "{args:?} made the folder");
+    }
+}

@@ -163,7 +163,7 @@ fn a_corrupt_chunk_is_a_counted_error_and_the_next_chunks_still_read() {
             "{c:?}: error at {at}, chunk at {second}..{next}: {e}"
         );
         let scans = items.iter().filter(|r| r.is_ok()).count();
-        assert!(scans >= 4 && scans < 6, "{c:?}: {scans} scans");
+        assert!((4..6).contains(&scans), "{c:?}: {scans} scans");
         // The scans the bad chunk held are counted from the file's statistics.
         let lost = reader.skipped().get(read::SKIP_LOST_SCAN);
         assert_eq!(lost, 6 - scans as u64, "{c:?}: {:?}", reader.skipped());

@@ -36,6 +36,7 @@ pub struct ConvertArgs {
 pub fn run(args: &ConvertArgs) -> Result<()> {
     let to = output_format(args)?;
     super::refuse_same_file(&args.input.input, &args.output)?;
+    super::output_folder_exists(&args.output)?;
     let mut reader = super::open_input(&args.input)?;
     let mut sink = ScanOutput::create(&args.output, Some(to))?;
     let mut scans = 0u64;

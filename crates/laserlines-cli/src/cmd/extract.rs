@@ -116,6 +116,7 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
         .build()
         .context("cannot start the extraction threads")?;
     super::refuse_same_file(&args.input.input, &args.output)?;
+    super::output_folder_exists(&args.output)?;
     super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "extract")?;
     let extractors: Extractors = (0..jobs)
         .map(|_| super::make_extractor(&args.algorithm, &args.params).map(Mutex::new))

@@ -49,6 +49,22 @@ pub fn refuse_same_file(input: &Path, output: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Refuses an output file whose folder does not exist, naming the folder, before anything is
+/// read (the commands that write a folder, `map`, `simulate` and `bench -o`, create it).
+pub fn output_folder_exists(output: &Path) -> Result<()> {
+    if output.as_os_str() == "-" {
+        return Ok(());
+    }
+    match output.parent() {
+        Some(dir) if !dir.as_os_str().is_empty() && !dir.is_dir() => Err(anyhow!(
+            "{}: cannot write: the folder {} does not exist (create it first)",
+            output.display(),
+            dir.display()
+        )),
+        _ => Ok(()),
+    }
+}
+
 #[cfg(unix)]
 fn same_file(_: &Path, _: &Path, a: &std::fs::Metadata, b: &std::fs::Metadata) -> bool {
     use std::os::unix::fs::MetadataExt;

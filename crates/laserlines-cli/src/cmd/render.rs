@@ -44,6 +44,7 @@ pub struct RenderArgs {
 /// Runs the command.
 pub fn run(args: &RenderArgs) -> Result<()> {
     check_output(&args.output)?;
+    super::output_folder_exists(&args.output)?;
     if !(400.0..=8000.0).contains(&args.width) {
         anyhow::bail!(
             "--width must lie from 400 to 8000 px, got {}",
