@@ -58,7 +58,13 @@ impl Element {
                 .parse::<i64>()
                 .ok()
                 .filter(|i| i.abs() <= 1_000_000)
-                .ok_or_else(|| bad(attribute, &v, "an integer grid index"))
+                .ok_or_else(|| {
+                    bad(
+                        attribute,
+                        &v,
+                        "an integer grid index from -1000000 to 1000000",
+                    )
+                })
         };
         let offset = |attribute: &'static str| -> Result<Option<f64>, ArenaError> {
             tag.attribute(attribute)
@@ -67,7 +73,9 @@ impl Element {
                         .parse::<f64>()
                         .ok()
                         .filter(|o| o.is_finite() && o.abs() <= 1000.0)
-                        .ok_or_else(|| bad(attribute, &v, "an offset in grid units"))
+                        .ok_or_else(|| {
+                            bad(attribute, &v, "an offset in grid units from -1000 to 1000")
+                        })
                 })
                 .transpose()
         };

@@ -177,6 +177,14 @@ fn bad_input_is_an_error_naming_the_line() {
         matches!(e, ArenaError::BadAttribute { attribute: "x", .. }),
         "{e}"
     );
+    // An integer beyond the grid: the message gives the range.
+    let e =
+        parse("<element type=\"small_wall\" rotation=\"0\" x=\"10000000\" y=\"0\"/>").unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("an integer grid index from -1000000 to 1000000"),
+        "{e}"
+    );
     let e = parse("<element type=\"small_wall\" rotation=\"0\" x=\"1\"/>").unwrap_err();
     assert!(
         matches!(e, ArenaError::MissingAttribute { attribute: "y", .. }),
