@@ -401,3 +401,26 @@ fn an_output_in_a_missing_folder_names_the_folder() {
         assert!(!missing.exists(), "{args:?} made the folder");
     }
 }
+
+/// Parameters that leave no line anywhere (a criterion no cell reaches) are legal, but the
+/// summary says that no scan gave a line; a normal run says nothing of the kind.
+#[test]
+fn a_run_without_any_line_says_so() {
+    let params = tmp("no-lines.toml");
+    std::fs::write(&params, "[hough-split]\ncriterion = 1e300\n").unwrap();
+    let o = run(bin()
+        .arg("extract")
+        .arg(excerpt())
+        .arg("--params")
+        .arg(&params)
+        .args(["-o", "-"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("note: no line in any of the 40 scans; if the scans see walls"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run(bin().arg("extract").arg(excerpt()).args(["-o", "-"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("no line in any"), "{}", stderr(&o));
+}

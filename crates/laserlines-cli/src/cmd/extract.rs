@@ -458,6 +458,13 @@ fn summary(name: &str, skipped: &SkipCounts, totals: &Totals, bytes: Option<u64>
         let mean = RangeNoise::new(s / n as f64, f / n as f64);
         eprintln!("{name}: range noise assumed, mean over the scans: {mean}");
     }
+    if totals.scans > 1 && totals.lines == 0 {
+        eprintln!(
+            "{name}: note: no line in any of the {} scans; if the scans see walls, check the \
+             parameters (--params, --preset) and the scans' range limits",
+            totals.scans
+        );
+    }
 }
 
 #[cfg(test)]
