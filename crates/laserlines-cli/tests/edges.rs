@@ -238,16 +238,25 @@ fn help_lists_the_algorithms_and_summaries_count_in_the_singular() {
     assert!(out.contains("(median of 1 pass, one thread)"), "{out}");
 }
 
-#[test]
-fn params_tables_the_command_does_not_read_are_named() {
-    let params = tmp("other.toml");
-    std::fs::write(&params, "[ransac]\nseed = 3\n[robot]\nwheel_base = 0.3\n").unwrap();
-    let o = run(bin()
+/// `extract` of the bundled excerpt to standard output with a params file `name` holding
+/// `toml`.
+fn extract_with_params(name: &str, toml: &str) -> Output {
+    let params = tmp(name);
+    std::fs::write(&params, toml).unwrap();
+    run(bin()
         .arg("extract")
         .arg(excerpt())
         .arg("--params")
         .arg(&params)
-        .args(["-o", "-"]));
+        .args(["-o", "-"]))
+}
+
+#[test]
+fn params_tables_the_command_does_not_read_are_named() {
+    let o = extract_with_params(
+        "other.toml",
+        "[ransac]\nseed = 3\n[robot]\nwheel_base = 0.3\n",
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     let err = stderr(&o);
     assert!(
@@ -406,14 +415,7 @@ fn an_output_in_a_missing_folder_names_the_folder() {
 /// summary says that no scan gave a line; a normal run says nothing of the kind.
 #[test]
 fn a_run_without_any_line_says_so() {
-    let params = tmp("no-lines.toml");
-    std::fs::write(&params, "[hough-split]\ncriterion = 1e300\n").unwrap();
-    let o = run(bin()
-        .arg("extract")
-        .arg(excerpt())
-        .arg("--params")
-        .arg(&params)
-        .args(["-o", "-"]));
+    let o = extract_with_params("no-lines.toml", "[hough-split]\ncriterion = 1e300\n");
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(
         stderr(&o).contains("note: no line in any of the 40 scans; if the scans see walls"),
