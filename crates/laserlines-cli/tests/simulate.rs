@@ -6,7 +6,7 @@ use std::ffi::OsStr;
 use std::path::Path;
 
 mod common;
-use common::bin;
+use common::{bin, tum_rows};
 
 /// Runs `laserlines simulate` in the bundled `inner_explore_test` for `duration` seconds into
 /// `dir`, with `extra` arguments; asserts that it succeeds and returns its `metrics.json`
@@ -253,7 +253,7 @@ fn simulate_records_the_run_as_mcap() {
 
     // `map` takes the run back with its odometry (the default) and follows the truth.
     let map_dir = dir.join("map");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_laserlines"))
+    let o = bin()
         .arg("map")
         .arg(&mcap_path)
         .arg("-o")
@@ -261,14 +261,8 @@ fn simulate_records_the_run_as_mcap() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let traj = std::fs::read_to_string(map_dir.join("trajectory.tum")).unwrap();
-    let end: Vec<f64> = traj
-        .lines()
-        .rfind(|l| !l.starts_with('#'))
-        .unwrap()
-        .split_whitespace()
-        .map(|v| v.parse().unwrap())
-        .collect();
+    let traj = tum_rows(&map_dir.join("trajectory.tum"));
+    let end = traj.last().unwrap();
     // The map frame is the first scan's laser frame, 0.15 m ahead of the robot's start.
     let (s, c) = p.theta.sin_cos();
     let (lx, ly) = (p.x + 0.15 * c - 0.15, p.y + 0.15 * s);

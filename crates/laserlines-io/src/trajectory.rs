@@ -11,6 +11,8 @@
 
 use std::io::{BufRead, Write};
 
+use laserlines::scan::Short;
+
 use crate::error::{ReadError, SourcePos};
 use crate::record::Pose2;
 
@@ -56,20 +58,6 @@ pub fn write_tum(out: &mut impl Write, poses: &[StampedPose]) -> std::io::Result
         )?;
     }
     Ok(())
-}
-
-/// A number in its shortest exact form, in e-notation when very small or very large.
-struct Short(f64);
-
-impl std::fmt::Display for Short {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let a = self.0.abs();
-        if a != 0.0 && !(1e-5..1e16).contains(&a) {
-            write!(f, "{:e}", self.0)
-        } else {
-            write!(f, "{}", self.0)
-        }
-    }
 }
 
 /// Reads a TUM trajectory. `name` is used in messages.

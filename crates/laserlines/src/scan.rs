@@ -46,9 +46,11 @@ pub enum ScanError {
 /// two of zero; far beyond, the angles of neighbouring beams round to one value.
 pub const MAX_ANGLE_MIN: f64 = 1000.0;
 
-/// A number in a message: as Rust prints it, but in exponent form from 1e16 on (the largest
-/// finite number, "no limit", is 309 digits in full) and below 1e-5 (`1e-300` would be 300).
-pub(crate) struct Short(pub(crate) f64);
+/// A number for a message or a text file, in its shortest exact form: as Rust prints it, but
+/// in exponent form from 1e16 on (the largest finite number, "no limit", is 309 digits in
+/// full) and below 1e-5 (`1e-300` would be 300).
+#[derive(Debug, Clone, Copy)]
+pub struct Short(pub f64);
 
 impl std::fmt::Display for Short {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {

@@ -26,7 +26,7 @@ pub const SKIP_LOST_SCAN: &str =
 /// A `Footer` record (opcode, length 20, three numbers) and the closing magic.
 const FOOTER_AND_MAGIC: usize = 9 + 20 + 8;
 
-/// The most summary bytes kept to look for the `Statistics` record.
+/// The most summary bytes kept (its first ones) to look for the `Statistics` record.
 const MAX_SUMMARY_BYTES: usize = 64 << 20;
 
 impl McapScanSource {
@@ -48,9 +48,9 @@ impl McapScanSource {
                 Err(e) => return self.io_error(self.pos + total, e),
             };
             total += n as u64;
-            if summary.len() + n <= MAX_SUMMARY_BYTES {
-                summary.extend_from_slice(&buf[..n]);
-            }
+            // The summary's first bytes only, without gaps (the statistics come early).
+            let room = MAX_SUMMARY_BYTES - summary.len();
+            summary.extend_from_slice(&buf[..n.min(room)]);
             let keep = n.min(FOOTER_AND_MAGIC);
             tail.copy_within(keep.., 0);
             tail[FOOTER_AND_MAGIC - keep..].copy_from_slice(&buf[n - keep..n]);
