@@ -30,6 +30,17 @@ pub enum Noise {
     /// Gaussian noise of standard deviation `max(sigma_min, fraction * range)`, e.g. a data
     /// sheet's band ([`laserlines::noise::PRESETS`]).
     Range(laserlines::RangeNoise),
+    /// Gaussian noise that steps up with range: standard deviation `near` below `knee` m, and
+    /// `max(near, fraction * range)` from there on (a real URG-04LX's few millimetres near, its
+    /// data sheet's 1 % far).
+    Stepped {
+        /// Standard deviation below the knee, m.
+        near: f64,
+        /// Range where the noise steps up, m.
+        knee: f64,
+        /// Fraction of the range from the knee on.
+        fraction: f64,
+    },
 }
 
 impl Noise {
@@ -49,6 +60,18 @@ impl Noise {
             }
             Self::Range(noise) => {
                 let s = noise.sigma(range);
+                if s.is_finite() { s.max(0.0) } else { 0.0 }
+            }
+            Self::Stepped {
+                near,
+                knee,
+                fraction,
+            } => {
+                let s = if range >= knee {
+                    near.max(fraction * range)
+                } else {
+                    near
+                };
                 if s.is_finite() { s.max(0.0) } else { 0.0 }
             }
         }
@@ -241,6 +264,18 @@ impl LaserModel {
         {
             return Err(ModelError::BadNoise(noise.sigma_min));
         }
+        if let Noise::Stepped {
+            near,
+            knee,
+            fraction,
+        } = self.noise
+        {
+            for v in [near, knee, fraction] {
+                if !(v.is_finite() && v >= 0.0) {
+                    return Err(ModelError::BadNoise(v));
+                }
+            }
+        }
         for (field, value) in [
             ("mixed_pixels", self.mixed_pixels),
             ("dropout", self.dropout),
@@ -351,6 +386,23 @@ mod tests {
         ));
         let ideal = ok.ideal();
         assert_eq!(ideal.noise, Noise::None);
+        let stepped = Noise::Stepped {
+            near: 0.004,
+            knee: 3.0,
+            fraction: 0.01,
+        };
+        assert_eq!(stepped.sigma(2.99), 0.004);
+        assert_eq!(stepped.sigma(3.0), 0.03);
+        assert_eq!(stepped.sigma(f64::NAN), 0.004);
+        let bad = LaserModel {
+            noise: Noise::Stepped {
+                near: 0.004,
+                knee: f64::NAN,
+                fraction: 0.01,
+            },
+            ..LaserModel::urg04lx()
+        };
+        assert!(bad.validate().is_err());
         assert_eq!(ideal.round_to, None);
         assert_eq!(ideal.beams, 682);
     }

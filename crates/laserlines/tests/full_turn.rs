@@ -60,7 +60,10 @@ fn the_wall_across_the_seam_gives_two_lines_with_one_fit() {
         let scan = turn(&room(), 360, &mut Rng(seed));
         let lines = extract(&scan);
         let (first, last) = (lines[0], lines[lines.len() - 1]);
-        assert!(on_back_wall(&first, 0.03) && on_back_wall(&last, 0.03), "{lines:?}");
+        assert!(
+            on_back_wall(&first, 0.03) && on_back_wall(&last, 0.03),
+            "{lines:?}"
+        );
         assert_eq!(first.first, 0);
         assert_eq!(last.last, 359);
         // Four walls, the one behind in two pieces.

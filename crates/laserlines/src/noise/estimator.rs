@@ -8,8 +8,12 @@ use crate::scan::{RangeWindow, ScanView};
 /// last one open.
 pub const NOISE_BANDS: usize = 8;
 
-/// Fewest samples a band needs to take part in the estimate.
+/// Fewest samples a band needs to take part in the estimate's lower envelope.
 pub const MIN_BAND_SAMPLES: usize = 24;
+
+/// How far above the lower envelope a band's estimate must lie, at the low end of its
+/// confidence interval, to raise the fraction of the range ([`fit_lower_envelope`]).
+pub const STEP_RATIO: f64 = 1.5;
 
 /// Fewest samples of a whole scan for an estimate when no band has [`MIN_BAND_SAMPLES`]: the
 /// samples are then taken together as one band (a short scan, or a sparse one).
@@ -29,7 +33,7 @@ pub struct BandEstimate {
     pub range: f64,
     /// Samples in the band.
     pub samples: usize,
-    /// The band's sigma, m (0 when it has fewer than [`MIN_BAND_SAMPLES`] samples).
+    /// The band's sigma, m (0 when it has fewer than [`MIN_POOLED_SAMPLES`] samples).
     pub sigma: f64,
 }
 
@@ -48,6 +52,8 @@ pub struct NoiseEstimator {
     step: f64,
     /// The range resolution that raised the last estimate, if one did.
     quantum: Option<f64>,
+    /// Per band: sigma from the lower quartile of `|e|` (0 without enough samples).
+    low: [f64; NOISE_BANDS],
 }
 
 /// The finest range resolution looked for, m: no 2D scanner reports ranges finer than 0.1 mm,
@@ -129,11 +135,13 @@ impl NoiseEstimator {
                 samples: n,
                 sigma: 0.0,
             };
-            if n >= MIN_BAND_SAMPLES {
+            self.low[b] = 0.0;
+            if n >= MIN_POOLED_SAMPLES {
                 out.sigma = median_sigma(v);
+                self.low[b] = quartile_sigma(&mut v[..n / 2]);
             }
         }
-        let noise = fit_lower_envelope(&self.bands, MIN_BAND_SAMPLES, floor)
+        let noise = fit_lower_envelope(&self.bands, &self.low, MIN_BAND_SAMPLES, floor)
             .or_else(|| self.pool(floor))?;
         Some(self.with_quantum(scan.ranges, window, noise))
     }
@@ -172,7 +180,7 @@ impl NoiseEstimator {
             samples: n,
             sigma: median_sigma(&mut self.pooled),
         };
-        fit_lower_envelope(&[one], MIN_POOLED_SAMPLES, floor)
+        fit_lower_envelope(&[one], &[0.0], MIN_POOLED_SAMPLES, floor)
     }
 
     /// Collects the residuals `|e|` of `scan` (valid in `window`) per band (as the bits of
@@ -318,6 +326,19 @@ fn on_grid(ranges: &[f64], window: RangeWindow, q: f64) -> bool {
     steps >= MIN_POOLED_SAMPLES && off * 50 <= steps
 }
 
+/// `1 / (Phi^-1(5/8) sqrt(1.5))`: the factor from the lower quartile of `|e|` to sigma.
+const QUARTILE_TO_SIGMA: f64 = 1.0 / (0.318_639_363_964_375_2 * 1.224_744_871_391_589);
+
+/// Sigma from the lower quartile of samples whose lower half is `v` (not empty; the bits
+/// of `|e|`, after [`median_sigma`] put the lower half first): the median of that half.
+fn quartile_sigma(v: &mut [u64]) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    let (_, m, _) = v.select_nth_unstable(v.len() / 2);
+    f64::from_bits(*m) * QUARTILE_TO_SIGMA
+}
+
 /// Sigma from the median of the samples `v` (not empty), the bits of `|e|`.
 fn median_sigma(v: &mut [u64]) -> f64 {
     // The samples are the bits of non-negative floats, which order as the floats.
@@ -331,8 +352,20 @@ fn median_sigma(v: &mut [u64]) -> f64 {
 /// estimate raised by 1.5 standard errors of a median of `n` samples (`1.17 / sqrt(n)`
 /// relative), so that a band whose few samples happen to read low does not pull the model
 /// down.
+///
+/// Noise that steps up with range beyond what one fraction describes (a URG-04LX at a few
+/// millimetres to 3 m and 1 % beyond) has no such model that fits every band: the envelope
+/// then follows the near bands, and far walls, seen through noise three times the model's,
+/// failed the RMS limit or broke into pieces. So where a band from 1 m on (with
+/// [`MIN_POOLED_SAMPLES`] samples or more) still reads [`STEP_RATIO`] times the model at
+/// the low end of its interval (its estimate lowered by 1.75 / sqrt(n), the estimate being
+/// the smaller of the median's and the lower quartile's sigma in `low`, so that clutter,
+/// which inflates the upper residuals of a band more than its lower ones, raises nothing),
+/// the fraction is raised to the smallest such low end over the band's range: the model then
+/// errs high on the nearer bands, which costs far less than erring low on the far ones.
 fn fit_lower_envelope(
     bands: &[BandEstimate],
+    low: &[f64],
     min_samples: usize,
     floor: f64,
 ) -> Option<RangeNoise> {
@@ -349,12 +382,25 @@ fn fit_lower_envelope(
     // Bands beyond 1 m bound the growth with range (where a scan has too few far points for
     // a band of their own, the nearer bands' bound is extrapolated: right for the usual
     // noise proportional to range, generous for a constant one).
-    let fraction = usable()
+    let envelope = usable()
         .filter(|b| b.range >= 1.0)
         .map(|b| b.sigma / b.range)
         .reduce(f64::min)
-        .unwrap_or(0.0)
-        .min(MAX_AUTO_FRACTION);
+        .unwrap_or(0.0);
+    let stepped = bands
+        .iter()
+        .zip(low)
+        .filter(|(b, _)| b.samples >= MIN_POOLED_SAMPLES && b.range >= 1.0)
+        .map(|(b, &q)| {
+            (
+                b.sigma.min(q) * (1.0 - 1.75 / (b.samples as f64).sqrt()),
+                b.range,
+            )
+        })
+        .filter(|&(lo, r)| lo > STEP_RATIO * (envelope * r).max(sigma_min))
+        .map(|(lo, r)| lo / r)
+        .reduce(f64::min);
+    let fraction = stepped.unwrap_or(envelope).min(MAX_AUTO_FRACTION);
     Some(RangeNoise::new(sigma_min.max(floor), fraction))
 }
 
@@ -398,6 +444,43 @@ mod tests {
             })
             .collect();
         Scan::new(-45f64.to_radians(), inc, 0.02, 30.0, ranges).unwrap()
+    }
+
+    /// A wall `x = 1.5` and one `x = far` side by side, each seen by 301 beams over 90 deg
+    /// with its own noise.
+    fn two_walls(near: RangeNoise, far: f64, far_noise: RangeNoise) -> Scan {
+        let (a, b) = (
+            wall_scan(1.5, 301, near, 3),
+            wall_scan(far, 301, far_noise, 5),
+        );
+        let ranges = a.ranges.iter().chain(&b.ranges).copied().collect();
+        Scan::new(a.angle_min, a.angle_increment, 0.02, 30.0, ranges).unwrap()
+    }
+
+    #[test]
+    fn noise_that_steps_up_with_range_raises_the_fraction() {
+        // 4 mm to 3 m and 1 % beyond: no `max(sigma_min, fraction r)` fits both walls. The
+        // envelope of the near band alone gave 12 mm at 4.5 m.
+        let scan = two_walls(RangeNoise::new(0.004, 0.0), 4.5, RangeNoise::new(0.0, 0.01));
+        let mut est = NoiseEstimator::default();
+        let got = est.estimate(&scan, scan.range_window(None), 0.001).unwrap();
+        assert!(
+            got.sigma(4.5) > 0.7 * 0.045 && got.sigma(4.5) < 1.2 * 0.045,
+            "{got}"
+        );
+        assert!((got.sigma_min - 0.004).abs() < 0.001, "{got}");
+    }
+
+    #[test]
+    fn constant_noise_does_not_step() {
+        // 30 mm at 1.5 and at 12 m (a UTM-30LX): the far band reads less than the near one,
+        // the model is `sigma_min`.
+        let flat = RangeNoise::new(0.03, 0.0);
+        let scan = two_walls(flat, 12.0, flat);
+        let mut est = NoiseEstimator::default();
+        let got = est.estimate(&scan, scan.range_window(None), 0.001).unwrap();
+        assert!((got.sigma_min - 0.03).abs() < 0.006, "{got}");
+        assert!(got.sigma(12.0) < 0.04, "{got}");
     }
 
     #[test]
