@@ -90,7 +90,7 @@ fn mit_csail_maps_under_a_cheap_scanners_noise() {
     let Some((log, relations)) = mit_csail() else {
         return;
     };
-    // Measured on seeds 1-3: 1 %: 0.041, 0.039 and 0.035 m, 0.45-0.46 deg (5-6 scans not
+    // Measured on seeds 1-3: 1 %: 0.040, 0.039 and 0.036 m, 0.45-0.48 deg (5-8 scans not
     // matched); the clean log 0.027 m and 0.34 deg. Every draw holds at 1 %.
     for (k, &(t, r)) in three_draws(&log, &relations, (0.01, 0.01))
         .iter()
@@ -107,7 +107,7 @@ fn mit_csail_maps_under_a_cheap_scanners_noise() {
             k + 1
         );
     }
-    // 2 %: 0.224, 0.207 and 0.130 m, 1.6-3.1 deg (142-155 scans not matched). At this noise a
+    // 2 %: 0.073, 0.080 and 0.208 m, 1.4-2.5 deg (137-167 scans not matched). At this noise a
     // wrong match now and then bends part of the map (README, Mapping): the middle draw is
     // bounded, far below the log's odometry (1.68 m) and the neighbourhood normals alone
     // (1.62 m on one draw).
