@@ -58,24 +58,23 @@ impl Noise {
                     0.005 * range
                 }
             }
-            Self::Range(noise) => {
-                let s = noise.sigma(range);
-                if s.is_finite() { s.max(0.0) } else { 0.0 }
-            }
+            Self::Range(noise) => usable(noise.sigma(range)),
             Self::Stepped {
                 near,
                 knee,
                 fraction,
-            } => {
-                let s = if range >= knee {
-                    near.max(fraction * range)
-                } else {
-                    near
-                };
-                if s.is_finite() { s.max(0.0) } else { 0.0 }
-            }
+            } => usable(if range >= knee {
+                near.max(fraction * range)
+            } else {
+                near
+            }),
         }
     }
+}
+
+/// `s` as a standard deviation: 0 when negative or not finite.
+fn usable(s: f64) -> f64 {
+    if s.is_finite() { s.max(0.0) } else { 0.0 }
 }
 
 /// Errors found by [`LaserModel::validate`].

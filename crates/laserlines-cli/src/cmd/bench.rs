@@ -62,9 +62,9 @@ pub struct BenchArgs {
     /// dropouts), or the field conditions urg04lx-half, urg04lx-full, urg04lx-1.5x (noise at
     /// half, once and 1.5 times the data sheet's band as one standard deviation, chair legs,
     /// mixed pixels, 0-5 % dropouts) and urg04lx-real (those conditions at a real URG-04LX's
-    /// noise: 4 mm below 3 m, 1 % of the range beyond), or another scanner in those conditions at its data
-    /// sheet's noise: utm30lx, ust10lx, lms1xx, lms2xx, rplidar-a1, rplidar-a2, ydlidar-x4
-    /// (30-70 % dropouts).
+    /// noise: 4 mm below 3 m, 1 % of the range beyond), or another scanner in those
+    /// conditions at its data sheet's noise: utm30lx, ust10lx, lms1xx, lms2xx, rplidar-a1,
+    /// rplidar-a2, ydlidar-x4 (30-70 % dropouts).
     #[arg(long, default_value = "urg04lx", conflicts_with = "data")]
     sensor: String,
     /// Which lines count as right: strict (each visible piece, intersection over union of

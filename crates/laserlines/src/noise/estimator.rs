@@ -180,7 +180,8 @@ impl NoiseEstimator {
             samples: n,
             sigma: median_sigma(&mut self.pooled),
         };
-        fit_lower_envelope(&[one], &[0.0], MIN_POOLED_SAMPLES, floor)
+        // No lower quartiles: one band has no far band to step to.
+        fit_lower_envelope(&[one], &[], MIN_POOLED_SAMPLES, floor)
     }
 
     /// Collects the residuals `|e|` of `scan` (valid in `window`) per band (as the bits of
@@ -339,6 +340,12 @@ fn quartile_sigma(v: &mut [u64]) -> f64 {
     f64::from_bits(*m) * QUARTILE_TO_SIGMA
 }
 
+/// The relative margin of a band's sigma from `n` samples: 1.5 standard errors of a median
+/// (`1.17 / sqrt(n)` relative each).
+fn margin(n: usize) -> f64 {
+    1.75 / (n as f64).sqrt()
+}
+
 /// Sigma from the median of the samples `v` (not empty), the bits of `|e|`.
 fn median_sigma(v: &mut [u64]) -> f64 {
     // The samples are the bits of non-negative floats, which order as the floats.
@@ -374,7 +381,7 @@ fn fit_lower_envelope(
             .iter()
             .filter(|b| b.samples >= min_samples)
             .map(|b| BandEstimate {
-                sigma: b.sigma * (1.0 + 1.75 / (b.samples as f64).sqrt()),
+                sigma: b.sigma * (1.0 + margin(b.samples)),
                 ..*b
             })
     };
@@ -391,12 +398,7 @@ fn fit_lower_envelope(
         .iter()
         .zip(low)
         .filter(|(b, _)| b.samples >= MIN_POOLED_SAMPLES && b.range >= 1.0)
-        .map(|(b, &q)| {
-            (
-                b.sigma.min(q) * (1.0 - 1.75 / (b.samples as f64).sqrt()),
-                b.range,
-            )
-        })
+        .map(|(b, &q)| (b.sigma.min(q) * (1.0 - margin(b.samples)), b.range))
         .filter(|&(lo, r)| lo > STEP_RATIO * (envelope * r).max(sigma_min))
         .map(|(lo, r)| lo / r)
         .reduce(f64::min);
