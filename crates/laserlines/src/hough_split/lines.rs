@@ -33,6 +33,9 @@ pub(crate) struct Pieces<'a> {
     /// Points on each side of a split point among which [`Pieces::best_cut`] places the cut
     /// ([`cut_window`]).
     pub(crate) cut_window: usize,
+    /// Fewest supporting points of a line (`min_line_points`, or fewer on a sparse scan:
+    /// [`HoughSplitParams::min_points_for`]).
+    pub(crate) min_points: usize,
 }
 
 /// The angle [`Pieces::best_cut`] searches on each side of a split point: `CUT_WINDOW` beams
@@ -215,7 +218,7 @@ impl Pieces<'_> {
     /// the larger of the residual variance and the model's noise across the line
     /// ([`floored_covariance`]).
     fn line(&self, a: usize, z: usize) -> Option<(Line, Candidate)> {
-        if z <= a || z - a < self.p.min_line_points.max(2) {
+        if z <= a || z - a < self.min_points.max(2) {
             return None;
         }
         let sums = sums(self.pre, a, z);
@@ -342,7 +345,7 @@ pub(crate) fn emit_lines(
     if p.merge_collinear {
         pieces.merge(breaks);
     }
-    let min_points = p.min_line_points.max(2);
+    let min_points = pieces.min_points.max(2);
     let first_line = out.len();
     // Piece i covers seg[lo..hi] with disjoint bounds.
     let mut lo = 0usize;
@@ -548,6 +551,7 @@ mod tests {
             p: &p,
             noise: &noise,
             cut_window: CUT_WINDOW,
+            min_points: p.min_line_points,
         };
         let mut out = Vec::new();
         let mut breaks = scratch.breaks.clone();

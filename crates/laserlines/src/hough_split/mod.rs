@@ -31,7 +31,7 @@ pub use crate::params::ParamsError;
 pub use accumulator::Cell;
 pub use params::{
     Bridge, GAP_CHANCE, HoughSplitParams, MAX_BRIDGE_GAP, MAX_RING_STEP, MAX_WINDOW_RINGS,
-    MIN_RING_STEP, PAPER_SECTOR_BEAMS, Weight,
+    MIN_RING_STEP, MIN_SPARSE_POINTS, MinPoints, PAPER_SECTOR_BEAMS, Weight,
 };
 
 use crate::extractor::LineExtractor;
@@ -213,12 +213,13 @@ impl LineExtractor for HoughSplit {
             segment::bridge_beams(&self.points, &self.cell_of, &self.breakpoints, &mut self.uf);
         }
         // 4. data segments; everything else is removed.
+        let min_points = self.params.min_points_for(self.dropout);
         segment::cut_segments(
             scan.ranges,
             &self.points,
             &self.cell_of,
             &self.acc.bins,
-            &self.params,
+            (&self.params, min_points.segment),
             &self.breakpoints,
             &mut self.uf,
             &mut self.segments,
@@ -241,6 +242,7 @@ impl LineExtractor for HoughSplit {
                 p: &self.params,
                 noise: &self.noise,
                 cut_window,
+                min_points: min_points.line,
             };
             lines::emit_lines(&pieces, &mut self.scratch.breaks, out, &mut self.candidates);
         }
@@ -312,6 +314,13 @@ impl<'a> Stages<'a> {
     #[must_use]
     pub fn dropout(&self) -> f64 {
         self.hs.dropout
+    }
+
+    /// The fewest points the last scan's data segments and lines needed
+    /// ([`HoughSplitParams::min_points_for`] its [`Stages::dropout`]).
+    #[must_use]
+    pub fn min_points(&self) -> MinPoints {
+        self.hs.params.min_points_for(self.hs.dropout)
     }
 
     /// The range resolution that raised the last estimate's `sigma_min` to `q / sqrt(12)`, m

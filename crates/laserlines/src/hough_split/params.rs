@@ -1,6 +1,6 @@
 //! Parameters of [`super::HoughSplit`].
 
-use crate::noise::NoiseModel;
+use crate::noise::{NoiseModel, SPARSE_DROPOUT};
 use crate::params::ParamsError;
 use crate::scan::RangeWindow;
 
@@ -32,6 +32,21 @@ const MAX_DROPOUT: f64 = 0.95;
 
 /// The largest `lambda` of `D` that sparse returns raise it to (60 deg: `D` at most `0.53 r`).
 const MAX_LAMBDA: f64 = std::f64::consts::FRAC_PI_3;
+
+/// Fewest points a data segment or a line keeps on a sparse scan
+/// ([`HoughSplitParams::min_points_for`]), when `min_segment_points` or `min_line_points`
+/// asks for more.
+pub const MIN_SPARSE_POINTS: usize = 5;
+
+/// The fewest points of one scan's data segments and lines
+/// ([`HoughSplitParams::min_points_for`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MinPoints {
+    /// Fewest surviving points of a data segment.
+    pub segment: usize,
+    /// Fewest supporting points of a line.
+    pub line: usize,
+}
 
 /// The beam bridge of one scan: how far apart consecutive points of a data segment may be.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -134,8 +149,8 @@ pub struct HoughSplitParams {
     /// leave after a point with 1 % chance, if that is more ([`HoughSplitParams::bridge_for`]).
     /// Default 2. Sensible: 0..5.
     pub bridge_max_gap: usize,
-    /// Data segments with fewer surviving points are removed as clutter. Default 8.
-    /// Sensible: 3..10.
+    /// Data segments with fewer surviving points are removed as clutter (on a sparse scan,
+    /// fewer: [`HoughSplitParams::min_points_for`]). Default 8. Sensible: 3..10.
     pub min_segment_points: usize,
     /// Linseg's criterion: a piece is split at its farthest point from the chord when that
     /// point lies farther than `split_sigmas * sigma(r)` (times the cosine of the beam's
@@ -175,7 +190,8 @@ pub struct HoughSplitParams {
     /// that meet at a corner share their end point at the intersection. Not in the paper.
     /// Default `true`.
     pub refine_ends: bool,
-    /// Lines with fewer supporting points are dropped. Default 8. At least 2 is enforced.
+    /// Lines with fewer supporting points are dropped (on a sparse scan, fewer:
+    /// [`HoughSplitParams::min_points_for`]). Default 8. At least 2 is enforced.
     pub min_line_points: usize,
     /// Lines shorter than this are dropped, m: the smallest surface that is a wall, not a
     /// leg or a post. Default 0.15 (legs and posts up to 12 cm across give no line, wall
@@ -395,6 +411,31 @@ impl HoughSplitParams {
             self.criterion * beams / PAPER_SECTOR_BEAMS
         } else {
             self.criterion
+        }
+    }
+
+    /// The fewest points of a data segment and of a line on a scan of whose returns the
+    /// fraction `dropout` is followed by a missing beam ([`super::Stages::dropout`]).
+    /// `min_segment_points` and `min_line_points` count the points of a surface seen by
+    /// every beam; on a sparse scan (`dropout` from 0.2 on, as for the noise estimate) the
+    /// same surface returns `1 - dropout` of them, and each count is scaled by that (rounded
+    /// up), but not below [`MIN_SPARSE_POINTS`]: a YDLIDAR X4 that misses half of its beams
+    /// sees a wall piece of 8 beams with 4 points, and lost most pieces under 2 m. Dense
+    /// scans keep both counts as they are.
+    #[must_use]
+    pub fn min_points_for(&self, dropout: f64) -> MinPoints {
+        let kept = if dropout >= SPARSE_DROPOUT {
+            1.0 - dropout.min(MAX_DROPOUT)
+        } else {
+            1.0
+        };
+        let scaled = |n: usize| {
+            let want = (n as f64 * kept).ceil() as usize;
+            n.min(want.max(MIN_SPARSE_POINTS))
+        };
+        MinPoints {
+            segment: scaled(self.min_segment_points),
+            line: scaled(self.min_line_points),
         }
     }
 

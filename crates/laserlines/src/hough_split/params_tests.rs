@@ -197,3 +197,36 @@ fn the_criterion_holds_for_the_papers_sectors() {
         "{got}"
     );
 }
+
+#[test]
+fn sparse_scans_need_fewer_points() {
+    let p = HoughSplitParams::default();
+    let both = |n| MinPoints {
+        segment: n,
+        line: n,
+    };
+    // Dense scans, and the rates the URG-04LX's open space gives: the counts as they are.
+    for dropout in [0.0, 0.05, 0.19, f64::NAN, -1.0] {
+        assert_eq!(p.min_points_for(dropout), both(8), "{dropout}");
+    }
+    // 8 beams of which 80 % return: ceil(6.4) points; of which 60 %: ceil(4.8).
+    assert_eq!(p.min_points_for(0.2), both(7));
+    assert_eq!(p.min_points_for(0.4), both(5));
+    // Never fewer than `MIN_SPARSE_POINTS`, never more than asked for.
+    assert_eq!(p.min_points_for(0.9), both(MIN_SPARSE_POINTS));
+    assert_eq!(p.min_points_for(f64::INFINITY), both(MIN_SPARSE_POINTS));
+    let paper = HoughSplitParams::paper();
+    assert_eq!(paper.min_points_for(0.9), both(3));
+    let mixed = HoughSplitParams {
+        min_segment_points: 10,
+        min_line_points: 6,
+        ..p
+    };
+    assert_eq!(
+        mixed.min_points_for(0.25),
+        MinPoints {
+            segment: 8,
+            line: 5
+        }
+    );
+}

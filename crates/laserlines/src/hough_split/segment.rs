@@ -237,20 +237,21 @@ pub(crate) struct Segments {
 /// Cuts the surviving points into data segments, filling `out.kept` with the points that
 /// remain and `out.runs` with the segments.
 ///
-/// Points whose component holds fewer than `min_segment_points` points are removed first
+/// Points whose component holds fewer than `min` points (`min_segment_points`, or fewer on
+/// a sparse scan: [`HoughSplitParams::min_points_for`]) are removed first
 /// (sparse and cluttered points: the paper's `Pm[i] = 0`); the rest are cut into maximal
 /// runs of one component, and (with `bridge_beams`) a run is also cut where consecutive
 /// points lie more than the bridge's missing beams ([`HoughSplitParams::bridge_for`]) or more than the breakpoint distance
 /// `D` apart, or where a beam between them saw through ([`Breakpoints::sees_through`]), so
 /// that no segment, and no line, spans empty space; a lone jump of the noise ([`lone`]) is
-/// dropped instead of cutting. Runs shorter than `min_segment_points` are removed too.
+/// dropped instead of cutting. Runs shorter than `min` are removed too.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn cut_segments(
     ranges: &[f64],
     points: &[Pt],
     cell_of: &[u32],
     bins: &[Bin],
-    p: &HoughSplitParams,
+    (p, min): (&HoughSplitParams, usize),
     bp: &Breakpoints,
     uf: &mut Components,
     out: &mut Segments,
@@ -262,7 +263,7 @@ pub(crate) fn cut_segments(
         root_of,
     } = out;
     runs.clear();
-    let min = p.min_segment_points.max(1);
+    let min = min.max(1);
     uf.flatten();
     // Points per component, from the points of each kept cell; then each cell's root when
     // its component is large enough.
