@@ -166,19 +166,32 @@ fn json_framing_errors() {
         ),
         (
             "nan.json",
-            br#"{"angle_min": 0, "angle_increment": 0.1, "range_min": 0, "range_max": 1, "ranges": [1, NaN]}"#.to_vec(),
+            br#"{"angle_min": 0, "angle_increment": 0.1, "range_min": 0, "range_max": 1, "ranges": [1, nan]}"#.to_vec(),
             vec![
-                "nan.json:1:88: malformed JSON: expected value (`NaN` is not JSON; write null \
-                 for a beam without return)",
+                "nan.json:1:89: malformed JSON: expected ident (`nan` is not JSON; write null \
+                 for a beam without return, or Infinity for one that saw nothing within range)",
             ],
         ),
         (
             "nan-increment.json",
             br#"{"angle_min": 0, "angle_increment": NaN, "range_min": 0, "range_max": 1, "ranges": [1]}"#.to_vec(),
             vec![
-                "nan-increment.json:1:37: malformed JSON: expected value (`NaN` is not JSON; this \
-                 field needs a finite number)",
+                "nan-increment.json:1:18: angle_increment: expected a number, found `NaN`",
             ],
+        ),
+        (
+            "inf-increment.json",
+            br#"{"angle_min": 0, "angle_increment": Infinity, "range_min": 0, "range_max": 1, "ranges": [1]}"#.to_vec(),
+            vec![
+                "inf-increment.json:1:18: invalid scan: angle_increment must be finite and \
+                 non-zero, got inf",
+            ],
+        ),
+        (
+            // An error after a `NaN` on the same line is placed in the text as written.
+            "after-nan.json",
+            br#"{"angle_min": 0, "angle_increment": 0.1, "range_min": 0, "range_max": 1, "ranges": [NaN, 1,]}"#.to_vec(),
+            vec!["after-nan.json:1:92: malformed JSON: trailing comma"],
         ),
         (
             "pose.json",

@@ -62,6 +62,33 @@ fn json_top_level_array_is_read_element_by_element() {
 }
 
 #[test]
+fn jsonl_from_python_keeps_nan_and_infinity() {
+    // `tests/fixtures/python_nonfinite.jsonl` is Python 3.11's `json.dumps` of two scans with
+    // `float('nan')`, `float('inf')` and `float('-inf')` in them, as it writes them by
+    // default: `NaN`, `Infinity`, `-Infinity` (and the same words inside a string).
+    let records = read_all("tests/fixtures/python_nonfinite.jsonl");
+    assert_eq!(records.len(), 2);
+    let s = &records[0].scan;
+    assert_eq!(s.ranges[0], 1.0);
+    assert!(s.ranges[1].is_nan());
+    assert_eq!(
+        s.ranges[2],
+        f64::INFINITY,
+        "a beam that saw nothing within range"
+    );
+    assert_eq!(s.ranges[3], 2.5);
+    assert_eq!(s.ranges[4], f64::INFINITY);
+    let intensities = s.intensities.as_deref().unwrap();
+    assert_eq!(intensities[..4], [10.0, 0.0, f64::NEG_INFINITY, 5.0]);
+    assert!(intensities[4].is_nan());
+    assert_eq!((s.stamp, s.range_max), (Some(3.5), 5.6));
+    let t = &records[1];
+    assert_eq!(t.scan.ranges, vec![f64::INFINITY, 1.5]);
+    assert_eq!(t.pose, Some(Pose2::new(1.0, 2.0, 0.5)));
+    assert_eq!(t.line, Some(2));
+}
+
+#[test]
 fn jsonl_one_scan_per_line_blank_lines_skipped() {
     let reader = open(Path::new("tests/fixtures/scans.jsonl"), None).unwrap();
     assert_eq!(reader.format(), Format::Jsonl);

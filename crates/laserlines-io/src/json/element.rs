@@ -9,6 +9,8 @@ use laserlines::{Scan, ScanError};
 use crate::error::{ReadError, SourcePos, json_kind};
 use crate::record::{Pose2, ScanRecord};
 
+use super::tokens::{self, Rewritten};
+
 /// A JSON text (one line of JSONL, or one element of a `.json` file) and where it starts.
 pub(crate) struct Element<'a> {
     pub(crate) file: &'a str,
@@ -31,16 +33,6 @@ impl Element<'_> {
         SourcePos::line_column(self.file, self.line + newlines, column)
     }
 
-    /// Position of a (parser's 1-based) line and column inside `text`.
-    fn pos_of_line_column(&self, line: usize, column: usize) -> SourcePos {
-        let column = column.max(1);
-        if line <= 1 {
-            SourcePos::line_column(self.file, self.line, self.column + column - 1)
-        } else {
-            SourcePos::line_column(self.file, self.line + line - 1, column)
-        }
-    }
-
     /// Byte offset of a (parser's 1-based) line and column inside `text`.
     fn offset_of_line_column(&self, line: usize, column: usize) -> usize {
         let mut start = 0;
@@ -55,24 +47,54 @@ impl Element<'_> {
 
     /// The position of the object key `"key"` (its opening quote), or the element's start.
     fn pos_of_key(&self, key: &str) -> SourcePos {
+        self.pos_of_offset(self.key_at(key).map_or(0, |(at, _)| at))
+    }
+
+    /// The offset of the object key `"key"` in the text, and the text of its value on.
+    fn key_at(&self, key: &str) -> Option<(usize, &str)> {
         let pattern = format!("\"{key}\"");
         let mut from = 0;
         while let Some(i) = self.text[from..].find(&pattern) {
             let at = from + i;
             let rest = self.text[at + pattern.len()..].trim_start();
-            if rest.starts_with(':') {
-                return self.pos_of_offset(at);
+            if let Some(value) = rest.strip_prefix(':') {
+                return Some((at, value.trim_start()));
             }
             from = at + pattern.len();
         }
-        self.pos_of_offset(0)
+        None
     }
 
-    /// Parses the text as one scan record.
+    /// What the value of `key` is, as [`json_kind`] says, or `NaN` when it was written so
+    /// (and read as `null`, [`super::tokens`]).
+    fn kind_of(&self, key: &str, value: &Value) -> String {
+        let nan = matches!(value, Value::Null)
+            && self.key_at(key).is_some_and(|(_, v)| v.starts_with("NaN"));
+        if nan {
+            "`NaN`".to_owned()
+        } else {
+            json_kind(value)
+        }
+    }
+
+    /// Parses the text as one scan record; a text that is not JSON only by Python's `NaN`,
+    /// `Infinity` and `-Infinity` ([`super::tokens`]) is read with them.
     pub(crate) fn parse_scan(&self) -> Result<ScanRecord, ReadError> {
+        let first = self.parse_text(self.text, None);
+        if first.is_err()
+            && let Some(python) = tokens::rewrite(self.text)
+        {
+            return self.parse_text(&python.text, Some(&python));
+        }
+        first
+    }
+
+    /// [`Element::parse_scan`] of `text`: the element's own text, or its rewritten form
+    /// `python`.
+    fn parse_text(&self, text: &str, python: Option<&Rewritten>) -> Result<ScanRecord, ReadError> {
         // Fast path: straight into typed fields. Anything it rejects goes through the slow
         // path, which accepts the same documents and explains what is wrong.
-        if let Ok(fast) = serde_json::from_str::<FastScan>(self.text) {
+        if let Ok(fast) = serde_json::from_str::<FastScan>(text) {
             let scan = Scan {
                 angle_min: fast.angle_min,
                 angle_increment: fast.angle_increment,
@@ -82,9 +104,9 @@ impl Element<'_> {
                 intensities: fast.intensities.map(|i| i.0),
                 stamp: fast.stamp,
             };
-            return self.checked(scan, (fast.pose, fast.odometry), fast.angle_max);
+            return self.checked(scan, (fast.pose, fast.odometry), fast.angle_max, python);
         }
-        let value: Value = serde_json::from_str(self.text).map_err(|e| self.json_error(&e))?;
+        let value: Value = serde_json::from_str(text).map_err(|e| self.json_error(&e, python))?;
         let Value::Object(obj) = value else {
             return Err(ReadError::Syntax {
                 pos: self.pos_of_offset(0),
@@ -92,25 +114,37 @@ impl Element<'_> {
                 found: json_kind(&value),
             });
         };
-        self.scan_from_object(&obj)
+        self.scan_from_object(&obj, python)
     }
 
-    fn json_error(&self, e: &serde_json::Error) -> ReadError {
+    /// The parser's error `e`, at its place in the text as written (`python`: the text it
+    /// parsed, when rewritten).
+    fn json_error(&self, e: &serde_json::Error, python: Option<&Rewritten>) -> ReadError {
         let full = e.to_string();
         let mut message = match full.rfind(" at line ") {
             Some(i) => full[..i].to_owned(),
             None => full,
         };
-        let offset = self.offset_of_line_column(e.line(), e.column());
+        let offset = match python {
+            None => self.offset_of_line_column(e.line(), e.column()),
+            Some(r) => {
+                let parsed = Element {
+                    text: &r.text,
+                    ..*self
+                };
+                r.original_offset(parsed.offset_of_line_column(e.line(), e.column()))
+            }
+        };
         // Bytes, not str: the parser's column need not fall on a character boundary.
         let bytes = self.text.as_bytes();
         let here = &bytes[offset.saturating_sub(1).min(bytes.len())..];
-        for word in ["NaN", "-Infinity", "Infinity", "nan", "inf"] {
+        for word in ["nan", "inf", "-inf"] {
             let w = word.as_bytes();
             let at_word = here.starts_with(w) || here.get(1..).is_some_and(|h| h.starts_with(w));
             if at_word {
                 let hint = if in_beam_list(&bytes[..offset.min(bytes.len())]) {
-                    "write null for a beam without return"
+                    "write null for a beam without return, or Infinity for one that saw \
+                     nothing within range"
                 } else {
                     "this field needs a finite number"
                 };
@@ -119,7 +153,7 @@ impl Element<'_> {
             }
         }
         ReadError::Json {
-            pos: self.pos_of_line_column(e.line(), e.column()),
+            pos: self.pos_of_offset(offset),
             message,
         }
     }
@@ -139,7 +173,7 @@ impl Element<'_> {
             Some(Value::Number(n)) => n
                 .as_f64()
                 .ok_or_else(|| self.field_error(key, key, "a number", format!("`{n}`"))),
-            Some(other) => Err(self.field_error(key, key, "a number", json_kind(other))),
+            Some(other) => Err(self.field_error(key, key, "a number", self.kind_of(key, other))),
             None => Err(ReadError::Field {
                 pos: self.pos_of_offset(0),
                 field: key.to_owned(),
@@ -221,7 +255,11 @@ impl Element<'_> {
         }
     }
 
-    fn scan_from_object(&self, obj: &Map<String, Value>) -> Result<ScanRecord, ReadError> {
+    fn scan_from_object(
+        &self,
+        obj: &Map<String, Value>,
+        python: Option<&Rewritten>,
+    ) -> Result<ScanRecord, ReadError> {
         // The output of `laserlines extract` (crate::lines) given where scans are expected.
         if !obj.contains_key("angle_min") && obj.contains_key("lines") && obj.contains_key("scan") {
             return Err(ReadError::Syntax {
@@ -264,16 +302,39 @@ impl Element<'_> {
             intensities,
             stamp,
         };
-        self.checked(scan, poses, angle_max)
+        self.checked(scan, poses, angle_max, python)
     }
 
-    /// Validates a parsed scan and checks `angle_max` against its beams.
+    /// Validates a parsed scan and checks `angle_max` against its beams; the numbers of a
+    /// rewritten text (`python`) are first read back as written ([`tokens::from_standin`]).
     fn checked(
         &self,
-        scan: Scan,
-        (pose, odometry): (Option<Pose2>, Option<Pose2>),
-        angle_max: Option<f64>,
+        mut scan: Scan,
+        (mut pose, mut odometry): (Option<Pose2>, Option<Pose2>),
+        mut angle_max: Option<f64>,
+        python: Option<&Rewritten>,
     ) -> Result<ScanRecord, ReadError> {
+        if python.is_some() {
+            let back = tokens::from_standin;
+            for v in [
+                &mut scan.angle_min,
+                &mut scan.angle_increment,
+                &mut scan.range_min,
+                &mut scan.range_max,
+            ] {
+                *v = back(*v);
+            }
+            let beams = scan.ranges.iter_mut();
+            for v in beams.chain(scan.intensities.iter_mut().flatten()) {
+                *v = back(*v);
+            }
+            for v in [&mut scan.stamp, &mut angle_max].into_iter().flatten() {
+                *v = back(*v);
+            }
+            for p in [&mut pose, &mut odometry].into_iter().flatten() {
+                *p = Pose2::new(back(p.x), back(p.y), back(p.theta));
+            }
+        }
         let angle_increment = scan.angle_increment;
         if let Err(source) = scan.validate() {
             let key = match source {

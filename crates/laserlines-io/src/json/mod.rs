@@ -15,8 +15,11 @@
 //!   (`{"x": m, "y": m, "theta": rad}`, the robot's pose), `odometry` (the same form: the
 //!   wheel odometry's pose, the one `laserlines map` uses).
 //! - Other fields (e.g. a ROS `header`, `scan_time`) are ignored.
-//! - `NaN` and `Infinity` are not JSON: write `null`. Writers write every non-finite number
-//!   as `null`.
+//! - `NaN`, `Infinity` and `-Infinity` are not JSON, but Python's `json.dump` writes them
+//!   for non-finite floats by default: they are read as NaN, `+inf` and `-inf` (outside
+//!   strings; `NaN` where `null` is allowed, as `null`). `+inf` is a beam that saw nothing
+//!   within range (REP 117), which `null` cannot say. Writers write strict JSON: every
+//!   non-finite number as `null`.
 //!
 //! A `.json` file holds one object, or a top-level array of objects that is read one
 //! element at a time. A `.jsonl` file holds one object per line; blank lines are skipped.
@@ -32,6 +35,7 @@ use crate::record::{Pose2, ScanRecord};
 use crate::skip::SkipCounts;
 
 mod element;
+mod tokens;
 
 pub(crate) use element::Element;
 

@@ -1,0 +1,168 @@
+//! Python's `NaN`, `Infinity` and `-Infinity`: not JSON, but what Python's `json.dump`
+//! writes for non-finite floats unless told otherwise (`allow_nan=True` is its default), so
+//! they are common in scans written from Python. A scan whose beams saw nothing within
+//! range holds `inf` (REP 117), and that tells `hough-split` a beam saw through a gap; the
+//! `null` JSON would need for it tells nothing.
+//!
+//! The tokens outside strings are rewritten for the JSON parser: `Infinity` and `-Infinity`
+//! as [`INFINITY_STANDIN`] and its negative, numbers of the same length that no scan holds
+//! (read back as `+inf` and `-inf`), and `NaN` as `null` (one byte longer; positions of
+//! errors are mapped back to the text as written).
+
+/// The number that stands in for `Infinity` (8 bytes, as `Infinity`): finite, larger than
+/// any range or angle, and read back as `+inf` ([`from_standin`]).
+pub(crate) const INFINITY_STANDIN: f64 = 1.79e308;
+
+/// A text with Python's tokens rewritten ([`rewrite`]).
+#[derive(Debug)]
+pub(crate) struct Rewritten {
+    /// The text for the JSON parser.
+    pub(crate) text: String,
+    /// Offsets in `text` of the `null`s written for `NaN`, in order.
+    nulls: Vec<usize>,
+}
+
+impl Rewritten {
+    /// The offset in the text as written of the byte at `offset` in the rewritten text.
+    pub(crate) fn original_offset(&self, offset: usize) -> usize {
+        let mut shift = 0;
+        for &n in &self.nulls {
+            if offset >= n + 4 {
+                shift += 1;
+            } else if offset > n + 2 {
+                // Inside the `null` past its third byte: the end of its `NaN`.
+                return n + 2 - shift;
+            } else {
+                break;
+            }
+        }
+        offset - shift
+    }
+}
+
+/// `value` as written: [`INFINITY_STANDIN`] and its negative are `+inf` and `-inf`.
+pub(crate) fn from_standin(value: f64) -> f64 {
+    if value == INFINITY_STANDIN {
+        f64::INFINITY
+    } else if value == -INFINITY_STANDIN {
+        f64::NEG_INFINITY
+    } else {
+        value
+    }
+}
+
+/// The Python tokens and what each becomes.
+const TOKENS: [(&[u8], &str); 3] = [
+    (b"-Infinity", "-1.79e308"),
+    (b"Infinity", "1.79e308"),
+    (b"NaN", "null"),
+];
+
+/// `text` with every `NaN`, `Infinity` and `-Infinity` outside strings (between a `[`, `,`,
+/// `:` or white space and a `,`, `]`, `}` or white space) rewritten; `None` when it has
+/// none.
+pub(crate) fn rewrite(text: &str) -> Option<Rewritten> {
+    let bytes = text.as_bytes();
+    let mut out: Option<Rewritten> = None;
+    // Bytes of `text` copied to `out` so far.
+    let mut copied = 0;
+    let (mut i, mut in_string, mut escaped) = (0, false, false);
+    while i < bytes.len() {
+        let b = bytes[i];
+        if in_string {
+            if escaped {
+                escaped = false;
+            } else if b == b'\\' {
+                escaped = true;
+            } else if b == b'"' {
+                in_string = false;
+            }
+            i += 1;
+            continue;
+        }
+        if b == b'"' {
+            in_string = true;
+            i += 1;
+            continue;
+        }
+        let opens = i == 0 || matches!(bytes[i - 1], b'[' | b',' | b':') || is_space(bytes[i - 1]);
+        let found = opens
+            .then(|| {
+                TOKENS.iter().find(|(token, _)| {
+                    bytes[i..].starts_with(token)
+                        && bytes
+                            .get(i + token.len())
+                            .is_none_or(|&c| matches!(c, b',' | b']' | b'}') || is_space(c))
+                })
+            })
+            .flatten();
+        let Some(&(token, with)) = found else {
+            i += 1;
+            continue;
+        };
+        let r = out.get_or_insert_with(|| Rewritten {
+            text: String::with_capacity(text.len() + 16),
+            nulls: Vec::new(),
+        });
+        r.text.push_str(&text[copied..i]);
+        if with == "null" {
+            r.nulls.push(r.text.len());
+        }
+        r.text.push_str(with);
+        i += token.len();
+        copied = i;
+    }
+    let mut r = out?;
+    r.text.push_str(&text[copied..]);
+    Some(r)
+}
+
+/// JSON's white space.
+fn is_space(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\n' | b'\r')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tokens_outside_strings_are_rewritten() {
+        let text = r#"{"ranges": [1.5, NaN, Infinity,-Infinity], "frame": "NaN Infinity"}"#;
+        let r = rewrite(text).unwrap();
+        assert_eq!(
+            r.text,
+            r#"{"ranges": [1.5, null, 1.79e308,-1.79e308], "frame": "NaN Infinity"}"#
+        );
+        // Offsets after the `null` are one byte further on than in the text as written.
+        let at = |s: &str, needle: &str| s.find(needle).unwrap();
+        assert_eq!(
+            r.original_offset(at(&r.text, "-1.79e308")),
+            at(text, "-Infinity")
+        );
+        assert_eq!(r.original_offset(at(&r.text, "null")), at(text, "NaN"));
+        assert_eq!(
+            r.original_offset(at(&r.text, "null") + 3),
+            at(text, "NaN") + 2
+        );
+        assert_eq!(r.original_offset(5), 5);
+        assert_eq!(from_standin(1.79e308), f64::INFINITY);
+        assert_eq!(from_standin(-1.79e308), f64::NEG_INFINITY);
+        assert_eq!(from_standin(1.5), 1.5);
+    }
+
+    #[test]
+    fn words_that_only_begin_with_a_token_stay() {
+        for text in [
+            r#"{"a": NaNa}"#,
+            r#"{"a": Infinityx}"#,
+            r#"{"a": xNaN}"#,
+            r#"{"a": "\"NaN"}"#,
+            r#"{"a": 1}"#,
+        ] {
+            assert!(rewrite(text).is_none(), "{text}");
+        }
+        let escaped = r#"{"a": "\\", "b": NaN}"#;
+        assert_eq!(rewrite(escaped).unwrap().text, r#"{"a": "\\", "b": null}"#);
+    }
+}
