@@ -237,9 +237,9 @@ fn a_sparse_360_deg_scanner_finds_walls_without_phantoms() {
     for (dropout, share) in [
         (0.3, 0.78),
         (0.5, 0.72),
-        (0.7, 0.59),
+        (0.7, 0.58),
         (0.85, 0.45),
-        (0.9, 0.3),
+        (0.9, 0.28),
     ] {
         let model = ydlidar_like(dropout);
         let what = format!("ydlidar-like, {dropout} missing");

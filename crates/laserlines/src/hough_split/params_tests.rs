@@ -209,9 +209,10 @@ fn sparse_scans_need_fewer_points() {
     for dropout in [0.0, 0.05, 0.19, f64::NAN, -1.0] {
         assert_eq!(p.min_points_for(dropout), both(8), "{dropout}");
     }
-    // 8 beams of which 80 % return: ceil(6.4) points; of which 60 %: ceil(4.8).
+    // 8 beams of which 80 % return: ceil(6.4) points; of which 70 %: ceil(5.6).
     assert_eq!(p.min_points_for(0.2), both(7));
-    assert_eq!(p.min_points_for(0.4), both(5));
+    assert_eq!(p.min_points_for(0.3), both(6));
+    assert_eq!(p.min_points_for(0.4), both(MIN_SPARSE_POINTS));
     // Never fewer than `MIN_SPARSE_POINTS`, never more than asked for.
     assert_eq!(p.min_points_for(0.9), both(MIN_SPARSE_POINTS));
     assert_eq!(p.min_points_for(f64::INFINITY), both(MIN_SPARSE_POINTS));
@@ -219,7 +220,7 @@ fn sparse_scans_need_fewer_points() {
     assert_eq!(paper.min_points_for(0.9), both(3));
     let mixed = HoughSplitParams {
         min_segment_points: 10,
-        min_line_points: 6,
+        min_line_points: 5,
         ..p
     };
     assert_eq!(
