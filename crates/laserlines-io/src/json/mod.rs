@@ -37,6 +37,37 @@ use crate::skip::SkipCounts;
 mod element;
 mod tokens;
 
+/// Whether the bytes of a JSON text, fed one at a time, lie in a string.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct Strings {
+    inside: bool,
+    escaped: bool,
+}
+
+impl Strings {
+    /// Takes the next byte; true when it belongs to a string (its quotes included).
+    pub(crate) fn step(&mut self, b: u8) -> bool {
+        if self.inside {
+            if self.escaped {
+                self.escaped = false;
+            } else if b == b'\\' {
+                self.escaped = true;
+            } else if b == b'"' {
+                self.inside = false;
+            }
+            true
+        } else {
+            self.inside = b == b'"';
+            self.inside
+        }
+    }
+
+    /// True inside a string.
+    pub(crate) fn inside(self) -> bool {
+        self.inside
+    }
+}
+
 pub(crate) use element::Element;
 
 /// Reads JSONL: one scan object per line.
@@ -191,17 +222,16 @@ impl JsonSource {
         self.buf.clear();
         let (line, column) = (self.line, self.column);
         let mut depth = 0usize;
-        let mut in_string = false;
-        let mut escaped = false;
+        let mut strings = Strings::default();
         loop {
             let Some(b) = self.peek()? else {
-                return Ok(if depth == 0 && !in_string && !self.buf.is_empty() {
+                return Ok(if depth == 0 && !strings.inside() && !self.buf.is_empty() {
                     Framed::Element(line, column)
                 } else {
                     Framed::Truncated(line, column)
                 });
             };
-            if !in_string && depth == 0 && !self.buf.is_empty() {
+            if !strings.inside() && depth == 0 && !self.buf.is_empty() {
                 // A scalar ends at a separator; a container ended when depth came back to 0.
                 let scalar = !matches!(self.buf[0], b'{' | b'[');
                 if !scalar || matches!(b, b',' | b']' | b'}' | b' ' | b'\t' | b'\n' | b'\r') {
@@ -219,17 +249,8 @@ impl JsonSource {
             }
             self.bump(b);
             self.buf.push(b);
-            if in_string {
-                if escaped {
-                    escaped = false;
-                } else if b == b'\\' {
-                    escaped = true;
-                } else if b == b'"' {
-                    in_string = false;
-                }
-            } else {
+            if !strings.step(b) {
                 match b {
-                    b'"' => in_string = true,
                     b'{' | b'[' => depth += 1,
                     b'}' | b']' => depth = depth.saturating_sub(1),
                     _ => {}

@@ -9,6 +9,8 @@
 //! (read back as `+inf` and `-inf`), and `NaN` as `null` (one byte longer; positions of
 //! errors are mapped back to the text as written).
 
+use super::Strings;
+
 /// The number that stands in for `Infinity` (8 bytes, as `Infinity`): finite, larger than
 /// any range or angle, and read back as `+inf` ([`from_standin`]).
 pub(crate) const INFINITY_STANDIN: f64 = 1.79e308;
@@ -66,22 +68,9 @@ pub(crate) fn rewrite(text: &str) -> Option<Rewritten> {
     let mut out: Option<Rewritten> = None;
     // Bytes of `text` copied to `out` so far.
     let mut copied = 0;
-    let (mut i, mut in_string, mut escaped) = (0, false, false);
+    let (mut i, mut strings) = (0, Strings::default());
     while i < bytes.len() {
-        let b = bytes[i];
-        if in_string {
-            if escaped {
-                escaped = false;
-            } else if b == b'\\' {
-                escaped = true;
-            } else if b == b'"' {
-                in_string = false;
-            }
-            i += 1;
-            continue;
-        }
-        if b == b'"' {
-            in_string = true;
+        if strings.step(bytes[i]) {
             i += 1;
             continue;
         }
