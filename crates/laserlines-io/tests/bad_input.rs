@@ -194,9 +194,37 @@ fn json_framing_errors() {
             vec!["after-nan.json:1:92: malformed JSON: trailing comma"],
         ),
         (
+            // A stamp or a pose must be finite, as in CSV.
+            "inf-stamp.json",
+            br#"{"angle_min": 0, "angle_increment": 0.1, "range_min": 0, "range_max": 1, "ranges": [1], "stamp": Infinity}"#.to_vec(),
+            vec!["inf-stamp.json:1:89: stamp: expected a finite number or null, found `Infinity`"],
+        ),
+        (
+            "inf-pose.json",
+            br#"{"angle_min": 0, "angle_increment": 0.1, "range_min": 0, "range_max": 1, "ranges": [1], "odometry": {"x": -Infinity, "y": 0, "theta": 0}}"#.to_vec(),
+            vec!["inf-pose.json:1:89: odometry.x: expected a finite number, found `-Infinity`"],
+        ),
+        (
+            "nan-pose.json",
+            br#"{"angle_min": 0, "angle_increment": 0.1, "range_min": 0, "range_max": 1, "ranges": [1], "pose": {"x": NaN, "y": 0, "theta": 0}}"#.to_vec(),
+            vec![
+                "nan-pose.json:1:89: pose.x: expected a finite number, found null (`NaN` is read \
+                 as null)",
+            ],
+        ),
+        (
+            // The strings that stand in for Python's infinities are strings in strict JSON.
+            "standin.json",
+            br#"{"angle_min": 0, "angle_increment": 0.1, "range_min": 0, "range_max": 1, "ranges": [1, "+infin"]}"#.to_vec(),
+            vec![
+                "standin.json:1:74: ranges[1]: expected a number or null, found a string \
+                 (\"+infin\")",
+            ],
+        ),
+        (
             "pose.json",
             br#"{"angle_min": 0, "angle_increment": 0.1, "range_min": 0, "range_max": 1, "ranges": [1], "pose": {"x": 1}}"#.to_vec(),
-            vec!["pose.json:1:89: pose.y: expected a number, found nothing (the field is missing)"],
+            vec!["pose.json:1:89: pose.y: expected a finite number, found nothing (the field is missing)"],
         ),
         (
             "limits.json",

@@ -19,6 +19,9 @@ pub(crate) struct Element<'a> {
     pub(crate) line: usize,
     /// 1-based column of the text's first byte.
     pub(crate) column: usize,
+    /// The text is parsed in its rewritten form ([`super::tokens`]): the stand-ins of
+    /// `Infinity` and `-Infinity` are numbers.
+    pub(crate) python: bool,
 }
 
 impl Element<'_> {
@@ -84,7 +87,11 @@ impl Element<'_> {
         if first.is_err()
             && let Some(python) = tokens::rewrite(self.text)
         {
-            return self.parse_text(&python.text, Some(&python));
+            let rewritten = Element {
+                python: true,
+                ..*self
+            };
+            return rewritten.parse_text(&python.text, Some(&python));
         }
         first
     }
@@ -93,8 +100,12 @@ impl Element<'_> {
     /// `python`.
     fn parse_text(&self, text: &str, python: Option<&Rewritten>) -> Result<ScanRecord, ReadError> {
         // Fast path: straight into typed fields. Anything it rejects goes through the slow
-        // path, which accepts the same documents and explains what is wrong.
-        if let Ok(fast) = serde_json::from_str::<FastScan>(text) {
+        // path, which accepts the same documents and explains what is wrong (and alone reads
+        // the stand-ins of a rewritten text).
+        if let Some(fast) = (!self.python)
+            .then(|| serde_json::from_str::<FastScan>(text).ok())
+            .flatten()
+        {
             let scan = Scan {
                 angle_min: fast.angle_min,
                 angle_increment: fast.angle_increment,
@@ -104,7 +115,7 @@ impl Element<'_> {
                 intensities: fast.intensities.map(|i| i.0),
                 stamp: fast.stamp,
             };
-            return self.checked(scan, (fast.pose, fast.odometry), fast.angle_max, python);
+            return self.checked(scan, (fast.pose, fast.odometry), fast.angle_max);
         }
         let value: Value = serde_json::from_str(text).map_err(|e| self.json_error(&e, python))?;
         let Value::Object(obj) = value else {
@@ -114,7 +125,7 @@ impl Element<'_> {
                 found: json_kind(&value),
             });
         };
-        self.scan_from_object(&obj, python)
+        self.scan_from_object(&obj)
     }
 
     /// The parser's error `e`, at its place in the text as written (`python`: the text it
@@ -167,12 +178,22 @@ impl Element<'_> {
         }
     }
 
-    /// A required number.
+    /// The infinity `value` stands for, in a rewritten text ([`super::tokens`]).
+    fn infinity(&self, value: &Value) -> Option<f64> {
+        match value {
+            Value::String(s) if self.python => tokens::standin(s),
+            _ => None,
+        }
+    }
+
+    /// A required number (in a rewritten text also `Infinity`, `-Infinity`: the scan's check
+    /// judges them).
     fn number(&self, obj: &Map<String, Value>, key: &str) -> Result<f64, ReadError> {
         match obj.get(key) {
             Some(Value::Number(n)) => n
                 .as_f64()
                 .ok_or_else(|| self.field_error(key, key, "a number", format!("`{n}`"))),
+            Some(v) if self.infinity(v).is_some() => Ok(self.infinity(v).unwrap_or_default()),
             Some(other) => Err(self.field_error(key, key, "a number", self.kind_of(key, other))),
             None => Err(ReadError::Field {
                 pos: self.pos_of_offset(0),
@@ -201,6 +222,9 @@ impl Element<'_> {
         for (i, item) in items.iter().enumerate() {
             match item {
                 Value::Null => out.push(f64::NAN),
+                Value::String(_) if self.infinity(item).is_some() => {
+                    out.push(self.infinity(item).unwrap_or_default());
+                }
                 Value::Number(n) => match n.as_f64() {
                     Some(x) => out.push(x),
                     None => {
@@ -233,21 +257,7 @@ impl Element<'_> {
             Some(Value::Object(p)) => {
                 let mut parts = [0.0; 3];
                 for (part, name) in parts.iter_mut().zip(["x", "y", "theta"]) {
-                    match p.get(name).and_then(Value::as_f64) {
-                        Some(v) => *part = v,
-                        None => {
-                            let found = match p.get(name) {
-                                Some(v) => json_kind(v),
-                                None => "nothing (the field is missing)".to_owned(),
-                            };
-                            return Err(self.field_error(
-                                &format!("{key}.{name}"),
-                                key,
-                                "a number",
-                                found,
-                            ));
-                        }
-                    }
+                    *part = self.pose_part(p, key, name)?;
                 }
                 Ok(Some(Pose2::new(parts[0], parts[1], parts[2])))
             }
@@ -255,11 +265,37 @@ impl Element<'_> {
         }
     }
 
-    fn scan_from_object(
-        &self,
-        obj: &Map<String, Value>,
-        python: Option<&Rewritten>,
-    ) -> Result<ScanRecord, ReadError> {
+    /// The part `name` (`x`, `y`, `theta`) of the pose under `key`: a finite number.
+    fn pose_part(&self, p: &Map<String, Value>, key: &str, name: &str) -> Result<f64, ReadError> {
+        let value = p.get(name);
+        if let Some(v) = value.and_then(Value::as_f64) {
+            return Ok(v);
+        }
+        let found = match value {
+            Some(v) => match self.infinity(v) {
+                Some(inf) => tokens::written(inf).to_owned(),
+                None if self.python && v.is_null() => "null (`NaN` is read as null)".to_owned(),
+                None => json_kind(v),
+            },
+            None => "nothing (the field is missing)".to_owned(),
+        };
+        Err(self.field_error(&format!("{key}.{name}"), key, "a finite number", found))
+    }
+
+    /// The optional `stamp`: a finite number.
+    fn stamp(&self, obj: &Map<String, Value>) -> Result<Option<f64>, ReadError> {
+        match self.opt_number(obj, "stamp")? {
+            Some(t) if !t.is_finite() => Err(self.field_error(
+                "stamp",
+                "stamp",
+                "a finite number or null",
+                tokens::written(t).to_owned(),
+            )),
+            stamp => Ok(stamp),
+        }
+    }
+
+    fn scan_from_object(&self, obj: &Map<String, Value>) -> Result<ScanRecord, ReadError> {
         // The output of `laserlines extract` (crate::lines) given where scans are expected.
         if !obj.contains_key("angle_min") && obj.contains_key("lines") && obj.contains_key("scan") {
             return Err(ReadError::Syntax {
@@ -290,7 +326,7 @@ impl Element<'_> {
             None | Some(Value::Null) => None,
             Some(v) => Some(self.number_array(v, "intensities")?),
         };
-        let stamp = self.opt_number(obj, "stamp")?;
+        let stamp = self.stamp(obj)?;
         let poses = (self.pose(obj, "pose")?, self.pose(obj, "odometry")?);
         let angle_max = self.opt_number(obj, "angle_max")?;
         let scan = Scan {
@@ -302,39 +338,16 @@ impl Element<'_> {
             intensities,
             stamp,
         };
-        self.checked(scan, poses, angle_max, python)
+        self.checked(scan, poses, angle_max)
     }
 
-    /// Validates a parsed scan and checks `angle_max` against its beams; the numbers of a
-    /// rewritten text (`python`) are first read back as written ([`tokens::from_standin`]).
+    /// Validates a parsed scan and checks `angle_max` against its beams.
     fn checked(
         &self,
-        mut scan: Scan,
-        (mut pose, mut odometry): (Option<Pose2>, Option<Pose2>),
-        mut angle_max: Option<f64>,
-        python: Option<&Rewritten>,
+        scan: Scan,
+        (pose, odometry): (Option<Pose2>, Option<Pose2>),
+        angle_max: Option<f64>,
     ) -> Result<ScanRecord, ReadError> {
-        if python.is_some() {
-            let back = tokens::from_standin;
-            for v in [
-                &mut scan.angle_min,
-                &mut scan.angle_increment,
-                &mut scan.range_min,
-                &mut scan.range_max,
-            ] {
-                *v = back(*v);
-            }
-            let beams = scan.ranges.iter_mut();
-            for v in beams.chain(scan.intensities.iter_mut().flatten()) {
-                *v = back(*v);
-            }
-            for v in [&mut scan.stamp, &mut angle_max].into_iter().flatten() {
-                *v = back(*v);
-            }
-            for p in [&mut pose, &mut odometry].into_iter().flatten() {
-                *p = Pose2::new(back(p.x), back(p.y), back(p.theta));
-            }
-        }
         let angle_increment = scan.angle_increment;
         if let Err(source) = scan.validate() {
             let key = match source {

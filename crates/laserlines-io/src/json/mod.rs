@@ -16,10 +16,11 @@
 //!   wheel odometry's pose, the one `laserlines map` uses).
 //! - Other fields (e.g. a ROS `header`, `scan_time`) are ignored.
 //! - `NaN`, `Infinity` and `-Infinity` are not JSON, but Python's `json.dump` writes them
-//!   for non-finite floats by default: they are read as NaN, `+inf` and `-inf` (outside
-//!   strings; `NaN` where `null` is allowed, as `null`). `+inf` is a beam that saw nothing
-//!   within range (REP 117), which `null` cannot say. Writers write strict JSON: every
-//!   non-finite number as `null`.
+//!   for non-finite floats by default: outside strings they are read as NaN, `+inf` and
+//!   `-inf` in `ranges` and `intensities` (`+inf`: a beam that saw nothing within range, REP
+//!   117, which `null` cannot say); elsewhere `NaN` reads as `null`, and a `stamp` or a pose
+//!   must be finite (an error names the field), as the scan's own check holds its limits and
+//!   angles. Writers write strict JSON: every non-finite number as `null`.
 //!
 //! A `.json` file holds one object, or a top-level array of objects that is read one
 //! element at a time. A `.jsonl` file holds one object per line; blank lines are skipped.
@@ -103,6 +104,7 @@ impl ScanSource for JsonlSource {
                         text,
                         line,
                         column: 1,
+                        python: false,
                     };
                     return Some(element.parse_scan());
                 }
@@ -290,6 +292,7 @@ impl JsonSource {
             text,
             line,
             column,
+            python: false,
         };
         let result = element.parse_scan();
         if truncated {

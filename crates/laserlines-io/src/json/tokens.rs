@@ -5,15 +5,19 @@
 //! `null` JSON would need for it tells nothing.
 //!
 //! The tokens outside strings are rewritten for the JSON parser: `Infinity` and `-Infinity`
-//! as [`INFINITY_STANDIN`] and its negative, numbers of the same length that no scan holds
-//! (read back as `+inf` and `-inf`), and `NaN` as `null` (one byte longer; positions of
-//! errors are mapped back to the text as written).
+//! as the strings `"+infin"` and `"-infini"`, of the same length, which [`standin`] reads
+//! as `+inf` and `-inf` where a number may be infinite (a beam, an intensity, a scan's limits
+//! and angles, which the scan's check then judges) and which no number the text holds can be
+//! taken for; and `NaN` as `null` (one byte longer; positions of errors are mapped back to
+//! the text as written).
 
 use super::Strings;
 
-/// The number that stands in for `Infinity` (8 bytes, as `Infinity`): finite, larger than
-/// any range or angle, and read back as `+inf` ([`from_standin`]).
-pub(crate) const INFINITY_STANDIN: f64 = 1.79e308;
+/// What `Infinity` becomes: a JSON string of its length (8 bytes).
+const INFINITY_STANDIN: &str = "\"+infin\"";
+
+/// What `-Infinity` becomes: a JSON string of its length (9 bytes).
+const NEG_INFINITY_STANDIN: &str = "\"-infini\"";
 
 /// A text with Python's tokens rewritten ([`rewrite`]).
 #[derive(Debug)]
@@ -42,21 +46,28 @@ impl Rewritten {
     }
 }
 
-/// `value` as written: [`INFINITY_STANDIN`] and its negative are `+inf` and `-inf`.
-pub(crate) fn from_standin(value: f64) -> f64 {
-    if value == INFINITY_STANDIN {
-        f64::INFINITY
-    } else if value == -INFINITY_STANDIN {
-        f64::NEG_INFINITY
+/// The infinity a string of a rewritten text stands for, if it is one of the stand-ins.
+pub(crate) fn standin(s: &str) -> Option<f64> {
+    match s {
+        "+infin" => Some(f64::INFINITY),
+        "-infini" => Some(f64::NEG_INFINITY),
+        _ => None,
+    }
+}
+
+/// How `value` of a rewritten text was written: `Infinity` or `-Infinity` for a stand-in.
+pub(crate) fn written(value: f64) -> &'static str {
+    if value > 0.0 {
+        "`Infinity`"
     } else {
-        value
+        "`-Infinity`"
     }
 }
 
 /// The Python tokens and what each becomes.
 const TOKENS: [(&[u8], &str); 3] = [
-    (b"-Infinity", "-1.79e308"),
-    (b"Infinity", "1.79e308"),
+    (b"-Infinity", NEG_INFINITY_STANDIN),
+    (b"Infinity", INFINITY_STANDIN),
     (b"NaN", "null"),
 ];
 
@@ -121,12 +132,12 @@ mod tests {
         let r = rewrite(text).unwrap();
         assert_eq!(
             r.text,
-            r#"{"ranges": [1.5, null, 1.79e308,-1.79e308], "frame": "NaN Infinity"}"#
+            r#"{"ranges": [1.5, null, "+infin","-infini"], "frame": "NaN Infinity"}"#
         );
         // Offsets after the `null` are one byte further on than in the text as written.
         let at = |s: &str, needle: &str| s.find(needle).unwrap();
         assert_eq!(
-            r.original_offset(at(&r.text, "-1.79e308")),
+            r.original_offset(at(&r.text, "\"-infini")),
             at(text, "-Infinity")
         );
         assert_eq!(r.original_offset(at(&r.text, "null")), at(text, "NaN"));
@@ -135,9 +146,9 @@ mod tests {
             at(text, "NaN") + 2
         );
         assert_eq!(r.original_offset(5), 5);
-        assert_eq!(from_standin(1.79e308), f64::INFINITY);
-        assert_eq!(from_standin(-1.79e308), f64::NEG_INFINITY);
-        assert_eq!(from_standin(1.5), 1.5);
+        assert_eq!(standin("+infin"), Some(f64::INFINITY));
+        assert_eq!(standin("-infini"), Some(f64::NEG_INFINITY));
+        assert_eq!(standin("inf"), None);
     }
 
     #[test]
