@@ -20,7 +20,7 @@ pub(crate) struct Element<'a> {
     /// 1-based column of the text's first byte.
     pub(crate) column: usize,
     /// The text is parsed in its rewritten form ([`super::tokens`]): the stand-ins of
-    /// `Infinity` and `-Infinity` are numbers.
+    /// `Infinity` and `-Infinity` are read as infinities.
     pub(crate) python: bool,
 }
 
@@ -34,18 +34,6 @@ impl Element<'_> {
             None => self.column + offset,
         };
         SourcePos::line_column(self.file, self.line + newlines, column)
-    }
-
-    /// Byte offset of a (parser's 1-based) line and column inside `text`.
-    fn offset_of_line_column(&self, line: usize, column: usize) -> usize {
-        let mut start = 0;
-        for _ in 1..line {
-            match self.text[start..].find('\n') {
-                Some(i) => start += i + 1,
-                None => return self.text.len(),
-            }
-        }
-        (start + column.saturating_sub(1)).min(self.text.len())
     }
 
     /// The position of the object key `"key"` (its opening quote), or the element's start.
@@ -137,14 +125,8 @@ impl Element<'_> {
             None => full,
         };
         let offset = match python {
-            None => self.offset_of_line_column(e.line(), e.column()),
-            Some(r) => {
-                let parsed = Element {
-                    text: &r.text,
-                    ..*self
-                };
-                r.original_offset(parsed.offset_of_line_column(e.line(), e.column()))
-            }
+            None => offset_of_line_column(self.text, e.line(), e.column()),
+            Some(r) => r.original_offset(offset_of_line_column(&r.text, e.line(), e.column())),
         };
         // Bytes, not str: the parser's column need not fall on a character boundary.
         let bytes = self.text.as_bytes();
@@ -189,11 +171,14 @@ impl Element<'_> {
     /// A required number (in a rewritten text also `Infinity`, `-Infinity`: the scan's check
     /// judges them).
     fn number(&self, obj: &Map<String, Value>, key: &str) -> Result<f64, ReadError> {
-        match obj.get(key) {
+        let value = obj.get(key);
+        if let Some(inf) = value.and_then(|v| self.infinity(v)) {
+            return Ok(inf);
+        }
+        match value {
             Some(Value::Number(n)) => n
                 .as_f64()
                 .ok_or_else(|| self.field_error(key, key, "a number", format!("`{n}`"))),
-            Some(v) if self.infinity(v).is_some() => Ok(self.infinity(v).unwrap_or_default()),
             Some(other) => Err(self.field_error(key, key, "a number", self.kind_of(key, other))),
             None => Err(ReadError::Field {
                 pos: self.pos_of_offset(0),
@@ -220,11 +205,12 @@ impl Element<'_> {
         };
         let mut out = Vec::with_capacity(items.len());
         for (i, item) in items.iter().enumerate() {
+            if let Some(inf) = self.infinity(item) {
+                out.push(inf);
+                continue;
+            }
             match item {
                 Value::Null => out.push(f64::NAN),
-                Value::String(_) if self.infinity(item).is_some() => {
-                    out.push(self.infinity(item).unwrap_or_default());
-                }
                 Value::Number(n) => match n.as_f64() {
                     Some(x) => out.push(x),
                     None => {
@@ -435,6 +421,18 @@ impl<'de> Deserialize<'de> for NanVec {
         }
         d.deserialize_seq(Visit)
     }
+}
+
+/// Byte offset of a (parser's 1-based) line and column inside `text`.
+fn offset_of_line_column(text: &str, line: usize, column: usize) -> usize {
+    let mut start = 0;
+    for _ in 1..line {
+        match text[start..].find('\n') {
+            Some(i) => start += i + 1,
+            None => return text.len(),
+        }
+    }
+    (start + column.saturating_sub(1)).min(text.len())
 }
 
 /// Whether the end of `before` lies inside the list of `ranges` or `intensities`: the last
