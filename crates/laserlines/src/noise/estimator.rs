@@ -1,6 +1,8 @@
 //! The estimate of [`NoiseModel::Auto`](super::NoiseModel::Auto) (see the module docs of
 //! [`crate::noise`]).
 
+use super::envelope::{FarEnd, fit_lower_envelope, median_sigma, quartile_sigma};
+use super::tails::{QUARTERS, Tails};
 use super::{RangeNoise, SPARSE_DROPOUT, lag_for};
 use crate::scan::{RangeWindow, ScanView};
 
@@ -11,20 +13,9 @@ pub const NOISE_BANDS: usize = 8;
 /// Fewest samples a band needs to take part in the estimate's lower envelope.
 pub const MIN_BAND_SAMPLES: usize = 24;
 
-/// How far above the lower envelope a band's estimate must lie, at the low end of its
-/// confidence interval, to raise the fraction of the range ([`fit_lower_envelope`]).
-pub const STEP_RATIO: f64 = 1.5;
-
 /// Fewest samples of a whole scan for an estimate when no band has [`MIN_BAND_SAMPLES`]: the
 /// samples are then taken together as one band (a short scan, or a sparse one).
 pub const MIN_POOLED_SAMPLES: usize = 12;
-
-/// The largest fraction of the range [`NoiseModel::Auto`](super::NoiseModel::Auto) reports: no 2D laser scanner we know
-/// of is noisier than 2 % of the range, and a larger estimate means clutter, not noise.
-pub const MAX_AUTO_FRACTION: f64 = 0.02;
-
-/// `median |e| / (0.6745 sqrt(1.5))`: the factor from the median absolute residual to sigma.
-const MEDIAN_TO_SIGMA: f64 = 1.0 / (0.674_489_750_196_081_7 * 1.224_744_871_391_589);
 
 /// One range band of the last estimate.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -54,6 +45,10 @@ pub struct NoiseEstimator {
     quantum: Option<f64>,
     /// Per band: sigma from the lower quartile of `|e|` (0 without enough samples).
     low: [f64; NOISE_BANDS],
+    /// The samples from 1 m on, for the far ends of the scan.
+    tails: Tails,
+    /// The far ends of the last scan.
+    far: Vec<FarEnd>,
 }
 
 /// The finest range resolution looked for, m: no 2D scanner reports ranges finer than 0.1 mm,
@@ -104,10 +99,7 @@ impl NoiseEstimator {
         floor: f64,
     ) -> Option<RangeNoise> {
         let scan = scan.into();
-        for b in &mut self.abs {
-            b.clear();
-        }
-        self.range_sum = [0.0; NOISE_BANDS];
+        self.clear_samples();
         self.step = f64::INFINITY;
         self.quantum = None;
         let triples = self.sample(scan, window);
@@ -117,10 +109,7 @@ impl NoiseEstimator {
         // between them. Dense scans get past the first test only when most of their beams
         // see nothing (open space), and the second, one pass over the ranges, stops them.
         if taken * 2 < triples && dropout_rate(scan.ranges, window) >= SPARSE_DROPOUT {
-            for b in &mut self.abs {
-                b.clear();
-            }
-            self.range_sum = [0.0; NOISE_BANDS];
+            self.clear_samples();
             self.sample_sparse(scan, window);
         }
         for (b, out) in self.bands.iter_mut().enumerate() {
@@ -141,9 +130,20 @@ impl NoiseEstimator {
                 self.low[b] = quartile_sigma(&mut v[..n / 2]);
             }
         }
-        let noise = fit_lower_envelope(&self.bands, &self.low, MIN_BAND_SAMPLES, floor)
+        self.far.clear();
+        self.tails.read(&mut self.far);
+        let noise = fit_lower_envelope(&self.bands, &self.low, &self.far, MIN_BAND_SAMPLES, floor)
             .or_else(|| self.pool(floor))?;
         Some(self.with_quantum(scan.ranges, window, noise))
+    }
+
+    /// Forgets the samples of the last scan.
+    fn clear_samples(&mut self) {
+        for b in &mut self.abs {
+            b.clear();
+        }
+        self.range_sum = [0.0; NOISE_BANDS];
+        self.tails.clear();
     }
 
     /// `noise` with `sigma_min` raised to `q / sqrt(12)` when the ranges are multiples of a
@@ -181,7 +181,7 @@ impl NoiseEstimator {
             sigma: median_sigma(&mut self.pooled),
         };
         // No lower quartiles: one band has no far band to step to.
-        fit_lower_envelope(&[one], &[], MIN_POOLED_SAMPLES, floor)
+        fit_lower_envelope(&[one], &[], &[], MIN_POOLED_SAMPLES, floor)
     }
 
     /// Collects the residuals `|e|` of `scan` (valid in `window`) per band (as the bits of
@@ -206,6 +206,7 @@ impl NoiseEstimator {
         }
         // Room for the pooled samples too, so that a later short scan does not allocate.
         self.pooled.reserve(r.len() / stride + 1);
+        self.far.reserve(QUARTERS);
         let mut i = lag;
         // The triples looked at: `i` from `lag` while `i + lag < len`, `stride` apart.
         let triples = r.len().saturating_sub(2 * lag).div_ceil(stride);
@@ -236,6 +237,7 @@ impl NoiseEstimator {
         let b = band_of(r1);
         self.abs[b].push(e.to_bits());
         self.range_sum[b] += r1;
+        self.tails.push(r1, e);
     }
 
     /// [`NoiseEstimator::sample`] for a sparse scan: triples of consecutive returns, each at
@@ -327,85 +329,6 @@ fn on_grid(ranges: &[f64], window: RangeWindow, q: f64) -> bool {
     steps >= MIN_POOLED_SAMPLES && off * 50 <= steps
 }
 
-/// `1 / (Phi^-1(5/8) sqrt(1.5))`: the factor from the lower quartile of `|e|` to sigma.
-const QUARTILE_TO_SIGMA: f64 = 1.0 / (0.318_639_363_964_375_2 * 1.224_744_871_391_589);
-
-/// Sigma from the lower quartile of samples whose lower half is `v` (not empty; the bits
-/// of `|e|`, after [`median_sigma`] put the lower half first): the median of that half.
-fn quartile_sigma(v: &mut [u64]) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    let (_, m, _) = v.select_nth_unstable(v.len() / 2);
-    f64::from_bits(*m) * QUARTILE_TO_SIGMA
-}
-
-/// The relative margin of a band's sigma from `n` samples: 1.5 standard errors of a median
-/// (`1.17 / sqrt(n)` relative each).
-fn margin(n: usize) -> f64 {
-    1.75 / (n as f64).sqrt()
-}
-
-/// Sigma from the median of the samples `v` (not empty), the bits of `|e|`.
-fn median_sigma(v: &mut [u64]) -> f64 {
-    // The samples are the bits of non-negative floats, which order as the floats.
-    let (_, m, _) = v.select_nth_unstable(v.len() / 2);
-    f64::from_bits(*m) * MEDIAN_TO_SIGMA
-}
-
-/// The largest `max(sigma_min, fraction r)` (with `fraction <= MAX_AUTO_FRACTION`) below
-/// the bound of every band with `min_samples` samples or more, at least `floor`; `None`
-/// without such a band. A band's bound is its
-/// estimate raised by 1.5 standard errors of a median of `n` samples (`1.17 / sqrt(n)`
-/// relative), so that a band whose few samples happen to read low does not pull the model
-/// down.
-///
-/// Noise that steps up with range beyond what one fraction describes (a URG-04LX at a few
-/// millimetres to 3 m and 1 % beyond) has no such model that fits every band: the envelope
-/// then follows the near bands, and far walls, seen through noise three times the model's,
-/// failed the RMS limit or broke into pieces. So where a band from 1 m on (with
-/// [`MIN_POOLED_SAMPLES`] samples or more) still reads [`STEP_RATIO`] times the model at
-/// the low end of its interval (its estimate lowered by 1.75 / sqrt(n), the estimate being
-/// the smaller of the median's and the lower quartile's sigma in `low`, so that clutter,
-/// which inflates the upper residuals of a band more than its lower ones, raises nothing),
-/// the fraction is raised to the smallest such low end over the band's range: the model then
-/// errs high on the nearer bands, which costs far less than erring low on the far ones.
-fn fit_lower_envelope(
-    bands: &[BandEstimate],
-    low: &[f64],
-    min_samples: usize,
-    floor: f64,
-) -> Option<RangeNoise> {
-    let usable = || {
-        bands
-            .iter()
-            .filter(|b| b.samples >= min_samples)
-            .map(|b| BandEstimate {
-                sigma: b.sigma * (1.0 + margin(b.samples)),
-                ..*b
-            })
-    };
-    let sigma_min = usable().map(|b| b.sigma).reduce(f64::min)?;
-    // Bands beyond 1 m bound the growth with range (where a scan has too few far points for
-    // a band of their own, the nearer bands' bound is extrapolated: right for the usual
-    // noise proportional to range, generous for a constant one).
-    let envelope = usable()
-        .filter(|b| b.range >= 1.0)
-        .map(|b| b.sigma / b.range)
-        .reduce(f64::min)
-        .unwrap_or(0.0);
-    let stepped = bands
-        .iter()
-        .zip(low)
-        .filter(|(b, _)| b.samples >= MIN_POOLED_SAMPLES && b.range >= 1.0)
-        .map(|(b, &q)| (b.sigma.min(q) * (1.0 - margin(b.samples)), b.range))
-        .filter(|&(lo, r)| lo > STEP_RATIO * (envelope * r).max(sigma_min))
-        .map(|(lo, r)| lo / r)
-        .reduce(f64::min);
-    let fraction = stepped.unwrap_or(envelope).min(MAX_AUTO_FRACTION);
-    Some(RangeNoise::new(sigma_min.max(floor), fraction))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -426,6 +349,12 @@ mod tests {
 
     /// A wall `x = d` seen by `n` beams over +-45 deg with gaussian noise from a simple LCG.
     fn wall_scan(d: f64, n: usize, noise: RangeNoise, seed: u64) -> Scan {
+        wall_scan_with(d, n, 45.0, |r| noise.sigma(r), seed)
+    }
+
+    /// A wall `x = d` seen by `n` beams over +-`half` deg with gaussian noise of standard
+    /// deviation `sigma(r)` from a simple LCG.
+    fn wall_scan_with(d: f64, n: usize, half: f64, sigma: impl Fn(f64) -> f64, seed: u64) -> Scan {
         let mut state = seed;
         let mut gauss = || {
             // Irwin-Hall sum of 12 uniforms: mean 6, variance 1.
@@ -438,14 +367,14 @@ mod tests {
             }
             s - 6.0
         };
-        let inc = 90f64.to_radians() / (n - 1) as f64;
+        let inc = 2.0 * half.to_radians() / (n - 1) as f64;
         let ranges = (0..n)
             .map(|i| {
-                let r = d / (-45f64.to_radians() + i as f64 * inc).cos();
-                r + noise.sigma(r) * gauss()
+                let r = d / (-half.to_radians() + i as f64 * inc).cos();
+                r + sigma(r) * gauss()
             })
             .collect();
-        Scan::new(-45f64.to_radians(), inc, 0.02, 30.0, ranges).unwrap()
+        Scan::new(-half.to_radians(), inc, 0.02, 30.0, ranges).unwrap()
     }
 
     /// A wall `x = 1.5` and one `x = far` side by side, each seen by 301 beams over 90 deg
@@ -471,6 +400,26 @@ mod tests {
             "{got}"
         );
         assert!((got.sigma_min - 0.004).abs() < 0.001, "{got}");
+    }
+
+    #[test]
+    fn a_step_inside_a_band_is_read_from_the_far_end() {
+        // A wall 2.2 m away seen over +-57 deg, ranges 2.2 to 4.0 m: 4 mm to 3 m, 1 % beyond,
+        // all in the band of 2-4 m. The band's lower quartile is the near noise's, and the
+        // bands alone read a fifth of the noise at 3.5 m.
+        let stepped = |r: f64| if r < 3.0 { 0.004 } else { 0.01 * r };
+        // Over 20 seeds the far ends gave 0.61-1.11 of the noise at 3.5 m (each is the low
+        // end of an interval), the bands alone 0.20-0.24.
+        for seed in 0..10 {
+            let scan = wall_scan_with(2.2, 651, 57.0, stepped, seed);
+            let mut est = NoiseEstimator::default();
+            let got = est.estimate(&scan, scan.range_window(None), 0.001).unwrap();
+            let ratio = got.sigma(3.5) / 0.035;
+            assert!((0.55..1.3).contains(&ratio), "seed {seed}: {got}");
+            let bands = fit_lower_envelope(&est.bands, &est.low, &[], MIN_BAND_SAMPLES, 0.001);
+            let bands = bands.unwrap().sigma(3.5) / 0.035;
+            assert!(bands < 0.3, "seed {seed}: {bands}");
+        }
     }
 
     #[test]

@@ -19,7 +19,10 @@
 //! `sigma_b = median|e| / (0.6745 sqrt(1.5))`: corners, depth edges and mixed pixels are a
 //! minority and do not move a median. The model is the largest `max(sigma_min, fraction r)`
 //! below every band's estimate: clutter only ever adds dispersion, so the cleanest band
-//! tells the sensor's own noise. A scan too short for any band of its own (fewer than
+//! tells the sensor's own noise. Noise that steps up with range (a URG-04LX at a few
+//! millimetres to 3 m and 1 % beyond) raises the fraction where a band from 1 m on, or a far
+//! end of the samples (all of them beyond 1 m, 1.25 m, 1.5 m, ... in quarter octaves), still
+//! reads [`STEP_RATIO`] times the model at the low end of its interval. A scan too short for any band of its own (fewer than
 //! [`MIN_BAND_SAMPLES`] in each) is read as one band when it has [`MIN_POOLED_SAMPLES`].
 //! A sparse scan (a dropout rate of 0.2 or more) on which fewer than half of the triples
 //! return whole is read from its consecutive returns instead, each at most `3 k` beams from
@@ -27,11 +30,13 @@
 //! `r0 r2 sin(a + b) / (r0 sin a + r2 sin b)` for the angles `a` and `b` between the beams, and
 //! the residual scaled to the variance of an even triple's.
 
+mod envelope;
 mod estimator;
+mod tails;
 
+pub use envelope::{MAX_AUTO_FRACTION, STEP_RATIO};
 pub use estimator::{
-    BandEstimate, MAX_AUTO_FRACTION, MIN_BAND_SAMPLES, MIN_POOLED_SAMPLES, NOISE_BANDS,
-    NoiseEstimator,
+    BandEstimate, MIN_BAND_SAMPLES, MIN_POOLED_SAMPLES, NOISE_BANDS, NoiseEstimator,
 };
 
 /// A range-noise model `sigma(r) = max(sigma_min, fraction * r)`, metres.
