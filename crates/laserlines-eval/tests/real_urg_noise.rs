@@ -1,8 +1,9 @@
 //! The field conditions at a real URG-04LX's noise (`laserlines bench --sensor urg04lx-real`,
 //! [`laserlines_eval::workload::Sensor::field_real`]): 4 mm below 3 m and the data sheet's
 //! 1 % of the range beyond, a step that no `max(sigma_min, fraction r)` follows. The noise
-//! estimate of `hough-split` must read the far bands' noise (its lower envelope alone read
-//! the near noise, and far walls failed the RMS limit or broke into pieces), and
+//! estimate of `hough-split` must read the far noise, also where one octave band holds both
+//! sides of the step (its lower envelope alone read the near noise, and far walls failed the
+//! RMS limit or broke into pieces), and
 //! `hough-split` must lead the other seven.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -18,15 +19,16 @@ fn hough_split_reads_noise_that_steps_up_with_range() {
     let metrics = common::field_metrics(&scans, sensor.noise_scale(), "urg04lx-real");
     let (name, ours) = &metrics[0];
     assert_eq!(*name, "hough-split");
-    // Measured on these 70 scans: TP 0.919, FP 0.030 (with the lower envelope alone: 0.832,
-    // 0.034); the best other, `em`, F1 0.852.
+    // Measured on these 70 scans: TP 0.946, FP 0.025 (with the bands alone, not their far
+    // ends: 0.919, 0.030; with their lower envelope alone: 0.832, 0.034); the best other,
+    // `em`, F1 0.852.
     assert!(
-        ours.true_positive_rate >= 0.89,
+        ours.true_positive_rate >= 0.93,
         "TP {:.3}",
         ours.true_positive_rate
     );
     assert!(
-        ours.false_positive_rate <= 0.04,
+        ours.false_positive_rate <= 0.035,
         "FP {:.3}",
         ours.false_positive_rate
     );
