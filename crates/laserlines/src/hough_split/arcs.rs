@@ -322,6 +322,7 @@ mod tests {
                 noise: &noise,
                 cut_window: CUT_WINDOW,
                 min_points: p.min_line_points,
+                lone_gap: usize::MAX,
             };
             let half = pts.len() / 2;
             chords_of_a_circle(&pieces, [(0, half), (half, pts.len())], sse_lines, 2.0)

@@ -15,10 +15,6 @@ use crate::noise::RangeNoise;
 /// line, and most points [`Pieces::trim_ends`] cuts from an end.
 pub(crate) const CUT_WINDOW: usize = 4;
 
-/// The chi-square quantiles at the 1e-2 level for 1..=4 degrees of freedom: `k` end points
-/// are cut only when their joint deviation is that unlikely as noise (and all on one side).
-const CHI2_1E2: [f64; CUT_WINDOW] = [6.63, 9.21, 11.34, 13.28];
-
 /// Incidence (as `r / |centroid|`, its cosine at the line's centroid) beyond which a line
 /// must show that its points advance along it with their beams (`min_advance_t`): 60 deg.
 const ADVANCE_CHECK_COS: f64 = 0.5;
@@ -36,6 +32,9 @@ pub(crate) struct Pieces<'a> {
     /// Fewest supporting points of a line (`min_line_points`, or fewer on a sparse scan:
     /// [`HoughSplitParams::min_points_for`]).
     pub(crate) min_points: usize,
+    /// Fewest missing beams before a line's last points that dropouts leave only by chance
+    /// ([`Pieces::cut_lone_ends`]).
+    pub(crate) lone_gap: usize,
 }
 
 /// The angle [`Pieces::best_cut`] searches on each side of a split point: `CUT_WINDOW` beams
@@ -57,7 +56,7 @@ pub(crate) fn cut_window(increment: f64) -> usize {
 }
 
 impl Pieces<'_> {
-    fn point(&self, k: usize) -> Point2 {
+    pub(super) fn point(&self, k: usize) -> Point2 {
         self.seg.point(k)
     }
 
@@ -139,75 +138,6 @@ impl Pieces<'_> {
             }
         }
         best.1
-    }
-
-    /// Drops points at the ends of the piece `seg[lo..hi]` that another surface bent away: a
-    /// short leg of a corner too small for the split to see, or a mixed pixel.
-    ///
-    /// For each end, the last `k <= min(CUT_WINDOW, n / 6)` points are tested against the fit
-    /// of the rest: each distance `d` is scaled by its expected spread, the point noise (the
-    /// larger of `sigma(r)` and the rest's own residual spread) plus the uncertainty of the
-    /// fitted line at that point (from the fit's covariance). The `k` points are cut when they
-    /// bend away as a surface does (all on one side, the outermost farthest) and
-    /// `sum(d^2 / var)` exceeds the chi-square quantile of `k` degrees of freedom at the 1e-2
-    /// level, choosing the `k` with the largest excess `sum(d^2 / var - k)`. Returns the new
-    /// bounds.
-    fn trim_ends(&self, lo: usize, hi: usize, min_points: usize) -> (usize, usize) {
-        let (mut lo, mut hi) = (lo, hi);
-        for from_end in [true, false] {
-            let n = hi.saturating_sub(lo);
-            let max_k = CUT_WINDOW
-                .min(n / 6)
-                .min(n.saturating_sub(min_points.max(3)));
-            let mut rest = sums(self.pre, lo, hi);
-            let mut best: Option<(f64, usize)> = None;
-            for k in 1..=max_k {
-                let idx = |j: usize| if from_end { hi - 1 - j } else { lo + j };
-                rest.remove(self.point(idx(k - 1)));
-                let Some(fit) = rest.normal_fit() else { break };
-                let (chi2, bent) = self.end_chi2(&fit, (0..k).map(idx));
-                let excess = chi2 - k as f64;
-                if bent && chi2 >= CHI2_1E2[k - 1] && best.is_none_or(|(e, _)| excess > e) {
-                    best = Some((excess, k));
-                }
-            }
-            if let Some((_, k)) = best {
-                if from_end {
-                    hi -= k;
-                } else {
-                    lo += k;
-                }
-            }
-        }
-        (lo, hi)
-    }
-
-    /// The chi-square of the points at positions `ks` (the outermost first) against `fit`
-    /// (point noise plus the fit's uncertainty there), and whether they bend away from it: all
-    /// on one side, the outermost farthest.
-    fn end_chi2(&self, fit: &NormalFit, ks: impl Iterator<Item = usize>) -> (f64, bool) {
-        let normal = fit.normal;
-        let (ca, sa) = (normal.x, normal.y);
-        let cov = fit.covariance;
-        let residual = fit.s2;
-        let (mut chi2, mut sign, mut bent) = (0.0, 0.0f64, true);
-        let mut outermost = 0.0f64;
-        for k in ks {
-            let sp = self.point(k);
-            let d = sp.coords.dot(&normal) - fit.r;
-            if sign == 0.0 {
-                sign = d.signum();
-                outermost = d.abs();
-            } else if d.signum() != sign || d.abs() > outermost {
-                bent = false;
-            }
-            let noise = self.noise.sigma(self.seg.range(k))
-                * incidence_cos(sp, normal, self.p.noise_along_beams);
-            let t = -sp.x * sa + sp.y * ca;
-            let line_var = cov[(0, 0)] - 2.0 * t * cov[(0, 1)] + t * t * cov[(1, 1)];
-            chi2 += d * d / ((noise * noise).max(residual) + line_var.max(0.0));
-        }
-        (chi2, bent)
     }
 
     /// The line of `seg[a..z]` and the sums of its points, when it has enough points, is long
@@ -359,7 +289,8 @@ pub(crate) fn emit_lines(
             b + 1
         };
         let (a, z) = if p.refine_ends {
-            pieces.trim_ends(lo, hi, min_points)
+            let (a, z) = pieces.trim_ends(lo, hi, min_points);
+            pieces.cut_lone_ends(a, z, min_points)
         } else {
             (lo, hi)
         };
@@ -552,6 +483,7 @@ mod tests {
             noise: &noise,
             cut_window: CUT_WINDOW,
             min_points: p.min_line_points,
+            lone_gap: usize::MAX,
         };
         let mut out = Vec::new();
         let mut breaks = scratch.breaks.clone();

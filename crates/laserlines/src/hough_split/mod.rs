@@ -19,6 +19,7 @@ mod accumulator;
 mod arcs;
 mod collinear;
 mod components;
+mod ends;
 mod lines;
 mod linseg;
 mod mixed;
@@ -227,6 +228,7 @@ impl LineExtractor for HoughSplit {
         // 5-6. Linseg on each segment, then the least-squares lines.
         let kept = &self.segments.kept;
         let cut_window = lines::cut_window(scan.angle_increment);
+        let lone_gap = self.params.lone_gap_for(self.dropout);
         for run in &self.segments.runs {
             let seg = points::Seg(&kept[run.start as usize..run.end as usize]);
             linseg::prefix_sums(seg, &mut self.scratch.prefix);
@@ -243,6 +245,7 @@ impl LineExtractor for HoughSplit {
                 noise: &self.noise,
                 cut_window,
                 min_points: min_points.line,
+                lone_gap,
             };
             lines::emit_lines(&pieces, &mut self.scratch.breaks, out, &mut self.candidates);
         }

@@ -30,6 +30,24 @@ pub const MAX_BRIDGE_GAP: usize = 63;
 /// 95 % of its beams missing.
 const MAX_DROPOUT: f64 = 0.95;
 
+/// The dropout rate `dropout` clamped to `0..=MAX_DROPOUT` (NaN giving 0) and the longest gap
+/// of missing beams that dropouts alone leave after a point with chance [`GAP_CHANCE`] or
+/// more: the largest `g` with `dropout^g >= GAP_CHANCE` (0 without dropouts).
+fn gap_by_chance(dropout: f64) -> (f64, usize) {
+    let p = if dropout.is_finite() {
+        dropout.clamp(0.0, MAX_DROPOUT)
+    } else {
+        0.0
+    };
+    let by_chance = if p > 0.0 {
+        // At most `ln(0.01) / ln(0.95)` = 90: no overflow.
+        ((GAP_CHANCE.ln() / p.ln()).ceil() as usize).saturating_sub(1)
+    } else {
+        0
+    };
+    (p, by_chance)
+}
+
 /// The largest `lambda` of `D` that sparse returns raise it to (60 deg: `D` at most `0.53 r`).
 const MAX_LAMBDA: f64 = std::f64::consts::FRAC_PI_3;
 
@@ -451,21 +469,22 @@ impl HoughSplitParams {
     /// URG-04LX) this is the bridge of a scan without.
     #[must_use]
     pub fn bridge_for(&self, increment: f64, dropout: f64) -> Bridge {
-        let p = if dropout.is_finite() {
-            dropout.clamp(0.0, MAX_DROPOUT)
-        } else {
-            0.0
-        };
-        let by_chance = if p > 0.0 {
-            // At most `ln(0.01) / ln(0.95)` = 90: no overflow.
-            ((GAP_CHANCE.ln() / p.ln()).ceil() as usize).saturating_sub(1)
-        } else {
-            0
-        };
+        let (p, by_chance) = gap_by_chance(dropout);
         Bridge {
             max_gap: self.bridge_max_gap.max(by_chance).min(MAX_BRIDGE_GAP),
             spacing: increment.abs() / (1.0 - p),
         }
+    }
+
+    /// The fewest missing beams before a line's last points (at most
+    /// three) that make `hough-split` cut those points from the line, on a scan of whose
+    /// returns the fraction `dropout` is followed by a missing beam: one more than the gap
+    /// that dropouts leave with [`GAP_CHANCE`] (1 under 1 % of dropouts, 2 from there to 10 %, 7 at 50 %).
+    /// The bridge may span more (`bridge_max_gap`), but a line's end beyond such a gap needs
+    /// more points than that (with `refine_ends`; not in [`HoughSplitParams::paper`]).
+    #[must_use]
+    pub fn lone_gap_for(&self, dropout: f64) -> usize {
+        gap_by_chance(dropout).1 + 1
     }
 
     /// The breakpoint distance `D`, m: the farthest apart two consecutive points of one

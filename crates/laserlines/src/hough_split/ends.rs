@@ -1,0 +1,232 @@
+//! Where a line of step 6 ends: points at a piece's ends that another surface bent away, and
+//! a few points beyond a gap that dropouts leave only by chance.
+
+use super::lines::{CUT_WINDOW, Pieces};
+use super::linseg::{incidence_cos, sums};
+#[cfg(doc)]
+use super::params::HoughSplitParams;
+use crate::fit::NormalFit;
+
+/// The chi-square quantiles at the 1e-2 level for 1..=4 degrees of freedom: `k` end points
+/// are cut only when their joint deviation is that unlikely as noise (and all on one side).
+const CHI2_1E2: [f64; CUT_WINDOW] = [6.63, 9.21, 11.34, 13.28];
+
+/// Most points of a line's end that [`Pieces::cut_lone_ends`] cuts beyond a gap.
+pub(crate) const LONE_RUN: usize = 3;
+
+impl Pieces<'_> {
+    /// Drops points at the ends of the piece `seg[lo..hi]` that another surface bent away: a
+    /// short leg of a corner too small for the split to see, or a mixed pixel.
+    ///
+    /// For each end, the last `k <= min(CUT_WINDOW, n / 6)` points are tested against the fit
+    /// of the rest: each distance `d` is scaled by its expected spread, the point noise (the
+    /// larger of `sigma(r)` and the rest's own residual spread) plus the uncertainty of the
+    /// fitted line at that point (from the fit's covariance). The `k` points are cut when they
+    /// bend away as a surface does (all on one side, the outermost farthest) and
+    /// `sum(d^2 / var)` exceeds the chi-square quantile of `k` degrees of freedom at the 1e-2
+    /// level, choosing the `k` with the largest excess `sum(d^2 / var - k)`. Returns the new
+    /// bounds.
+    pub(super) fn trim_ends(&self, lo: usize, hi: usize, min_points: usize) -> (usize, usize) {
+        let (mut lo, mut hi) = (lo, hi);
+        for from_end in [true, false] {
+            let n = hi.saturating_sub(lo);
+            let max_k = CUT_WINDOW
+                .min(n / 6)
+                .min(n.saturating_sub(min_points.max(3)));
+            let mut rest = sums(self.pre, lo, hi);
+            let mut best: Option<(f64, usize)> = None;
+            for k in 1..=max_k {
+                let idx = |j: usize| if from_end { hi - 1 - j } else { lo + j };
+                rest.remove(self.point(idx(k - 1)));
+                let Some(fit) = rest.normal_fit() else { break };
+                let (chi2, bent) = self.end_chi2(&fit, (0..k).map(idx));
+                let excess = chi2 - k as f64;
+                if bent && chi2 >= CHI2_1E2[k - 1] && best.is_none_or(|(e, _)| excess > e) {
+                    best = Some((excess, k));
+                }
+            }
+            if let Some((_, k)) = best {
+                if from_end {
+                    hi -= k;
+                } else {
+                    lo += k;
+                }
+            }
+        }
+        (lo, hi)
+    }
+
+    /// Cuts from each end of `seg[lo..hi]` a run of at most [`LONE_RUN`] points that lies
+    /// beyond a gap of `lone_gap` missing beams or more, a gap the scan's dropouts leave only by
+    /// chance ([`HoughSplitParams::lone_gap_for`]): too few points to say that the surface
+    /// goes on across it. Two walls in line on either side of a door seen at a glancing angle
+    /// otherwise gave a line across the opening, held by one or two points of the far wall. A
+    /// run is cut only while `min_points` and one more remain. Returns the new bounds.
+    pub(super) fn cut_lone_ends(&self, lo: usize, hi: usize, min_points: usize) -> (usize, usize) {
+        let missing = |k: usize| self.seg.idx(k) - self.seg.idx(k - 1) - 1;
+        let keeps = |lo: usize, hi: usize, j: usize| hi > lo + j + min_points.max(2);
+        let (mut lo, mut hi) = (lo, hi);
+        if let Some(j) =
+            (1..=LONE_RUN).find(|&j| keeps(lo, hi, j) && missing(hi - j) >= self.lone_gap)
+        {
+            hi -= j;
+        }
+        if let Some(j) =
+            (1..=LONE_RUN).find(|&j| keeps(lo, hi, j) && missing(lo + j) >= self.lone_gap)
+        {
+            lo += j;
+        }
+        (lo, hi)
+    }
+
+    /// The chi-square of the points at positions `ks` (the outermost first) against `fit`
+    /// (point noise plus the fit's uncertainty there), and whether they bend away from it: all
+    /// on one side, the outermost farthest.
+    fn end_chi2(&self, fit: &NormalFit, ks: impl Iterator<Item = usize>) -> (f64, bool) {
+        let normal = fit.normal;
+        let (ca, sa) = (normal.x, normal.y);
+        let cov = fit.covariance;
+        let residual = fit.s2;
+        let (mut chi2, mut sign, mut bent) = (0.0, 0.0f64, true);
+        let mut outermost = 0.0f64;
+        for k in ks {
+            let sp = self.point(k);
+            let d = sp.coords.dot(&normal) - fit.r;
+            if sign == 0.0 {
+                sign = d.signum();
+                outermost = d.abs();
+            } else if d.signum() != sign || d.abs() > outermost {
+                bent = false;
+            }
+            let noise = self.noise.sigma(self.seg.range(k))
+                * incidence_cos(sp, normal, self.p.noise_along_beams);
+            let t = -sp.x * sa + sp.y * ca;
+            let line_var = cov[(0, 0)] - 2.0 * t * cov[(0, 1)] + t * t * cov[(1, 1)];
+            chi2 += d * d / ((noise * noise).max(residual) + line_var.max(0.0));
+        }
+        (chi2, bent)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::linseg::prefix_sums;
+    use super::super::params::HoughSplitParams;
+    use super::super::points::{Pt, Seg};
+    use super::*;
+    use crate::noise::RangeNoise;
+
+    /// Points of the wall `y = 1` on beams 0.5 deg apart from 30 deg on, without the beams in
+    /// `missing`.
+    fn wall(n: usize, missing: &[usize]) -> Vec<Pt> {
+        (0..n)
+            .filter(|i| !missing.contains(i))
+            .map(|i| {
+                let phi = (30.0 + 0.5 * i as f64).to_radians();
+                let r = 1.0 / phi.sin();
+                Pt {
+                    x: r * phi.cos(),
+                    y: r * phi.sin(),
+                    range: r,
+                    idx: i,
+                }
+            })
+            .collect()
+    }
+
+    /// The bounds `cut_lone_ends` leaves of the whole of `pts` with gaps of `lone_gap`.
+    fn cut(pts: &[Pt], lone_gap: usize) -> (usize, usize) {
+        let seg = Seg(pts);
+        let p = HoughSplitParams::default();
+        let noise = RangeNoise::new(0.01, 0.0);
+        let mut pre = Vec::new();
+        prefix_sums(seg, &mut pre);
+        let pieces = Pieces {
+            seg,
+            pre: &pre,
+            p: &p,
+            noise: &noise,
+            cut_window: CUT_WINDOW,
+            min_points: p.min_line_points,
+            lone_gap,
+        };
+        pieces.cut_lone_ends(0, pts.len(), p.min_line_points)
+    }
+
+    #[test]
+    fn a_few_points_beyond_an_unlikely_gap_are_cut() {
+        // 40 beams; two missing before the last two points, one after the first three.
+        let pts = wall(40, &[36, 37, 3]);
+        let n = pts.len();
+        // Gaps of one beam are unlikely (no dropouts): both ends are cut.
+        assert_eq!(cut(&pts, 1), (3, n - 2));
+        // Gaps of two: only the last two points go.
+        assert_eq!(cut(&pts, 2), (0, n - 2));
+        // Gaps of two beams left by chance (dropouts of 10 % or more): nothing is cut.
+        assert_eq!(cut(&pts, 3), (0, n));
+        // More than three points beyond the gap are a surface's.
+        let pts = wall(40, &[33, 34]);
+        assert_eq!(cut(&pts, 1), (0, pts.len()));
+    }
+
+    #[test]
+    fn a_short_line_keeps_its_points() {
+        // A run is cut only while `min_line_points` + 1 = 9 points remain: of 11 points the
+        // last, beyond a gap, goes; of 9, nothing.
+        let pts = wall(12, &[10]);
+        assert_eq!(pts.len(), 11);
+        assert_eq!(cut(&pts, 1), (0, 10));
+        let pts = wall(10, &[8]);
+        assert_eq!(cut(&pts, 1), (0, pts.len()));
+    }
+
+    #[test]
+    fn no_line_crosses_a_door_to_the_wall_beyond() {
+        // The wall `y = 1` seen from 7 deg (8.1 m away) to 45 deg in 0.25 deg steps; beams 2
+        // and 3 look through a door, beams 0 and 1 see the wall beyond it. The bridge joins
+        // the far wall's two points to the near wall (0.74 m apart, within its reach at 8 m
+        // and 4 deg of incidence), and the line crossed the door (beams 0 to 152).
+        let inc = 0.25f64.to_radians();
+        let extract = |door: bool| {
+            let ranges: Vec<f64> = (0..153)
+                .map(|k| {
+                    let phi = 7f64.to_radians() + inc * k as f64;
+                    if door && (k == 2 || k == 3) {
+                        f64::NAN
+                    } else {
+                        1.0 / phi.sin()
+                    }
+                })
+                .collect();
+            let scan = crate::Scan::new(7f64.to_radians(), inc, 0.02, 30.0, ranges).unwrap();
+            let mut hs = crate::HoughSplit::new(HoughSplitParams::default()).unwrap();
+            crate::LineExtractor::extract(&mut hs, &scan)
+        };
+        let lines = extract(true);
+        assert_eq!(lines.len(), 1, "{lines:?}");
+        assert_eq!((lines[0].first, lines[0].last), (4, 152), "{lines:?}");
+        // Without the door the wall is one line from its first beams (as before this rule: the
+        // first three, seen at 83 deg of incidence, support no line either way).
+        let lines = extract(false);
+        assert_eq!(lines.len(), 1, "{lines:?}");
+        assert_eq!((lines[0].first, lines[0].last), (3, 152), "{lines:?}");
+    }
+
+    #[test]
+    fn the_gap_that_makes_a_cut_grows_with_the_dropouts() {
+        let p = HoughSplitParams::default();
+        assert_eq!(p.lone_gap_for(0.0), 1);
+        assert_eq!(p.lone_gap_for(0.005), 1);
+        assert_eq!(p.lone_gap_for(0.03), 2);
+        assert_eq!(p.lone_gap_for(0.1), 2);
+        assert_eq!(p.lone_gap_for(0.5), 7);
+        assert_eq!(p.lone_gap_for(f64::NAN), 1);
+        // The bridge spans at least the gaps that dropouts leave by chance.
+        for d in [0.0, 0.03, 0.3, 0.5, 0.9] {
+            assert!(
+                p.bridge_for(0.01, d).max_gap + 1 >= p.lone_gap_for(d),
+                "{d}"
+            );
+        }
+    }
+}
