@@ -16,7 +16,7 @@ pub(super) const QUARTILE_TO_SIGMA: f64 = 1.0 / (0.318_639_363_964_375_2 * 1.224
 pub const MAX_AUTO_FRACTION: f64 = 0.02;
 
 /// How far above the lower envelope a band's (or a far end's) estimate must lie, at the low
-/// end of its confidence interval, to raise the fraction of the range ([`fit_lower_envelope`]).
+/// end of its confidence interval, to raise the fraction of the range (see [`crate::noise`]).
 pub const STEP_RATIO: f64 = 1.5;
 
 /// Sigma from the lower quartile of samples whose lower half is `v` (not empty; the bits
