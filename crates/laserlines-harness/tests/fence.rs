@@ -108,5 +108,8 @@ fn a_fence_keeps_the_robot_within_the_big_arenas_bounds() {
     let mean = coverage.iter().sum::<f64>() / coverage.len() as f64;
     let good = coverage.iter().filter(|&&c| c >= 0.9).count();
     assert!(mean > 0.94 && good >= 10, "{coverage:?}");
-    assert!(inside as u64 >= SEEDS * 3 / 4, "{inside} of {SEEDS} runs within the bounds");
+    assert!(
+        inside as u64 >= SEEDS * 3 / 4,
+        "{inside} of {SEEDS} runs within the bounds"
+    );
 }
