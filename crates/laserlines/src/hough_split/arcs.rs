@@ -323,6 +323,7 @@ mod tests {
                 cut_window: CUT_WINDOW,
                 min_points: p.min_line_points,
                 lone_gap: usize::MAX,
+                returns: &[],
             };
             let half = pts.len() / 2;
             chords_of_a_circle(&pieces, [(0, half), (half, pts.len())], sse_lines, 2.0)

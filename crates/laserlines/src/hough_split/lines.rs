@@ -5,7 +5,7 @@
 use super::arcs::drop_arcs;
 use super::linseg::{incidence_cos, split_is_significant, sums};
 use super::params::HoughSplitParams;
-use super::points::Seg;
+use super::points::{Pt, Seg};
 use crate::fit::{FitSums, NormalFit, PolarFit};
 use crate::line::Line;
 use crate::math::{Matrix2, Point2, Vector2};
@@ -35,6 +35,8 @@ pub(crate) struct Pieces<'a> {
     /// Fewest missing beams before a line's last points that dropouts leave only by chance
     /// ([`Pieces::cut_lone_ends`]).
     pub(crate) lone_gap: usize,
+    /// The scan's valid points (step 0), in beam order: the beams that returned.
+    pub(crate) returns: &'a [Pt],
 }
 
 /// The angle [`Pieces::best_cut`] searches on each side of a split point: `CUT_WINDOW` beams
@@ -484,6 +486,7 @@ mod tests {
             cut_window: CUT_WINDOW,
             min_points: p.min_line_points,
             lone_gap: usize::MAX,
+            returns: &[],
         };
         let mut out = Vec::new();
         let mut breaks = scratch.breaks.clone();

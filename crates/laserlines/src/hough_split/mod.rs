@@ -246,6 +246,7 @@ impl LineExtractor for HoughSplit {
                 cut_window,
                 min_points: min_points.line,
                 lone_gap,
+                returns: &self.points,
             };
             lines::emit_lines(&pieces, &mut self.scratch.breaks, out, &mut self.candidates);
         }

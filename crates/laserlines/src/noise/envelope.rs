@@ -70,7 +70,8 @@ pub(super) struct FarEnd {
 ///
 /// A band is an octave, and a step inside one (at 3 m, in the band of 2-4 m) leaves its
 /// median and lower quartile with the near noise. The far ends (`far`: the samples beyond
-/// each quarter octave from 1 m, [`super::tails`]) are read the same way, above the floor;
+/// each quarter octave from 1 m, [`super::tails`]) are read the same way, those above 1.5
+/// times the floor;
 /// where some of them step, the fraction is at least the largest of their low ends over
 /// their ranges. A far end that reaches nearer than the step mixes the near noise in and
 /// reads low, so the largest is the one beyond the step; each is a low end already, and the
@@ -116,8 +117,8 @@ pub(super) fn fit_lower_envelope(
             }),
         f64::min,
     );
-    // A far end's figure is only read above the floor: below it, residuals say nothing (an
-    // exact scan's far ends read the histograms' first step).
+    // A far end's figure is only read above 1.5 times the floor: below it, residuals say
+    // nothing.
     let far_ends = steps(
         &mut far.iter().copied().filter(|e| e.low > STEP_RATIO * floor),
         f64::max,

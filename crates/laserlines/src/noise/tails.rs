@@ -1,22 +1,24 @@
 //! The far ends of a scan's samples: all of them beyond 1 m, 1.25 m, 1.5 m, 1.75 m, 2 m,
-//! 2.5 m and so on, each read for a step of the noise with range
+//! 2.5 m, 3 m and so on (each octave of range in four equal quarters), each read for a step
+//! of the noise with range
 //! ([`super::envelope::fit_lower_envelope`]).
 //!
 //! A band of the estimate is an octave of range, and a step inside one (a URG-04LX at 4 mm to
 //! 3 m and 1 % beyond, in the band of 2-4 m) leaves the band's median and lower quartile with
 //! the near noise. The samples beyond the step are one of these far ends. Their medians and
-//! lower quartiles are read from histograms of `|e|` in eighths of an octave (at most 12 %
+//! lower quartiles are read from histograms of `|e|` in eighths of an octave (at most 12.5 %
 //! apart, the rank interpolated within the step), so that reading every far end costs a few
 //! passes over 96 counts rather than a selection per far end.
 
 use super::envelope::{FarEnd, MEDIAN_TO_SIGMA, QUARTILE_TO_SIGMA, margin};
 use super::estimator::MIN_POOLED_SAMPLES;
 
-/// Quarter octaves of range from 1 m where far ends start (the last, from 45 m, open).
+/// Quarter octaves of range from 1 m where far ends start (the last, from 56 m, open).
 pub(super) const QUARTERS: usize = 24;
 
-/// Steps of a histogram of `|e|`: eighths of an octave from `2^LOWEST` m (61 um, which also
-/// holds the smaller residuals) to the last, from 228 mm, which holds the larger ones.
+/// Steps of a histogram of `|e|`: eighths of an octave from `2^LOWEST` m (61 um; the first
+/// step holds every residual below 69 um) to the last, from 234 mm, which holds the larger
+/// ones.
 const STEPS: usize = 96;
 
 /// The octave of `|e|` where the histograms start, `2^LOWEST` m.
@@ -43,11 +45,12 @@ fn quarter_of(r: f64) -> usize {
     q.min(QUARTERS as u64 - 1) as usize
 }
 
-/// The step of a residual `e >= 0`: eighths of its octave from `2^LOWEST`, clamped.
+/// The step of a residual `|e|`: eighths of its octave from `2^LOWEST`, clamped.
 #[inline]
 fn step_of(e: f64) -> usize {
-    // As in `quarter_of`, with three bits of the mantissa: `8 (octave - LOWEST) + eighth`.
-    let s = (e.to_bits() >> 49).saturating_sub(((1023 + LOWEST) as u64) << 3);
+    // As in `quarter_of`, with three bits of the mantissa: `8 (octave - LOWEST) + eighth`
+    // (the sign bit cleared, so that -0 is 0).
+    let s = ((e.to_bits() << 1) >> 50).saturating_sub(((1023 + LOWEST) as u64) << 3);
     s.min(STEPS as u64 - 1) as usize
 }
 
@@ -58,8 +61,9 @@ fn pow2(k: i64) -> f64 {
 }
 
 /// The `ranks[0]`-th and `ranks[1]`-th smallest (from 0, in order) of the `|e|` counted in
-/// `hist`, each interpolated within its step: the step's lower end (0 for the first) plus its
-/// width times the share of its counts below the rank and half of its own.
+/// `hist`, each interpolated within its step: the step's lower end plus its width times the
+/// share of its counts below the rank and half of its own; 0 in the first step, whose
+/// residuals (below 69 um) are finer than any scanner's noise.
 fn quantiles(hist: &[u32; STEPS], ranks: [usize; 2]) -> [f64; 2] {
     let mut out = [0.0; 2];
     let mut k = 0;
@@ -69,8 +73,7 @@ fn quantiles(hist: &[u32; STEPS], ranks: [usize; 2]) -> [f64; 2] {
         while k < 2 && below + c > ranks[k] {
             let share = ((ranks[k] - below) as f64 + 0.5) / c as f64;
             out[k] = if i == 0 {
-                // The first step holds every residual from 0 on.
-                pow2(LOWEST) * share
+                0.0
             } else {
                 pow2((i / 8) as i64 + LOWEST) * (1.0 + ((i % 8) as f64 + share) / 8.0)
             };
@@ -155,11 +158,18 @@ mod tests {
         ] {
             assert_eq!(quarter_of(r), q, "{r}");
         }
+        assert_eq!(quarter_of(55.9), QUARTERS - 2);
+        assert_eq!(quarter_of(56.0), QUARTERS - 1);
         assert_eq!(quarter_of(1e9), QUARTERS - 1);
         assert_eq!(step_of(0.0), 0);
+        assert_eq!(step_of(-0.0), 0);
+        assert_eq!(step_of(pow2(LOWEST) * 1.125), 1);
+        assert_eq!(step_of(0.2343), STEPS - 2);
+        assert_eq!(step_of(0.234_375), STEPS - 1);
         assert_eq!(step_of(1e-9), 0);
         assert_eq!(step_of(1.0), STEPS - 1);
-        // 4 mm is 2^-8 (3.9 mm) and 3/128 of it: the 8th octave from 2^-14, its first eighth.
+        // 4 mm is 2^-8 (3.9 mm) and 3/128 of it: octave 6 from 2^-14 (counted from 0), its
+        // first eighth.
         assert_eq!(step_of(0.004), 6 * 8);
         assert_eq!(step_of(0.0045), 6 * 8 + 1);
     }
@@ -191,6 +201,16 @@ mod tests {
         // From 1 m: 130 samples, of which 30 at 0.1 mm.
         assert!((out[1].range - (200.0 + 33.0) / 130.0).abs() < 1e-9);
         assert!(out[1].low < out[0].low);
+        // Residuals finer than the first step's 69 um read as nothing.
+        let mut fine = Tails::default();
+        fine.clear();
+        for _ in 0..20 {
+            fine.push(2.0, 1e-9);
+        }
+        let mut none = Vec::new();
+        fine.read(&mut none);
+        assert_eq!(none.len(), 1);
+        assert!(none[0].low == 0.0, "{none:?}");
         // Cleared, nothing is read.
         tails.clear();
         out.clear();
