@@ -67,9 +67,14 @@ impl Pieces<'_> {
     pub(super) fn cut_lone_ends(&self, lo: usize, hi: usize, min_points: usize) -> (usize, usize) {
         let missing = |k: usize| {
             let (a, b) = (self.seg.idx(k - 1), self.seg.idx(k));
+            let beams = b - a - 1;
+            if beams < self.lone_gap {
+                // Too few beams between them to matter, however many returned.
+                return beams;
+            }
             let returned = self.returns.partition_point(|p| p.idx < b)
                 - self.returns.partition_point(|p| p.idx <= a);
-            (b - a - 1).saturating_sub(returned)
+            beams.saturating_sub(returned)
         };
         let keeps = |lo: usize, hi: usize, j: usize| {
             hi.saturating_sub(lo) > min_points.max(2).saturating_add(j)
