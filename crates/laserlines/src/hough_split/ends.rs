@@ -126,7 +126,7 @@ impl Pieces<'_> {
 mod tests {
     use super::super::linseg::prefix_sums;
     use super::super::params::HoughSplitParams;
-    use super::super::points::{Pt, Seg};
+    use super::super::points::{Pt, Seg, on_beam};
     use super::*;
     use crate::noise::RangeNoise;
 
@@ -137,13 +137,7 @@ mod tests {
             .filter(|i| !missing.contains(i))
             .map(|i| {
                 let phi = (30.0 + 0.5 * i as f64).to_radians();
-                let r = 1.0 / phi.sin();
-                Pt {
-                    x: r * phi.cos(),
-                    y: r * phi.sin(),
-                    range: r,
-                    idx: i,
-                }
+                on_beam(i, phi, 1.0 / phi.sin())
             })
             .collect()
     }
@@ -156,6 +150,16 @@ mod tests {
 
     /// The same with the beams of `returns` returned.
     fn cut_among(pts: &[Pt], returns: &[Pt], lone_gap: usize) -> (usize, usize) {
+        cut_with(
+            pts,
+            returns,
+            lone_gap,
+            HoughSplitParams::default().min_line_points,
+        )
+    }
+
+    /// The same with `min_points` for the line.
+    fn cut_with(pts: &[Pt], returns: &[Pt], lone_gap: usize, min_points: usize) -> (usize, usize) {
         let seg = Seg(pts);
         let p = HoughSplitParams::default();
         let noise = RangeNoise::new(0.01, 0.0);
@@ -167,11 +171,11 @@ mod tests {
             p: &p,
             noise: &noise,
             cut_window: CUT_WINDOW,
-            min_points: p.min_line_points,
+            min_points,
             lone_gap,
             returns,
         };
-        pieces.cut_lone_ends(0, pts.len(), p.min_line_points)
+        pieces.cut_lone_ends(0, pts.len(), min_points)
     }
 
     #[test]
@@ -216,25 +220,7 @@ mod tests {
         assert_eq!(cut(&pts, 1), (0, pts.len()));
         // A huge `min_points` cuts nothing and does not overflow.
         let pts = wall(40, &[36, 37]);
-        let seg = Seg(&pts);
-        let p = HoughSplitParams::default();
-        let noise = RangeNoise::new(0.01, 0.0);
-        let mut pre = Vec::new();
-        prefix_sums(seg, &mut pre);
-        let pieces = Pieces {
-            seg,
-            pre: &pre,
-            p: &p,
-            noise: &noise,
-            cut_window: CUT_WINDOW,
-            min_points: usize::MAX,
-            lone_gap: 1,
-            returns: &pts,
-        };
-        assert_eq!(
-            pieces.cut_lone_ends(0, pts.len(), usize::MAX),
-            (0, pts.len())
-        );
+        assert_eq!(cut_with(&pts, &pts, 1, usize::MAX), (0, pts.len()));
     }
 
     #[test]

@@ -394,7 +394,7 @@ fn keeps_its_points(far: Point2, near: Point2, corner: Point2, thr: f64, min_len
 #[cfg(test)]
 mod tests {
     use super::super::linseg::{SplitScratch, linseg, prefix_sums};
-    use super::super::points::{Pt, Seg, points_at};
+    use super::super::points::{Pt, Seg, on_beam, points_at};
     use super::*;
 
     #[test]
@@ -417,13 +417,7 @@ mod tests {
         (0..n)
             .map(|i| {
                 let phi = std::f64::consts::FRAC_PI_2 + step * i as f64;
-                let r = range(i);
-                Pt {
-                    x: r * phi.cos(),
-                    y: r * phi.sin(),
-                    range: r,
-                    idx: i,
-                }
+                on_beam(i, phi, range(i))
             })
             .collect()
     }

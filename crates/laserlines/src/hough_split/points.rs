@@ -114,6 +114,17 @@ impl Seg<'_> {
     }
 }
 
+/// The point of beam `idx`, at angle `phi` (rad) and range `r` (m).
+#[cfg(test)]
+pub(crate) fn on_beam(idx: usize, phi: f64, r: f64) -> Pt {
+    Pt {
+        x: r * phi.cos(),
+        y: r * phi.sin(),
+        range: r,
+        idx,
+    }
+}
+
 /// Points at `xy`, beam `k` for the `k`-th, their ranges from the origin.
 #[cfg(test)]
 pub(crate) fn points_at(xy: &[(f64, f64)]) -> Vec<Pt> {
