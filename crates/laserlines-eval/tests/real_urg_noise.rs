@@ -3,8 +3,7 @@
 //! 1 % of the range beyond, a step that no `max(sigma_min, fraction r)` follows. The noise
 //! estimate of `hough-split` must read the far noise, also where one octave band holds both
 //! sides of the step (its lower envelope alone read the near noise, and far walls failed the
-//! RMS limit or broke into pieces), and
-//! `hough-split` must lead the other seven.
+//! RMS limit or broke into pieces), and `hough-split` must lead the other seven.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 

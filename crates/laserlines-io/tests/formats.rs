@@ -84,14 +84,14 @@ fn jsonl_from_python_keeps_nan_and_infinity() {
     assert_eq!((s.stamp, s.range_max), (Some(3.5), 5.6));
     let t = &records[1];
     assert_eq!(t.scan.ranges, vec![f64::INFINITY, 1.5]);
+    assert_eq!(t.pose, Some(Pose2::new(1.0, 2.0, 0.5)));
+    assert_eq!(t.line, Some(2));
     // The largest numbers stay what they are beside a Python token.
     let text = r#"{"angle_min": 0, "angle_increment": 0.1, "range_min": 0, "range_max": 1, "ranges": [NaN, 1.79e308, 179e306, -Infinity]}"#;
     let reader = laserlines_io::from_reader("big.json", std::io::Cursor::new(text), Format::Json);
     let ranges = &reader.unwrap().next().unwrap().unwrap().scan.ranges;
     assert!(ranges[0].is_nan());
     assert_eq!(ranges[1..], [1.79e308, 1.79e308, f64::NEG_INFINITY]);
-    assert_eq!(t.pose, Some(Pose2::new(1.0, 2.0, 0.5)));
-    assert_eq!(t.line, Some(2));
 }
 
 #[test]

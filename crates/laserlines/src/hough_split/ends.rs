@@ -12,7 +12,7 @@ use crate::fit::NormalFit;
 const CHI2_1E2: [f64; CUT_WINDOW] = [6.63, 9.21, 11.34, 13.28];
 
 /// Most points of a line's end that [`Pieces::cut_lone_ends`] cuts beyond a gap.
-pub(crate) const LONE_RUN: usize = 3;
+const LONE_RUN: usize = 3;
 
 impl Pieces<'_> {
     /// Drops points at the ends of the piece `seg[lo..hi]` that another surface bent away: a

@@ -478,11 +478,12 @@ impl HoughSplitParams {
 
     /// The fewest missing beams before a line's last points (at most three) that make
     /// `hough-split` cut those points from the line, on a scan of whose returns the fraction
-    /// `dropout` is followed by a missing beam: one more than the gap that dropouts leave
-    /// with [`GAP_CHANCE`] or more, and at least 2 (2 up to 10 % of dropouts, 3 just above,
-    /// 7 at 50 %). One missing beam says too little: a wall 5.5 m from a URG-04LX, near its
-    /// 5.6 m limit, lost 11 cm of its end to a single one. The bridge may span more (`bridge_max_gap`), but a line's end beyond such a gap
-    /// needs more points than that (with `refine_ends`; not in [`HoughSplitParams::paper`]).
+    /// `dropout` is followed by a missing beam: one more than the longest gap that dropouts
+    /// leave with a chance above [`GAP_CHANCE`], and at least 2 (2 up to 10 % of dropouts, 3
+    /// just above, 7 at 50 %). One missing beam says too little: a wall 5.5 m from a
+    /// URG-04LX, near its 5.6 m limit, lost 11 cm of its end to a single one. The bridge may
+    /// span more (`bridge_max_gap`), but a line's end beyond such a gap needs more points
+    /// than that (with `refine_ends`; not in [`HoughSplitParams::paper`]).
     #[must_use]
     pub fn lone_gap_for(&self, dropout: f64) -> usize {
         (gap_by_chance(dropout).1 + 1).max(2)

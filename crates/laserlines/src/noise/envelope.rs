@@ -71,11 +71,10 @@ pub(super) struct FarEnd {
 /// A band is an octave, and a step inside one (at 3 m, in the band of 2-4 m) leaves its
 /// median and lower quartile with the near noise. The far ends (`far`: the samples beyond
 /// each quarter octave from 1 m, [`super::tails`]) are read the same way, those above 1.5
-/// times the floor;
-/// where some of them step, the fraction is at least the largest of their low ends over
-/// their ranges. A far end that reaches nearer than the step mixes the near noise in and
-/// reads low, so the largest is the one beyond the step; each is a low end already, and the
-/// far ends only ever raise the bands' figure.
+/// times the floor; where some of them step, the fraction is at least the largest of their
+/// low ends over their ranges. A far end that reaches nearer than the step mixes the near
+/// noise in and reads low, so the largest is the one beyond the step; each is a low end
+/// already, and the far ends only ever raise the bands' figure.
 pub(super) fn fit_lower_envelope(
     bands: &[BandEstimate],
     low: &[f64],
@@ -123,10 +122,7 @@ pub(super) fn fit_lower_envelope(
         &mut far.iter().copied().filter(|e| e.low > STEP_RATIO * floor),
         f64::max,
     );
-    let stepped = match (in_bands, far_ends) {
-        (Some(a), Some(b)) => Some(a.max(b)),
-        (a, b) => a.or(b),
-    };
+    let stepped = [in_bands, far_ends].into_iter().flatten().reduce(f64::max);
     let fraction = stepped.unwrap_or(envelope).min(MAX_AUTO_FRACTION);
     Some(RangeNoise::new(sigma_min.max(floor), fraction))
 }
