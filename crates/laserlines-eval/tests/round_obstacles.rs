@@ -74,8 +74,9 @@ const LEVELS: [(&str, RangeNoise); 2] = [
 
 #[test]
 fn a_barrel_gives_few_lines() {
-    // Measured over the ten cases, lines on the barrel: 149 with the test, 425 without (at
-    // 2 m under the real noise 12 against 104; at 1.5 m at half the band 36 against 105).
+    // Measured over the ten cases, lines on the barrel: 124 with the test, 425 without (at
+    // 2 m under the real noise 12 against 104; at 1.5 m at half the band 20 against 105);
+    // 149 with the test before two lines were charged for their extra parameters.
     let (mut with, mut without) = (0, 0);
     for d in [0.7, 1.0, 1.5, 2.0, 3.0] {
         let barrel = scene(|w| {
@@ -92,7 +93,7 @@ fn a_barrel_gives_few_lines() {
     }
     assert!(without >= 300, "{without} lines without the test");
     assert!(
-        2 * with <= without,
+        3 * with <= without,
         "{with} lines with the test, {without} without"
     );
 }
@@ -101,8 +102,9 @@ fn a_barrel_gives_few_lines() {
 fn a_pillar_seen_by_a_fine_scanner_gives_few_lines() {
     // A pillar of 0.52 m across 1.2 m ahead, seen in 0.25 deg steps over 270 deg under 1 cm
     // of range noise: the algebraic circle of its chords is too small (about 0.21 m for
-    // 0.26 m) and fits them worse than two lines; the geometric fit does not. Measured: 39
-    // lines on the pillar with the test, 79 with the algebraic circle alone, 105 without.
+    // 0.26 m) and fits them worse than two lines; the geometric fit does not. Measured: 18
+    // lines on the pillar with the test, 105 without (before two lines were charged for
+    // their extra parameters, 39 with the test and 79 with the algebraic circle alone).
     let pillar = scene(|w| {
         w.add_disc(Point2::new(1.2, 0.0), 0.26);
     });
@@ -120,7 +122,7 @@ fn a_pillar_seen_by_a_fine_scanner_gives_few_lines() {
     assert_eq!(seen, 50, "the wall");
     assert!(without >= 70, "{without} lines without the test");
     assert!(
-        2 * with <= without,
+        4 * with <= without,
         "{with} lines with the test, {without} without"
     );
 }
@@ -139,6 +141,58 @@ fn a_box_corner_keeps_its_two_faces() {
             assert!(without >= 95, "{d} m, {what}: {without}");
             assert_eq!(with, without, "{d} m, {what}");
             assert_eq!(seen, 50, "{d} m, {what}: the wall");
+        }
+    }
+}
+
+#[test]
+fn convex_corners_under_heavy_noise_keep_what_they_had_without_the_test() {
+    // The data sheet's band and 1.5 times it, where a circle fits two faces' points nearly
+    // as well as two lines and the lines are charged for their extra parameters: a box's
+    // corner (90 deg) and two panels of 0.4 m meeting at 135 deg (a rescue arena's diagonal
+    // wall), the corner towards the sensor. Measured: 100 lines with the test and without
+    // for the box at 0.7-1.6 m (99 at 1.6 m and 1.5 times), and for the panels at 1 m and at
+    // 1.5 m under the band; at 1.5 m and 1.5 times the band, 81 with the test and 84 without
+    // (84 with the circle charged nothing, or 2 variances): the price of the charge's 4.
+    let heavy = [
+        ("full band", RangeNoise::new(0.01, 0.01)),
+        ("1.5 times the band", RangeNoise::new(0.015, 0.015)),
+    ];
+    let mut scenes = Vec::new();
+    for d in [0.7, 1.0, 1.3, 1.6] {
+        scenes.push((
+            format!("box at {d} m"),
+            scene(|w| {
+                w.add_box(Point2::new(d, 0.3), 0.4, 0.4, 45f64.to_radians());
+            }),
+        ));
+    }
+    for d in [1.0, 1.5] {
+        // The corner at (d, 0.3); each panel 0.4 m long, 22.5 deg from the beam's normal.
+        let (c, s) = (22.5f64.to_radians().cos(), 22.5f64.to_radians().sin());
+        scenes.push((
+            format!("panels at {d} m"),
+            scene(|w| {
+                let corner = Point2::new(d, 0.3);
+                w.add_segment(corner + Vector2::new(0.4 * s, 0.4 * c), corner);
+                w.add_segment(corner, corner + Vector2::new(0.4 * s, -0.4 * c));
+            }),
+        ));
+    }
+    for (name, obstacle) in &scenes {
+        for (what, noise) in heavy {
+            let (with, _) = lines_on_obstacle(obstacle, noise, HoughSplitParams::default());
+            let (without, _) = lines_on_obstacle(obstacle, noise, without_the_test());
+            println!("{name}, {what}: {with} lines with the test, {without} without");
+            assert!(without >= 80, "{name}, {what}: {without}");
+            if name.starts_with("box") {
+                assert_eq!(with, without, "{name}, {what}");
+            } else {
+                assert!(
+                    with + 4 >= without,
+                    "{name}, {what}: {with} against {without}"
+                );
+            }
         }
     }
 }

@@ -235,8 +235,9 @@ pub struct HoughSplitParams {
     pub min_advance_t: f64,
     /// Two neighbouring lines of a data segment are dropped as chords of a round obstacle (a
     /// barrel, a pillar) when a circle of at most 1 m radius, bulging towards the sensor,
-    /// explains their points better than the two lines by more than this many times the
-    /// noise variance at their centroid (a chi-square). Not in the paper. 0 turns it off.
+    /// explains their points better than the two lines, charged 4 noise variances for their
+    /// two extra parameters (Akaike's 2 each), by more than this many times the noise
+    /// variance at their centroid. Not in the paper. 0 turns it off.
     pub arc_significance: f64,
     /// Lines whose direction is known worse than this (one standard deviation of `alpha`
     /// from their covariance), rad, are dropped: a short far piece under heavy noise gives a
