@@ -8,7 +8,6 @@ use laserlines::Line;
 
 use crate::error::WriteError;
 use crate::format::{Format, has_gz_extension};
-use crate::json::ScanJson;
 use crate::lines::{LineRecord, ScanLines};
 use crate::record::{Pose2, ScanRecord};
 
@@ -289,7 +288,9 @@ impl LinesWriter<Output> {
 /// - CSV: one scan per file; the range limits, stamp, pose and odometry go into `# key: value`
 ///   comments, intensities into a fourth column. A second scan is an error.
 ///
-/// Non-finite ranges are written as `null` (JSON) or `nan` (CSV): both mean "no return".
+/// Ranges read back as they were: a NaN one ("no return") as `null` (JSON) or `nan` (CSV),
+/// an infinite one (REP 117's "nothing within range", "too near") as `Infinity` and
+/// `-Infinity` (JSON, as Python's `json.dump` writes them) or `inf` and `-inf` (CSV).
 pub struct ScanWriter<W: Write> {
     out: Option<W>,
     name: String,
@@ -381,14 +382,12 @@ impl<W: Write> ScanWriter<W> {
     fn write_inner(&mut self, record: &ScanRecord, buf: &mut Vec<u8>) -> Result<(), WriteError> {
         match self.format {
             Format::Jsonl => {
-                serde_json::to_writer(&mut *buf, &ScanJson::new(record))
-                    .map_err(|e| self.io(io::Error::other(e)))?;
+                crate::json::write_scan(buf, record).map_err(|e| self.io(e))?;
                 buf.push(b'\n');
                 self.emit(buf)
             }
             Format::Json => {
-                serde_json::to_writer(&mut *buf, &ScanJson::new(record))
-                    .map_err(|e| self.io(io::Error::other(e)))?;
+                crate::json::write_scan(buf, record).map_err(|e| self.io(e))?;
                 if self.count == 1 {
                     self.pending = Some(buf.clone());
                     Ok(())

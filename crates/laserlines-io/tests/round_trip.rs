@@ -164,24 +164,37 @@ fn csv_without_geometry_comments_derives_the_increment() {
 }
 
 #[test]
-fn non_finite_ranges_read_back_as_no_return() {
+fn non_finite_beams_read_back_as_they_were() {
     let mut record = plain_record(0);
-    record.scan.ranges = vec![f64::INFINITY, f64::NEG_INFINITY, 1.0];
-    for format in [Format::Json, Format::Jsonl] {
-        let back = read_scans(format, write_scans(format, std::slice::from_ref(&record)));
-        let r = &back[0].scan.ranges;
+    record.scan.ranges = vec![f64::INFINITY, f64::NEG_INFINITY, 1.0, f64::NAN];
+    record.scan.intensities = Some(vec![f64::INFINITY, 2.0, f64::NAN, f64::NEG_INFINITY]);
+    for format in [Format::Json, Format::Jsonl, Format::Csv] {
+        let text = write_scans(format, std::slice::from_ref(&record));
+        let back = read_scans(format, text.clone());
+        let s = &back[0].scan;
+        let r = &s.ranges;
         assert!(
-            r[0].is_nan() && r[1].is_nan() && r[2] == 1.0,
+            r[0] == f64::INFINITY && r[1] == f64::NEG_INFINITY && r[2] == 1.0 && r[3].is_nan(),
             "{format}: {r:?}"
         );
+        let i = s.intensities.as_deref().unwrap();
+        assert!(
+            i[0] == f64::INFINITY && i[1] == 2.0 && i[2].is_nan() && i[3] == f64::NEG_INFINITY,
+            "{format}: {i:?}"
+        );
+        if format != Format::Csv {
+            // As Python's `json.dump` writes them; NaN as JSON's `null`.
+            let text = String::from_utf8(text).unwrap();
+            assert!(
+                text.contains(r#""ranges":[Infinity,-Infinity,1.0,null]"#),
+                "{text}"
+            );
+        }
     }
-    // CSV keeps infinities as `inf`.
-    let back = read_scans(
-        Format::Csv,
-        write_scans(Format::Csv, std::slice::from_ref(&record)),
-    );
-    assert_eq!(back[0].scan.ranges[0], f64::INFINITY);
-    assert_eq!(back[0].scan.ranges[1], f64::NEG_INFINITY);
+    // A scan without infinite beams is strict JSON.
+    let plain = String::from_utf8(write_scans(Format::Jsonl, &[plain_record(0)])).unwrap();
+    let value: serde_json::Value = serde_json::from_str(plain.trim()).unwrap();
+    assert!(value["ranges"].is_array());
 }
 
 #[test]

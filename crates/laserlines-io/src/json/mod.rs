@@ -20,7 +20,9 @@
 //!   `-inf` in `ranges` and `intensities` (`+inf`: a beam that saw nothing within range, REP
 //!   117, which `null` cannot say); elsewhere `NaN` reads as `null`, and a `stamp` or a pose
 //!   must be finite (an error names the field), as the scan's own check holds its limits and
-//!   angles. Writers write strict JSON: every non-finite number as `null`.
+//!   angles. Writers write every non-finite number as `null` but for an infinite beam
+//!   (range or intensity), which they write as `Infinity` or `-Infinity` so that it reads
+//!   back as it was ([`write_scan`]): a scan without one is strict JSON.
 //!
 //! A `.json` file holds one object, or a top-level array of objects that is read one
 //! element at a time. A `.jsonl` file holds one object per line; blank lines are skipped.
@@ -454,39 +456,72 @@ fn describe_byte(b: Option<u8>) -> String {
     }
 }
 
-/// The JSON form of a scan, as the writers write it.
+/// The JSON form of a scan, as the writers write it, but for its beams ([`write_scan`]).
 #[derive(Serialize)]
-pub(crate) struct ScanJson<'a> {
-    pub(crate) angle_min: f64,
-    pub(crate) angle_max: f64,
-    pub(crate) angle_increment: f64,
-    pub(crate) range_min: f64,
-    pub(crate) range_max: f64,
+struct ScanHead {
+    angle_min: f64,
+    angle_max: f64,
+    angle_increment: f64,
+    range_min: f64,
+    range_max: f64,
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) stamp: Option<f64>,
+    stamp: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) pose: Option<Pose2>,
+    pose: Option<Pose2>,
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) odometry: Option<Pose2>,
-    pub(crate) ranges: &'a [f64],
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub(crate) intensities: Option<&'a [f64]>,
+    odometry: Option<Pose2>,
 }
 
-impl<'a> ScanJson<'a> {
-    pub(crate) fn new(record: &'a ScanRecord) -> Self {
-        let s = &record.scan;
-        Self {
-            angle_min: s.angle_min,
-            angle_max: s.angle_max(),
-            angle_increment: s.angle_increment,
-            range_min: s.range_min,
-            range_max: s.range_max,
-            stamp: s.stamp,
-            pose: record.pose,
-            odometry: record.odometry,
-            ranges: &s.ranges,
-            intensities: s.intensities.as_deref(),
+/// Writes `record` as one JSON object (no newline). Every number is written so that it
+/// reads back exactly, every non-finite one as `null` but for the beams: an infinite range
+/// or intensity as `Infinity` or `-Infinity`, as Python's `json.dump` writes it and this
+/// module reads it (REP 117's "nothing within range" and "too near", which `null`, a beam
+/// without any return, cannot say and which `hough-split` reads as a beam that saw through
+/// a gap), a NaN one as `null`. A scan without infinite beams is strict JSON.
+///
+/// # Errors
+/// Those of `out`.
+pub(crate) fn write_scan(out: &mut Vec<u8>, record: &ScanRecord) -> std::io::Result<()> {
+    let s = &record.scan;
+    let head = ScanHead {
+        angle_min: s.angle_min,
+        angle_max: s.angle_max(),
+        angle_increment: s.angle_increment,
+        range_min: s.range_min,
+        range_max: s.range_max,
+        stamp: s.stamp,
+        pose: record.pose,
+        odometry: record.odometry,
+    };
+    serde_json::to_writer(&mut *out, &head).map_err(std::io::Error::other)?;
+    // The object's closing brace, reopened for the beams.
+    out.pop();
+    out.extend_from_slice(b",\"ranges\":");
+    beams(out, &s.ranges)?;
+    if let Some(intensities) = s.intensities.as_deref() {
+        out.extend_from_slice(b",\"intensities\":");
+        beams(out, intensities)?;
+    }
+    out.push(b'}');
+    Ok(())
+}
+
+/// Writes `values` as a JSON array: `Infinity` and `-Infinity` for the infinite ones,
+/// `null` for NaN ([`write_scan`]).
+fn beams(out: &mut Vec<u8>, values: &[f64]) -> std::io::Result<()> {
+    out.push(b'[');
+    for (k, &v) in values.iter().enumerate() {
+        if k > 0 {
+            out.push(b',');
+        }
+        if v == f64::INFINITY {
+            out.extend_from_slice(b"Infinity");
+        } else if v == f64::NEG_INFINITY {
+            out.extend_from_slice(b"-Infinity");
+        } else {
+            serde_json::to_writer(&mut *out, &v).map_err(std::io::Error::other)?;
         }
     }
+    out.push(b']');
+    Ok(())
 }
