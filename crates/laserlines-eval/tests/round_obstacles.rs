@@ -151,9 +151,10 @@ fn convex_corners_under_heavy_noise_keep_what_they_had_without_the_test() {
     // as well as two lines and the lines are charged for their extra parameters: a box's
     // corner (90 deg) and two panels of 0.4 m meeting at 135 deg (a rescue arena's diagonal
     // wall), the corner towards the sensor. Measured: 100 lines with the test and without
-    // for the box at 0.7-1.6 m (99 at 1.6 m and 1.5 times), and for the panels at 1 m and at
-    // 1.5 m under the band; at 1.5 m and 1.5 times the band, 81 with the test and 84 without
-    // (84 with the circle charged nothing, or 2 variances): the price of the charge's 4.
+    // for the box at 0.7-1.6 m (99 at 1.6 m and 1.5 times), for the panels at 1 m at both
+    // levels and at 1.5 m under the band; at 1.5 m and 1.5 times the band, 81 with the test
+    // and 84 without (84 with the lines charged nothing, or 2 variances): the price of the
+    // charge's 4.
     let heavy = [
         ("full band", RangeNoise::new(0.01, 0.01)),
         ("1.5 times the band", RangeNoise::new(0.015, 0.015)),

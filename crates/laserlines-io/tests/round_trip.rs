@@ -198,6 +198,18 @@ fn non_finite_beams_read_back_as_they_were() {
 }
 
 #[test]
+fn a_pose_with_a_non_finite_number_is_left_out_of_json() {
+    let mut record = plain_record(0);
+    record.pose = Some(Pose2::new(f64::NAN, 1.0, 0.0));
+    record.odometry = Some(Pose2::new(1.0, 2.0, 0.5));
+    for format in [Format::Json, Format::Jsonl] {
+        let back = read_scans(format, write_scans(format, std::slice::from_ref(&record)));
+        assert_eq!(back[0].pose, None, "{format}");
+        assert_eq!(back[0].odometry, record.odometry, "{format}");
+    }
+}
+
+#[test]
 fn dat_excerpt_converts_to_jsonl_and_back_exactly() {
     let records = laserlines_io::demo::urg04lx_excerpt().unwrap();
     let back = read_scans(Format::Jsonl, write_scans(Format::Jsonl, &records));

@@ -476,11 +476,13 @@ struct ScanHead {
 /// reads back exactly, every non-finite one as `null` but for the beams: an infinite range
 /// or intensity as `Infinity` or `-Infinity`, as Python's `json.dump` writes it and this
 /// module reads it (REP 117's "nothing within range" and "too near", which `null`, a beam
-/// without any return, cannot say and which `hough-split` reads as a beam that saw through
-/// a gap), a NaN one as `null`. A scan without infinite beams is strict JSON.
+/// without any return, cannot say; `hough-split` reads the first as a beam that saw through
+/// a gap), a NaN one as `null`. A scan without infinite beams is strict JSON. A pose or an
+/// odometry with a non-finite number is no pose and is left out, as the reader would refuse
+/// it.
 ///
 /// # Errors
-/// Those of `out`.
+/// Those of the JSON encoder (none are expected on a `Vec`).
 pub(crate) fn write_scan(out: &mut Vec<u8>, record: &ScanRecord) -> std::io::Result<()> {
     let s = &record.scan;
     let head = ScanHead {
@@ -490,8 +492,8 @@ pub(crate) fn write_scan(out: &mut Vec<u8>, record: &ScanRecord) -> std::io::Res
         range_min: s.range_min,
         range_max: s.range_max,
         stamp: s.stamp,
-        pose: record.pose,
-        odometry: record.odometry,
+        pose: record.pose.filter(finite),
+        odometry: record.odometry.filter(finite),
     };
     serde_json::to_writer(&mut *out, &head).map_err(std::io::Error::other)?;
     // The object's closing brace, reopened for the beams.
@@ -504,6 +506,11 @@ pub(crate) fn write_scan(out: &mut Vec<u8>, record: &ScanRecord) -> std::io::Res
     }
     out.push(b'}');
     Ok(())
+}
+
+/// True when every number of `p` is finite.
+fn finite(p: &Pose2) -> bool {
+    p.x.is_finite() && p.y.is_finite() && p.theta.is_finite()
 }
 
 /// Writes `values` as a JSON array: `Infinity` and `-Infinity` for the infinite ones,

@@ -2,9 +2,9 @@
 //! or a pillar seen from nearby fills a data segment with an arc, which the split cuts into
 //! chords of a few decimetres; each bends from its chord by less than the noise over its
 //! width, and so passes every test of a line. The points of two neighbouring chords together
-//! show it: a circle of small radius, bulging towards the sensor, explains them significantly
-//! better than the two lines do, where the two faces of a box's corner fit two lines and no
-//! circle.
+//! show it: a circle of small radius, bulging towards the sensor, explains them as well as
+//! the two lines do, for fewer parameters, where the two faces of a box's corner fit two
+//! lines and no circle.
 
 use super::lines::{CUT_WINDOW, Candidate, Pieces};
 use super::linseg::{sums, variance_at};
@@ -152,11 +152,13 @@ fn could_be_chords(seg: Seg<'_>, [(a0, z0), (a1, z1)]: [(usize, usize); 2]) -> b
 }
 
 /// What two lines' extra parameters are charged against one circle, in noise variances:
-/// Akaike's 2 for each, and two lines have two more (the second line's extra one and the
-/// break between them). Two lines always leave smaller residuals than the circle's three
-/// parameters fit where the noise hides the bend (chords of a barrel of 0.58 m seen from
-/// 0.8 m under 2 cm of noise, each 49 deg of its arc, left 0.0125 m^2 about two lines and
-/// 0.0126 m^2 about the circle); charged for the parameters they spend, they no longer beat it.
+/// Akaike's 2 for each, and two lines have two more (two each and the break between them,
+/// five, against the circle's three). Where the noise hides the bend, two lines tend to leave
+/// smaller residuals than the circle's fit (chords of a barrel of 0.58 m seen from 0.8 m
+/// under 1.9 cm of noise, each 49 deg of its arc, left 0.0125 m^2 about two lines and
+/// 0.0126 m^2 about the circle); charged for the parameters they spend, they no longer beat
+/// it. With it, the circle is taken when it leaves at most `4 - arc_significance` noise
+/// variances more than the two lines.
 const EXTRA_PARAMETERS_CHARGE: f64 = 4.0;
 
 /// Whether the lines of the points `seg[a0..z0]` and `seg[a1..z1]` (whose own squared
