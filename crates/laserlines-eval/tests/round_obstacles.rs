@@ -159,10 +159,12 @@ fn convex_corners_under_heavy_noise_keep_what_they_had_without_the_test() {
         ("full band", RangeNoise::new(0.01, 0.01)),
         ("1.5 times the band", RangeNoise::new(0.015, 0.015)),
     ];
+    // Each scene with the lines the test may cost it over its 50 scans at either level.
     let mut scenes = Vec::new();
     for d in [0.7, 1.0, 1.3, 1.6] {
         scenes.push((
             format!("box at {d} m"),
+            0,
             scene(|w| {
                 w.add_box(Point2::new(d, 0.3), 0.4, 0.4, 45f64.to_radians());
             }),
@@ -173,6 +175,7 @@ fn convex_corners_under_heavy_noise_keep_what_they_had_without_the_test() {
         let (c, s) = (22.5f64.to_radians().cos(), 22.5f64.to_radians().sin());
         scenes.push((
             format!("panels at {d} m"),
+            4,
             scene(|w| {
                 let corner = Point2::new(d, 0.3);
                 w.add_segment(corner + Vector2::new(0.4 * s, 0.4 * c), corner);
@@ -180,17 +183,17 @@ fn convex_corners_under_heavy_noise_keep_what_they_had_without_the_test() {
             }),
         ));
     }
-    for (name, obstacle) in &scenes {
+    for (name, allowed, obstacle) in &scenes {
         for (what, noise) in heavy {
             let (with, _) = lines_on_obstacle(obstacle, noise, HoughSplitParams::default());
             let (without, _) = lines_on_obstacle(obstacle, noise, without_the_test());
             println!("{name}, {what}: {with} lines with the test, {without} without");
             assert!(without >= 80, "{name}, {what}: {without}");
-            if name.starts_with("box") {
+            if *allowed == 0 {
                 assert_eq!(with, without, "{name}, {what}");
             } else {
                 assert!(
-                    with + 4 >= without,
+                    with + allowed >= without,
                     "{name}, {what}: {with} against {without}"
                 );
             }

@@ -492,8 +492,8 @@ pub(crate) fn write_scan(out: &mut Vec<u8>, record: &ScanRecord) -> std::io::Res
         range_min: s.range_min,
         range_max: s.range_max,
         stamp: s.stamp,
-        pose: record.pose.filter(finite),
-        odometry: record.odometry.filter(finite),
+        pose: record.pose.filter(|p| p.is_finite()),
+        odometry: record.odometry.filter(|p| p.is_finite()),
     };
     serde_json::to_writer(&mut *out, &head).map_err(std::io::Error::other)?;
     // The object's closing brace, reopened for the beams.
@@ -506,11 +506,6 @@ pub(crate) fn write_scan(out: &mut Vec<u8>, record: &ScanRecord) -> std::io::Res
     }
     out.push(b'}');
     Ok(())
-}
-
-/// True when every number of `p` is finite.
-fn finite(p: &Pose2) -> bool {
-    p.x.is_finite() && p.y.is_finite() && p.theta.is_finite()
 }
 
 /// Writes `values` as a JSON array: `Infinity` and `-Infinity` for the infinite ones,
