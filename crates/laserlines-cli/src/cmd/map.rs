@@ -96,6 +96,18 @@ pub fn run(args: &MapArgs) -> Result<()> {
     }
 }
 
+/// What the reading of a log gave the mapper.
+#[derive(Default)]
+struct Mapped {
+    stamps: Vec<f64>,
+    log_poses: Vec<Option<laserlines_io::Pose2>>,
+    log_odometry: Vec<Option<laserlines_io::Pose2>>,
+    /// Each scan with its lines, for the MCAP (empty without `--mcap`).
+    kept: Vec<(ScanRecord, Vec<laserlines::Line>)>,
+    /// The bad record (or read error) that ended the reading, without `--skip-bad`.
+    stopped: Option<laserlines_io::ReadError>,
+}
+
 /// Maps the scans of `reader` and writes the outputs (and the MCAP to `mcap`, when given).
 /// A bad record without `--skip-bad` ends the reading: the scans before it are mapped and
 /// written, and the error comes back as `Ok(Some(error))`.
@@ -107,53 +119,20 @@ fn map_log(
     start: Instant,
 ) -> Result<Option<anyhow::Error>> {
     super::note_unused_tables(args.params.file_path(), &["hough-split"], "map")?;
-    let mut extractor = super::make_mapping_hough_split(&args.params)?;
     let mut params = MapperParams::default();
     if args.loop_closure == OnOff::Off {
         params.loops.every_scans = 0;
     }
     let mut mapper = Mapper::new(params);
-    let mut lines = Vec::new();
-    let mut stamps = Vec::new();
-    let mut log_poses = Vec::new();
-    let mut log_odometry = Vec::new();
-    let mut kept: Vec<(ScanRecord, Vec<laserlines::Line>)> = Vec::new();
     let progress = progress_bar();
-    let mut stopped = None;
-    for item in reader.by_ref() {
-        let record = match item {
-            Ok(r) => r,
-            Err(e) if super::skips(args.skip_bad, &e) => {
-                // The reader counts it under its reason for the summary.
-                progress.suspend(|| eprintln!("laserlines: skipped: {e}"));
-                continue;
-            }
-            Err(e) => {
-                stopped = Some(e);
-                break;
-            }
-        };
-        let k = stamps.len();
-        let odometry = odometry_of(&record, args.odometry, name, k)?;
-        extractor.extract_into(&record.scan, &mut lines);
-        mapper
-            .add_scan(&record.scan, &lines, odometry)
-            .with_context(|| format!("{name}: scan {k}"))?;
-        stamps.push(record.scan.stamp.unwrap_or(k as f64 * 0.1));
-        log_poses.push(record.pose);
-        log_odometry.push(record.odometry);
-        if args.mcap.is_some() {
-            kept.push((record, lines.clone()));
-        }
-        progress.inc(1);
-    }
-    if stamps.is_empty() {
-        return Err(match stopped {
+    let mut run = read_and_map(args, name, &mut reader, &mut mapper, &progress)?;
+    if run.stamps.is_empty() {
+        return Err(match run.stopped {
             Some(e) => e.into(),
             None => super::no_scans(name, reader.skipped()),
         });
     }
-    if let Some(note) = stamp_note(&stamps) {
+    if let Some(note) = stamp_note(&run.stamps) {
         progress.suspend(|| eprintln!("laserlines: {name}: {note}"));
     }
     progress.set_message("optimising");
@@ -166,14 +145,14 @@ fn map_log(
         dir: &args.output,
         name,
         mapper: &mapper,
-        stamps: &stamps,
-        log_poses: &log_poses,
-        log_odometry: &log_odometry,
+        stamps: &run.stamps,
+        log_poses: &run.log_poses,
+        log_odometry: &run.log_odometry,
         resolution_m: args.resolution,
     };
     let mut files = map_outputs::write_all(&outputs)?;
     if let Some((path, writer)) = mcap.take() {
-        map_outputs::write_mcap(writer, &outputs, &kept)?;
+        map_outputs::write_mcap(writer, &outputs, &run.kept)?;
         files.push(path.clone());
     }
     summary(
@@ -186,21 +165,76 @@ fn map_log(
     if args.skip_bad {
         eprintln!("{name}: skipped: {}", reader.skipped());
     }
-    Ok(stopped.map(|e| {
-        let mapped = super::count(stamps.len() as u64, "scan");
-        let dir = args.output.display();
-        if e.is_bad_record() {
-            anyhow::Error::from(e).context(format!(
-                "{name}: stopped at a bad record; the map of the {mapped} before it is written \
-                 ({dir}; --skip-bad skips bad records)"
-            ))
-        } else {
-            anyhow::Error::from(e).context(format!(
-                "{name}: stopped where the input could not be read further; the map of the \
-                 {mapped} before it is written ({dir})"
-            ))
+    let mapped = run.stamps.len();
+    Ok(run
+        .stopped
+        .take()
+        .map(|e| stopped_error(e, name, mapped, args)))
+}
+
+/// Reads the scans of `reader` into `mapper`, each with its lines and (with `--odometry
+/// on`) the log's odometry; a bad record is skipped and reported with `--skip-bad`, and
+/// otherwise ends the reading.
+fn read_and_map(
+    args: &MapArgs,
+    name: &str,
+    reader: &mut laserlines_io::ScanReader,
+    mapper: &mut Mapper,
+    progress: &ProgressBar,
+) -> Result<Mapped> {
+    let mut extractor = super::make_mapping_hough_split(&args.params)?;
+    let mut lines = Vec::new();
+    let mut run = Mapped::default();
+    for item in reader.by_ref() {
+        let record = match item {
+            Ok(r) => r,
+            Err(e) if super::skips(args.skip_bad, &e) => {
+                // The reader counts it under its reason for the summary.
+                progress.suspend(|| eprintln!("laserlines: skipped: {e}"));
+                continue;
+            }
+            Err(e) => {
+                run.stopped = Some(e);
+                break;
+            }
+        };
+        let k = run.stamps.len();
+        let odometry = odometry_of(&record, args.odometry, name, k)?;
+        extractor.extract_into(&record.scan, &mut lines);
+        mapper
+            .add_scan(&record.scan, &lines, odometry)
+            .with_context(|| format!("{name}: scan {k}"))?;
+        run.stamps.push(record.scan.stamp.unwrap_or(k as f64 * 0.1));
+        run.log_poses.push(record.pose);
+        run.log_odometry.push(record.odometry);
+        if args.mcap.is_some() {
+            run.kept.push((record, lines.clone()));
         }
-    }))
+        progress.inc(1);
+    }
+    Ok(run)
+}
+
+/// The error that ends a run stopped by `e` after `mapped` scans, saying what was written.
+fn stopped_error(
+    e: laserlines_io::ReadError,
+    name: &str,
+    mapped: usize,
+    args: &MapArgs,
+) -> anyhow::Error {
+    let mapped = super::count(mapped as u64, "scan");
+    let dir = args.output.display();
+    if e.is_bad_record() {
+        anyhow::Error::from(e).context(format!(
+            "{name}: stopped at a bad record; the map of the {mapped} before it is written \
+             ({dir}; --skip-bad skips bad records)"
+        ))
+    } else {
+        anyhow::Error::from(e).context(format!(
+            "{name}: stopped where the input could not be read further; the map of the \
+             {mapped} before it is written ({dir})"
+        ))
+    }
 }
 
 /// The odometry of scan `k` the mapper takes: the record's with `--odometry on` (an error

@@ -43,58 +43,9 @@ fn every(s: &str) -> Result<usize, String> {
 pub fn run(args: &RelationsArgs) -> Result<()> {
     let mut traj = read_trajectory(&args.trajectory)?;
     let rel_name = args.relations.display().to_string();
-    let relations: Vec<Relation> = match args.every {
-        Some(n) => {
-            let mut reference = read_trajectory(&args.relations)?;
-            // Two trajectories of one log (as `laserlines map` writes them) pair pose by pose,
-            // so that logs whose time stamps repeat or are all zero can be checked too.
-            let same_stamps = reference.len() == traj.len()
-                && reference.iter().zip(&traj).all(|(a, b)| a.0 == b.0);
-            if same_stamps {
-                for (k, (r, t)) in reference.iter_mut().zip(traj.iter_mut()).enumerate() {
-                    (r.0, t.0) = (k as f64, k as f64);
-                }
-            }
-            relations_from_trajectory(&reference, n)
-        }
-        None => read_relations(&rel_name, open(&args.relations)?)
-            .map_err(|e| not_a_trajectory(&args.relations, e.into()))?
-            .into_iter()
-            .map(|r| Relation {
-                t1: r.t1,
-                t2: r.t2,
-                delta: Se2::new(r.delta.x, r.delta.y, r.delta.theta),
-            })
-            .collect(),
-    };
-    if relations.is_empty() {
-        match args.every {
-            Some(n) => bail!(
-                "{rel_name}: no relations: --every {n} needs more than {n} poses of the \
-                 reference that pair with the trajectory's"
-            ),
-            None => bail!("{rel_name}: no relations"),
-        }
-    }
-    let all = relations.len();
+    let relations = load_relations(args, &rel_name, &mut traj)?;
     let relations = if args.covered {
-        let covered: Vec<Relation> = relations
-            .into_iter()
-            .filter(|r| score_relations(&traj, std::slice::from_ref(r)).is_ok())
-            .collect();
-        if covered.is_empty() {
-            bail!(
-                "{rel_name}: none of its {all} relations lies within the times of {} (within {MAX_TIME_GAP_S} s of a pose)",
-                args.trajectory.display()
-            );
-        }
-        if covered.len() < all {
-            outln!(
-                "{rel_name}: {} of {all} relations left out: the trajectory does not cover their times",
-                all - covered.len()
-            );
-        }
-        covered
+        covered_only(args, &rel_name, &traj, relations)?
     } else {
         relations
     };
@@ -135,6 +86,78 @@ pub fn run(args: &RelationsArgs) -> Result<()> {
     row("rotational error", "deg", &score.rotation_deg);
     row("squared rotational error", "deg^2", &score.rotation_sq_deg2);
     Ok(())
+}
+
+/// The relations to score: read from the relations file, or with `--every N` made from the
+/// reference trajectory's poses `N` apart (when the two trajectories have the same stamps,
+/// both are renumbered pose by pose in `traj` and the reference). Never empty.
+fn load_relations(
+    args: &RelationsArgs,
+    rel_name: &str,
+    traj: &mut [(f64, Se2)],
+) -> Result<Vec<Relation>> {
+    let relations: Vec<Relation> = match args.every {
+        Some(n) => {
+            let mut reference = read_trajectory(&args.relations)?;
+            // Two trajectories of one log (as `laserlines map` writes them) pair pose by pose,
+            // so that logs whose time stamps repeat or are all zero can be checked too.
+            let same_stamps = reference.len() == traj.len()
+                && reference.iter().zip(traj.iter()).all(|(a, b)| a.0 == b.0);
+            if same_stamps {
+                for (k, (r, t)) in reference.iter_mut().zip(traj.iter_mut()).enumerate() {
+                    (r.0, t.0) = (k as f64, k as f64);
+                }
+            }
+            relations_from_trajectory(&reference, n)
+        }
+        None => read_relations(rel_name, open(&args.relations)?)
+            .map_err(|e| not_a_trajectory(&args.relations, e.into()))?
+            .into_iter()
+            .map(|r| Relation {
+                t1: r.t1,
+                t2: r.t2,
+                delta: Se2::new(r.delta.x, r.delta.y, r.delta.theta),
+            })
+            .collect(),
+    };
+    if relations.is_empty() {
+        match args.every {
+            Some(n) => bail!(
+                "{rel_name}: no relations: --every {n} needs more than {n} poses of the \
+                 reference that pair with the trajectory's"
+            ),
+            None => bail!("{rel_name}: no relations"),
+        }
+    }
+    Ok(relations)
+}
+
+/// `--covered`: the relations whose two times `traj` covers, saying how many were left out;
+/// an error when none is.
+fn covered_only(
+    args: &RelationsArgs,
+    rel_name: &str,
+    traj: &[(f64, Se2)],
+    relations: Vec<Relation>,
+) -> Result<Vec<Relation>> {
+    let all = relations.len();
+    let covered: Vec<Relation> = relations
+        .into_iter()
+        .filter(|r| score_relations(traj, std::slice::from_ref(r)).is_ok())
+        .collect();
+    if covered.is_empty() {
+        bail!(
+            "{rel_name}: none of its {all} relations lies within the times of {} (within {MAX_TIME_GAP_S} s of a pose)",
+            args.trajectory.display()
+        );
+    }
+    if covered.len() < all {
+        outln!(
+            "{rel_name}: {} of {all} relations left out: the trajectory does not cover their times",
+            all - covered.len()
+        );
+    }
+    Ok(covered)
 }
 
 /// `e`, or when the relations file reads as a TUM trajectory (8 numbers per row too, but

@@ -309,38 +309,7 @@ fn unclosed_root(text: &str) -> Option<usize> {
 /// mount point that is not an integer, and [`ArenaError::Empty`] when nothing is in the
 /// laser's plane.
 pub fn parse_raf(text: &str, name: &str, options: &ArenaOptions) -> Result<Arena, ArenaError> {
-    let mut elements = Vec::new();
-    for tag in Tags::new(text) {
-        let tag = tag.map_err(|(line, message)| ArenaError::Xml {
-            name: name.to_owned(),
-            line,
-            message,
-        })?;
-        if tag.name == "element" {
-            elements.push(Element::from_tag(&tag, name)?);
-        }
-    }
-    if elements.is_empty() && !text.trim().is_empty() && !text.contains("<elements") {
-        return Err(ArenaError::Xml {
-            name: name.to_owned(),
-            line: 1,
-            message: "no <elements> and no <element> tag: not an arena layout (a .raf file \
-                      is XML, <elements> holding <element type=\"T\" rotation=\"R\" x=\"X\" \
-                      y=\"Y\"/>)"
-                .to_owned(),
-        });
-    }
-    if let Some(line) = unclosed_root(text) {
-        return Err(ArenaError::Xml {
-            name: name.to_owned(),
-            line,
-            message: format!(
-                "unclosed <elements>: the file ends after {} elements without </elements> \
-                 (cut short?)",
-                elements.len()
-            ),
-        });
-    }
+    let elements = read_elements(text, name)?;
     let height = options.height();
     let mut report = ArenaReport {
         elements: elements.len(),
@@ -383,29 +352,73 @@ pub fn parse_raf(text: &str, name: &str, options: &ArenaOptions) -> Result<Arena
     let (world, barrels) = builder.finish();
     report.barrels = barrels;
     if world.walls.is_empty() && world.discs.is_empty() {
-        let list = |m: &BTreeMap<String, usize>| {
-            if m.is_empty() {
-                "none".to_owned()
-            } else {
-                m.iter()
-                    .map(|(t, n)| format!("{t} x {n}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            }
-        };
-        return Err(ArenaError::Empty {
-            name: name.to_owned(),
-            elements: report.elements,
-            height,
-            out_of_plane: list(&report.out_of_plane),
-            skipped: list(&report.skipped),
-        });
+        return Err(empty_arena(name, &report));
     }
     Ok(Arena {
         name: name.to_owned(),
         world,
         report,
     })
+}
+
+/// The `<element>` tags of `text`; an error for malformed markup, for text with neither
+/// `<elements>` nor `<element>` tags, and for an `<elements>` the file ends without closing.
+fn read_elements(text: &str, name: &str) -> Result<Vec<Element>, ArenaError> {
+    let mut elements = Vec::new();
+    for tag in Tags::new(text) {
+        let tag = tag.map_err(|(line, message)| ArenaError::Xml {
+            name: name.to_owned(),
+            line,
+            message,
+        })?;
+        if tag.name == "element" {
+            elements.push(Element::from_tag(&tag, name)?);
+        }
+    }
+    if elements.is_empty() && !text.trim().is_empty() && !text.contains("<elements") {
+        return Err(ArenaError::Xml {
+            name: name.to_owned(),
+            line: 1,
+            message: "no <elements> and no <element> tag: not an arena layout (a .raf file \
+                      is XML, <elements> holding <element type=\"T\" rotation=\"R\" x=\"X\" \
+                      y=\"Y\"/>)"
+                .to_owned(),
+        });
+    }
+    if let Some(line) = unclosed_root(text) {
+        return Err(ArenaError::Xml {
+            name: name.to_owned(),
+            line,
+            message: format!(
+                "unclosed <elements>: the file ends after {} elements without </elements> \
+                 (cut short?)",
+                elements.len()
+            ),
+        });
+    }
+    Ok(elements)
+}
+
+/// The error for an arena with nothing in the laser's plane, listing what was out of it
+/// and what was skipped.
+fn empty_arena(name: &str, report: &ArenaReport) -> ArenaError {
+    let list = |m: &BTreeMap<String, usize>| {
+        if m.is_empty() {
+            "none".to_owned()
+        } else {
+            m.iter()
+                .map(|(t, n)| format!("{t} x {n}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        }
+    };
+    ArenaError::Empty {
+        name: name.to_owned(),
+        elements: report.elements,
+        height: report.laser_height_m,
+        out_of_plane: list(&report.out_of_plane),
+        skipped: list(&report.skipped),
+    }
 }
 
 /// Cuts element `el` of kind `kind` at height `h` into `pieces` (element frame) and

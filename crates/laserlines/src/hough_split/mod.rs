@@ -160,17 +160,40 @@ impl LineExtractor for HoughSplit {
         self.split_ranges.clear();
         // Broken geometry (a view built without `ScanView::new`) gives no line.
         if scan.validate().is_err() {
-            self.points.clear();
-            self.cell_of.clear();
-            self.acc.clear();
-            self.segments.kept.clear();
-            self.segments.runs.clear();
-            // No estimate: the last scan's would be reported as this one's.
-            self.noise_of(None);
-            self.dropout = 0.0;
+            self.forget_stages();
             return;
         }
-        // 0. valid beams to points, and their noise; 1-2. accumulator and criterion.
+        self.vote(scan);
+        self.group(scan);
+        self.fit_segments(scan, out);
+        // 7. lines of one surface across segments share their joint fit.
+        collinear::share_fits(
+            out,
+            &self.candidates,
+            &self.params,
+            &self.noise,
+            &mut self.groups,
+        );
+    }
+}
+
+impl HoughSplit {
+    /// Empties every stage (for a scan that gives no line).
+    fn forget_stages(&mut self) {
+        self.points.clear();
+        self.cell_of.clear();
+        self.acc.clear();
+        self.segments.kept.clear();
+        self.segments.runs.clear();
+        // No estimate: the last scan's would be reported as this one's.
+        self.noise_of(None);
+        self.dropout = 0.0;
+    }
+
+    /// Steps 0-2: the valid beams to points and their noise, the accumulator and its
+    /// criterion; then the breakpoints of the scan, and points below the criterion rescued
+    /// where the beam bridge would join them.
+    fn vote(&mut self, scan: ScanView<'_>) {
         let p = &self.params;
         self.table.prepare(
             scan.angle_min,
@@ -208,12 +231,15 @@ impl LineExtractor for HoughSplit {
                 &self.breakpoints,
             );
         }
-        // 3. radius grouping and merging of touching groups.
+    }
+
+    /// Steps 3-4: radius grouping and merging of touching groups (and the beam bridge),
+    /// then the data segments; everything else is removed.
+    fn group(&mut self, scan: ScanView<'_>) {
         components::connect_cells(&self.acc, &self.params, &mut self.uf);
         if self.params.bridge_beams {
             segment::bridge_beams(&self.points, &self.cell_of, &self.breakpoints, &mut self.uf);
         }
-        // 4. data segments; everything else is removed.
         let min_points = self.params.min_points_for(self.dropout);
         segment::cut_segments(
             scan.ranges,
@@ -225,7 +251,11 @@ impl LineExtractor for HoughSplit {
             &mut self.uf,
             &mut self.segments,
         );
-        // 5-6. Linseg on each segment, then the least-squares lines.
+    }
+
+    /// Steps 5-6: Linseg on each data segment, then the least-squares lines into `out`.
+    fn fit_segments(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
+        let min_points = self.params.min_points_for(self.dropout);
         let kept = &self.segments.kept;
         let cut_window = lines::cut_window(scan.angle_increment);
         let lone_gap = self.params.lone_gap_for(self.dropout);
@@ -250,14 +280,6 @@ impl LineExtractor for HoughSplit {
             };
             lines::emit_lines(&pieces, &mut self.scratch.breaks, out, &mut self.candidates);
         }
-        // 7. lines of one surface across segments share their joint fit.
-        collinear::share_fits(
-            out,
-            &self.candidates,
-            &self.params,
-            &self.noise,
-            &mut self.groups,
-        );
     }
 }
 
