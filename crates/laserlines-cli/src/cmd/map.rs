@@ -19,7 +19,7 @@ use crate::InputArgs;
 /// A switch: the log's odometry, loop closure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum OnOff {
-    /// On (with `--odometry`: every scan must have the log's odometry).
+    /// On.
     On,
     /// Off.
     Off,
@@ -34,8 +34,8 @@ pub struct MapArgs {
     /// and log-poses.tum and odometry.tum when the log has poses and odometry.
     #[arg(short, long, default_value = "laserlines-map")]
     pub output: PathBuf,
-    /// Use the log's wheel odometry (`on`: CARMEN's odometry triple, never its laser pose),
-    /// or map from the scans alone (`off`).
+    /// Use the log's wheel odometry (`on`: CARMEN's odometry triple, never its laser pose;
+    /// every scan must have it), or map from the scans alone (`off`).
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub odometry: OnOff,
     /// Search for loop closures (`off`: scan-to-submap matching alone).
