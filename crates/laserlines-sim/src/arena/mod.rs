@@ -302,7 +302,7 @@ fn unclosed_root(text: &str) -> Option<usize> {
 /// # Errors
 /// [`ArenaError::Xml`] for malformed markup (an unclosed tag or comment, a bad attribute,
 /// an `<elements>` that the file ends without closing) and for text with neither
-/// `<elements>` nor `<element>` tags (an empty file is [`ArenaError::Empty`]),
+/// `<elements>` nor `<element>` tags and for an empty file,
 /// [`ArenaError::MissingAttribute`] or [`ArenaError::BadAttribute`] for an element without
 /// `type`, `rotation`, `x` or `y`, or with a rotation other than a multiple of 90, a
 /// coordinate that is not an integer grid index, an offset that is not a number or a
@@ -361,7 +361,7 @@ pub fn parse_raf(text: &str, name: &str, options: &ArenaOptions) -> Result<Arena
     })
 }
 
-/// The `<element>` tags of `text`; an error for malformed markup, for text with neither
+/// The `<element>` tags of `text`; an error for an empty file, malformed markup, text with neither
 /// `<elements>` nor `<element>` tags, and for an `<elements>` the file ends without closing.
 fn read_elements(text: &str, name: &str) -> Result<Vec<Element>, ArenaError> {
     let mut elements = Vec::new();
@@ -375,7 +375,16 @@ fn read_elements(text: &str, name: &str) -> Result<Vec<Element>, ArenaError> {
             elements.push(Element::from_tag(&tag, name)?);
         }
     }
-    if elements.is_empty() && !text.trim().is_empty() && !text.contains("<elements") {
+    if text.trim().is_empty() {
+        return Err(ArenaError::Xml {
+            name: name.to_owned(),
+            line: 1,
+            message: "an empty file: not an arena layout (a .raf file is XML, <elements> \
+                      holding <element type=\"T\" rotation=\"R\" x=\"X\" y=\"Y\"/>)"
+                .to_owned(),
+        });
+    }
+    if elements.is_empty() && !text.contains("<elements") {
         return Err(ArenaError::Xml {
             name: name.to_owned(),
             line: 1,

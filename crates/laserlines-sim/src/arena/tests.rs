@@ -258,8 +258,15 @@ fn an_arena_without_walls_is_empty() {
         parse("<elements><element type=\"half_ramp\" rotation=\"0\" x=\"0\" y=\"0\"/></elements>")
             .unwrap_err();
     assert!(e.to_string().contains("half_ramp x 1"), "{e}");
-    let e = parse("").unwrap_err();
-    assert!(matches!(e, ArenaError::Empty { .. }));
+}
+
+#[test]
+fn an_empty_file_is_no_arena_layout() {
+    for text in ["", " \n\t\n"] {
+        let e = parse(text).unwrap_err();
+        assert!(matches!(e, ArenaError::Xml { line: 1, .. }), "{e}");
+        assert!(e.to_string().contains("an empty file: not an arena layout"), "{e}");
+    }
 }
 
 #[test]
