@@ -128,6 +128,20 @@ fn maps_the_bundled_excerpt_with_every_output() {
         "a TUM trajectory (t x y z qx qy qz qw), not relations (t1 t2 x y z roll pitch yaw): \
          to check against a reference trajectory, give --every N",
     );
+    // Relations given as the reference trajectory of --every: said so.
+    let rel = dir.join("hand.relations");
+    std::fs::write(&rel, "1.0 2.0 0.1 0.0 0.0 0.0 0.0 0.01\n").unwrap();
+    let o = run(bin()
+        .arg("relations")
+        .arg(dir.join("trajectory.tum"))
+        .arg(&rel)
+        .args(["--every", "3"]));
+    assert_clean_error(
+        &o,
+        "hand.relations",
+        "relations (t1 t2 x y z roll pitch yaw), not a TUM trajectory (t x y z qx qy qz qw): \
+         --every N takes a reference trajectory",
+    );
     // Relations further apart than the trajectory is long.
     let o = run(bin()
         .arg("relations")

@@ -98,7 +98,8 @@ fn load_relations(
 ) -> Result<Vec<Relation>> {
     let relations: Vec<Relation> = match args.every {
         Some(n) => {
-            let mut reference = read_trajectory(&args.relations)?;
+            let mut reference =
+                read_trajectory(&args.relations).map_err(|e| not_relations(&args.relations, e))?;
             // Two trajectories of one log (as `laserlines map` writes them) pair pose by pose,
             // so that logs whose time stamps repeat or are all zero can be checked too.
             let same_stamps = reference.len() == traj.len()
@@ -173,6 +174,25 @@ fn not_a_trajectory(path: &Path, e: anyhow::Error) -> anyhow::Error {
             "{name}: a TUM trajectory (t x y z qx qy qz qw), not relations (t1 t2 x y z roll \
              pitch yaw): to check against a reference trajectory, give --every N (relations \
              between its poses N apart)"
+        )
+    } else {
+        e
+    }
+}
+
+/// `e`, or when the reference given to `--every` reads as relations (8 numbers per row too),
+/// an error that says so.
+fn not_relations(path: &Path, e: anyhow::Error) -> anyhow::Error {
+    let name = path.display().to_string();
+    let relations = open(path)
+        .ok()
+        .and_then(|input| read_relations(&name, input).ok())
+        .is_some_and(|r| !r.is_empty());
+    if relations {
+        anyhow::anyhow!(
+            "{name}: relations (t1 t2 x y z roll pitch yaw), not a TUM trajectory (t x y z qx qy \
+             qz qw): --every N takes a reference trajectory; without --every the relations \
+             file is scored as it is"
         )
     } else {
         e
