@@ -148,6 +148,10 @@ fn values_out_of_range_are_errors_not_clamped() {
             "--scans must be from 1 to 20000 per simulated suite, got 10000000",
         ),
         (
+            &["bench", "--scans", "0", "--data", "data/urg04lx-exp1-excerpt.dat.gz"][..],
+            "--scans must be at least 1 (at most this many scans of each log), got 0",
+        ),
+        (
             &["simulate", "--duration", "-5"][..],
             "--duration must be seconds, more than 0 up to 1e9, got -5",
         ),

@@ -46,7 +46,7 @@ pub struct BenchArgs {
     #[arg(long, default_value = "all")]
     algorithms: String,
     /// Scans per simulated suite (1 to 20000; default 100), or at most this many scans per log
-    /// (default: all).
+    /// (at least 1; default: all).
     #[arg(long, value_parser = super::whole::<usize>, allow_negative_numbers = true)]
     scans: Option<usize>,
     /// Seed of the simulated suites (default: the test seed, 2; with --tune the training
@@ -302,6 +302,9 @@ fn load_scans(args: &BenchArgs, seed: u64) -> Result<(String, Vec<BenchScan>)> {
             sensor_text(args)
         );
         return Ok((source, scans));
+    }
+    if args.scans == Some(0) {
+        bail!("--scans must be at least 1 (at most this many scans of each log), got 0");
     }
     let mut all = Vec::new();
     let mut parts = Vec::new();
