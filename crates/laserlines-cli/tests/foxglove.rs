@@ -388,3 +388,37 @@ fn ctrl_c_ends_view_with_its_summary() {
         "{text}"
     );
 }
+
+#[test]
+fn view_refuses_an_empty_input_before_serving_and_sums_up_a_log_cut_short() {
+    let empty = tmp("view-empty.jsonl");
+    std::fs::write(&empty, "").unwrap();
+    let o = bin()
+        .arg("view")
+        .arg(&empty)
+        .args(["--no-wait", "--port", "0"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("view-empty.jsonl: no scans to read"), "{err}");
+    assert!(!err.contains("serving"), "served an empty input: {err}");
+
+    // Two whole scans, then a line cut short.
+    let scan = r#"{"angle_min": -1.0, "angle_increment": 0.1, "range_min": 0.02, "range_max": 5.6, "ranges": [1.0, 1.0, 1.0, 1.0, 1.0]}"#;
+    let cut = tmp("view-cut.jsonl");
+    std::fs::write(&cut, format!("{scan}\n{scan}\n{}", &scan[..40])).unwrap();
+    let o = bin()
+        .arg("view")
+        .arg(&cut)
+        .args(["--no-wait", "--rate", "0", "--port", "0"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("view-cut.jsonl: 2 scans, 0 lines replayed before the error"),
+        "{err}"
+    );
+    assert!(err.contains("view-cut.jsonl:3"), "{err}");
+}

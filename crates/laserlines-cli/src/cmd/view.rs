@@ -9,7 +9,7 @@ use clap::Args;
 use laserlines::{Line, LineExtractor};
 use laserlines_foxglove::live::{LiveServer, Pacer};
 use laserlines_foxglove::scene::SceneClock;
-use laserlines_io::ScanReader;
+use laserlines_io::{ReadError, ScanReader, ScanRecord};
 
 use crate::InputArgs;
 
@@ -56,8 +56,16 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     }
     super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "view")?;
     let mut extractor = super::make_extractor(&args.algorithm, &args.params)?;
-    // Open once before serving, so that a bad input fails at once.
+    // Open and read the first record before serving, so that a bad or empty input fails at
+    // once.
     let mut reader = super::open_input(&args.input)?;
+    let mut first = match reader.next() {
+        None => return Err(super::no_scans(reader.name(), reader.skipped())),
+        Some(Err(e)) if !super::skips(args.skip_bad, &e) => {
+            return Err(super::read_error(e, args.skip_bad));
+        }
+        some => some,
+    };
     let stop = Arc::new(AtomicBool::new(false));
     let s = stop.clone();
     ctrlc::set_handler(move || s.store(true, Ordering::Relaxed)).context("cannot catch Ctrl-C")?;
@@ -84,7 +92,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             skip_bad: args.skip_bad,
             stop: &stop,
         };
-        let scans = match replay.run(&mut reader, &mut *extractor) {
+        let scans = match replay.run(first.take(), &mut reader, &mut *extractor) {
             Ok(scans) => scans,
             Err(e) => {
                 server.stop();
@@ -120,9 +128,15 @@ struct Replay<'a> {
 }
 
 impl Replay<'_> {
-    /// Replays `reader` to its end (or to Ctrl-C), prints its summary and returns the number
-    /// of scans replayed.
-    fn run(&self, reader: &mut ScanReader, extractor: &mut dyn LineExtractor) -> Result<u64> {
+    /// Replays `first` (a record already read) and `reader` to its end (or to Ctrl-C), prints
+    /// its summary and returns the number of scans replayed. A record that ends the pass
+    /// (without `--skip-bad`) is an error, after a summary of what was replayed before it.
+    fn run(
+        &self,
+        first: Option<Result<ScanRecord, ReadError>>,
+        reader: &mut ScanReader,
+        extractor: &mut dyn LineExtractor,
+    ) -> Result<u64> {
         let start = Instant::now();
         let mut clock = SceneClock::new();
         let mut pacer = Pacer::new(self.rate);
@@ -130,7 +144,7 @@ impl Replay<'_> {
         let mut lines: Vec<Line> = Vec::new();
         let mut warned = false;
         let name = reader.name().to_owned();
-        for item in reader.by_ref() {
+        for item in first.into_iter().chain(reader.by_ref()) {
             if self.stop.load(Ordering::Relaxed) {
                 break;
             }
@@ -140,7 +154,14 @@ impl Replay<'_> {
                     eprintln!("laserlines: skipped: {e}");
                     continue;
                 }
-                Err(e) => return Err(super::read_error(e, self.skip_bad)),
+                Err(e) => {
+                    eprintln!(
+                        "{name}: {}, {} replayed before the error",
+                        super::count(scans, "scan"),
+                        super::count(total_lines, "line"),
+                    );
+                    return Err(super::read_error(e, self.skip_bad));
+                }
             };
             extractor.extract_into(&record.scan, &mut lines);
             let time = clock.time_of(record.scan.stamp);
