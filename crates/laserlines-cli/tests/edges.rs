@@ -148,7 +148,13 @@ fn values_out_of_range_are_errors_not_clamped() {
             "--scans must be from 1 to 20000 per simulated suite, got 10000000",
         ),
         (
-            &["bench", "--scans", "0", "--data", "data/urg04lx-exp1-excerpt.dat.gz"][..],
+            &[
+                "bench",
+                "--scans",
+                "0",
+                "--data",
+                "data/urg04lx-exp1-excerpt.dat.gz",
+            ][..],
             "--scans must be at least 1 (at most this many scans of each log), got 0",
         ),
         (

@@ -143,6 +143,32 @@ fn the_emulator_refuses_a_log_it_cannot_read_whole() {
         Duration::from_secs(30),
     );
     assert!(status.is_some_and(|s| s.success()), "{err}");
+    // The URG-04LX's own log is served as it is; a log of another geometry with a note of
+    // what serving it as the model changes (a CARMEN scan of 3 beams, 180 deg).
+    assert!(!err.contains("note"), "{err}");
+    let three = dir.join("three.clf");
+    std::fs::write(&three, "FLASER 3 1 1 1 0 0 0 0 0 0 1.0 h 1.0\n").unwrap();
+    let (status, err) = run_until(
+        bin()
+            .args([
+                "hokuyo-emulator",
+                "--tcp",
+                "127.0.0.1:0",
+                "--duration",
+                "0.3",
+            ])
+            .arg("--log")
+            .arg(&three),
+        Duration::from_secs(30),
+    );
+    assert!(status.is_some_and(|s| s.success()), "{err}");
+    assert!(
+        err.contains(
+            "three.clf: its scans (3 beams of 90.000 deg from -90.0 deg, up to 81.83 m) are served \
+             at the urg-04lx's 682 steps of 0.352 deg from -119.5 deg, up to 5.6 m"
+        ),
+        "{err}"
+    );
 }
 
 #[test]

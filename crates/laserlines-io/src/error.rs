@@ -288,7 +288,7 @@ pub enum WriteError {
         format: &'static str,
     },
     /// The format holds one scan per file and a second one was written.
-    #[error("{file}: the {format} format holds one scan per file; got scan number {count}")]
+    #[error("{file}: the {format} format holds one scan per file; the input has {count} or more")]
     OneScanPerFile {
         /// The output's name.
         file: String,

@@ -398,7 +398,7 @@ fn write(path: &Path, text: &str) -> Result<()> {
 }
 
 fn write_outputs(dir: &Path, report: &BenchReport, ratio: Option<SpeedRatio>) -> Result<()> {
-    fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    super::create_output_dir(dir)?;
     let json = serde_json::to_string_pretty(&JsonOutput {
         report,
         hough_split_vs_iterative_hough: ratio,

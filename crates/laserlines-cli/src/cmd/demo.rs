@@ -34,8 +34,7 @@ pub fn run(args: &DemoArgs) -> Result<()> {
             args.figure_scan
         );
     }
-    fs::create_dir_all(&args.output)
-        .with_context(|| format!("cannot create {}", args.output.display()))?;
+    super::create_output_dir(&args.output)?;
     let mut hs = HoughSplit::new(HoughSplitParams::default())?;
 
     // Lines of every scan, written as JSONL.

@@ -81,14 +81,17 @@ pub struct HokuyoEmulatorArgs {
     clock_start_ms: u32,
 }
 
-fn feed(args: &HokuyoEmulatorArgs) -> Result<Box<dyn ScanFeed>> {
+fn feed(args: &HokuyoEmulatorArgs, model: &Model) -> Result<Box<dyn ScanFeed>> {
     if let Some(log) = &args.log {
         let input = InputArgs {
             input: log.clone(),
             format: None,
             topic: None,
         };
-        check_log(&input)?;
+        let first = check_log(&input)?;
+        if let Some(note) = resampling_note(&first, model) {
+            eprintln!("laserlines: note: {}: {note}", log.display());
+        }
         let reopen = Box::new(move || {
             let reader = super::open_input(&input).map_err(|e| format!("{e:#}"))?;
             // The log was read whole without error: a record that fails now (the file
@@ -108,19 +111,47 @@ fn feed(args: &HokuyoEmulatorArgs) -> Result<Box<dyn ScanFeed>> {
     Ok(Box::new(ArenaFeed::new(&arena.world, start, args.seed)))
 }
 
-/// Reads the log of `--log` whole: its first bad record is the error, and so is a log that
-/// gives no scan.
-fn check_log(input: &InputArgs) -> Result<()> {
+/// Reads the log of `--log` whole and returns its first scan: its first bad record is the
+/// error, and so is a log that gives no scan.
+fn check_log(input: &InputArgs) -> Result<laserlines::Scan> {
     let mut reader = super::open_input(input)?;
-    let mut scans = 0u64;
+    let mut first = None;
     for item in reader.by_ref() {
-        item?;
-        scans += 1;
+        let scan = item?.scan;
+        first.get_or_insert(scan);
     }
-    if scans == 0 {
-        return Err(super::no_scans(reader.name(), reader.skipped()));
-    }
-    Ok(())
+    first.ok_or_else(|| super::no_scans(reader.name(), reader.skipped()))
+}
+
+/// What serving the log's scans as `model` changes, when their geometry is not the model's:
+/// each step takes the nearest beam, and steps outside the log's field of view and ranges
+/// beyond the model's reach send no echo.
+fn resampling_note(scan: &laserlines::Scan, model: &Model) -> Option<String> {
+    let step = std::f64::consts::TAU / f64::from(model.ares);
+    let first = model.step_angle(model.amin);
+    let reach = f64::from(model.dmax_mm) / 1000.0;
+    let same = scan.ranges.len() == model.steps()
+        && (scan.angle_increment - step).abs() < 1e-6
+        && (scan.angle_min - first).abs() < 1e-6
+        && scan.range_max <= reach;
+    let deg = f64::to_degrees;
+    (!same).then(|| {
+        format!(
+            "its scans ({} beams of {:.3} deg from {:.1} deg, up to {} m) are served at the \
+             {}'s {} steps of {:.3} deg from {:.1} deg, up to {} m: each step takes the nearest \
+             beam, and steps outside the log's field of view and ranges beyond {} m send no echo",
+            scan.ranges.len(),
+            deg(scan.angle_increment),
+            deg(scan.angle_min),
+            super::compact(scan.range_max),
+            model.name,
+            model.steps(),
+            deg(step),
+            deg(first),
+            super::compact(reach),
+            super::compact(reach),
+        )
+    })
 }
 
 /// Runs the command.
@@ -159,7 +190,8 @@ pub fn run(args: &HokuyoEmulatorArgs) -> Result<()> {
         ))),
         None => ServedLog::default(),
     };
-    let emulator = Emulator::new(model, feed(args)?, faults, log);
+    let feed = feed(args, &model)?;
+    let emulator = Emulator::new(model, feed, faults, log);
     let handle = if args.pty {
         emulator
             .serve_pty()

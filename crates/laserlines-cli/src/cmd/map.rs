@@ -280,13 +280,13 @@ fn summary(name: &str, mapper: &Mapper, mapped_s: f64, total_s: f64, files: &[Pa
         0.0
     };
     eprintln!(
-        "{name}: {} scans ({} not matched, kept at their prediction), {} submaps, loop closures: {} accepted, {} rejected; {} optimisations in {:.2} s; mapped in {:.2} s ({:.0} scans/s), {:.2} s with the outputs",
-        s.scans,
+        "{name}: {} ({} not matched, kept at their prediction), {}, loop closures: {} accepted, {} rejected; {} in {:.2} s; mapped in {:.2} s ({:.0} scans/s), {:.2} s with the outputs",
+        super::count(s.scans as u64, "scan"),
         s.unmatched,
-        s.submaps,
+        super::count(s.submaps as u64, "submap"),
         s.closures_accepted,
         s.closures_rejected,
-        s.optimizations,
+        super::count(s.optimizations as u64, "optimisation"),
         s.optimization_s,
         mapped_s,
         rate,

@@ -44,7 +44,7 @@ pub struct Outputs<'a> {
 /// Makes the output directory `dir` and tries a file in it, so that a directory that cannot
 /// be written fails before the mapping.
 pub fn prepare_dir(dir: &Path) -> Result<()> {
-    fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    super::create_output_dir(dir)?;
     let probe = dir.join(".laserlines-write-check");
     File::create(&probe)
         .and_then(|_| fs::remove_file(&probe))
@@ -214,10 +214,10 @@ fn map_svg(
         .map_or_else(|| o.name.into(), |f| f.to_string_lossy());
     let fig = MapFigure {
         title: format!(
-            "{file}: {} scans, {} loop closures, {} walls",
-            s.scans,
-            s.closures_accepted,
-            wall_segments.len()
+            "{file}: {}, {}, {}",
+            super::count(s.scans as u64, "scan"),
+            super::count(s.closures_accepted as u64, "loop closure"),
+            super::count(wall_segments.len() as u64, "wall")
         ),
         grid: Some(GreyMap {
             pixels,

@@ -150,8 +150,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
              s), got {t}"
         );
     }
-    fs::create_dir_all(&args.output)
-        .with_context(|| format!("cannot create {}", args.output.display()))?;
+    super::create_output_dir(&args.output)?;
     let (record, mcap_scans) = explore(args, &setup)?;
     let written = write_outputs(args, &setup, &record)?;
     print_summary(args, &setup, &record, &written);

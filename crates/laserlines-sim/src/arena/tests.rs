@@ -265,7 +265,10 @@ fn an_empty_file_is_no_arena_layout() {
     for text in ["", " \n\t\n"] {
         let e = parse(text).unwrap_err();
         assert!(matches!(e, ArenaError::Xml { line: 1, .. }), "{e}");
-        assert!(e.to_string().contains("an empty file: not an arena layout"), "{e}");
+        assert!(
+            e.to_string().contains("an empty file: not an arena layout"),
+            "{e}"
+        );
     }
 }
 
