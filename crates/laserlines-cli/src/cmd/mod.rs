@@ -341,6 +341,18 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
     })
 }
 
+/// Makes the output folder `dir` (and its parents); an error saying so when a file of that
+/// name is in the way.
+pub(crate) fn create_output_dir(dir: &std::path::Path) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        anyhow::bail!(
+            "{} is not a folder (a file of that name exists): -o takes a folder",
+            dir.display()
+        );
+    }
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::{whole, whole_in};
@@ -374,16 +386,4 @@ mod tests {
             Err("expected a whole number, 1 or more, got \"x\"".to_owned())
         );
     }
-}
-
-/// Makes the output folder `dir` (and its parents); an error saying so when a file of that
-/// name is in the way.
-pub(crate) fn create_output_dir(dir: &std::path::Path) -> Result<()> {
-    if dir.exists() && !dir.is_dir() {
-        anyhow::bail!(
-            "{} is not a folder (a file of that name exists): -o takes a folder",
-            dir.display()
-        );
-    }
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))
 }
