@@ -13,6 +13,7 @@ fuzz_target!(|data: &[u8]| {
     let options = McapReadOptions {
         topic: None,
         max_record_bytes: 1 << 20,
+        ..McapReadOptions::default()
     };
     let Ok(reader) = read::from_reader("fuzz", std::io::Cursor::new(data.to_vec()), &options)
     else {

@@ -146,6 +146,10 @@ impl DatSource {
     }
 }
 
+/// The largest range a Hokuyo reports, mm: the 18 bits of SCIP's three-character encoding.
+/// A reading outside `0..=MAX_READING_MM` is no reading but a corrupt token.
+pub(crate) const MAX_READING_MM: i64 = (1 << 18) - 1;
+
 /// Parses one `.dat` line into a scan and the encoder counts.
 fn parse_line(name: &str, line: usize, text: &str) -> Result<(Scan, i64, i64), ReadError> {
     let count = text.split_ascii_whitespace().count();
@@ -180,10 +184,19 @@ fn parse_line(name: &str, line: usize, text: &str) -> Result<(Scan, i64, i64), R
                     .map_err(|_| bad(index, token, "right wheel encoder".into(), "ticks"))?;
             }
             i if (FIRST_RANGE_TOKEN..FIRST_RANGE_TOKEN + BEAMS).contains(&i) => {
-                let mm = value().map_err(|_| {
-                    let beam = i - FIRST_RANGE_TOKEN;
-                    bad(index, token, format!("range of beam {beam}"), "millimetres")
-                })?;
+                let beam = i - FIRST_RANGE_TOKEN;
+                let mm = value()
+                    .ok()
+                    .filter(|mm| (0..=MAX_READING_MM).contains(mm))
+                    .ok_or_else(|| ReadError::Field {
+                        pos: SourcePos::line(name, line),
+                        field: format!("token {index} (range of beam {beam})"),
+                        expected: format!(
+                            "an integer from 0 to {MAX_READING_MM} (millimetres, the most a \
+                             SCIP reading carries)"
+                        ),
+                        found: shown(token),
+                    })?;
                 ranges.push(mm as f64 / 1000.0);
             }
             _ => {}

@@ -346,8 +346,30 @@ fn dat_bad_tokens_name_the_token() {
     let items = outcome_of("x.dat", Format::BreezyDat, tokens.join(" ").as_bytes());
     assert_eq!(
         items,
-        vec!["x.dat:1: token 30 (range of beam 6): expected an integer (millimetres), found `1.5`"]
+        vec![
+            "x.dat:1: token 30 (range of beam 6): expected an integer from 0 to 262143 \
+             (millimetres, the most a SCIP reading carries), found `1.5`"
+        ]
     );
+    // Readings no Hokuyo gives are corrupt tokens, not ranges out of the window.
+    for (token, shown) in [
+        ("-500", "`-500`"),
+        ("262144", "`262144`"),
+        ("99999999999", "`99999999999`"),
+    ] {
+        tokens[30] = token;
+        let items = outcome_of("x.dat", Format::BreezyDat, tokens.join(" ").as_bytes());
+        assert_eq!(
+            items,
+            vec![format!(
+                "x.dat:1: token 30 (range of beam 6): expected an integer from 0 to 262143 \
+                 (millimetres, the most a SCIP reading carries), found {shown}"
+            )]
+        );
+    }
+    tokens[30] = "262143";
+    let items = outcome_of("x.dat", Format::BreezyDat, tokens.join(" ").as_bytes());
+    assert_eq!(items, vec!["ok 1"]);
 }
 
 #[test]
@@ -439,4 +461,19 @@ fn errors_expose_file_and_line() {
     assert_eq!(err.file(), "x.dat");
     assert_eq!(err.line(), Some(2));
     assert_eq!(err.reason(), "malformed record");
+}
+
+#[test]
+fn an_angle_max_off_a_tiny_increment_reads_in_few_digits() {
+    let scan = br#"{"angle_min": 0, "angle_increment": 1e-300, "angle_max": 1.0, "range_min": 0, "range_max": 2, "ranges": [1, 1]}"#;
+    let items = outcome_of("tiny.json", Format::Json, scan);
+    assert_eq!(items.len(), 1);
+    assert!(
+        items[0].contains(
+            "angle_min + (n - 1) * angle_increment = 1e-300 rad for n = 2 ranges (within 5e-301 rad)"
+        ),
+        "{}",
+        items[0]
+    );
+    assert!(items[0].len() < 300, "{}", items[0]);
 }

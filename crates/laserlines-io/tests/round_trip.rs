@@ -227,7 +227,7 @@ fn writers_refuse_what_a_format_cannot_hold() {
     assert!(matches!(err, WriteError::OneScanPerFile { count: 2, .. }));
     assert_eq!(
         err.to_string(),
-        "output: the csv format holds one scan per file; got scan number 2"
+        "output: the csv format holds one scan per file; the input has 2 or more"
     );
     let err = ScanWriter::new(Vec::new(), Format::BreezyDat).unwrap_err();
     assert_eq!(

@@ -360,11 +360,13 @@ impl Element<'_> {
                     "angle_max",
                     "angle_max",
                     &format!(
-                        "angle_min + (n - 1) * angle_increment = {want} rad for n = {} \
-                         ranges (within {tolerance} rad)",
-                        scan.ranges.len()
+                        "angle_min + (n - 1) * angle_increment = {} rad for n = {} \
+                         ranges (within {} rad)",
+                        readable(want),
+                        scan.ranges.len(),
+                        readable(tolerance)
                     ),
-                    format!("{angle_max}"),
+                    readable(angle_max),
                 ));
             }
         }
@@ -444,4 +446,14 @@ fn in_beam_list(before: &[u8]) -> bool {
     };
     let after = &before[at..];
     after.contains(&b'[') && !after.contains(&b']')
+}
+
+/// `x` as Rust prints it, or in scientific notation when that would run to many zeros
+/// (`5e-301`, not three hundred of them).
+fn readable(x: f64) -> String {
+    if x != 0.0 && !(1e-6..1e15).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
