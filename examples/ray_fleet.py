@@ -39,6 +39,8 @@ def log_files(inputs):
     mcap, parquet = [], []
     for item in inputs:
         path = pathlib.Path(item)
+        if "://" not in item and not path.exists():
+            raise SystemExit(f"{item}: no such file or folder")
         if "://" not in item and path.is_dir():
             mcap += sorted(str(p) for p in path.rglob("*.mcap"))
             parquet += sorted(str(p) for p in path.rglob("*.parquet"))

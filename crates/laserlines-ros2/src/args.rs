@@ -99,7 +99,17 @@ fn env_localhost_only() -> bool {
 }
 
 fn seconds(name: &str, s: f64) -> Result<Duration> {
-    Duration::try_from_secs_f64(s).map_err(|_| anyhow::anyhow!("{name} must be seconds >= 0"))
+    Duration::try_from_secs_f64(s)
+        .map_err(|_| anyhow::anyhow!("{name} must be a finite number of seconds >= 0, got {s}"))
+}
+
+/// True for a ROS 2 package name: lower-case letters, digits and underscores, from a letter
+/// (REP 144).
+fn is_package_name(name: &str) -> bool {
+    name.starts_with(|c: char| c.is_ascii_lowercase())
+        && name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
 }
 
 impl Ros2Args {
@@ -149,10 +159,16 @@ impl Ros2Args {
                 format!("{}/{topic}", namespace.trim_end_matches('/'))
             }
         };
-        let outputs = [&self.lines_topic, &self.markers_topic, &self.sectors_topic];
-        if let Some(same) = outputs
+        let mut outputs = vec![
+            ("--lines-topic", &self.lines_topic),
+            ("--markers-topic", &self.markers_topic),
+        ];
+        if self.sectors {
+            outputs.push(("--sectors-topic", &self.sectors_topic));
+        }
+        if let Some((_, same)) = outputs
             .iter()
-            .find(|t| resolve(t) == resolve(&self.scan_topic))
+            .find(|(_, t)| resolve(t) == resolve(&self.scan_topic))
         {
             bail!(
                 "the output topic {same} is the scan topic {}: its messages would be read as \
@@ -160,13 +176,33 @@ impl Ros2Args {
                 self.scan_topic
             );
         }
+        for (k, (a, ta)) in outputs.iter().enumerate() {
+            if let Some((b, _)) = outputs[k + 1..]
+                .iter()
+                .find(|(_, tb)| resolve(tb) == resolve(ta))
+            {
+                bail!(
+                    "{a} and {b} are both {}: two message types on one topic",
+                    resolve(ta)
+                );
+            }
+        }
+        if !is_package_name(&self.message_package) {
+            bail!(
+                "--message-package must be a ROS 2 package name (lower-case letters, digits \
+                 and underscores, from a letter), got {:?}",
+                self.message_package
+            );
+        }
+        // Topics resolved here (a relative one under the namespace), so that the node's log
+        // names what it subscribes and publishes to.
         Ok(NodeConfig {
             node_name: self.node_name.clone(),
+            scan_topic: resolve(&self.scan_topic),
+            lines_topic: resolve(&self.lines_topic),
+            markers_topic: resolve(&self.markers_topic),
+            sectors_topic: self.sectors.then(|| resolve(&self.sectors_topic)),
             namespace,
-            scan_topic: self.scan_topic.clone(),
-            lines_topic: self.lines_topic.clone(),
-            markers_topic: self.markers_topic.clone(),
-            sectors_topic: self.sectors.then(|| self.sectors_topic.clone()),
             line_package: self.message_package.clone(),
             scan_depth: self.scan_depth,
             domain_id,
@@ -291,5 +327,70 @@ mod tests {
             ])
             .is_ok()
         );
+    }
+
+    #[test]
+    fn topics_are_resolved_and_each_output_has_its_own() {
+        let c = config(&["--namespace", "foo", "--scan-topic", "scan"]).unwrap();
+        assert_eq!(c.scan_topic, "/foo/scan");
+        assert_eq!(c.lines_topic, "/line_segments");
+        let e = config(&["--markers-topic", "/line_segments"])
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("--lines-topic and --markers-topic are both /line_segments"),
+            "{e}"
+        );
+        let e = config(&["--sectors", "--sectors-topic", "/line_markers"])
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(
+            e.contains("--markers-topic and --sectors-topic are both /line_markers"),
+            "{e}"
+        );
+        // The sectors' topic is not used without --sectors.
+        assert!(config(&["--sectors-topic", "/scan"]).is_ok());
+        assert!(config(&["--sectors", "--sectors-topic", "/scan"]).is_err());
+    }
+
+    #[test]
+    fn the_message_package_is_a_package_name() {
+        for good in [
+            "laser_line_extraction",
+            "laser_line_extraction_interfaces",
+            "a1",
+        ] {
+            assert!(config(&["--message-package", good]).is_ok(), "{good}");
+        }
+        for bad in ["x y", "", "Laser", "1a", "_a", "a/b"] {
+            let e = config(&["--message-package", bad])
+                .err()
+                .unwrap()
+                .to_string();
+            assert!(
+                e.contains("--message-package must be a ROS 2 package name"),
+                "{e}"
+            );
+        }
+    }
+
+    #[test]
+    fn times_that_are_no_seconds_say_what_they_got() {
+        for (value, shown) in [("inf", "inf"), ("-1", "-1"), ("NaN", "NaN")] {
+            let arg = format!("--duration={value}");
+            let argv = ["laserlines-ros2", arg.as_str()];
+            let e = Ros2Args::try_parse_from(argv)
+                .unwrap()
+                .limits()
+                .err()
+                .unwrap()
+                .to_string();
+            assert_eq!(
+                e,
+                format!("--duration must be a finite number of seconds >= 0, got {shown}")
+            );
+        }
     }
 }

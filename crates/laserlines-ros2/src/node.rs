@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 
 use ros2_client::dds::rustdds::DomainParticipantBuilder;
 use ros2_client::dds::rustdds::mio1::{Events, Interest, Poll, Token};
+use ros2_client::names::NameError;
 use ros2_client::qos::{Durability, History, Reliability, WhenFull};
 use ros2_client::{
     Context, MessageTypeName, Name, Node, NodeName, NodeOptions, Publisher, QosProfile,
@@ -143,8 +144,22 @@ pub struct LineNode {
 fn parse_name(name: &str) -> Result<Name, NodeError> {
     Name::parse(name).map_err(|e| NodeError::Name {
         name: name.to_owned(),
-        reason: format!("{e:?}"),
+        reason: name_problem(&e),
     })
+}
+
+/// What is wrong with a name, in words.
+fn name_problem(e: &NameError) -> String {
+    match e {
+        NameError::Empty => "it is empty".to_owned(),
+        NameError::BadChar(c) => format!(
+            "{c:?} is not allowed (letters, digits and underscores, parts separated by \
+             slashes, a node name and each part from a letter or an underscore)"
+        ),
+        NameError::BadSlash(ns, n) => {
+            format!("a slash out of place (namespace {ns:?}, name {n:?})")
+        }
+    }
 }
 
 fn publisher<M: Serialize>(
@@ -176,8 +191,12 @@ impl LineNode {
             .map_err(|e| create_err("ROS 2 context", e))?;
         let node_name =
             NodeName::new(&config.namespace, &config.node_name).map_err(|e| NodeError::Name {
-                name: format!("{}/{}", config.namespace, config.node_name),
-                reason: format!("{e:?}"),
+                name: format!(
+                    "{}/{}",
+                    config.namespace.trim_end_matches('/'),
+                    config.node_name
+                ),
+                reason: name_problem(&e),
             })?;
         let options = NodeOptions::new()
             .enable_rosout(false)
