@@ -52,7 +52,8 @@ class Scan:
         pose: Optional[Tuple[float, float, float]] = None,
         odometry: Optional[Tuple[float, float, float]] = None,
     ) -> None:
-        """A scan; ``range_max=inf`` means no upper limit. ValueError for broken geometry.
+        """A scan; ``range_max=inf`` means no upper limit. ValueError for broken geometry,
+        or a ``stamp``, ``pose`` or ``odometry`` that is not finite.
 
         A float64 ``ranges`` array is kept as it is, not copied: writing to it later changes
         the scan (``ranges.copy()`` gives one of its own); other arrays are kept as their

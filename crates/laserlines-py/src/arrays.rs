@@ -88,8 +88,14 @@ pub fn ranges<'py>(obj: &Bound<'py, PyAny>) -> PyResult<Ranges<'py>> {
         .get_type()
         .name()
         .map_or_else(|_| "?".to_owned(), |n| n.to_string());
+    // A number (a Python float, a numpy scalar) is one range, not an array of them.
+    let what = if obj.extract::<f64>().is_ok() {
+        format!("a single number ({found})")
+    } else {
+        found
+    };
     Err(PyTypeError::new_err(format!(
-        "ranges must be a numpy array of float64 or float32, got {found} \
+        "ranges must be a numpy array of float64 or float32, got {what} \
          (numpy.asarray(ranges, dtype=float) makes one)"
     )))
 }

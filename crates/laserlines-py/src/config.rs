@@ -3,8 +3,8 @@
 //! [`laserlines_io::params`]), and a scan's geometry checked as the core checks it
 //! ([`checked_view`]).
 
+use laserlines::ScanView;
 use laserlines::registry::{self, Algorithm, BoxedExtractor, Params, Visitor};
-use laserlines::{ScanError, ScanView};
 use laserlines_io::params::{ParamsFile, ParamsFileError};
 
 /// How errors name the parameters given as keyword arguments.
@@ -66,14 +66,23 @@ pub fn range_max_of(range_max: f64) -> f64 {
 /// checks a scan (`range_max` = `inf` for no limit).
 ///
 /// # Errors
-/// The [`ScanError`] naming the first problem.
+/// The range limits in Python's terms (`inf` as given), else the core's `ScanError` naming the
+/// first problem.
 pub fn checked_view(
     ranges: &[f64],
     angle_min: f64,
     angle_increment: f64,
     range_min: f64,
     range_max: f64,
-) -> Result<ScanView<'_>, ScanError> {
+) -> Result<ScanView<'_>, String> {
+    // A NaN fails every comparison.
+    if !(range_min.is_finite() && range_min >= 0.0 && range_min < range_max) {
+        return Err(format!(
+            "range limits must satisfy 0 <= range_min < range_max, range_min finite and \
+             range_max finite or inf (no limit), got range_min = {range_min}, range_max = \
+             {range_max}"
+        ));
+    }
     ScanView::new(
         angle_min,
         angle_increment,
@@ -81,11 +90,13 @@ pub fn checked_view(
         range_max_of(range_max),
         ranges,
     )
+    .map_err(|e| e.to_string())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use laserlines::ScanError;
 
     fn table(text: &str) -> toml::Table {
         toml::from_str(text).unwrap()
@@ -140,10 +151,16 @@ mod tests {
         assert_eq!(v.count_valid(v.range_window(None)), 2);
         assert_eq!(
             checked_view(&ranges, 0.0, 0.0, 0.0, 1.0).unwrap_err(),
-            ScanError::BadAngleIncrement(0.0)
+            ScanError::BadAngleIncrement(0.0).to_string()
         );
         assert!(checked_view(&ranges, 0.0, 0.1, 2.0, 1.0).is_err());
         assert!(checked_view(&ranges, 0.0, 0.1, 0.0, f64::NAN).is_err());
+        // The limits as Python gave them, inf as inf.
+        assert_eq!(
+            checked_view(&ranges, 0.0, 0.1, f64::NAN, f64::INFINITY).unwrap_err(),
+            "range limits must satisfy 0 <= range_min < range_max, range_min finite and \
+             range_max finite or inf (no limit), got range_min = NaN, range_max = inf"
+        );
         // Reversed scans are scans.
         assert!(checked_view(&ranges, 0.0, -0.1, 0.0, 1.0).is_ok());
     }

@@ -110,11 +110,15 @@ impl Extractor {
         &self,
         py: Python<'py>,
         ranges: &Bound<'py, PyAny>,
-        angle_min: Option<f64>,
-        angle_increment: Option<f64>,
-        range_min: Option<f64>,
-        range_max: Option<f64>,
+        angle_min: Option<&Bound<'py, PyAny>>,
+        angle_increment: Option<&Bound<'py, PyAny>>,
+        range_min: Option<&Bound<'py, PyAny>>,
+        range_max: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let angle_min = number(angle_min, "angle_min")?;
+        let angle_increment = number(angle_increment, "angle_increment")?;
+        let range_min = number(range_min, "range_min")?;
+        let range_max = number(range_max, "range_max")?;
         if let Ok(scan) = ranges.cast::<Scan>() {
             if angle_min.is_some() || angle_increment.is_some() {
                 return Err(PyTypeError::new_err(
@@ -161,6 +165,9 @@ impl Extractor {
     /// (`repeat` times, the mean): what a call from Python costs beyond it is the binding's
     /// overhead.
     #[pyo3(signature = (ranges, angle_min, angle_increment, range_min = 0.0, range_max = f64::INFINITY, repeat = 1000))]
+    #[pyo3(
+        text_signature = "(self, ranges, angle_min, angle_increment, range_min=0.0, range_max=float('inf'), repeat=1000)"
+    )]
     // The Python signature: a scan's fields as keyword arguments.
     #[allow(clippy::too_many_arguments)]
     fn time_extract(
@@ -242,6 +249,21 @@ impl Extractor {
     }
 }
 
+/// The number `name` given as `value` (`None` when not given or given as `None`); a
+/// `TypeError` naming the argument for anything that is no number.
+fn number(value: Option<&Bound<'_, PyAny>>, name: &str) -> PyResult<Option<f64>> {
+    match value {
+        Some(v) if !v.is_none() => v.extract::<f64>().map(Some).map_err(|_| {
+            let found = v
+                .get_type()
+                .name()
+                .map_or_else(|_| "?".to_owned(), |n| n.to_string());
+            PyTypeError::new_err(format!("{name} must be a number, got {found}"))
+        }),
+        _ => Ok(None),
+    }
+}
+
 /// The lines of one scan with a fresh extractor of `algorithm` and `params` laid over its
 /// defaults: a `Scan`, or an array of ranges (m) with `angle_min` and `angle_increment`
 /// (rad) and optional `range_min` and `range_max`; one record per line (`Extractor.extract`
@@ -253,10 +275,10 @@ impl Extractor {
 pub fn extract<'py>(
     py: Python<'py>,
     ranges: &Bound<'py, PyAny>,
-    angle_min: Option<f64>,
-    angle_increment: Option<f64>,
-    range_min: Option<f64>,
-    range_max: Option<f64>,
+    angle_min: Option<&Bound<'py, PyAny>>,
+    angle_increment: Option<&Bound<'py, PyAny>>,
+    range_min: Option<&Bound<'py, PyAny>>,
+    range_max: Option<&Bound<'py, PyAny>>,
     algorithm: &str,
     params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {

@@ -68,6 +68,9 @@ impl Scan {
 impl Scan {
     #[new]
     #[pyo3(signature = (ranges, angle_min, angle_increment, range_min = 0.0, range_max = f64::INFINITY, stamp = None, pose = None, odometry = None))]
+    #[pyo3(
+        text_signature = "(ranges, angle_min, angle_increment, range_min=0.0, range_max=float('inf'), stamp=None, pose=None, odometry=None)"
+    )]
     // The Python signature: a scan's fields as keyword arguments.
     #[allow(clippy::too_many_arguments)]
     fn new(
@@ -90,6 +93,20 @@ impl Scan {
             range_max,
         )
         .map_err(crate::errors::value_error)?;
+        if let Some(t) = stamp.filter(|t| !t.is_finite()) {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "stamp must be a finite number of seconds or None, got {t}"
+            )));
+        }
+        for (name, p) in [("pose", pose), ("odometry", odometry)] {
+            if let Some((x, y, theta)) =
+                p.filter(|(x, y, t)| !(x.is_finite() && y.is_finite() && t.is_finite()))
+            {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "{name} must be three finite numbers (x, y, theta) or None, got ({x}, {y}, {theta})"
+                )));
+            }
+        }
         // A float64 array is kept as given; anything else as its float64 copy.
         let array = match ranges.cast::<PyArray1<f64>>() {
             Ok(a) => a.clone().unbind(),

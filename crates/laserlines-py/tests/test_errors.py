@@ -19,8 +19,10 @@ def test_wrong_dtype_or_type_is_a_type_error():
         ex.extract([1.0, 2.0], 0.0, 0.1)
     with pytest.raises(TypeError, match="needs angle_min and angle_increment"):
         ex.extract(GOOD)
-    with pytest.raises(TypeError):
+    with pytest.raises(TypeError, match="angle_min must be a number, got str"):
         ex.extract(GOOD, "zero", 0.1)
+    with pytest.raises(TypeError, match="range_max must be a number, got list"):
+        laserlines.extract(GOOD, 0.0, 0.1, range_max=[5.6])
 
 
 def test_wrong_shape_is_a_value_error():
@@ -43,6 +45,26 @@ def test_broken_geometry_is_a_value_error():
         laserlines.extract(GOOD, 0.0, 0.1, range_min=-1.0)
     with pytest.raises(ValueError, match="span more than a full turn"):
         laserlines.extract(np.ones(100), 0.0, 0.1)
+
+
+def test_a_single_number_nan_limits_and_nan_poses_are_named():
+    with pytest.raises(TypeError, match=r"got a single number \(float64\)"):
+        laserlines.extract(np.float64(2.0), 0.0, 0.1)
+    # range_max's default, inf, is shown as inf.
+    with pytest.raises(ValueError, match="got range_min = NaN, range_max = inf"):
+        laserlines.extract(GOOD, 0.0, 0.1, float("nan"))
+    with pytest.raises(ValueError, match="stamp must be a finite number of seconds or None, got NaN"):
+        laserlines.Scan(GOOD, 0.0, 0.1, stamp=float("nan"))
+    with pytest.raises(ValueError, match=r"pose must be three finite numbers \(x, y, theta\)"):
+        laserlines.Scan(GOOD, 0.0, 0.1, pose=(1.0, 2.0, float("nan")))
+    with pytest.raises(ValueError, match="odometry must be three finite numbers"):
+        laserlines.Scan(GOOD, 0.0, 0.1, odometry=(float("inf"), 2.0, 0.0))
+    assert laserlines.Scan(GOOD, 0.0, 0.1, stamp=1.5, pose=(1.0, 2.0, 0.5)).stamp == 1.5
+
+
+def test_signatures_show_inf_as_python_writes_it():
+    assert "range_max=float('inf')" in laserlines.Scan.__text_signature__
+    assert "range_max=float('inf')" in laserlines.Extractor.time_extract.__text_signature__
 
 
 def test_unknown_or_invalid_parameters_are_named():
