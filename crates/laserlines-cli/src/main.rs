@@ -102,42 +102,31 @@ fn main() -> ExitCode {
         // Standard output closed by its reader: not an error of ours.
         Err(e) if cmd::is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("laserlines: error: {}", error_chain(&e));
+            eprintln!(
+                "laserlines: error: {}",
+                laserlines_io::error_chain(e.as_ref())
+            );
             ExitCode::from(2)
         }
     }
 }
 
-/// The error and its causes joined by `: `, leaving out a cause that the message already
-/// ends with (many errors end their own message with their cause's).
-fn error_chain(e: &anyhow::Error) -> String {
-    let mut message = e.to_string();
-    for cause in e.chain().skip(1) {
-        let c = cause.to_string();
-        if !(message == c || message.ends_with(&format!(": {c}"))) {
-            message.push_str(": ");
-            message.push_str(&c);
-        }
-    }
-    message
-}
-
 #[cfg(test)]
 mod tests {
-    use super::error_chain;
     use anyhow::Context;
+    use laserlines_io::error_chain;
 
     #[test]
     fn a_cause_already_in_the_message_is_not_repeated() {
         let io = std::io::Error::other("disk full");
         let named = anyhow::Error::new(io).context("out.mcap: disk full");
-        assert_eq!(error_chain(&named), "out.mcap: disk full");
+        assert_eq!(error_chain(named.as_ref()), "out.mcap: disk full");
         let plain: anyhow::Result<()> = Err(anyhow::anyhow!("disk full"));
         let e = plain.context("cannot write out.mcap").unwrap_err();
-        assert_eq!(error_chain(&e), "cannot write out.mcap: disk full");
+        assert_eq!(error_chain(e.as_ref()), "cannot write out.mcap: disk full");
         // A short cause that only appears inside the message is still given.
         let short: anyhow::Result<()> = Err(anyhow::anyhow!("full"));
         let e = short.context("disk full check failed").unwrap_err();
-        assert_eq!(error_chain(&e), "disk full check failed: full");
+        assert_eq!(error_chain(e.as_ref()), "disk full check failed: full");
     }
 }

@@ -346,3 +346,21 @@ pub(crate) fn shown(text: &str) -> String {
     }
     format!("`{}`", out.escape_debug())
 }
+
+/// `e` and its causes joined by `: `, leaving out a cause whose text the message already ends
+/// with (many errors end their own message with their cause's): the one line the command-line
+/// tools print for an error.
+#[must_use]
+pub fn error_chain(e: &(dyn std::error::Error + 'static)) -> String {
+    let mut message = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        let text = c.to_string();
+        if !(message == text || message.ends_with(&format!(": {text}"))) {
+            message.push_str(": ");
+            message.push_str(&text);
+        }
+        cause = c.source();
+    }
+    message
+}

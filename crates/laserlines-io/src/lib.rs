@@ -67,7 +67,7 @@ mod wire;
 pub mod writer;
 
 pub use breezy::WheelOdometry;
-pub use error::{At, ReadError, SourcePos, WriteError};
+pub use error::{At, ReadError, SourcePos, WriteError, error_chain};
 pub use format::{Format, UnknownFormatName};
 pub use lines::{LineRecord, LinesReader, ScanLines};
 pub use reader::{

@@ -57,22 +57,11 @@ fn main() -> ExitCode {
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("laserlines-ros2: error: {}", error_chain(&e));
+            eprintln!(
+                "laserlines-ros2: error: {}",
+                laserlines_io::error_chain(e.as_ref())
+            );
             ExitCode::from(2)
         }
     }
-}
-
-/// The error and its causes joined by `: `, leaving out a cause that the message already
-/// ends with (many errors end their own message with their cause's).
-fn error_chain(e: &anyhow::Error) -> String {
-    let mut message = e.to_string();
-    for cause in e.chain().skip(1) {
-        let c = cause.to_string();
-        if !(message == c || message.ends_with(&format!(": {c}"))) {
-            message.push_str(": ");
-            message.push_str(&c);
-        }
-    }
-    message
 }
