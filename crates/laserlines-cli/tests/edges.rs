@@ -153,7 +153,7 @@ fn values_out_of_range_are_errors_not_clamped() {
                 "--scans",
                 "0",
                 "--data",
-                "data/urg04lx-exp1-excerpt.dat.gz",
+                "../../data/urg04lx-exp1-excerpt.dat.gz",
             ][..],
             "--scans must be at least 1 (at most this many scans of each log), got 0",
         ),

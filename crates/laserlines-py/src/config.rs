@@ -3,8 +3,8 @@
 //! [`laserlines_io::params`]), and a scan's geometry checked as the core checks it
 //! ([`checked_view`]).
 
-use laserlines::ScanView;
 use laserlines::registry::{self, Algorithm, BoxedExtractor, Params, Visitor};
+use laserlines::{ScanError, ScanView};
 use laserlines_io::params::{ParamsFile, ParamsFileError};
 
 /// How errors name the parameters given as keyword arguments.
@@ -75,14 +75,6 @@ pub fn checked_view(
     range_min: f64,
     range_max: f64,
 ) -> Result<ScanView<'_>, String> {
-    // A NaN fails every comparison.
-    if !(range_min.is_finite() && range_min >= 0.0 && range_min < range_max) {
-        return Err(format!(
-            "range limits must satisfy 0 <= range_min < range_max, range_min finite and \
-             range_max finite or inf (no limit), got range_min = {range_min}, range_max = \
-             {range_max}"
-        ));
-    }
     ScanView::new(
         angle_min,
         angle_increment,
@@ -90,13 +82,20 @@ pub fn checked_view(
         range_max_of(range_max),
         ranges,
     )
-    .map_err(|e| e.to_string())
+    .map_err(|e| match e {
+        // The limits as given: the core's message shows `inf` as the largest finite number.
+        ScanError::BadRangeLimits { .. } => format!(
+            "range limits must satisfy 0 <= range_min < range_max, range_min finite and \
+             range_max finite or inf (no limit), got range_min = {range_min}, range_max = \
+             {range_max}"
+        ),
+        e => e.to_string(),
+    })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use laserlines::ScanError;
 
     fn table(text: &str) -> toml::Table {
         toml::from_str(text).unwrap()

@@ -125,7 +125,7 @@ fn map_log(
     }
     let mut mapper = Mapper::new(params);
     let progress = progress_bar();
-    let mut run = read_and_map(args, name, &mut reader, &mut mapper, &progress)?;
+    let run = read_and_map(args, name, &mut reader, &mut mapper, &progress)?;
     if run.stamps.is_empty() {
         return Err(match run.stopped {
             Some(e) => e.into(),
@@ -166,10 +166,7 @@ fn map_log(
         eprintln!("{name}: skipped: {}", reader.skipped());
     }
     let mapped = run.stamps.len();
-    Ok(run
-        .stopped
-        .take()
-        .map(|e| stopped_error(e, name, mapped, args)))
+    Ok(run.stopped.map(|e| stopped_error(e, name, mapped, args)))
 }
 
 /// Reads the scans of `reader` into `mapper`, each with its lines and (with `--odometry

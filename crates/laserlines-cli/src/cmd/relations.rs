@@ -165,11 +165,7 @@ fn covered_only(
 /// a unit quaternion at the end), an error that says so and names `--every`.
 fn not_a_trajectory(path: &Path, e: anyhow::Error) -> anyhow::Error {
     let name = path.display().to_string();
-    let tum = open(path)
-        .ok()
-        .and_then(|input| read_tum(&name, input).ok())
-        .is_some_and(|poses| !poses.is_empty());
-    if tum {
+    if holds_any(path, read_tum) {
         anyhow::anyhow!(
             "{name}: a TUM trajectory (t x y z qx qy qz qw), not relations (t1 t2 x y z roll \
              pitch yaw): to check against a reference trajectory, give --every N (relations \
@@ -184,11 +180,7 @@ fn not_a_trajectory(path: &Path, e: anyhow::Error) -> anyhow::Error {
 /// an error that says so.
 fn not_relations(path: &Path, e: anyhow::Error) -> anyhow::Error {
     let name = path.display().to_string();
-    let relations = open(path)
-        .ok()
-        .and_then(|input| read_relations(&name, input).ok())
-        .is_some_and(|r| !r.is_empty());
-    if relations {
+    if holds_any(path, read_relations) {
         anyhow::anyhow!(
             "{name}: relations (t1 t2 x y z roll pitch yaw), not a TUM trajectory (t x y z qx qy \
              qz qw): --every N takes a reference trajectory; without --every the relations \
@@ -197,6 +189,18 @@ fn not_relations(path: &Path, e: anyhow::Error) -> anyhow::Error {
     } else {
         e
     }
+}
+
+/// True when `path` reads by `read` (the other format) into at least one item.
+fn holds_any<T, E>(
+    path: &Path,
+    read: impl FnOnce(&str, BufReader<File>) -> Result<Vec<T>, E>,
+) -> bool {
+    let name = path.display().to_string();
+    open(path)
+        .ok()
+        .and_then(|input| read(&name, input).ok())
+        .is_some_and(|items| !items.is_empty())
 }
 
 fn open(path: &Path) -> Result<BufReader<File>> {

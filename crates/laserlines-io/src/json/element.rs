@@ -4,6 +4,7 @@
 use serde::Deserialize;
 use serde_json::{Map, Value};
 
+use laserlines::scan::Short;
 use laserlines::{Scan, ScanError};
 
 use crate::error::{ReadError, SourcePos, json_kind};
@@ -362,11 +363,11 @@ impl Element<'_> {
                     &format!(
                         "angle_min + (n - 1) * angle_increment = {} rad for n = {} \
                          ranges (within {} rad)",
-                        readable(want),
+                        Short(want),
                         scan.ranges.len(),
-                        readable(tolerance)
+                        Short(tolerance)
                     ),
-                    readable(angle_max),
+                    Short(angle_max).to_string(),
                 ));
             }
         }
@@ -446,14 +447,4 @@ fn in_beam_list(before: &[u8]) -> bool {
     };
     let after = &before[at..];
     after.contains(&b'[') && !after.contains(&b']')
-}
-
-/// `x` as Rust prints it, or in scientific notation when that would run to many zeros
-/// (`5e-301`, not three hundred of them).
-fn readable(x: f64) -> String {
-    if x != 0.0 && !(1e-6..1e15).contains(&x.abs()) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
 }
