@@ -15,6 +15,13 @@ cargo build --release -p laserlines-cli
 ll=target/release/laserlines
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+# A map's progress goes to a log of its own; the log is shown when the map fails.
+quiet_map() {
+    if ! "$ll" map "$1" -o "$2" 2> "$2.log"; then
+        cat "$2.log" >&2
+        return 1
+    fi
+}
 
 "$ll" demo --repeat 1 -o "$tmp/demo" > /dev/null
 cp "$tmp/demo/hough-split-scan20.svg" docs/hough-split.svg
@@ -27,10 +34,10 @@ if [ -d "$shared" ]; then
     "$ll" simulate --arena "$shared/arenas/rc_2015_arena_small.raf" --fence --seed 0 \
         -o "$tmp/fence" > /dev/null
     cp "$tmp/fence/map.svg" docs/navigation-fence.svg
-    "$ll" map "$shared/real/mit-csail-clf/mit-csail.clf.gz" -o "$tmp/mit-csail" 2> /dev/null
+    quiet_map "$shared/real/mit-csail-clf/mit-csail.clf.gz" "$tmp/mit-csail"
     cp "$tmp/mit-csail/map.svg" docs/map-mit-csail.svg
     for run in exp1 exp2; do
-        "$ll" map "$shared/real/breezyslam-urg04lx/$run.dat.gz" -o "$tmp/$run" 2> /dev/null
+        quiet_map "$shared/real/breezyslam-urg04lx/$run.dat.gz" "$tmp/$run"
         cp "$tmp/$run/map.svg" "docs/map-$run.svg"
     done
 else

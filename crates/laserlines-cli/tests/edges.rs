@@ -35,6 +35,17 @@ fn an_input_without_scans_fails_whatever_its_format() {
     }
     let o = run(bin().arg("extract").arg(tmp("empty.jsonl")));
     fails_with(&o, "no scans to read");
+    // No output file is left beside the error, whatever its format.
+    for out in ["none.jsonl", "none.parquet", "none.mcap"] {
+        let out = tmp(out);
+        let o = run(bin()
+            .arg("extract")
+            .arg(tmp("empty.jsonl"))
+            .arg("-o")
+            .arg(&out));
+        fails_with(&o, "no scans to read");
+        assert!(!out.exists(), "{} was left", out.display());
+    }
 }
 
 #[test]

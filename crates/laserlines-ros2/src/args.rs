@@ -112,11 +112,24 @@ fn is_package_name(name: &str) -> bool {
             .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
 }
 
+/// Fails unless `addr` is the address of one of this host's network interfaces: a socket
+/// can be bound to it. DDS would otherwise start and talk to nothing.
+fn check_local(addr: IpAddr) -> Result<()> {
+    match std::net::UdpSocket::bind((addr, 0)) {
+        Ok(_) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::AddrNotAvailable => {
+            bail!("--interface {addr}: no network interface of this host has that address")
+        }
+        Err(e) => Err(e).with_context(|| format!("--interface {addr}: cannot use it")),
+    }
+}
+
 impl Ros2Args {
     /// The node's configuration.
     ///
     /// # Errors
-    /// A bad `ROS_DOMAIN_ID`, or `--localhost-only` with `--interface`.
+    /// A bad `ROS_DOMAIN_ID`, `--localhost-only` with `--interface`, or an `--interface`
+    /// address no interface of this host has.
     pub fn node_config(&self) -> Result<NodeConfig> {
         let domain_id = match self.domain_id {
             Some(d) => d,
@@ -140,6 +153,9 @@ impl Ros2Args {
         } else if self.interfaces.is_empty() {
             None
         } else {
+            for &addr in &self.interfaces {
+                check_local(addr)?;
+            }
             Some(self.interfaces.clone())
         };
         if self.scan_depth == 0 {
@@ -374,6 +390,20 @@ mod tests {
                 "{e}"
             );
         }
+    }
+
+    #[test]
+    fn an_interface_must_be_one_of_this_hosts() {
+        assert!(config(&["--interface", "127.0.0.1"]).is_ok());
+        // 192.0.2.0/24 is reserved for documentation (RFC 5737): no host has it.
+        let e = config(&["--interface", "192.0.2.1"])
+            .err()
+            .unwrap()
+            .to_string();
+        assert_eq!(
+            e,
+            "--interface 192.0.2.1: no network interface of this host has that address"
+        );
     }
 
     #[test]

@@ -358,3 +358,26 @@ impl LineNode {
 fn worth_warning(n: u64) -> bool {
     n <= 10 || n.is_multiple_of(100)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::parse_name;
+
+    fn problem(name: &str) -> String {
+        parse_name(name).err().unwrap().to_string()
+    }
+
+    #[test]
+    fn bad_names_are_said_in_words() {
+        assert!(parse_name("/scan").is_ok());
+        assert!(parse_name("/robot_1/scan").is_ok());
+        assert!(
+            problem("/bad topic").starts_with("bad ROS 2 name \"/bad topic\": ' ' is not allowed"),
+            "{}",
+            problem("/bad topic")
+        );
+        assert_eq!(problem(""), "bad ROS 2 name \"\": it is empty");
+        let slash = problem("/a//b");
+        assert!(slash.contains("a slash out of place"), "{slash}");
+    }
+}

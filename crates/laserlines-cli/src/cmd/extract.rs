@@ -142,6 +142,10 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     // (a Parquet file gets its footer, an MCAP its summary, a gzip stream its end).
     let closed = writer.close();
     progress.finish_and_clear();
+    if totals.scans == 0 {
+        // Nothing was extracted: no output file stands beside the error as if it were one.
+        remove_output(&args.output);
+    }
     let waiting = match written {
         Ok(waiting) => waiting,
         Err(e) if super::is_broken_pipe(&e) => return Err(e),
@@ -178,6 +182,14 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
         return Err(super::no_scans(&name, &skipped));
     }
     Ok(())
+}
+
+/// Removes the output file that `LinesOutput::create` made (standard output stays).
+fn remove_output(output: &Path) {
+    if output != Path::new("-") {
+        // It was just created by this run; a failure leaves an empty file, nothing worse.
+        let _ = std::fs::remove_file(output);
+    }
 }
 
 /// The reading side of the pipeline, run on one pool thread.
