@@ -471,7 +471,7 @@ mod tests {
         let noise = RangeNoise::new(0.002, 0.0);
         let mut scratch = SplitScratch::default();
         prefix_sums(seg, &mut scratch.prefix);
-        linseg(seg, &p, &noise, &mut scratch);
+        linseg(seg, &p, &noise, 8, &mut scratch);
         let pieces = Pieces {
             seg,
             pre: &scratch.prefix,

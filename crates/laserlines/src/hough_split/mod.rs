@@ -262,7 +262,13 @@ impl HoughSplit {
         for run in &self.segments.runs {
             let seg = points::Seg(&kept[run.start as usize..run.end as usize]);
             linseg::prefix_sums(seg, &mut self.scratch.prefix);
-            linseg::linseg(seg, &self.params, &self.noise, &mut self.scratch);
+            linseg::linseg(
+                seg,
+                &self.params,
+                &self.noise,
+                min_points.line,
+                &mut self.scratch,
+            );
             let from = self.split_points.len() as u32;
             self.split_points
                 .extend(self.scratch.breaks.iter().map(|&b| seg.idx(b as usize)));
