@@ -204,7 +204,8 @@ fn errors_name_the_file_the_table_and_the_key() {
          `sector_step`, `window`, `weight`, `criterion`, `group_gap`, `noise`, \
          `noise_floor`, `bridge_beams`, `bridge_incidence`, `bridge_sigmas`, \
          `bridge_max_gap`, `min_segment_points`, `split_sigmas`, `split_significance`, \
-         `noise_along_beams`, `merge_collinear`, `share_fits`, `refine_ends`, \
+         `noise_along_beams`, `merge_collinear`, `cut_excursions`, `share_fits`, \
+         `refine_ends`, \
          `min_line_points`, \
          `min_line_length`, `max_rms_sigmas`, `min_advance_t`, `arc_significance`, \
          `max_alpha_sd`, `max_r_sd`, \

@@ -275,7 +275,8 @@ fn split_point(
     if one_line <= dof + 5.3 * (2.0 * dof).sqrt() {
         return None;
     }
-    if !fits_a_line(pre, (a, b), p, noise)
+    if p.cut_excursions
+        && !fits_a_line(pre, (a, b), p, noise)
         && let Some((s, e)) = excursion(seg, (a, middle, b), p, noise, min_points)
     {
         return Some(Split::Around(s, e));

@@ -196,6 +196,14 @@ pub struct HoughSplitParams {
     /// them as well as two lines do (the same test as the split). Not in the paper.
     /// Default `true`.
     pub merge_collinear: bool,
+    /// A piece that fails the RMS gate of a line and whose split is not significant has an
+    /// excursion cut out around its farthest point: the run of fewer than
+    /// `min_line_points` consecutive points there that all lie more than 5 sigma from the
+    /// chord (a thin leg just before a wall, which the breakpoint distance joined to it), so
+    /// that the wall comes out on both sides of it instead of not at all. Needs
+    /// `split_significance > 0`. Not in the paper; off in
+    /// [`HoughSplitParams::mapping`]. Default `true`.
+    pub cut_excursions: bool,
     /// Lines of one surface on both sides of a gap (a leg or a box in front of a wall, a door,
     /// missing beams) share one fit: when one line explains the points of two lines (their
     /// joint line's sum of squared residuals exceeds theirs by less than the chi-square
@@ -288,6 +296,7 @@ impl Default for HoughSplitParams {
             split_significance: 20.0,
             noise_along_beams: true,
             merge_collinear: true,
+            cut_excursions: true,
             share_fits: true,
             refine_ends: true,
             min_line_points: 8,

@@ -23,6 +23,12 @@ fn scan_matching_caps_the_limit_on_r() {
     assert_eq!(HoughSplitParams::navigation().arc_significance, 0.0);
     assert_eq!(HoughSplitParams::paper().arc_significance, 0.0);
     assert!(HoughSplitParams::default().arc_significance > 0.0);
+    // Excursions stay in their pieces for scan matching and the paper, whatever a params
+    // file says.
+    assert!(!m.cut_excursions && !HoughSplitParams::paper().cut_excursions);
+    assert!(HoughSplitParams::default().cut_excursions);
+    assert!(HoughSplitParams::navigation().cut_excursions);
+    assert!(!HoughSplitParams::default().for_mapping().cut_excursions);
     let loose = HoughSplitParams::complete().for_mapping();
     assert_eq!(loose.max_r_sd, HoughSplitParams::MAPPING_MAX_R_SD);
     let tight = HoughSplitParams {
