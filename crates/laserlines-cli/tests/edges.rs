@@ -46,6 +46,31 @@ fn an_input_without_scans_fails_whatever_its_format() {
         fails_with(&o, "no scans to read");
         assert!(!out.exists(), "{} was left", out.display());
     }
+    // A device or a link given as the output stays: only a file of this run goes.
+    let o = run(bin()
+        .arg("extract")
+        .arg(tmp("empty.jsonl"))
+        .args(["-o", "/dev/null"]));
+    fails_with(&o, "no scans to read");
+    assert!(Path::new("/dev/null").exists());
+    #[cfg(unix)]
+    {
+        let target = tmp("kept-target.jsonl");
+        std::fs::write(&target, b"keep").unwrap();
+        let link = tmp("link.jsonl");
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink(&target, &link).unwrap();
+        let o = run(bin()
+            .arg("extract")
+            .arg(tmp("empty.jsonl"))
+            .arg("-o")
+            .arg(&link));
+        fails_with(&o, "no scans to read");
+        assert!(
+            std::fs::symlink_metadata(&link).is_ok(),
+            "the link was removed"
+        );
+    }
 }
 
 #[test]

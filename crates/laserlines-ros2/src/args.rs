@@ -112,15 +112,34 @@ fn is_package_name(name: &str) -> bool {
             .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
 }
 
-/// Fails unless `addr` is the address of one of this host's network interfaces: a socket
-/// can be bound to it. DDS would otherwise start and talk to nothing.
+/// Fails unless `addr` is the IPv4 address of one of this host's network interfaces, as
+/// RustDDS lists them (its unicast transport is IPv4 only): DDS would otherwise start and
+/// talk to nothing.
 fn check_local(addr: IpAddr) -> Result<()> {
-    match std::net::UdpSocket::bind((addr, 0)) {
-        Ok(_) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::AddrNotAvailable => {
-            bail!("--interface {addr}: no network interface of this host has that address")
-        }
-        Err(e) => Err(e).with_context(|| format!("--interface {addr}: cannot use it")),
+    let mut own: Vec<Ipv4Addr> = netdev::get_interfaces()
+        .iter()
+        .flat_map(|i| i.ipv4.iter().map(|net| net.addr()))
+        .collect();
+    own.sort_unstable();
+    own.dedup();
+    let list = || {
+        own.iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    match addr {
+        IpAddr::V4(v4) if own.contains(&v4) => Ok(()),
+        IpAddr::V4(_) => bail!(
+            "--interface {addr}: no network interface of this host has that address \
+             (its IPv4 addresses: {})",
+            list()
+        ),
+        IpAddr::V6(_) => bail!(
+            "--interface {addr}: DDS here talks IPv4 only; give an IPv4 address of this \
+             host (its IPv4 addresses: {})",
+            list()
+        ),
     }
 }
 
@@ -396,14 +415,18 @@ mod tests {
     fn an_interface_must_be_one_of_this_hosts() {
         assert!(config(&["--interface", "127.0.0.1"]).is_ok());
         // 192.0.2.0/24 is reserved for documentation (RFC 5737): no host has it.
-        let e = config(&["--interface", "192.0.2.1"])
-            .err()
-            .unwrap()
-            .to_string();
-        assert_eq!(
-            e,
-            "--interface 192.0.2.1: no network interface of this host has that address"
+        let refused = |addr: &str| config(&["--interface", addr]).err().unwrap().to_string();
+        let e = refused("192.0.2.1");
+        assert!(
+            e.starts_with("--interface 192.0.2.1: no network interface of this host has that address (its IPv4 addresses: ")
+                && e.contains("127.0.0.1"),
+            "{e}"
         );
+        // Bindable, but no interface's own address: DDS would hear nothing there.
+        for addr in ["0.0.0.0", "127.0.0.2", "255.255.255.255"] {
+            assert!(refused(addr).contains("no network interface"), "{addr}");
+        }
+        assert!(refused("::1").contains("DDS here talks IPv4 only"));
     }
 
     #[test]

@@ -184,9 +184,11 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     Ok(())
 }
 
-/// Removes the output file that `LinesOutput::create` made (standard output stays).
+/// Removes the output file this run wrote no scan to, when it is a regular file: standard
+/// output (`-`), `/dev/null`, a named pipe or a symbolic link stay as they are.
 fn remove_output(output: &Path) {
-    if output != Path::new("-") {
+    let regular = std::fs::symlink_metadata(output).is_ok_and(|m| m.file_type().is_file());
+    if output != Path::new("-") && regular {
         // It was just created by this run; a failure leaves an empty file, nothing worse.
         let _ = std::fs::remove_file(output);
     }

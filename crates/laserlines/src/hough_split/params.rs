@@ -198,7 +198,8 @@ pub struct HoughSplitParams {
     pub merge_collinear: bool,
     /// A piece that fails the RMS gate of a line and whose split is not significant has an
     /// excursion cut out around its farthest point: the run of fewer than
-    /// `min_line_points` consecutive points there that all lie more than 5 sigma from the
+    /// `min_line_points` consecutive points (fewer on a sparse scan:
+    /// [`HoughSplitParams::min_points_for`]) there that all lie more than 5 sigma from the
     /// chord (a thin leg just before a wall, which the breakpoint distance joined to it), so
     /// that the wall comes out on both sides of it instead of not at all. Needs
     /// `split_significance > 0`. Not in the paper; off in
