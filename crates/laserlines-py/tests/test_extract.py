@@ -157,3 +157,32 @@ def test_a_scan_keeps_its_pose_and_odometry():
     assert s.pose == (1.0, 2.0, 0.5) and s.odometry == (3.0, 4.0, -0.5)
     bare = laserlines.Scan(np.ones(3), 0.0, 0.1)
     assert bare.pose is None and bare.odometry is None
+
+
+def leg_before_wall():
+    """A URG-04LX scan (682 beams of 360/1024 deg) of a wall at x = 3 m, y from -3 to 3 m,
+    with a 5 cm leg whose front stands 0.25 m before it, straight ahead; no noise, ranges
+    rounded to the millimetre."""
+    inc = math.radians(360 / 1024)
+    angles = -340 * inc + inc * np.arange(682)
+    ranges = np.full(682, np.nan)
+    wall = 3.0 / np.cos(angles)
+    ranges[np.abs(wall * np.sin(angles)) <= 3.0] = wall[np.abs(wall * np.sin(angles)) <= 3.0]
+    cx, radius = 2.75, 0.025
+    along = cx * np.cos(angles)
+    h2 = radius**2 - (cx**2 - along**2)
+    leg = h2 >= 0
+    ranges[leg] = along[leg] - np.sqrt(h2[leg])
+    return np.round(ranges, 3), -340 * inc, inc
+
+
+def test_cut_excursions_is_a_keyword_and_keeps_the_wall_behind_a_leg():
+    ranges, angle_min, inc = leg_before_wall()
+    # With the cut (the default), the wall on both sides of the leg; without it, the leg's
+    # points spoil the wall's only piece and no line is left.
+    lines = laserlines.Extractor().extract(ranges, angle_min, inc, 0.02, 5.6)
+    assert len(lines) == 2
+    assert np.allclose(lines["r"], 3.0, atol=0.005)
+    assert lines["last"][0] < 341 < lines["first"][1]
+    off = laserlines.Extractor(cut_excursions=False).extract(ranges, angle_min, inc, 0.02, 5.6)
+    assert len(off) == 0
