@@ -112,16 +112,21 @@ fn is_package_name(name: &str) -> bool {
             .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
 }
 
-/// Fails unless `addr` is the IPv4 address of one of this host's network interfaces, as
-/// RustDDS lists them (its unicast transport is IPv4 only): DDS would otherwise start and
-/// talk to nothing.
-fn check_local(addr: IpAddr) -> Result<()> {
+/// The IPv4 addresses of this host's network interfaces, as RustDDS lists them (its
+/// unicast transport is IPv4 only), sorted.
+fn local_ipv4() -> Vec<Ipv4Addr> {
     let mut own: Vec<Ipv4Addr> = netdev::get_interfaces()
         .iter()
         .flat_map(|i| i.ipv4.iter().map(|net| net.addr()))
         .collect();
     own.sort_unstable();
     own.dedup();
+    own
+}
+
+/// Fails unless `addr` is one of `own` ([`local_ipv4`]): DDS would otherwise start and talk
+/// to nothing.
+fn check_local(addr: IpAddr, own: &[Ipv4Addr]) -> Result<()> {
     let list = || {
         own.iter()
             .map(ToString::to_string)
@@ -172,8 +177,9 @@ impl Ros2Args {
         } else if self.interfaces.is_empty() {
             None
         } else {
+            let own = local_ipv4();
             for &addr in &self.interfaces {
-                check_local(addr)?;
+                check_local(addr, &own)?;
             }
             Some(self.interfaces.clone())
         };

@@ -3,7 +3,7 @@
 //! keep surfaces and drop legs, posts and clutter.
 
 use super::arcs::drop_arcs;
-use super::linseg::{incidence_cos, split_is_significant, sums};
+use super::linseg::{incidence_cos, rms_passes, split_is_significant, sums};
 use super::params::HoughSplitParams;
 use super::points::{Pt, Seg};
 use crate::fit::{FitSums, NormalFit, PolarFit};
@@ -155,7 +155,7 @@ impl Pieces<'_> {
         }
         let sums = sums(self.pre, a, z);
         let fit = sums.fit()?;
-        if fit.rms > self.p.max_rms_sigmas * self.noise.sigma(fit.centroid.coords.norm()) {
+        if !rms_passes(&fit, self.p, self.noise) {
             return None;
         }
         let t = self.p.min_advance_t;

@@ -4,7 +4,7 @@
 
 use super::params::HoughSplitParams;
 use super::points::Seg;
-use crate::fit::FitSums;
+use crate::fit::{FitSums, PolarFit};
 use crate::math::{Point2, Vector2};
 use crate::noise::RangeNoise;
 
@@ -200,8 +200,13 @@ fn excursion(
     (short && s >= a + 2 && e + 2 <= b).then(|| (s - 1, e + 1))
 }
 
-/// True when the line of `seg[a..=b]` passes the gate of its RMS residual
-/// (`max_rms_sigmas` of the noise at its centroid) that every line must pass.
+/// True when `fit` passes the gate of its RMS residual that every line must pass:
+/// `max_rms_sigmas` of the noise at its centroid (a NaN fails).
+pub(crate) fn rms_passes(fit: &PolarFit, p: &HoughSplitParams, noise: &RangeNoise) -> bool {
+    fit.rms <= p.max_rms_sigmas * noise.sigma(fit.centroid.coords.norm())
+}
+
+/// True when the line of `seg[a..=b]` passes the RMS gate ([`rms_passes`]).
 fn fits_a_line(
     pre: &[FitSums],
     (a, b): (usize, usize),
@@ -210,7 +215,7 @@ fn fits_a_line(
 ) -> bool {
     sums(pre, a, b + 1)
         .fit()
-        .is_some_and(|fit| fit.rms <= p.max_rms_sigmas * noise.sigma(fit.centroid.coords.norm()))
+        .is_some_and(|fit| rms_passes(&fit, p, noise))
 }
 
 /// Where `Linseg` divides `seg[a..=b]`, or `None` when the piece is one line.

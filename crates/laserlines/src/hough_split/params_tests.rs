@@ -28,7 +28,7 @@ fn scan_matching_caps_the_limit_on_r() {
     assert!(!m.cut_excursions && !HoughSplitParams::paper().cut_excursions);
     assert!(HoughSplitParams::default().cut_excursions);
     assert!(HoughSplitParams::navigation().cut_excursions);
-    assert!(!HoughSplitParams::default().for_mapping().cut_excursions);
+    assert!(!HoughSplitParams::complete().for_mapping().cut_excursions);
     let loose = HoughSplitParams::complete().for_mapping();
     assert_eq!(loose.max_r_sd, HoughSplitParams::MAPPING_MAX_R_SD);
     let tight = HoughSplitParams {

@@ -94,7 +94,7 @@ impl HoughSplitParams {
     /// against 0.074 m). Round obstacles' chords are kept too (`arc_significance = 0`), as
     /// when those figures were measured, and excursions stay in their pieces
     /// (`cut_excursions = false`): with the cut, one of nine draws of the MIT CSAIL log with
-    /// 1 % noise added was bent by a wrong loop closure (1.58 m; without it 0.039 m), the
+    /// 1 % noise added was bent by wrong loop closures (1.58 m; without it 0.039 m), the
     /// other eight within 0.004 m of their figures without it.
     #[must_use]
     pub fn mapping() -> Self {
@@ -107,8 +107,7 @@ impl HoughSplitParams {
     /// These parameters as scan matching reads them ([`mapping`](Self::mapping)): without
     /// shared fits, with `sigma(r)` across every line and without `cut_excursions`,
     /// `min_advance_t` and `arc_significance`, whatever they said of those, and `max_r_sd`
-    /// at most
-    /// [`MAPPING_MAX_R_SD`](Self::MAPPING_MAX_R_SD).
+    /// at most [`MAPPING_MAX_R_SD`](Self::MAPPING_MAX_R_SD).
     #[must_use]
     pub fn for_mapping(self) -> Self {
         Self {
