@@ -7,9 +7,11 @@
 
 use std::cmp::Ordering;
 
-use super::lines::{Candidate, certain, floored_covariance, meeting_point};
+use super::corners::meeting_point;
+use super::lines::{Candidate, certain, floored_covariance};
 use super::linseg::{incidence_cos, variance_at};
 use super::params::HoughSplitParams;
+use super::points::Pt;
 use crate::fit::FitSums;
 use crate::line::Line;
 use crate::math::{Point2, Vector2};
@@ -63,9 +65,10 @@ pub(crate) fn share_fits(
     candidates: &[Candidate],
     p: &HoughSplitParams,
     noise: &RangeNoise,
+    returns: &[Pt],
     groups: &mut Groups,
 ) {
-    let n = lines.len().min(candidates.len());
+    let mut n = lines.len().min(candidates.len());
     if p.share_fits && p.split_significance > 0.0 {
         group_lines(&candidates[..n], noise, p.noise_along_beams, groups);
         // Which neighbours share a corner (the end of one the start of the next).
@@ -84,7 +87,14 @@ pub(crate) fn share_fits(
             moved.push(count >= 2 && take_fit(&mut lines[j], &candidates[j], &s, p, noise));
         }
         if moved.contains(&true) {
-            rejoin_corners(&mut lines[..n], &candidates[..n], groups, p, noise);
+            rejoin_corners(
+                &mut lines[..n],
+                &candidates[..n],
+                groups,
+                (p, noise),
+                returns,
+            );
+            n = join_followers(&mut lines[..n], &candidates[..n], groups);
         }
     }
     let mut kept = 0;
@@ -104,8 +114,8 @@ fn rejoin_corners(
     lines: &mut [Line],
     candidates: &[Candidate],
     groups: &Groups,
-    p: &HoughSplitParams,
-    noise: &RangeNoise,
+    (p, noise): (&HoughSplitParams, &RangeNoise),
+    returns: &[Pt],
 ) {
     let Groups { corners, moved, .. } = groups;
     let n = lines.len().min(moved.len()).min(corners.len() + 1);
@@ -116,11 +126,43 @@ fn rejoin_corners(
         let (a, b) = (lines[k - 1], lines[k]);
         lines[k - 1].end = project(&a, candidates[k - 1].ends.1);
         lines[k].start = project(&b, candidates[k].ends.0);
-        if let Some(corner) = meeting_point(&lines[k - 1], &lines[k], p, noise) {
+        if let Some(corner) = meeting_point(&lines[k - 1], &lines[k], p, noise, returns) {
             lines[k - 1].end = corner;
             lines[k].start = corner;
         }
     }
+}
+
+/// Neighbouring lines of one data segment whose points follow each other
+/// ([`Candidate::follows`]: none between, or a lone spike) and which both took their group's
+/// fit are one line: the split between them parted points that one line explains, which the
+/// merge of neighbouring pieces (by the split's test, on the pieces before their ends were
+/// refined) did not see, as heavy-tailed noise leaves it. The first takes the second's end,
+/// last beam and points, and the RMS of both sets of points. Compacts `lines` and returns
+/// how many remain.
+fn join_followers(lines: &mut [Line], candidates: &[Candidate], groups: &Groups) -> usize {
+    let Groups { group, moved, .. } = groups;
+    let n = lines.len().min(candidates.len()).min(moved.len());
+    if n == 0 {
+        return 0;
+    }
+    let mut w = 0;
+    for k in 1..n {
+        // `lines[w]` holds line `k - 1`, alone or with those it took in.
+        if candidates[k].follows && moved[k - 1] && moved[k] && group[k - 1] == group[k] {
+            let (a, b) = (lines[w], lines[k]);
+            let (na, nb) = (a.points as f64, b.points as f64);
+            let line = &mut lines[w];
+            line.end = b.end;
+            line.last = b.last;
+            line.points = a.points + b.points;
+            line.rms = ((a.rms * a.rms * na + b.rms * b.rms * nb) / (na + nb)).sqrt();
+        } else {
+            w += 1;
+            lines[w] = lines[k];
+        }
+    }
+    w + 1
 }
 
 /// `q` projected onto the line of `l`.
@@ -294,7 +336,14 @@ mod tests {
         let mut lines: Vec<Line> = pieces.iter().map(|p| p.0).collect();
         let candidates: Vec<Candidate> = pieces.iter().map(|p| p.1).collect();
         let p = HoughSplitParams::default();
-        share_fits(&mut lines, &candidates, &p, noise, &mut Groups::default());
+        share_fits(
+            &mut lines,
+            &candidates,
+            &p,
+            noise,
+            &[],
+            &mut Groups::default(),
+        );
         lines
     }
 
@@ -316,6 +365,30 @@ mod tests {
             assert!(shared.covariance[(1, 1)] < 0.5 * own.0.covariance[(1, 1)]);
             assert!((shared.start.x - own.0.start.x).abs() < 1e-3);
         }
+    }
+
+    #[test]
+    fn pieces_that_follow_each_other_with_one_fit_are_one_line() {
+        let noise = RangeNoise::new(0.005, 0.0);
+        // A wall at y = 2 split at x = -0.2 with nothing between the pieces.
+        let mut pieces = [
+            piece(-50..-10, 0.02, 2.0, &noise),
+            piece(-10..30, 0.02, 2.0, &noise),
+        ];
+        assert_eq!(share(&pieces, &noise).len(), 2);
+        pieces[1].1.follows = true;
+        let lines = share(&pieces, &noise);
+        assert_eq!(lines.len(), 1);
+        assert_eq!(lines[0].points, 80);
+        assert!((lines[0].start.x + 1.0).abs() < 1e-3 && (lines[0].end.x - 0.58).abs() < 1e-3);
+        assert!((lines[0].rms - 0.004).abs() < 1e-4);
+        // Pieces of two surfaces never take one fit, and stay two lines.
+        let mut apart = [
+            piece(-50..-10, 0.02, 2.0, &noise),
+            piece(-10..30, 0.02, 1.95, &noise),
+        ];
+        apart[1].1.follows = true;
+        assert_eq!(share(&apart, &noise).len(), 2);
     }
 
     #[test]
@@ -364,6 +437,7 @@ mod tests {
                 ends,
                 certain,
                 span,
+                follows: false,
             },
         )
     }

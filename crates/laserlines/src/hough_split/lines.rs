@@ -3,6 +3,7 @@
 //! keep surfaces and drop legs, posts and clutter.
 
 use super::arcs::drop_arcs;
+use super::corners::join_corners;
 use super::linseg::{incidence_cos, rms_passes, split_is_significant, sums};
 use super::params::HoughSplitParams;
 use super::points::{Pt, Seg};
@@ -10,6 +11,10 @@ use crate::fit::{FitSums, NormalFit, PolarFit};
 use crate::line::Line;
 use crate::math::{Matrix2, Point2, Vector2};
 use crate::noise::RangeNoise;
+
+/// Points between two lines of one data segment below which the second follows the first
+/// ([`Candidate::follows`]): none, or a lone point off both (a spike that the split cut out).
+const GAP_POINTS: usize = 2;
 
 /// Points on each side of a shared end point that [`Pieces::best_cut`] may move to the other
 /// line, and most points [`Pieces::trim_ends`] cuts from an end.
@@ -179,6 +184,7 @@ impl Pieces<'_> {
                 ends,
                 certain,
                 span: (a as u32, z as u32),
+                follows: false,
             },
         ))
     }
@@ -228,6 +234,9 @@ pub(crate) struct Candidate {
     pub(crate) ends: (Point2, Point2),
     /// Its points in its data segment, `seg[span.0..span.1]`.
     pub(crate) span: (u32, u32),
+    /// Its points follow the previous line's in the same data segment with fewer than
+    /// [`GAP_POINTS`] between (set by [`emit_lines`] once the segment's lines are final).
+    pub(crate) follows: bool,
     /// Its direction is known to `max_alpha_sd` and its distance from the sensor to
     /// `max_r_sd` (one standard deviation each, from its own fit); an uncertain line is kept
     /// only when it shares the fit of another line that makes it certain.
@@ -305,90 +314,22 @@ pub(crate) fn emit_lines(
     if p.arc_significance > 0.0 {
         drop_arcs(pieces, out, candidates, first_line);
     }
+    for k in first_line + 1..candidates.len() {
+        let between = candidates[k]
+            .span
+            .0
+            .saturating_sub(candidates[k - 1].span.1);
+        candidates[k].follows = (between as usize) < GAP_POINTS;
+    }
     if p.refine_ends {
         join_corners(
             &mut out[first_line..],
             &candidates[first_line..],
             p,
             pieces.noise,
+            pieces.returns,
         );
     }
-}
-
-/// Neighbouring lines of one segment that meet at a corner share their end point, as in the
-/// paper: the intersection of the two fitted lines, when it lies near both ends (within
-/// `split_sigmas * sigma(r)` plus the gap between them, which within one data segment is at
-/// most the breakpoint distance), the lines are not nearly parallel, and neither line gives
-/// up more than `split_sigmas * sigma(r)` of its points' extent or falls below
-/// `min_line_length` for it. Where a piece between
-/// them gave no line (too short, too rough or too uncertain for the filters of
-/// `Pieces::line`), the lines around it are neighbours and the gap is that piece's length:
-/// they meet at their intersection when it lies within it, as at a corner whose short leg gave
-/// no line.
-fn join_corners(
-    lines: &mut [Line],
-    candidates: &[Candidate],
-    p: &HoughSplitParams,
-    noise: &RangeNoise,
-) {
-    // Uncertain lines may yet be dropped: the certain lines around them are neighbours.
-    let mut before: Option<usize> = None;
-    for k in 0..lines.len().min(candidates.len()) {
-        if !candidates[k].certain {
-            continue;
-        }
-        let Some(j) = before.replace(k) else { continue };
-        if let Some(corner) = meeting_point(&lines[j], &lines[k], p, noise) {
-            lines[j].end = corner;
-            lines[k].start = corner;
-        }
-    }
-}
-
-/// Where `a` and the next line `b` meet at a corner ([`join_corners`]): their lines'
-/// intersection, when they are not nearly parallel, it lies within `split_sigmas * sigma(r)`
-/// plus the gap between them of both ends, and neither line gives up more than that of its
-/// extent or falls below `min_line_length` for it.
-pub(crate) fn meeting_point(
-    a: &Line,
-    b: &Line,
-    p: &HoughSplitParams,
-    noise: &RangeNoise,
-) -> Option<Point2> {
-    let corner = corner_of(a, b)?;
-    let thr = p.split_sigmas * noise.sigma(corner.coords.norm());
-    let reach = (b.start - a.end).norm() + thr;
-    let near = (corner - a.end).norm() <= reach && (corner - b.start).norm() <= reach;
-    let keeps =
-        |far: Point2, near: Point2| keeps_its_points(far, near, corner, thr, p.min_line_length);
-    (near && keeps(a.start, a.end) && keeps(b.end, b.start)).then_some(corner)
-}
-
-/// The intersection of the infinite lines of `a` and `b`, or `None` when they lie closer
-/// than 15 deg to parallel (no well-defined corner).
-fn corner_of(a: &Line, b: &Line) -> Option<Point2> {
-    let (sa, ca) = a.alpha.sin_cos();
-    let (sb, cb) = b.alpha.sin_cos();
-    let det = ca * sb - sa * cb;
-    if det.abs() < 15f64.to_radians().sin() {
-        return None;
-    }
-    let x = (a.r * sb - b.r * sa) / det;
-    let y = (ca * b.r - cb * a.r) / det;
-    Some(Point2::new(x, y))
-}
-
-/// Whether a line from `far` to `near` may end at `corner` instead of `near`: the corner lies
-/// on the same side of `far` as `near`, the line stays `min_length` long, and it gives up at
-/// most `thr` of its own points' extent (a corner beyond the line's other end, or far inside
-/// it, belongs to lines that do not meet there).
-fn keeps_its_points(far: Point2, near: Point2, corner: Point2, thr: f64, min_length: f64) -> bool {
-    let length = (near - far).norm();
-    if length <= 0.0 {
-        return false;
-    }
-    let along = (corner - far).dot(&(near - far)) / length;
-    along > 0.0 && along >= length - thr && along >= min_length
 }
 
 #[cfg(test)]

@@ -19,6 +19,7 @@ mod accumulator;
 mod arcs;
 mod collinear;
 mod components;
+mod corners;
 mod ends;
 mod lines;
 mod linseg;
@@ -172,6 +173,7 @@ impl LineExtractor for HoughSplit {
             &self.candidates,
             &self.params,
             &self.noise,
+            &self.points,
             &mut self.groups,
         );
     }

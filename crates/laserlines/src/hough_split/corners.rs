@@ -1,0 +1,202 @@
+//! Where neighbouring lines of one data segment end: at their corner, as in the paper, when
+//! the two lines meet there and the scan does not say the corner is not there.
+
+use super::lines::Candidate;
+use super::params::HoughSplitParams;
+use super::points::Pt;
+use crate::line::Line;
+use crate::math::{Point2, Vector2};
+use crate::noise::RangeNoise;
+
+/// Neighbouring lines of one segment that meet at a corner share their end point, as in the
+/// paper: the intersection of the two fitted lines, when it lies near both ends (within
+/// `split_sigmas * sigma(r)` plus the gap between them, which within one data segment is at
+/// most the breakpoint distance), the lines are not nearly parallel, and neither line gives
+/// up more than `split_sigmas * sigma(r)` of its points' extent or falls below
+/// `min_line_length` for it. Where a piece between
+/// them gave no line (too short, too rough or too uncertain for the filters of
+/// `Pieces::line`), the lines around it are neighbours and the gap is that piece's length:
+/// they meet at their intersection when it lies within it, as at a corner whose short leg gave
+/// no line.
+pub(crate) fn join_corners(
+    lines: &mut [Line],
+    candidates: &[Candidate],
+    p: &HoughSplitParams,
+    noise: &RangeNoise,
+    returns: &[Pt],
+) {
+    // Uncertain lines may yet be dropped: the certain lines around them are neighbours.
+    let mut before: Option<usize> = None;
+    for k in 0..lines.len().min(candidates.len()) {
+        if !candidates[k].certain {
+            continue;
+        }
+        let Some(j) = before.replace(k) else { continue };
+        if let Some(corner) = meeting_point(&lines[j], &lines[k], p, noise, returns) {
+            lines[j].end = corner;
+            lines[k].start = corner;
+        }
+    }
+}
+
+/// Where `a` and the next line `b` meet at a corner ([`join_corners`]): their lines'
+/// intersection, when they are not nearly parallel, it lies within `split_sigmas * sigma(r)`
+/// plus the gap between them of both ends, neither line gives up more than that of its
+/// extent or falls below `min_line_length` for it, and no beam between them saw through
+/// the stretch either line would gain ([`seen_through`]).
+pub(crate) fn meeting_point(
+    a: &Line,
+    b: &Line,
+    p: &HoughSplitParams,
+    noise: &RangeNoise,
+    returns: &[Pt],
+) -> Option<Point2> {
+    let corner = corner_of(a, b)?;
+    let thr = p.split_sigmas * noise.sigma(corner.coords.norm());
+    let reach = (b.start - a.end).norm() + thr;
+    let near = (corner - a.end).norm() <= reach && (corner - b.start).norm() <= reach;
+    let keeps =
+        |far: Point2, near: Point2| keeps_its_points(far, near, corner, thr, p.min_line_length);
+    let meets = near && keeps(a.start, a.end) && keeps(b.end, b.start);
+    (meets && !seen_through(a, b, corner, p, noise, returns)).then_some(corner)
+}
+
+/// True when a return of a beam between the last beam of `a` and the first of `b`
+/// (`returns`, in beam order) lies beyond the stretch from `a`'s end to `corner` or from
+/// `corner` to `b`'s start by more than `bridge_sigmas * sqrt(2) * sigma(r)`, as beams do
+/// that see through a gap: a line that ends short of a wall behind it (the end of a wall,
+/// a box's face seen at a grazing angle) would otherwise be drawn on to meet that wall's
+/// line across empty space.
+fn seen_through(
+    a: &Line,
+    b: &Line,
+    corner: Point2,
+    p: &HoughSplitParams,
+    noise: &RangeNoise,
+    returns: &[Pt],
+) -> bool {
+    if b.first <= a.last + 1 {
+        return false;
+    }
+    let from = returns.partition_point(|q| q.idx <= a.last);
+    let spread = p.bridge_sigmas * std::f64::consts::SQRT_2;
+    returns[from..]
+        .iter()
+        .take_while(|q| q.idx < b.first)
+        .any(|q| {
+            [(a, a.end, corner), (b, corner, b.start)]
+                .iter()
+                .any(|&(l, p0, p1)| beyond(l, p0, p1, q, spread, noise))
+        })
+}
+
+/// True when the beam of `q` crosses the stretch `p0..p1` of the line of `l` and `q` lies
+/// beyond it along the beam by more than `spread` sigma.
+fn beyond(l: &Line, p0: Point2, p1: Point2, q: &Pt, spread: f64, noise: &RangeNoise) -> bool {
+    let u = Vector2::new(q.x, q.y) / q.range;
+    let cross = |v: Point2| v.x * u.y - v.y * u.x;
+    // The beam passes between the stretch's ends (their cross products differ in sign) on
+    // the side of the sensor the stretch lies on.
+    let crosses = cross(p0) * cross(p1) <= 0.0 && (p0.coords + p1.coords).dot(&u) > 0.0;
+    let facing = u.x * l.alpha.cos() + u.y * l.alpha.sin();
+    if !crosses || facing <= 0.0 {
+        return false;
+    }
+    let along = l.r / facing;
+    q.range > along + spread * noise.sigma(along)
+}
+
+/// The intersection of the infinite lines of `a` and `b`, or `None` when they lie closer
+/// than 15 deg to parallel (no well-defined corner).
+fn corner_of(a: &Line, b: &Line) -> Option<Point2> {
+    let (sa, ca) = a.alpha.sin_cos();
+    let (sb, cb) = b.alpha.sin_cos();
+    let det = ca * sb - sa * cb;
+    if det.abs() < 15f64.to_radians().sin() {
+        return None;
+    }
+    let x = (a.r * sb - b.r * sa) / det;
+    let y = (ca * b.r - cb * a.r) / det;
+    Some(Point2::new(x, y))
+}
+
+/// Whether a line from `far` to `near` may end at `corner` instead of `near`: the corner lies
+/// on the same side of `far` as `near`, the line stays `min_length` long, and it gives up at
+/// most `thr` of its own points' extent (a corner beyond the line's other end, or far inside
+/// it, belongs to lines that do not meet there).
+fn keeps_its_points(far: Point2, near: Point2, corner: Point2, thr: f64, min_length: f64) -> bool {
+    let length = (near - far).norm();
+    if length <= 0.0 {
+        return false;
+    }
+    let along = (corner - far).dot(&(near - far)) / length;
+    along > 0.0 && along >= length - thr && along >= min_length
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Matrix2;
+
+    /// A line from `start` (beam `first`) to `end` (beam `last`).
+    fn line(start: Point2, end: Point2, (first, last): (usize, usize)) -> Line {
+        let d = (end - start).normalize();
+        let normal = Vector2::new(d.y, -d.x);
+        let (normal, r) = if normal.dot(&start.coords) < 0.0 {
+            (-normal, -normal.dot(&start.coords))
+        } else {
+            (normal, normal.dot(&start.coords))
+        };
+        Line {
+            start,
+            end,
+            r,
+            alpha: normal.y.atan2(normal.x),
+            first,
+            last,
+            points: last - first + 1,
+            rms: 0.005,
+            covariance: Matrix2::identity() * 1e-6,
+        }
+    }
+
+    /// Returns on beams `11..20` along the stretch from `(0.5, 1.5)` through the corner
+    /// `(0.5, 2)` to `(-0.2, 2)`, at `scale` times the range of the stretch.
+    fn returns(scale: f64) -> Vec<Pt> {
+        (11..20)
+            .map(|idx| {
+                let t = (idx - 10) as f64 / 10.0;
+                let q = if t < 0.4 {
+                    Point2::new(0.5, 1.5 + 0.5 * t / 0.4)
+                } else {
+                    Point2::new(0.5 - 0.7 * (t - 0.4) / 0.6, 2.0)
+                };
+                let (x, y) = (q.x * scale, q.y * scale);
+                Pt {
+                    x,
+                    y,
+                    range: x.hypot(y),
+                    idx,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn lines_meet_at_their_corner_unless_beams_saw_through_it() {
+        let p = HoughSplitParams::default();
+        let noise = RangeNoise::new(0.01, 0.01);
+        // The two walls of a room's corner at (0.5, 2), seen from inside: one along x = 0.5
+        // up to y = 1.5, one along y = 2 from x = -0.2 on, and beams 11-19 between them.
+        let a = line(Point2::new(0.5, 0.5), Point2::new(0.5, 1.5), (0, 10));
+        let b = line(Point2::new(-0.2, 2.0), Point2::new(-1.0, 2.0), (20, 40));
+        let corner = meeting_point(&a, &b, &p, &noise, &returns(1.0)).unwrap();
+        assert!((corner - Point2::new(0.5, 2.0)).norm() < 1e-9);
+        // Without returns between them (missing beams) the corner stands too.
+        assert!(meeting_point(&a, &b, &p, &noise, &[]).is_some());
+        // The beams between them saw a surface 30 % farther: no wall is at the corner.
+        assert!(meeting_point(&a, &b, &p, &noise, &returns(1.3)).is_none());
+        // Within the noise beyond it (1 % of 2 m, 4.2 sigma allowed), the corner stands.
+        assert!(meeting_point(&a, &b, &p, &noise, &returns(1.02)).is_some());
+    }
+}
