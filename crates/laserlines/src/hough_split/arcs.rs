@@ -335,6 +335,7 @@ mod tests {
                 min_points: p.min_line_points,
                 lone_gap: usize::MAX,
                 returns: &[],
+                step: 0.0,
             };
             let half = pts.len() / 2;
             chords_of_a_circle(&pieces, [(0, half), (half, pts.len())], sse_lines, 2.0)

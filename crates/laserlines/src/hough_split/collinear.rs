@@ -7,11 +7,10 @@
 
 use std::cmp::Ordering;
 
-use super::corners::meeting_point;
+use super::corners::{Seen, meeting_point};
 use super::lines::{Candidate, certain, floored_covariance};
 use super::linseg::{incidence_cos, variance_at};
 use super::params::HoughSplitParams;
-use super::points::Pt;
 use crate::fit::FitSums;
 use crate::line::Line;
 use crate::math::{Point2, Vector2};
@@ -65,7 +64,7 @@ pub(crate) fn share_fits(
     candidates: &[Candidate],
     p: &HoughSplitParams,
     noise: &RangeNoise,
-    returns: &[Pt],
+    seen: Seen<'_>,
     groups: &mut Groups,
 ) {
     let mut n = lines.len().min(candidates.len());
@@ -87,13 +86,7 @@ pub(crate) fn share_fits(
             moved.push(count >= 2 && take_fit(&mut lines[j], &candidates[j], &s, p, noise));
         }
         if moved.contains(&true) {
-            rejoin_corners(
-                &mut lines[..n],
-                &candidates[..n],
-                groups,
-                (p, noise),
-                returns,
-            );
+            rejoin_corners(&mut lines[..n], &candidates[..n], groups, (p, noise), seen);
             n = join_followers(&mut lines[..n], &candidates[..n], groups);
         }
     }
@@ -115,7 +108,7 @@ fn rejoin_corners(
     candidates: &[Candidate],
     groups: &Groups,
     (p, noise): (&HoughSplitParams, &RangeNoise),
-    returns: &[Pt],
+    seen: Seen<'_>,
 ) {
     let Groups { corners, moved, .. } = groups;
     let n = lines.len().min(moved.len()).min(corners.len() + 1);
@@ -126,7 +119,7 @@ fn rejoin_corners(
         let (a, b) = (lines[k - 1], lines[k]);
         lines[k - 1].end = project(&a, candidates[k - 1].ends.1);
         lines[k].start = project(&b, candidates[k].ends.0);
-        if let Some(corner) = meeting_point(&lines[k - 1], &lines[k], p, noise, returns) {
+        if let Some(corner) = meeting_point(&lines[k - 1], &lines[k], p, noise, seen) {
             lines[k - 1].end = corner;
             lines[k].start = corner;
         }
@@ -341,7 +334,7 @@ mod tests {
             &candidates,
             &p,
             noise,
-            &[],
+            Seen::default(),
             &mut Groups::default(),
         );
         lines

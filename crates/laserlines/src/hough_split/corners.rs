@@ -8,6 +8,14 @@ use crate::line::Line;
 use crate::math::{Point2, Vector2};
 use crate::noise::RangeNoise;
 
+/// What the scan saw between two lines: its returns (step 0's points, in beam order) and the
+/// geometric part of the breakpoint distance of neighbouring beams per metre of range.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Seen<'a> {
+    pub(crate) returns: &'a [Pt],
+    pub(crate) step: f64,
+}
+
 /// Neighbouring lines of one segment that meet at a corner share their end point, as in the
 /// paper: the intersection of the two fitted lines, when it lies near both ends (within
 /// `split_sigmas * sigma(r)` plus the gap between them, which within one data segment is at
@@ -23,7 +31,7 @@ pub(crate) fn join_corners(
     candidates: &[Candidate],
     p: &HoughSplitParams,
     noise: &RangeNoise,
-    returns: &[Pt],
+    seen: Seen<'_>,
 ) {
     // Uncertain lines may yet be dropped: the certain lines around them are neighbours.
     let mut before: Option<usize> = None;
@@ -32,7 +40,7 @@ pub(crate) fn join_corners(
             continue;
         }
         let Some(j) = before.replace(k) else { continue };
-        if let Some(corner) = meeting_point(&lines[j], &lines[k], p, noise, returns) {
+        if let Some(corner) = meeting_point(&lines[j], &lines[k], p, noise, seen) {
             lines[j].end = corner;
             lines[k].start = corner;
         }
@@ -49,7 +57,7 @@ pub(crate) fn meeting_point(
     b: &Line,
     p: &HoughSplitParams,
     noise: &RangeNoise,
-    returns: &[Pt],
+    seen: Seen<'_>,
 ) -> Option<Point2> {
     let corner = corner_of(a, b)?;
     let thr = p.split_sigmas * noise.sigma(corner.coords.norm());
@@ -58,52 +66,69 @@ pub(crate) fn meeting_point(
     let keeps =
         |far: Point2, near: Point2| keeps_its_points(far, near, corner, thr, p.min_line_length);
     let meets = near && keeps(a.start, a.end) && keeps(b.end, b.start);
-    (meets && !seen_through(a, b, corner, p, noise, returns)).then_some(corner)
+    (meets && !seen_through(a, b, corner, p, noise, seen)).then_some(corner)
 }
 
-/// True when a return of a beam between the last beam of `a` and the first of `b`
-/// (`returns`, in beam order) lies beyond the stretch from `a`'s end to `corner` or from
-/// `corner` to `b`'s start by more than `bridge_sigmas * sqrt(2) * sigma(r)`, as beams do
-/// that see through a gap: a line that ends short of a wall behind it (the end of a wall,
-/// a box's face seen at a grazing angle) would otherwise be drawn on to meet that wall's
-/// line across empty space.
+/// True when a return of a beam from the first of `a` to the last of `b` (those of the lines
+/// too: past a wall's end, the wall behind may take the beams the line would gain) lies
+/// beyond the stretch from `a`'s end to `corner` or from `corner` to `b`'s start by more than
+/// the breakpoint distance `D` of neighbouring beams there (with the line's own uncertainty
+/// where the beam meets it added to the range noise): the beam saw through where the line
+/// would pass, as beams past the end of a wall see the wall behind it. Drawn to the corner,
+/// such a line would cross that empty space. A surface that bends a little before its corner
+/// stays well within `D`.
 fn seen_through(
     a: &Line,
     b: &Line,
     corner: Point2,
     p: &HoughSplitParams,
     noise: &RangeNoise,
-    returns: &[Pt],
+    seen: Seen<'_>,
 ) -> bool {
-    if b.first <= a.last + 1 {
-        return false;
-    }
-    let from = returns.partition_point(|q| q.idx <= a.last);
+    let from = seen.returns.partition_point(|q| q.idx < a.first);
     let spread = p.bridge_sigmas * std::f64::consts::SQRT_2;
-    returns[from..]
+    seen.returns[from..]
         .iter()
-        .take_while(|q| q.idx < b.first)
+        .take_while(|q| q.idx <= b.last)
         .any(|q| {
             [(a, a.end, corner), (b, corner, b.start)]
                 .iter()
-                .any(|&(l, p0, p1)| beyond(l, p0, p1, q, spread, noise))
+                .any(|&(l, p0, p1)| {
+                    beyond(l, (p0, p1), q, noise)
+                        .is_some_and(|(excess, along, sd)| excess > along * seen.step + spread * sd)
+                })
         })
 }
 
-/// True when the beam of `q` crosses the stretch `p0..p1` of the line of `l` and `q` lies
-/// beyond it along the beam by more than `spread` sigma.
-fn beyond(l: &Line, p0: Point2, p1: Point2, q: &Pt, spread: f64, noise: &RangeNoise) -> bool {
+/// Where the beam of `q` crosses the stretch `p0..p1` of the line of `l`: how far `q` lies
+/// beyond it along the beam, the range there, and the standard deviation of that difference
+/// (the range noise and the line's own uncertainty at the crossing, from its covariance,
+/// seen along the beam: a line met at a grazing angle is known there the less).
+fn beyond(
+    l: &Line,
+    (p0, p1): (Point2, Point2),
+    q: &Pt,
+    noise: &RangeNoise,
+) -> Option<(f64, f64, f64)> {
     let u = Vector2::new(q.x, q.y) / q.range;
     let cross = |v: Point2| v.x * u.y - v.y * u.x;
     // The beam passes between the stretch's ends (their cross products differ in sign) on
     // the side of the sensor the stretch lies on.
     let crosses = cross(p0) * cross(p1) <= 0.0 && (p0.coords + p1.coords).dot(&u) > 0.0;
-    let facing = u.x * l.alpha.cos() + u.y * l.alpha.sin();
+    let (sin, cos) = l.alpha.sin_cos();
+    let facing = u.x * cos + u.y * sin;
     if !crosses || facing <= 0.0 {
-        return false;
+        return None;
     }
     let along = l.r / facing;
-    q.range > along + spread * noise.sigma(along)
+    // The crossing's coordinate along the line; its offset across the line varies by
+    // `dr - t dalpha`.
+    let t = along * (u.y * cos - u.x * sin);
+    let c = &l.covariance;
+    let across = (c[(0, 0)] - 2.0 * t * c[(0, 1)] + t * t * c[(1, 1)]).max(0.0);
+    let sigma = noise.sigma(along);
+    let sd = (sigma * sigma + across / (facing * facing)).sqrt();
+    Some((q.range - along, along, sd))
 }
 
 /// The intersection of the infinite lines of `a` and `b`, or `None` when they lie closer
@@ -182,6 +207,15 @@ mod tests {
             .collect()
     }
 
+    /// The returns as a URG-04LX's scan sees them (`D` of neighbouring beams 0.096 m per
+    /// metre of range).
+    fn seen(returns: &[Pt]) -> Seen<'_> {
+        Seen {
+            returns,
+            step: 0.096,
+        }
+    }
+
     #[test]
     fn lines_meet_at_their_corner_unless_beams_saw_through_it() {
         let p = HoughSplitParams::default();
@@ -190,13 +224,14 @@ mod tests {
         // up to y = 1.5, one along y = 2 from x = -0.2 on, and beams 11-19 between them.
         let a = line(Point2::new(0.5, 0.5), Point2::new(0.5, 1.5), (0, 10));
         let b = line(Point2::new(-0.2, 2.0), Point2::new(-1.0, 2.0), (20, 40));
-        let corner = meeting_point(&a, &b, &p, &noise, &returns(1.0)).unwrap();
+        let corner = meeting_point(&a, &b, &p, &noise, seen(&returns(1.0))).unwrap();
         assert!((corner - Point2::new(0.5, 2.0)).norm() < 1e-9);
         // Without returns between them (missing beams) the corner stands too.
-        assert!(meeting_point(&a, &b, &p, &noise, &[]).is_some());
-        // The beams between them saw a surface 30 % farther: no wall is at the corner.
-        assert!(meeting_point(&a, &b, &p, &noise, &returns(1.3)).is_none());
-        // Within the noise beyond it (1 % of 2 m, 4.2 sigma allowed), the corner stands.
-        assert!(meeting_point(&a, &b, &p, &noise, &returns(1.02)).is_some());
+        assert!(meeting_point(&a, &b, &p, &noise, seen(&[])).is_some());
+        // The beams between them saw a surface 30 % farther (0.6 m at 2 m, where `D` is
+        // 0.28 m): no wall is at the corner.
+        assert!(meeting_point(&a, &b, &p, &noise, seen(&returns(1.3))).is_none());
+        // A surface 5 % farther (a wall that bends before its corner) lies within `D`.
+        assert!(meeting_point(&a, &b, &p, &noise, seen(&returns(1.05))).is_some());
     }
 }

@@ -174,6 +174,7 @@ mod tests {
             min_points,
             lone_gap,
             returns,
+            step: 0.0,
         };
         pieces.cut_lone_ends(0, pts.len(), min_points)
     }

@@ -3,7 +3,7 @@
 //! keep surfaces and drop legs, posts and clutter.
 
 use super::arcs::drop_arcs;
-use super::corners::join_corners;
+use super::corners::{Seen, join_corners};
 use super::linseg::{incidence_cos, rms_passes, split_is_significant, sums};
 use super::params::HoughSplitParams;
 use super::points::{Pt, Seg};
@@ -42,6 +42,9 @@ pub(crate) struct Pieces<'a> {
     pub(crate) lone_gap: usize,
     /// The scan's valid points (step 0), in beam order: the beams that returned.
     pub(crate) returns: &'a [Pt],
+    /// The geometric part of the breakpoint distance `D` of neighbouring beams per metre of
+    /// range ([`Breakpoints::one_beam`](super::segment::Breakpoints::one_beam)).
+    pub(crate) step: f64,
 }
 
 /// The angle [`Pieces::best_cut`] searches on each side of a split point: `CUT_WINDOW` beams
@@ -327,7 +330,10 @@ pub(crate) fn emit_lines(
             &candidates[first_line..],
             p,
             pieces.noise,
-            pieces.returns,
+            Seen {
+                returns: pieces.returns,
+                step: pieces.step,
+            },
         );
     }
 }
@@ -422,6 +428,7 @@ mod tests {
             min_points: p.min_line_points,
             lone_gap: usize::MAX,
             returns: &[],
+            step: 0.0,
         };
         let mut out = Vec::new();
         let mut breaks = scratch.breaks.clone();

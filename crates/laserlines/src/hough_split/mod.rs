@@ -173,7 +173,10 @@ impl LineExtractor for HoughSplit {
             &self.candidates,
             &self.params,
             &self.noise,
-            &self.points,
+            corners::Seen {
+                returns: &self.points,
+                step: self.breakpoints.one_beam(),
+            },
             &mut self.groups,
         );
     }
@@ -285,6 +288,7 @@ impl HoughSplit {
                 min_points: min_points.line,
                 lone_gap,
                 returns: &self.points,
+                step: self.breakpoints.one_beam(),
             };
             lines::emit_lines(&pieces, &mut self.scratch.breaks, out, &mut self.candidates);
         }

@@ -70,6 +70,16 @@ impl Breakpoints {
         self.noise = noise;
     }
 
+    /// The geometric part of `D` for neighbouring beams per metre of range,
+    /// `sin(dphi) / sin(lambda - dphi)` (0 when `D` joins no neighbours).
+    pub(crate) fn one_beam(&self) -> f64 {
+        self.factor
+            .first()
+            .copied()
+            .filter(|f| f.is_finite())
+            .unwrap_or(0.0)
+    }
+
     /// Most beams apart two points of one segment may be.
     pub(crate) fn reach(&self) -> usize {
         self.factor.len()
