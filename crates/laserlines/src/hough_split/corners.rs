@@ -76,7 +76,8 @@ pub(crate) fn meeting_point(
 /// where the beam meets it added to the range noise): the beam saw through where the line
 /// would pass, as beams past the end of a wall see the wall behind it. Drawn to the corner,
 /// such a line would cross that empty space. A surface that bends a little before its corner
-/// stays well within `D`.
+/// stays well within `D`. Only a line that gains more than `D` (at the corner's range) is
+/// looked at.
 fn seen_through(
     a: &Line,
     b: &Line,
@@ -85,18 +86,25 @@ fn seen_through(
     noise: &RangeNoise,
     seen: Seen<'_>,
 ) -> bool {
-    let from = seen.returns.partition_point(|q| q.idx < a.first);
     let spread = p.bridge_sigmas * std::f64::consts::SQRT_2;
+    // A line that gains less than `D` at the corner spans no gap `D` would see: the usual
+    // corner, whose lines end within the noise of it, is not searched.
+    let range = corner.coords.norm();
+    let reach = range * seen.step + spread * noise.sigma(range);
+    let stretches = [(a, a.end, corner), (b, corner, b.start)];
+    let gains = |&&(_, p0, p1): &&(&Line, Point2, Point2)| (p1 - p0).norm() > reach;
+    if !stretches.iter().any(|s| gains(&s)) {
+        return false;
+    }
+    let from = seen.returns.partition_point(|q| q.idx < a.first);
     seen.returns[from..]
         .iter()
         .take_while(|q| q.idx <= b.last)
         .any(|q| {
-            [(a, a.end, corner), (b, corner, b.start)]
-                .iter()
-                .any(|&(l, p0, p1)| {
-                    beyond(l, (p0, p1), q, noise)
-                        .is_some_and(|(excess, along, sd)| excess > along * seen.step + spread * sd)
-                })
+            stretches.iter().filter(gains).any(|&(l, p0, p1)| {
+                beyond(l, (p0, p1), q, noise)
+                    .is_some_and(|(excess, along, sd)| excess > along * seen.step + spread * sd)
+            })
         })
 }
 
