@@ -375,6 +375,25 @@ mod tests {
         assert_eq!(lines[0].points, 80);
         assert!((lines[0].start.x + 1.0).abs() < 1e-3 && (lines[0].end.x - 0.58).abs() < 1e-3);
         assert!((lines[0].rms - 0.004).abs() < 1e-4);
+        // Its beams run from the first piece's first to the second's last; its RMS is that
+        // of all the points (the second piece twice as rough: sqrt((16 + 64) / 2) mm).
+        let rough: Vec<Point2> = (-10..30)
+            .map(|i| {
+                let dy = if i % 2 == 0 { 0.008 } else { -0.008 };
+                Point2::new(f64::from(i) * 0.02, 2.0 + dy)
+            })
+            .collect();
+        pieces[1] = piece_of(&rough, &noise);
+        pieces[1].1.follows = true;
+        pieces[0].0.first = 100;
+        pieces[0].0.last = 139;
+        pieces[1].0.first = 140;
+        pieces[1].0.last = 179;
+        let lines = share(&pieces, &noise);
+        assert_eq!(lines.len(), 1);
+        assert_eq!((lines[0].first, lines[0].last), (100, 179));
+        let pooled = 40f64.sqrt() * 1e-3;
+        assert!((lines[0].rms - pooled).abs() < 1e-4, "{}", lines[0].rms);
         // Pieces of two surfaces never take one fit, and stay two lines.
         let mut apart = [
             piece(-50..-10, 0.02, 2.0, &noise),
@@ -382,6 +401,20 @@ mod tests {
         ];
         apart[1].1.follows = true;
         assert_eq!(share(&apart, &noise).len(), 2);
+        // Two walls seen in turns, each piece in the group of its own wall: neighbours of two
+        // groups never join, whatever their points.
+        let mut turns = [
+            piece(-60..-40, 0.02, 2.0, &noise),
+            piece(-40..-20, 0.02, 2.5, &noise),
+            piece(-20..0, 0.02, 2.0, &noise),
+            piece(0..20, 0.02, 2.5, &noise),
+        ];
+        for t in &mut turns[1..] {
+            t.1.follows = true;
+        }
+        let lines = share(&turns, &noise);
+        assert_eq!(lines.len(), 4);
+        assert_eq!((lines[0].r, lines[0].alpha), (lines[2].r, lines[2].alpha));
     }
 
     #[test]

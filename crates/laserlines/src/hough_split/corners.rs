@@ -241,5 +241,31 @@ mod tests {
         assert!(meeting_point(&a, &b, &p, &noise, seen(&returns(1.3))).is_none());
         // A surface 5 % farther (a wall that bends before its corner) lies within `D`.
         assert!(meeting_point(&a, &b, &p, &noise, seen(&returns(1.05))).is_some());
+        // A far return whose beam meets neither stretch (a stray reading on a beam of the
+        // first line itself, three times its range) says nothing about the corner.
+        let stray = Pt {
+            x: 1.5,
+            y: 3.0,
+            range: 1.5f64.hypot(3.0),
+            idx: 5,
+        };
+        assert!(meeting_point(&a, &b, &p, &noise, seen(&[stray])).is_some());
+    }
+
+    #[test]
+    fn a_line_known_loosely_is_judged_by_its_own_uncertainty_along_the_beam() {
+        let p = HoughSplitParams::default();
+        let noise = RangeNoise::new(0.01, 0.01);
+        let a = line(Point2::new(0.5, 0.5), Point2::new(0.5, 1.5), (0, 10));
+        let b = line(Point2::new(-0.2, 2.0), Point2::new(-1.0, 2.0), (20, 40));
+        // Returns 30 % beyond the first line's stretch alone (0.5 m beyond at 1.7 m, met at
+        // 73 deg of incidence).
+        let beyond_a: Vec<Pt> = returns(1.3).into_iter().filter(|q| q.idx < 14).collect();
+        assert!(meeting_point(&a, &b, &p, &noise, seen(&beyond_a)).is_none());
+        // A line whose direction is known to 0.1 rad is known along that beam to 0.55 m
+        // there: the returns no longer say it ends short of the corner.
+        let mut loose = a;
+        loose.covariance[(1, 1)] = 0.01;
+        assert!(meeting_point(&loose, &b, &p, &noise, seen(&beyond_a)).is_some());
     }
 }
