@@ -224,14 +224,19 @@ mod tests {
         }
     }
 
+    /// The two walls of a room's corner at (0.5, 2), seen from inside: one along x = 0.5 up
+    /// to y = 1.5, one along y = 2 from x = -0.2 on, and beams 11-19 between them.
+    fn room_corner() -> (Line, Line) {
+        (
+            line(Point2::new(0.5, 0.5), Point2::new(0.5, 1.5), (0, 10)),
+            line(Point2::new(-0.2, 2.0), Point2::new(-1.0, 2.0), (20, 40)),
+        )
+    }
+
     #[test]
     fn lines_meet_at_their_corner_unless_beams_saw_through_it() {
-        let p = HoughSplitParams::default();
-        let noise = RangeNoise::new(0.01, 0.01);
-        // The two walls of a room's corner at (0.5, 2), seen from inside: one along x = 0.5
-        // up to y = 1.5, one along y = 2 from x = -0.2 on, and beams 11-19 between them.
-        let a = line(Point2::new(0.5, 0.5), Point2::new(0.5, 1.5), (0, 10));
-        let b = line(Point2::new(-0.2, 2.0), Point2::new(-1.0, 2.0), (20, 40));
+        let (p, noise) = (HoughSplitParams::default(), RangeNoise::new(0.01, 0.01));
+        let (a, b) = room_corner();
         let corner = meeting_point(&a, &b, &p, &noise, seen(&returns(1.0))).unwrap();
         assert!((corner - Point2::new(0.5, 2.0)).norm() < 1e-9);
         // Without returns between them (missing beams) the corner stands too.
@@ -254,10 +259,8 @@ mod tests {
 
     #[test]
     fn a_line_known_loosely_is_judged_by_its_own_uncertainty_along_the_beam() {
-        let p = HoughSplitParams::default();
-        let noise = RangeNoise::new(0.01, 0.01);
-        let a = line(Point2::new(0.5, 0.5), Point2::new(0.5, 1.5), (0, 10));
-        let b = line(Point2::new(-0.2, 2.0), Point2::new(-1.0, 2.0), (20, 40));
+        let (p, noise) = (HoughSplitParams::default(), RangeNoise::new(0.01, 0.01));
+        let (a, b) = room_corner();
         // Returns 30 % beyond the first line's stretch alone (0.5 m beyond at 1.7 m, met at
         // 73 deg of incidence).
         let beyond_a: Vec<Pt> = returns(1.3).into_iter().filter(|q| q.idx < 14).collect();
