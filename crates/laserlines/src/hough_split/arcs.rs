@@ -263,6 +263,7 @@ pub(crate) fn drop_arcs(
 
 #[cfg(test)]
 mod tests {
+    use super::super::corners::Seen;
     use super::super::linseg::prefix_sums;
     use super::super::params::HoughSplitParams;
     use super::super::points::points_at;
@@ -334,8 +335,7 @@ mod tests {
                 cut_window: CUT_WINDOW,
                 min_points: p.min_line_points,
                 lone_gap: usize::MAX,
-                returns: &[],
-                step: 0.0,
+                seen: Seen::default(),
             };
             let half = pts.len() / 2;
             chords_of_a_circle(&pieces, [(0, half), (half, pts.len())], sse_lines, 2.0)

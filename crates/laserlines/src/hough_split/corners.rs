@@ -4,16 +4,29 @@
 use super::lines::Candidate;
 use super::params::HoughSplitParams;
 use super::points::Pt;
+use super::segment::Breakpoints;
 use crate::line::Line;
 use crate::math::{Point2, Vector2};
 use crate::noise::RangeNoise;
 
-/// What the scan saw between two lines: its returns (step 0's points, in beam order) and the
-/// geometric part of the breakpoint distance of neighbouring beams per metre of range.
+/// What the scan saw, for where lines end.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct Seen<'a> {
+    /// The scan's valid points (step 0), in beam order: the beams that returned.
     pub(crate) returns: &'a [Pt],
+    /// The geometric part of the breakpoint distance `D` of neighbouring beams per metre of
+    /// range ([`Breakpoints::one_beam`](super::segment::Breakpoints::one_beam)).
     pub(crate) step: f64,
+}
+
+impl<'a> Seen<'a> {
+    /// The scan's `returns` with the breakpoint distance of `bp`.
+    pub(crate) fn new(returns: &'a [Pt], bp: &Breakpoints) -> Self {
+        Self {
+            returns,
+            step: bp.one_beam(),
+        }
+    }
 }
 
 /// Neighbouring lines of one segment that meet at a corner share their end point, as in the
@@ -92,8 +105,8 @@ fn seen_through(
     let range = corner.coords.norm();
     let reach = range * seen.step + spread * noise.sigma(range);
     let stretches = [(a, a.end, corner), (b, corner, b.start)];
-    let gains = |&&(_, p0, p1): &&(&Line, Point2, Point2)| (p1 - p0).norm() > reach;
-    if !stretches.iter().any(|s| gains(&s)) {
+    let gains = stretches.map(|(_, p0, p1)| (p1 - p0).norm() > reach);
+    if gains == [false, false] {
         return false;
     }
     let from = seen.returns.partition_point(|q| q.idx < a.first);
@@ -101,23 +114,24 @@ fn seen_through(
         .iter()
         .take_while(|q| q.idx <= b.last)
         .any(|q| {
-            stretches.iter().filter(gains).any(|&(l, p0, p1)| {
-                beyond(l, (p0, p1), q, noise)
-                    .is_some_and(|(excess, along, sd)| excess > along * seen.step + spread * sd)
+            stretches.iter().zip(gains).any(|(&(l, p0, p1), gains)| {
+                gains && beyond(l, (p0, p1), q, noise, (seen.step, spread))
             })
         })
 }
 
-/// Where the beam of `q` crosses the stretch `p0..p1` of the line of `l`: how far `q` lies
-/// beyond it along the beam, the range there, and the standard deviation of that difference
-/// (the range noise and the line's own uncertainty at the crossing, from its covariance,
-/// seen along the beam: a line met at a grazing angle is known there the less).
+/// True when the beam of `q` crosses the stretch `p0..p1` of the line of `l` and `q` lies
+/// beyond it along the beam by more than `D` of neighbouring beams there: `step` times the
+/// range plus `spread` standard deviations of the difference (the range noise and the line's
+/// own uncertainty at the crossing, from its covariance, seen along the beam: a line met at
+/// a grazing angle is known there the less).
 fn beyond(
     l: &Line,
     (p0, p1): (Point2, Point2),
     q: &Pt,
     noise: &RangeNoise,
-) -> Option<(f64, f64, f64)> {
+    (step, spread): (f64, f64),
+) -> bool {
     let u = Vector2::new(q.x, q.y) / q.range;
     let cross = |v: Point2| v.x * u.y - v.y * u.x;
     // The beam passes between the stretch's ends (their cross products differ in sign) on
@@ -126,7 +140,7 @@ fn beyond(
     let (sin, cos) = l.alpha.sin_cos();
     let facing = u.x * cos + u.y * sin;
     if !crosses || facing <= 0.0 {
-        return None;
+        return false;
     }
     let along = l.r / facing;
     // The crossing's coordinate along the line; its offset across the line varies by
@@ -136,7 +150,7 @@ fn beyond(
     let across = (c[(0, 0)] - 2.0 * t * c[(0, 1)] + t * t * c[(1, 1)]).max(0.0);
     let sigma = noise.sigma(along);
     let sd = (sigma * sigma + across / (facing * facing)).sqrt();
-    Some((q.range - along, along, sd))
+    q.range - along > along * step + spread * sd
 }
 
 /// The intersection of the infinite lines of `a` and `b`, or `None` when they lie closer

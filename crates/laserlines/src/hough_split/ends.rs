@@ -72,8 +72,8 @@ impl Pieces<'_> {
                 // Too few beams between them to matter, however many returned.
                 return beams;
             }
-            let returned = self.returns.partition_point(|p| p.idx < b)
-                - self.returns.partition_point(|p| p.idx <= a);
+            let returned = self.seen.returns.partition_point(|p| p.idx < b)
+                - self.seen.returns.partition_point(|p| p.idx <= a);
             beams.saturating_sub(returned)
         };
         let keeps = |lo: usize, hi: usize, j: usize| {
@@ -124,6 +124,7 @@ impl Pieces<'_> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::corners::Seen;
     use super::super::linseg::prefix_sums;
     use super::super::params::HoughSplitParams;
     use super::super::points::{Pt, Seg, on_beam};
@@ -173,8 +174,7 @@ mod tests {
             cut_window: CUT_WINDOW,
             min_points,
             lone_gap,
-            returns,
-            step: 0.0,
+            seen: Seen { returns, step: 0.0 },
         };
         pieces.cut_lone_ends(0, pts.len(), min_points)
     }

@@ -6,7 +6,7 @@ use super::arcs::drop_arcs;
 use super::corners::{Seen, join_corners};
 use super::linseg::{incidence_cos, rms_passes, split_is_significant, sums};
 use super::params::HoughSplitParams;
-use super::points::{Pt, Seg};
+use super::points::Seg;
 use crate::fit::{FitSums, NormalFit, PolarFit};
 use crate::line::Line;
 use crate::math::{Matrix2, Point2, Vector2};
@@ -40,11 +40,8 @@ pub(crate) struct Pieces<'a> {
     /// Fewest missing beams before a line's last points that dropouts leave only by chance
     /// ([`Pieces::cut_lone_ends`]).
     pub(crate) lone_gap: usize,
-    /// The scan's valid points (step 0), in beam order: the beams that returned.
-    pub(crate) returns: &'a [Pt],
-    /// The geometric part of the breakpoint distance `D` of neighbouring beams per metre of
-    /// range ([`Breakpoints::one_beam`](super::segment::Breakpoints::one_beam)).
-    pub(crate) step: f64,
+    /// The scan's returns and its breakpoint distance ([`Seen`]).
+    pub(crate) seen: Seen<'a>,
 }
 
 /// The angle [`Pieces::best_cut`] searches on each side of a split point: `CUT_WINDOW` beams
@@ -330,10 +327,7 @@ pub(crate) fn emit_lines(
             &candidates[first_line..],
             p,
             pieces.noise,
-            Seen {
-                returns: pieces.returns,
-                step: pieces.step,
-            },
+            pieces.seen,
         );
     }
 }
@@ -427,8 +421,7 @@ mod tests {
             cut_window: CUT_WINDOW,
             min_points: p.min_line_points,
             lone_gap: usize::MAX,
-            returns: &[],
-            step: 0.0,
+            seen: Seen::default(),
         };
         let mut out = Vec::new();
         let mut breaks = scratch.breaks.clone();

@@ -173,10 +173,7 @@ impl LineExtractor for HoughSplit {
             &self.candidates,
             &self.params,
             &self.noise,
-            corners::Seen {
-                returns: &self.points,
-                step: self.breakpoints.one_beam(),
-            },
+            corners::Seen::new(&self.points, &self.breakpoints),
             &mut self.groups,
         );
     }
@@ -264,6 +261,7 @@ impl HoughSplit {
         let kept = &self.segments.kept;
         let cut_window = lines::cut_window(scan.angle_increment);
         let lone_gap = self.params.lone_gap_for(self.dropout);
+        let seen = corners::Seen::new(&self.points, &self.breakpoints);
         for run in &self.segments.runs {
             let seg = points::Seg(&kept[run.start as usize..run.end as usize]);
             linseg::prefix_sums(seg, &mut self.scratch.prefix);
@@ -287,8 +285,7 @@ impl HoughSplit {
                 cut_window,
                 min_points: min_points.line,
                 lone_gap,
-                returns: &self.points,
-                step: self.breakpoints.one_beam(),
+                seen,
             };
             lines::emit_lines(&pieces, &mut self.scratch.breaks, out, &mut self.candidates);
         }
