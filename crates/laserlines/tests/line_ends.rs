@@ -168,3 +168,62 @@ fn a_wall_split_without_a_gap_is_one_line() {
         "{twins} walls in two pieces side by side, {lines_seen} lines"
     );
 }
+
+/// The lines of a URG-04LX scan (data sheet noise, seed `seed`) of a wall at x = 1.2 m from
+/// y = -1.5 to 1.5 whose beams `gap` (around the straight-ahead beam 341) read `fill`.
+fn wall_with_gap(gap: std::ops::Range<usize>, fill: f64, seed: u64) -> Vec<Line> {
+    let wall = [(Point2::new(1.2, -1.5), Point2::new(1.2, 1.5))];
+    let mut scan = urg_scan(&wall, 0, &mut Rng(seed));
+    for r in &mut scan.ranges[gap] {
+        *r = fill;
+    }
+    HoughSplit::new(HoughSplitParams::default())
+        .unwrap()
+        .extract(&scan)
+}
+
+/// True when one line spans the beams `gap` (its first beam before it, its last after).
+fn spans(lines: &[Line], gap: &std::ops::Range<usize>) -> bool {
+    lines
+        .iter()
+        .any(|l| l.first < gap.start && l.last >= gap.end)
+}
+
+#[test]
+fn a_wall_behind_beams_that_returned_nothing_is_one_line() {
+    // A dark patch, a socket or a mast of the robot: 3 to 20 beams without a return (NaN, 0,
+    // a reading below the minimum range) hide 3-15 cm of the wall; the data segments part
+    // there (the bridge reaches 2 missing beams), and both sides took one fit.
+    for (k, fill) in [f64::NAN, 0.0, 0.01].into_iter().enumerate() {
+        for width in [3, 5, 8, 20] {
+            for seed in 0..5 {
+                let gap = 330..330 + width;
+                let lines = wall_with_gap(gap.clone(), fill, 100 * k as u64 + seed);
+                assert!(
+                    spans(&lines, &gap) && lines.len() == 1,
+                    "{width} beams of {fill}, seed {seed}: {lines:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn beams_that_saw_through_or_saw_something_keep_a_wall_in_two() {
+    for seed in 0..5 {
+        // A doorway: 40 beams without a return, 0.3 m of wall.
+        let door = 320..360;
+        assert!(!spans(&wall_with_gap(door.clone(), f64::NAN, seed), &door));
+        // Beams that saw nothing in range (REP 117's `+inf`) or beyond the range limit saw
+        // through the wall.
+        let gap = 330..334;
+        for far in [f64::INFINITY, 7.0] {
+            assert!(
+                !spans(&wall_with_gap(gap.clone(), far, seed), &gap),
+                "{far}"
+            );
+        }
+        // A thin post in front of the wall: its returns part the wall's points.
+        assert!(!spans(&wall_with_gap(gap.clone(), 0.8, seed), &gap));
+    }
+}

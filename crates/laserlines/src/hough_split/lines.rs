@@ -2,6 +2,8 @@
 //! where each line ends, the least-squares fits with their covariance, and the filters that
 //! keep surfaces and drop legs, posts and clutter.
 
+use std::cmp::Ordering;
+
 use super::arcs::drop_arcs;
 use super::corners::{Seen, join_corners};
 use super::linseg::{incidence_cos, rms_passes, split_is_significant, sums};
@@ -15,6 +17,36 @@ use crate::noise::RangeNoise;
 /// Points between two lines of one data segment below which the second follows the first
 /// ([`Candidate::follows`]): none, or a lone point off both (a spike that the split cut out).
 const GAP_POINTS: usize = 2;
+
+/// Longest stretch of surface, m, that beams without any return may hide between the end of
+/// one line and the start of the next for the second to follow the first across data
+/// segments ([`follows_across_silence`]): a dark patch, a socket or a sticker on a wall, or a
+/// cable or mast of the robot in front of it, and no doorway.
+pub(crate) const SILENT_GAP: f64 = 0.2;
+
+/// True when `next` follows `prev` (the last line of the data segment before) across beams
+/// that all returned nothing: at least one beam lies between them, none of them has a range
+/// of at least `lo` (the smallest valid range; a NaN, a zero, a reading nearer than the
+/// robot's own body), so none saw anything in front of the surface or through it (a reading
+/// beyond the range limit, `+inf`, sees through), and `next` starts within [`SILENT_GAP`] of
+/// where `prev` ends. The bridge of the data segments reaches at most `bridge_max_gap`
+/// missing beams; with one shared fit, such lines are then one line
+/// ([`super::collinear`]).
+pub(crate) fn follows_across_silence(ranges: &[f64], lo: f64, prev: &Line, next: &Line) -> bool {
+    prev.last + 1 < next.first
+        && (next.start - prev.end).norm() <= SILENT_GAP
+        && ranges
+            .get(prev.last + 1..next.first)
+            // NaN is not at least `lo`: `partial_cmp` is `None` for it.
+            .is_some_and(|between| {
+                between.iter().all(|r| {
+                    !matches!(
+                        r.partial_cmp(&lo),
+                        Some(Ordering::Greater | Ordering::Equal)
+                    )
+                })
+            })
+}
 
 /// Points on each side of a shared end point that [`Pieces::best_cut`] may move to the other
 /// line, and most points [`Pieces::trim_ends`] cuts from an end.
@@ -235,7 +267,9 @@ pub(crate) struct Candidate {
     /// Its points in its data segment, `seg[span.0..span.1]`.
     pub(crate) span: (u32, u32),
     /// Its points follow the previous line's in the same data segment with fewer than
-    /// [`GAP_POINTS`] between (set by [`emit_lines`] once the segment's lines are final).
+    /// [`GAP_POINTS`] between (set by [`emit_lines`] once the segment's lines are final), or
+    /// the previous segment's last line's across beams that returned nothing
+    /// ([`follows_across_silence`]).
     pub(crate) follows: bool,
     /// Its direction is known to `max_alpha_sd` and its distance from the sensor to
     /// `max_r_sd` (one standard deviation each, from its own fit); an uncertain line is kept

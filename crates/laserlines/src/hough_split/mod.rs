@@ -262,6 +262,8 @@ impl HoughSplit {
         let cut_window = lines::cut_window(scan.angle_increment);
         let lone_gap = self.params.lone_gap_for(self.dropout);
         let seen = corners::Seen::new(&self.points, &self.breakpoints);
+        let window = scan.range_window(self.params.range_limits);
+        let lo = window.min.max(self.params.min_range);
         for run in &self.segments.runs {
             let seg = points::Seg(&kept[run.start as usize..run.end as usize]);
             linseg::prefix_sums(seg, &mut self.scratch.prefix);
@@ -287,7 +289,14 @@ impl HoughSplit {
                 lone_gap,
                 seen,
             };
+            let first = out.len();
             lines::emit_lines(&pieces, &mut self.scratch.breaks, out, &mut self.candidates);
+            if first > 0
+                && first < out.len()
+                && lines::follows_across_silence(scan.ranges, lo, &out[first - 1], &out[first])
+            {
+                self.candidates[first].follows = true;
+            }
         }
     }
 }
