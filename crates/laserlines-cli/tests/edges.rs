@@ -188,6 +188,10 @@ fn values_out_of_range_are_errors_not_clamped() {
             "--scans must be at least 1 (at most this many scans of each log), got 0",
         ),
         (
+            &["live", "127.0.0.1:9", "--scans", "0"][..],
+            "must be 1 or more, got 0",
+        ),
+        (
             &["simulate", "--duration", "-5"][..],
             "--duration must be seconds, more than 0 up to 1e9, got -5",
         ),
@@ -307,6 +311,20 @@ fn params_tables_the_command_does_not_read_are_named() {
         err.contains("[robot] is not used by extract (read by simulate)"),
         "{err}"
     );
+}
+
+/// A shared params file: a typo in the table of an algorithm the run does not use is an
+/// error all the same.
+#[test]
+fn a_bad_table_the_command_does_not_read_is_an_error() {
+    for (name, toml, needle) in [
+        ("bogus.toml", "[iepf]\nbogus = 1\n", "bogus"),
+        ("type.toml", "[iepf]\nbreakpoints.noise = \"x\"\n", "noise"),
+    ] {
+        let o = extract_with_params(name, toml);
+        fails_with(&o, "[iepf] is not used by extract, but is checked");
+        fails_with(&o, needle);
+    }
 }
 
 #[test]
@@ -464,5 +482,30 @@ fn a_run_without_any_line_says_so() {
     );
     let o = run(bin().arg("extract").arg(excerpt()).args(["-o", "-"]));
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(!stderr(&o).contains("no line in any"), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("no line in"), "{}", stderr(&o));
+}
+
+/// A single scan in millimetres (a URG-04LX's raw readings) with limits in metres gives no
+/// line, and the summary says where to look.
+#[test]
+fn a_single_scan_in_millimetres_says_so() {
+    let input = tmp("mm.json");
+    let ranges: Vec<String> = (0..682).map(|i| format!("{}", 1500 + i % 7)).collect();
+    std::fs::write(
+        &input,
+        format!(
+            "{{\"angle_min\": -2.08, \"angle_increment\": 0.006136, \"range_min\": 0.02, \
+             \"range_max\": 5.6, \"ranges\": [{}]}}",
+            ranges.join(", ")
+        ),
+    )
+    .unwrap();
+    let o = run(bin().arg("extract").arg(&input).args(["-o", "-"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("note: no line in the scan;")
+            && stderr(&o).contains("the ranges are in metres"),
+        "{}",
+        stderr(&o)
+    );
 }

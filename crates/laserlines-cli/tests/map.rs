@@ -142,6 +142,16 @@ fn maps_the_bundled_excerpt_with_every_output() {
         "relations (t1 t2 x y z roll pitch yaw), not a TUM trajectory (t x y z qx qy qz qw): \
          --every N takes a reference trajectory",
     );
+    // The two files swapped: the relations as the trajectory.
+    let o = run(bin()
+        .arg("relations")
+        .arg(&rel)
+        .arg(dir.join("trajectory.tum")));
+    assert_clean_error(
+        &o,
+        "hand.relations",
+        "reads as relations (t1 t2 x y z roll pitch yaw): the trajectory comes first",
+    );
     // Relations further apart than the trajectory is long.
     let o = run(bin()
         .arg("relations")

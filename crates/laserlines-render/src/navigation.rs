@@ -272,7 +272,8 @@ fn sectors_panel(
                 obj.sector.name(),
                 obj.distance_m,
                 obj.width_m,
-                obj.angle_rad.to_degrees()
+                // Rounded first: a small negative angle reads 0, not -0.
+                obj.angle_rad.to_degrees().round() + 0.0
             ),
             &TextStyle::size(11.0).anchored(Anchor::Start).with_halo(),
         );

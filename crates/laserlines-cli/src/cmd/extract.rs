@@ -470,13 +470,20 @@ fn summary(name: &str, skipped: &SkipCounts, totals: &Totals, bytes: Option<u64>
     let (s, f, n) = totals.noise;
     if n > 0 {
         let mean = RangeNoise::new(s / n as f64, f / n as f64);
-        eprintln!("{name}: range noise assumed, mean over the scans: {mean}");
-    }
-    if totals.scans > 1 && totals.lines == 0 {
         eprintln!(
-            "{name}: note: no line in any of the {} scans; if the scans see walls, check the \
-             parameters (--params, --preset) and the scans' range limits",
-            totals.scans
+            "{name}: range noise (estimated from each scan unless the parameters give it), \
+             mean over the scans: {mean}"
+        );
+    }
+    if totals.scans > 0 && totals.lines == 0 {
+        let scans = if totals.scans == 1 {
+            "the scan".to_owned()
+        } else {
+            format!("any of the {} scans", totals.scans)
+        };
+        eprintln!(
+            "{name}: note: no line in {scans}; if the scans see walls, check the parameters \
+             (--params, --preset), the scans' range limits and that the ranges are in metres"
         );
     }
 }

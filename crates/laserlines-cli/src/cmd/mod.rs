@@ -284,13 +284,20 @@ pub fn index(s: &str) -> Result<usize, String> {
 
 /// Says on stderr which tables of the params file `command` does not read (`used` are the
 /// tables it reads), so that a table meant for another command or algorithm is not ignored
-/// silently.
+/// silently; a table of another algorithm that would not build it (an unknown key, a wrong
+/// type, a value out of range) is an error.
 pub fn note_unused_tables(params: Option<&Path>, used: &[&str], command: &str) -> Result<()> {
     let Some(path) = params else {
         return Ok(());
     };
     let file = ParamsFile::load(path)?;
     for table in file.tables().filter(|t| !used.contains(t)) {
+        // A shared params file: a mistake in another algorithm's table is named now, not on
+        // the run that first reads it.
+        if ALGORITHMS.contains(&table) {
+            file.extractor(table)
+                .with_context(|| format!("[{table}] is not used by {command}, but is checked"))?;
+        }
         let reader = if laserlines_io::params::RUN_TABLES.contains(&table) {
             "read by simulate".to_owned()
         } else if used.len() == 1 {

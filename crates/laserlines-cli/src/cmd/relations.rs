@@ -211,7 +211,14 @@ fn open(path: &Path) -> Result<BufReader<File>> {
 
 fn read_trajectory(path: &Path) -> Result<Vec<(f64, Se2)>> {
     let name = path.display().to_string();
-    let poses: Vec<StampedPose> = read_tum(&name, open(path)?)?;
+    let poses: Vec<StampedPose> = match read_tum(&name, open(path)?) {
+        Ok(poses) => poses,
+        Err(e) if holds_any(path, read_relations) => bail!(
+            "{e}; {name} reads as relations (t1 t2 x y z roll pitch yaw): the trajectory comes \
+             first, `laserlines relations TRAJECTORY.tum RELATIONS`"
+        ),
+        Err(e) => return Err(e.into()),
+    };
     if poses.is_empty() {
         bail!("{name}: no poses");
     }

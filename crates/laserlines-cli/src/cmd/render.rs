@@ -69,7 +69,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
                     sector.name(),
                     o.distance_m,
                     o.width_m,
-                    o.angle_rad.to_degrees()
+                    // Rounded first: a small negative angle reads 0.0, not -0.0.
+                    (o.angle_rad.to_degrees() * 10.0).round() / 10.0 + 0.0
                 ),
                 None => format!("{}: none", sector.name()),
             };

@@ -50,8 +50,8 @@ pub struct LiveArgs {
     /// `/sectors` in the live view and the recording.
     #[arg(long)]
     sectors: bool,
-    /// Stop after this many scans.
-    #[arg(long, value_parser = super::whole::<u64>, allow_negative_numbers = true)]
+    /// Stop after this many scans (1 or more).
+    #[arg(long, value_parser = |s: &str| super::whole_in::<u64>(s, 1, i128::MAX), allow_negative_numbers = true)]
     scans: Option<u64>,
     /// Stop after this many seconds.
     #[arg(long, allow_negative_numbers = true)]
