@@ -18,27 +18,32 @@ use crate::noise::RangeNoise;
 /// ([`Candidate::follows`]): none, or a lone point off both (a spike that the split cut out).
 const GAP_POINTS: usize = 2;
 
-/// Longest stretch of surface, m, that beams without any return may hide between the end of
-/// one line and the start of the next for the second to follow the first across data
-/// segments ([`follows_across_silence`]): a dark patch, a socket or a sticker on a wall, or a
-/// cable or mast of the robot in front of it, and no doorway.
-pub(crate) const SILENT_GAP: f64 = 0.2;
+/// Longest distance, m, between the last supporting point of one line and the first of the
+/// next across beams that all returned nothing for the second to follow the first across
+/// data segments ([`follows_across_silence`]): a dark patch, a socket or a sticker on a
+/// wall, or a cable or mast of the robot in front of it, and no doorway.
+pub const SILENT_GAP: f64 = 0.2;
 
 /// True when `next` follows `prev` (the last line of the data segment before) across beams
 /// that all returned nothing: at least one beam lies between them, none of them has a range
 /// of at least `lo` (the smallest valid range; a NaN, a zero, a reading nearer than the
 /// robot's own body), so none saw anything in front of the surface or through it (a reading
-/// beyond the range limit, `+inf`, sees through), and `next` starts within [`SILENT_GAP`] of
-/// where `prev` ends. The bridge of the data segments reaches at most `bridge_max_gap`
-/// missing beams; with one shared fit, such lines are then one line
-/// ([`super::collinear`]).
-pub(crate) fn follows_across_silence(ranges: &[f64], lo: f64, prev: &Line, next: &Line) -> bool {
+/// beyond the range limit, `+inf`, sees through), and `next`'s first supporting point lies
+/// within [`SILENT_GAP`] of `prev`'s last (`prev.ends.1`, `next.ends.0`). The bridge of the
+/// data segments reaches at most `bridge_max_gap` missing beams; with one shared fit, such
+/// lines are then one line ([`super::collinear`]).
+pub(crate) fn follows_across_silence(
+    ranges: &[f64],
+    lo: f64,
+    (prev, next): (&Line, &Line),
+    (last, first): (Point2, Point2),
+) -> bool {
     prev.last + 1 < next.first
-        && (next.start - prev.end).norm() <= SILENT_GAP
+        && (first - last).norm() <= SILENT_GAP
         && ranges
             .get(prev.last + 1..next.first)
-            // NaN is not at least `lo`: `partial_cmp` is `None` for it.
             .is_some_and(|between| {
+                // NaN is not at least `lo`: `partial_cmp` is `None` for it.
                 between.iter().all(|r| {
                     !matches!(
                         r.partial_cmp(&lo),

@@ -31,6 +31,7 @@ mod segment;
 
 pub use crate::params::ParamsError;
 pub use accumulator::Cell;
+pub use lines::SILENT_GAP;
 pub use params::{
     Bridge, GAP_CHANCE, HoughSplitParams, MAX_BRIDGE_GAP, MAX_RING_STEP, MAX_WINDOW_RINGS,
     MIN_RING_STEP, MIN_SPARSE_POINTS, MinPoints, PAPER_SECTOR_BEAMS, Weight,
@@ -293,7 +294,15 @@ impl HoughSplit {
             lines::emit_lines(&pieces, &mut self.scratch.breaks, out, &mut self.candidates);
             if first > 0
                 && first < out.len()
-                && lines::follows_across_silence(scan.ranges, lo, &out[first - 1], &out[first])
+                && lines::follows_across_silence(
+                    scan.ranges,
+                    lo,
+                    (&out[first - 1], &out[first]),
+                    (
+                        self.candidates[first - 1].ends.1,
+                        self.candidates[first].ends.0,
+                    ),
+                )
             {
                 self.candidates[first].follows = true;
             }
