@@ -208,7 +208,7 @@ fn errors_name_the_file_the_table_and_the_key() {
          `refine_ends`, \
          `min_line_points`, \
          `min_line_length`, `max_rms_sigmas`, `min_advance_t`, `arc_significance`, \
-         `max_alpha_sd`, `max_r_sd`, \
+         `max_alpha_sd`, `max_r_sd`, `own_scatter`, \
          `remove_mixed_pixels`, `min_range`, `range_limits`"
     );
     assert_eq!(

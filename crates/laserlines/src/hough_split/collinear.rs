@@ -199,7 +199,7 @@ fn take_fit(
     line.end = end;
     line.r = fit.r;
     line.alpha = fit.alpha;
-    line.covariance = floored_covariance(&fit, noise);
+    line.covariance = floored_covariance(&fit, noise, p.own_scatter);
     line.rms = rms;
     true
 }
@@ -452,7 +452,7 @@ mod tests {
         let fit = sums.fit().unwrap();
         let n = points.len();
         let mut line = Line::from_fit(&fit, (0, points[0]), (n - 1, points[n - 1]));
-        line.covariance = floored_covariance(&fit, noise);
+        line.covariance = floored_covariance(&fit, noise, true);
         let certain = certain(&line.covariance, &HoughSplitParams::default());
         let ends = (points[0], points[n - 1]);
         let span = (0, n as u32);

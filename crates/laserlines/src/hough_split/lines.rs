@@ -211,7 +211,7 @@ impl Pieces<'_> {
         if line.length() < self.p.min_line_length {
             return None;
         }
-        line.covariance = floored_covariance(&fit, self.noise);
+        line.covariance = floored_covariance(&fit, self.noise, self.p.own_scatter);
         let certain = certain(&line.covariance, self.p);
         let ends = (first.1, last.1);
         Some((
@@ -289,8 +289,11 @@ pub(crate) fn certain(cov: &Matrix2, p: &HoughSplitParams) -> bool {
 
 /// The covariance of `fit` with the point noise taken as the larger of its residual
 /// variance and the range noise seen across the line, `sigma cos(incidence)` at its centroid
-/// (`cos = r / |centroid|`).
-pub(crate) fn floored_covariance(fit: &PolarFit, noise: &RangeNoise) -> Matrix2 {
+/// (`cos = r / |centroid|`); with `own` (`own_scatter`), unless the points refuse that noise:
+/// their sum of squared residuals in its variances below the chi-square quantile of `n - 2`
+/// degrees of freedom at the 1e-3 level ([`chi2_low`]) bounds the variance by the sum over
+/// that quantile instead.
+pub(crate) fn floored_covariance(fit: &PolarFit, noise: &RangeNoise, own: bool) -> Matrix2 {
     let range = fit.centroid.coords.norm();
     let sigma = noise.sigma(range);
     let across = if range > 0.0 {
@@ -299,12 +302,29 @@ pub(crate) fn floored_covariance(fit: &PolarFit, noise: &RangeNoise) -> Matrix2 
         sigma
     };
     let n = fit.n as f64;
-    let residual = fit.rms * fit.rms * n / (n - 2.0).max(1.0);
-    if across * across > residual {
-        fit.covariance_for(across * across)
-    } else {
-        fit.covariance
+    let k = n - 2.0;
+    let residual = fit.rms * fit.rms * n / k.max(1.0);
+    if across * across <= residual {
+        return fit.covariance;
     }
+    let floor = match chi2_low(k) {
+        // The model, read off other surfaces or extrapolated past them, does not hold here.
+        Some(q) if own && residual * k < q * across * across => residual * k / q,
+        _ => across * across,
+    };
+    fit.covariance_for(floor)
+}
+
+/// The lower 1e-3 quantile of the chi-square distribution of `k` degrees of freedom
+/// (Wilson-Hilferty; within 11 % of the tables at 8, 0.2 % from 50 on), for `k` of 8 or
+/// more.
+fn chi2_low(k: f64) -> Option<f64> {
+    if k.is_nan() || k < 8.0 {
+        return None;
+    }
+    let a = 2.0 / (9.0 * k);
+    let c = 1.0 - a - 3.090_232 * a.sqrt();
+    Some(k * c * c * c)
 }
 
 /// Turns the split tree's end points of one segment into lines appended to `out`.
@@ -376,6 +396,57 @@ mod tests {
     use super::super::linseg::{SplitScratch, linseg, prefix_sums};
     use super::super::points::{Pt, Seg, on_beam, points_at};
     use super::*;
+
+    #[test]
+    fn the_chi_square_quantile_is_within_a_few_percent_of_the_tables() {
+        // Lower 1e-3 quantiles of the chi-square distribution (published tables).
+        for (k, q) in [(8.0, 0.857), (10.0, 1.479), (20.0, 5.921), (50.0, 24.674)] {
+            let got = chi2_low(k).unwrap();
+            assert!((got / q - 1.0).abs() < 0.11, "{k}: {got} against {q}");
+        }
+        assert!((chi2_low(100.0).unwrap() / 61.918 - 1.0).abs() < 0.002);
+        assert_eq!(chi2_low(7.0), None);
+        assert_eq!(chi2_low(f64::NAN), None);
+    }
+
+    /// The fit of `n` points along y = 3 (x from -1 to 1) whose offsets alternate
+    /// `+-offset`: RMS residual about `offset`.
+    fn flat_fit(n: usize, offset: f64) -> PolarFit {
+        let mut sums = FitSums::new();
+        for i in 0..n {
+            let x = -1.0 + 2.0 * i as f64 / (n - 1) as f64;
+            let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
+            sums.add(Point2::new(x, 3.0 + sign * offset));
+        }
+        sums.fit().unwrap()
+    }
+
+    #[test]
+    fn a_line_whose_points_refuse_the_noise_model_is_judged_by_its_own_scatter() {
+        let model = RangeNoise::new(0.03, 0.0);
+        let alpha_var = |fit: &PolarFit, own| floored_covariance(fit, &model, own)[(1, 1)];
+        // 20 points 1 mm off their line under a model of 3 cm: the model is refused, and
+        // the variance is bounded by the points' scatter at the 1e-3 level.
+        let fit = flat_fit(20, 0.001);
+        let var = alpha_var(&fit, true) * fit.spread;
+        let bound = fit.rms * fit.rms * 20.0 / chi2_low(18.0).unwrap();
+        assert!((var / bound - 1.0).abs() < 1e-9, "{var} against {bound}");
+        assert!(var < 0.03 * 0.03 / 10.0 && var > fit.rms * fit.rms);
+        // Without `own_scatter` (scan matching), the model's floor.
+        let across = 0.03 * fit.r / fit.centroid.coords.norm();
+        let var = alpha_var(&fit, false) * fit.spread;
+        assert!((var / (across * across) - 1.0).abs() < 1e-9, "{var}");
+        // 2.5 cm of scatter under the same model: within it, so the model's noise floors it.
+        let fit = flat_fit(20, 0.025);
+        let var = alpha_var(&fit, true) * fit.spread;
+        let across = 0.03 * fit.r / fit.centroid.coords.norm();
+        assert!((var / (across * across) - 1.0).abs() < 1e-9, "{var}");
+        // Too few points to refuse it: the model's floor.
+        let fit = flat_fit(9, 0.001);
+        let var = alpha_var(&fit, true) * fit.spread;
+        let across = 0.03 * fit.r / fit.centroid.coords.norm();
+        assert!((var / (across * across) - 1.0).abs() < 1e-9, "{var}");
+    }
 
     #[test]
     fn the_cut_window_spans_the_urg_04lx_s_angle() {

@@ -265,6 +265,15 @@ pub struct HoughSplitParams {
     /// (0.05 fell 0.001 short of that TP) ([`complete`](Self::complete): `inf`, off).
     #[cfg_attr(feature = "serde", serde(deserialize_with = "off_or_f64"))]
     pub max_r_sd: f64,
+    /// A line's covariance takes the larger of its residual variance and the noise model's
+    /// variance across it, unless its own points refuse the model: with `own_scatter`, when
+    /// their sum of squared residuals in variances of the model lies below the chi-square
+    /// quantile of `n - 2` degrees of freedom at the 1e-3 level (at least 10 points), the
+    /// variance is the residual sum over that quantile instead (the model, read off other
+    /// surfaces or extrapolated past them, does not hold for this line). Not in the paper;
+    /// off in [`HoughSplitParams::mapping`], whose matcher weighs lines by these variances.
+    /// Default `true`.
+    pub own_scatter: bool,
     /// Leave out points that lie on neither neighbouring surface (mixed pixels at depth
     /// edges, spikes): more than three standard deviations from the extrapolations of both
     /// neighbouring pairs of beams. Not in the paper. Default `true`.
@@ -307,6 +316,7 @@ impl Default for HoughSplitParams {
             arc_significance: 2.0,
             max_alpha_sd: 3f64.to_radians(),
             max_r_sd: 0.06,
+            own_scatter: true,
             remove_mixed_pixels: true,
             min_range: 0.0,
             range_limits: None,

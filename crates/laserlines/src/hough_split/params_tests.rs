@@ -29,6 +29,9 @@ fn scan_matching_caps_the_limit_on_r() {
     assert!(HoughSplitParams::default().cut_excursions);
     assert!(HoughSplitParams::navigation().cut_excursions);
     assert!(!HoughSplitParams::complete().for_mapping().cut_excursions);
+    assert!(!m.own_scatter && !HoughSplitParams::paper().own_scatter);
+    assert!(HoughSplitParams::default().own_scatter && HoughSplitParams::navigation().own_scatter);
+    assert!(!HoughSplitParams::complete().for_mapping().own_scatter);
     let loose = HoughSplitParams::complete().for_mapping();
     assert_eq!(loose.max_r_sd, HoughSplitParams::MAPPING_MAX_R_SD);
     let tight = HoughSplitParams {

@@ -34,6 +34,7 @@ impl HoughSplitParams {
             arc_significance: 0.0,
             max_alpha_sd: f64::INFINITY,
             max_r_sd: f64::INFINITY,
+            own_scatter: false,
             remove_mixed_pixels: false,
             range_limits: Some(RangeWindow::PAPER),
             ..Self::default()
@@ -106,7 +107,7 @@ impl HoughSplitParams {
 
     /// These parameters as scan matching reads them ([`mapping`](Self::mapping)): without
     /// shared fits, with `sigma(r)` across every line and without `cut_excursions`,
-    /// `min_advance_t` and `arc_significance`, whatever they said of those, and `max_r_sd`
+    /// `min_advance_t`, `arc_significance` and `own_scatter`, whatever they said of those, and `max_r_sd`
     /// at most [`MAPPING_MAX_R_SD`](Self::MAPPING_MAX_R_SD).
     #[must_use]
     pub fn for_mapping(self) -> Self {
@@ -116,6 +117,7 @@ impl HoughSplitParams {
             cut_excursions: false,
             min_advance_t: 0.0,
             arc_significance: 0.0,
+            own_scatter: false,
             // A NaN stays, for `validate` to refuse.
             max_r_sd: if self.max_r_sd.is_nan() {
                 self.max_r_sd
