@@ -9,9 +9,8 @@
 //!   supporting points lie at most the scan's bridge of missing beams apart
 //!   ([`HoughSplitParams::bridge_for`]) and within the breakpoint distance `D` of each other,
 //!   or, across beams that all returned nothing, within [`SILENT_GAP`] of each other; the
-//!   RMS residual is within `max_rms_sigmas`
-//!   standard deviations of the noise at the line's centroid, no supporting point is nearer
-//!   than `min_range`;
+//!   RMS residual is within `max_rms_sigmas` standard deviations of the noise at the line's
+//!   centroid, no supporting point is nearer than `min_range`;
 //! - and, per sensor, how many of the walls it must find it finds (field criteria).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]

@@ -2,8 +2,6 @@
 //! where each line ends, the least-squares fits with their covariance, and the filters that
 //! keep surfaces and drop legs, posts and clutter.
 
-use std::cmp::Ordering;
-
 use super::arcs::drop_arcs;
 use super::corners::{Seen, join_corners};
 use super::linseg::{incidence_cos, rms_passes, split_is_significant, sums};
@@ -38,19 +36,12 @@ pub(crate) fn follows_across_silence(
     (prev, next): (&Line, &Line),
     (last, first): (Point2, Point2),
 ) -> bool {
+    // `lo` is finite: the scan's `range_min` and `min_range` are checked.
     prev.last + 1 < next.first
         && (first - last).norm() <= SILENT_GAP
         && ranges
             .get(prev.last + 1..next.first)
-            .is_some_and(|between| {
-                // NaN is not at least `lo`: `partial_cmp` is `None` for it.
-                between.iter().all(|r| {
-                    !matches!(
-                        r.partial_cmp(&lo),
-                        Some(Ordering::Greater | Ordering::Equal)
-                    )
-                })
-            })
+            .is_some_and(|between| between.iter().all(|&r| r.is_nan() || r < lo))
 }
 
 /// Points on each side of a shared end point that [`Pieces::best_cut`] may move to the other

@@ -107,8 +107,8 @@ impl HoughSplitParams {
 
     /// These parameters as scan matching reads them ([`mapping`](Self::mapping)): without
     /// shared fits, with `sigma(r)` across every line and without `cut_excursions`,
-    /// `min_advance_t`, `arc_significance` and `own_scatter`, whatever they said of those, and `max_r_sd`
-    /// at most [`MAPPING_MAX_R_SD`](Self::MAPPING_MAX_R_SD).
+    /// `min_advance_t`, `arc_significance` and `own_scatter`, whatever they said of those,
+    /// and `max_r_sd` at most [`MAPPING_MAX_R_SD`](Self::MAPPING_MAX_R_SD).
     #[must_use]
     pub fn for_mapping(self) -> Self {
         Self {
