@@ -22,6 +22,7 @@
 //! `.raf` files separated by commas.
 
 use laserlines::Line;
+use laserlines::line::{beams, beams_shared};
 use laserlines::registry;
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
 use laserlines_eval::truth::ExpectedPiece;
@@ -189,7 +190,7 @@ fn print_false_line(l: &Line, truth: &[ExpectedPiece]) {
     let best = truth
         .iter()
         .enumerate()
-        .max_by_key(|(_, p)| (l.last.min(p.last) + 1).saturating_sub(l.first.max(p.first)))
+        .max_by_key(|(_, p)| beams_shared((l.first, l.last), (p.first, p.last), p.scan_beams))
         .map(|(i, p)| format!("piece {i} ({})", piece_text(p)))
         .unwrap_or_default();
     println!(
@@ -236,7 +237,7 @@ fn oracle_found(
     // The beams of `q` as points `(x, y, sigma across p's wall)`.
     let points = |q: &ExpectedPiece, p: &ExpectedPiece| -> Vec<(f64, f64, f64)> {
         let normal = (p.alpha.cos(), p.alpha.sin());
-        (q.first..=q.last)
+        beams(q.first, q.last, q.scan_beams)
             .filter_map(|i| {
                 let r = *scan.ranges.get(i)?;
                 let (sin, cos) = scan.angle(i).sin_cos();
@@ -338,8 +339,8 @@ fn print_missed(i: usize, p: &ExpectedPiece, lines: &[Line], findable: bool) {
     );
     if let Some(l) = lines
         .iter()
-        .max_by_key(|l| (l.last.min(p.last) + 1).saturating_sub(l.first.max(p.first)))
-        .filter(|l| l.last >= p.first && l.first <= p.last)
+        .max_by_key(|l| beams_shared((l.first, l.last), (p.first, p.last), p.scan_beams))
+        .filter(|l| beams_shared((l.first, l.last), (p.first, p.last), p.scan_beams) > 0)
     {
         println!(
             "    nearest line beams {}..{} dr {:.3} dalpha {:.1} n {} sd_r {:.4} sd_alpha {:.2}",

@@ -4,7 +4,8 @@
 //!
 //! 1. **beam overlap**: `shared / union >= min_overlap` (default 1/2), where `shared` is the
 //!    number of beams in both `l.first..=l.last` and `p.first..=p.last` and `union` the number
-//!    in either (the intersection over union of the two beam ranges);
+//!    in either (the intersection over union of the two beam ranges; either may run across
+//!    the seam of a full turn);
 //! 2. **distance**: `|l.r - p.r| <= max(r_tolerance, sigmas * p.sigma_r)`
 //!    (default `max(1 cm, 4 sigma_r)`);
 //! 3. **direction**: the angle between `l.alpha` and `p.alpha` is at most
@@ -37,7 +38,7 @@ use laserlines::Line;
 use laserlines::math::angle_diff;
 use serde::Serialize;
 
-use crate::truth::{ExpectedPiece, beam_span};
+use crate::truth::{ExpectedPiece, beam_span, beams_shared};
 
 /// Which lines count as right (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
@@ -148,18 +149,25 @@ pub struct ScanMatch {
     pub on_wall_lines: Vec<usize>,
 }
 
-/// Beams shared by two inclusive beam ranges.
-fn shared(a0: usize, a1: usize, b0: usize, b1: usize) -> usize {
-    if a1 < a0 || b1 < b0 {
-        return 0;
-    }
-    (a1.min(b1) + 1).saturating_sub(a0.max(b0))
+/// Beams shared by line `l` and piece `p` (either may run across the seam of a full turn).
+fn shared(l: &Line, p: &ExpectedPiece) -> usize {
+    beams_shared((l.first, l.last), (p.first, p.last), p.scan_beams)
+}
+
+/// Beams of line `l`, in a scan of `n` beams.
+fn line_beams(l: &Line, n: usize) -> usize {
+    beam_span(l.first, l.last, n)
+}
+
+/// The number of beams of the scan `pieces` were seen in (0 without pieces).
+fn scan_beams(pieces: &[ExpectedPiece]) -> usize {
+    pieces.iter().map(|p| p.scan_beams).max().unwrap_or(0)
 }
 
 /// `(overlap, line fraction, dr, dalpha)` of `l` against `p`.
 fn compare(l: &Line, p: &ExpectedPiece) -> (f64, f64, f64, f64) {
-    let s = shared(l.first, l.last, p.first, p.last);
-    let (nl, np) = (beam_span(l.first, l.last), beam_span(p.first, p.last));
+    let s = shared(l, p);
+    let (nl, np) = (line_beams(l, p.scan_beams), p.beams());
     let union = (nl + np).saturating_sub(s);
     let iou = if union > 0 {
         s as f64 / union as f64
@@ -183,15 +191,16 @@ pub fn match_lines(lines: &[Line], pieces: &[ExpectedPiece], params: &MatchParam
 /// [`Criteria::Field`]: each line on its own.
 fn match_each(lines: &[Line], pieces: &[ExpectedPiece], params: &MatchParams) -> ScanMatch {
     // The wall each line is right for, if any: the wall holding most of its beams.
+    let n = scan_beams(pieces);
     let right: Vec<Option<usize>> = lines
         .iter()
         .map(|l| {
-            let nl = beam_span(l.first, l.last);
+            let nl = line_beams(l, n);
             let on_wall = |w: usize| -> usize {
                 pieces
                     .iter()
                     .filter(|p| p.wall == w)
-                    .map(|p| shared(l.first, l.last, p.first, p.last))
+                    .map(|p| shared(l, p))
                     .sum()
             };
             let p = pieces
@@ -207,12 +216,12 @@ fn match_each(lines: &[Line], pieces: &[ExpectedPiece], params: &MatchParams) ->
     for (pi, p) in pieces.iter().enumerate() {
         let covering = (0..lines.len())
             .filter(|&li| right[li] == Some(p.wall))
-            .map(|li| (li, shared(lines[li].first, lines[li].last, p.first, p.last)))
+            .map(|li| (li, shared(&lines[li], p)))
             .filter(|&(_, s)| 2 * s >= p.beams())
             .max_by_key(|&(li, s)| (s, std::cmp::Reverse(li)));
         if let Some((li, s)) = covering {
             let l = &lines[li];
-            let union = (beam_span(l.first, l.last) + p.beams()).saturating_sub(s);
+            let union = (line_beams(l, n) + p.beams()).saturating_sub(s);
             pairs.push(Pair {
                 line: li,
                 piece: pi,
@@ -297,21 +306,15 @@ fn match_one_to_one(lines: &[Line], pieces: &[ExpectedPiece], params: &MatchPara
 /// True when at least half of the beams of `l` fall on pieces of one wall, and `l` is within
 /// the tolerances of the piece of that wall it shares most beams with.
 fn on_a_wall(l: &Line, pieces: &[ExpectedPiece], params: &MatchParams) -> bool {
-    let nl = beam_span(l.first, l.last);
+    let nl = line_beams(l, scan_beams(pieces));
     if nl == 0 {
         return false;
     }
     pieces.iter().any(|p| {
         let same_wall = pieces.iter().filter(|q| q.wall == p.wall);
-        let on: usize = same_wall
-            .clone()
-            .map(|q| shared(l.first, l.last, q.first, q.last))
-            .sum();
-        let mine = shared(l.first, l.last, p.first, p.last);
-        let best = same_wall
-            .map(|q| shared(l.first, l.last, q.first, q.last))
-            .max()
-            .unwrap_or(0);
+        let on: usize = same_wall.clone().map(|q| shared(l, q)).sum();
+        let mine = shared(l, p);
+        let best = same_wall.map(|q| shared(l, q)).max().unwrap_or(0);
         if mine == 0 || mine < best || 2 * on < nl {
             return false;
         }

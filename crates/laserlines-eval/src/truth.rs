@@ -3,6 +3,8 @@
 //! least-squares fit of its beams would have under the simulated noise.
 
 use laserlines::Scan;
+use laserlines::line::beams;
+pub use laserlines::line::{beam_span, beams_shared};
 use laserlines::math::{Point2, Vector2};
 use laserlines_sim::{MIN_PIECE_BEAMS, MIN_PIECE_LENGTH, Noise, SimScan, VisiblePiece};
 use serde::Serialize;
@@ -14,8 +16,11 @@ pub struct ExpectedPiece {
     pub wall: usize,
     /// First seen beam of the piece.
     pub first: usize,
-    /// Last seen beam of the piece (inclusive).
+    /// Last seen beam of the piece (inclusive): below `first` when the piece runs across the
+    /// seam of a full turn ([`laserlines::Line`]).
     pub last: usize,
+    /// Number of beams of the scan (0 for a hand-made piece, which never runs across a seam).
+    pub scan_beams: usize,
     /// Distance of the wall's line from the sensor, m.
     pub r: f64,
     /// Direction of the wall's normal, rad, in `(-pi, pi]`.
@@ -59,21 +64,21 @@ impl ExpectedPiece {
             wall,
             first,
             last,
+            scan_beams: 0,
             r,
             alpha: normal.y.atan2(normal.x),
             start,
             end,
-            significant: last.saturating_sub(first) + 1 >= MIN_PIECE_BEAMS
-                && len >= MIN_PIECE_LENGTH,
+            significant: beam_span(first, last, 0) >= MIN_PIECE_BEAMS && len >= MIN_PIECE_LENGTH,
             sigma_r: 0.0,
             sigma_alpha: 0.0,
         }
     }
 
-    /// Number of beams from `first` to `last`.
+    /// Number of beams from `first` to `last` ([`beam_span`]).
     #[must_use]
     pub fn beams(&self) -> usize {
-        beam_span(self.first, self.last)
+        beam_span(self.first, self.last, self.scan_beams)
     }
 
     /// Length between the seen ends, m.
@@ -83,30 +88,25 @@ impl ExpectedPiece {
     }
 }
 
-/// Number of beams of the inclusive range `first..=last` (0 when `last < first`).
-#[must_use]
-pub fn beam_span(first: usize, last: usize) -> usize {
-    if last < first { 0 } else { last - first + 1 }
-}
-
 /// The visible wall pieces of `sim`, each trimmed to its first and last beam whose reported
 /// range is valid (a beam that hit the wall but whose return the noise pushed out of range, or
 /// that the sensor dropped, was not seen), with its end points moved to those beams' noise-free
 /// hits. Pieces with fewer than two seen beams are left out. `noise` is the simulated range
-/// noise, for the standard errors.
+/// noise, for the standard errors. A piece across the seam of a full turn stays one piece.
 #[must_use]
 pub fn expected_pieces(sim: &SimScan, noise: &Noise) -> Vec<ExpectedPiece> {
     let window = sim.scan.range_window(None);
     let seen = |i: &usize| sim.scan.ranges.get(*i).is_some_and(|r| window.contains(*r));
+    let n = sim.scan.ranges.len();
     let mut out = Vec::with_capacity(sim.truth.pieces.len());
     for piece in &sim.truth.pieces {
         let (Some(first), Some(last)) = (
-            (piece.first..=piece.last).find(seen),
-            (piece.first..=piece.last).rev().find(seen),
+            beams(piece.first, piece.last, n).find(seen),
+            beams(piece.first, piece.last, n).rev().find(seen),
         ) else {
             continue;
         };
-        if last <= first {
+        if last == first {
             continue;
         }
         let start = sim.truth.point(&sim.scan, first).unwrap_or(piece.start);
@@ -118,11 +118,12 @@ pub fn expected_pieces(sim: &SimScan, noise: &Noise) -> Vec<ExpectedPiece> {
             wall: piece.wall,
             first,
             last,
+            scan_beams: n,
             r: piece.r,
             alpha: piece.alpha,
             start,
             end,
-            significant: beam_span(first, last) >= MIN_PIECE_BEAMS && length >= MIN_PIECE_LENGTH,
+            significant: beam_span(first, last, n) >= MIN_PIECE_BEAMS && length >= MIN_PIECE_LENGTH,
             sigma_r,
             sigma_alpha,
         });
@@ -131,7 +132,7 @@ pub fn expected_pieces(sim: &SimScan, noise: &Noise) -> Vec<ExpectedPiece> {
 }
 
 /// Standard errors `(r, alpha)` (m, rad) of an ideal least-squares fit of beams
-/// `first..=last` of `piece`'s wall, whose noise-free ranges are `truth_ranges`, under range
+/// `first..=last` (across the seam of a full turn when `last < first`) of `piece`'s wall, whose noise-free ranges are `truth_ranges`, under range
 /// noise `noise` (range noise moves a point across the wall by `sigma cos(incidence)`).
 /// Infinite when the beams cannot determine the line.
 #[must_use]
@@ -146,8 +147,9 @@ pub fn ideal_fit_errors(
     let n_hat = Vector2::new(piece.alpha.cos(), piece.alpha.sin());
     let dir = Vector2::new(-piece.alpha.sin(), piece.alpha.cos());
     // (position along the wall, standard deviation across it)
-    let mut pts: Vec<(f64, f64)> = Vec::with_capacity(beam_span(first, last));
-    for i in first..=last {
+    let n = truth_ranges.len();
+    let mut pts: Vec<(f64, f64)> = Vec::with_capacity(beam_span(first, last, n));
+    for i in beams(first, last, n) {
         let Some(&range) = truth_ranges.get(i) else {
             break;
         };

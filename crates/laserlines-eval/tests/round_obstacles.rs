@@ -5,6 +5,7 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use laserlines::line::beams;
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, RangeNoise};
 use laserlines_sim::scenes::Scene;
@@ -47,10 +48,11 @@ fn lines_on_obstacle_seen_by(
         let sim = scene.simulate(model, &mut Rng::new(seed));
         let lines = hs.extract(&sim.scan);
         for l in &lines {
-            let on_wall = (l.first..=l.last)
+            let n = sim.scan.len();
+            let on_wall = beams(l.first, l.last, n)
                 .filter(|&i| sim.truth.beam_target[i] == Some(Target::Wall(0)))
                 .count();
-            if 2 * on_wall < l.last - l.first + 1 {
+            if 2 * on_wall < l.beam_span(n) {
                 on_obstacle += 1;
             }
         }

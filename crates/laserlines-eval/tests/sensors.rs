@@ -16,6 +16,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use laserlines::hough_split::SILENT_GAP;
+use laserlines::line::beams;
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines::{
     HoughSplit, HoughSplitParams, Line, LineExtractor, NoiseEstimator, RangeNoise, Scan,
@@ -38,22 +39,23 @@ fn check_bounds(hs: &HoughSplit, scan: &Scan, lines: &[Line], what: &str) {
         let (s, c) = scan.angle(i).sin_cos();
         Point2::new(scan.ranges[i] * c, scan.ranges[i] * s)
     };
+    let n = scan.len();
     for l in lines {
-        let support: Vec<usize> = kept
-            .iter()
-            .copied()
-            .filter(|&i| l.first <= i && i <= l.last)
-            .collect();
+        // In beam order from `first` (across the seam of a full turn).
+        let mut support: Vec<usize> = kept.iter().copied().filter(|&i| l.covers(i)).collect();
+        support.sort_by_key(|&i| (i + n - l.first) % n);
         assert_eq!(support.len(), l.points, "{what}: {l:?}");
         for w in support.windows(2) {
             let (a, b) = (w[0], w[1]);
-            let gap = b - a;
+            let gap = (b + n - a) % n;
             let ra = scan.ranges[a];
             let step = scan.angle_increment.abs();
             let d = (point(b) - point(a)).norm();
             // Across beams that all returned nothing, two points within `SILENT_GAP` may
             // follow each other (a dark patch on a wall); else the beam bridge's bounds hold.
-            let silent = scan.ranges[a + 1..b].iter().all(|&r| r.is_nan() || r < lo);
+            let silent = (1..gap)
+                .map(|k| scan.ranges[(a + k) % n])
+                .all(|r| r.is_nan() || r < lo);
             if gap > 1 && silent && d <= SILENT_GAP + 1e-9 {
                 continue;
             }
@@ -435,18 +437,19 @@ fn legs_rooms(params: HoughSplitParams, noise: RangeNoise) -> (usize, usize, usi
         let lines = hs.extract(&sim.scan);
         lines_seen += lines.len();
         for l in &lines {
-            let beams = l.last - l.first + 1;
-            let on_disc = (l.first..=l.last)
+            let n = sim.scan.len();
+            let span = l.beam_span(n);
+            let on_disc = beams(l.first, l.last, n)
                 .filter(|&i| matches!(sim.truth.beam_target[i], Some(Target::Disc(_))))
                 .count();
-            if 2 * on_disc > beams {
+            if 2 * on_disc > span {
                 on_legs += 1;
             }
         }
         let truth = expected_pieces(&sim, &model.noise);
         let m = match_lines(&lines, &truth, &MatchParams::default());
         for (pi, p) in truth.iter().enumerate() {
-            if p.beams() >= 8 && p.length() >= 0.2 && p.last - p.first >= 7 {
+            if p.beams() >= 8 && p.length() >= 0.2 {
                 walls += 1;
                 found += usize::from(m.pairs.iter().any(|q| q.piece == pi));
             }

@@ -331,7 +331,7 @@ fn grouping_panel(scan: &Scan, hs: &HoughSplit, view: Extent, pw: f64) -> (Panel
     for (t, s) in segments.iter().enumerate() {
         let pts: Vec<Point2> = kept_idx
             .iter()
-            .filter(|&&i| i >= s.first && i <= s.last)
+            .filter(|&&i| s.covers(i))
             .filter_map(|&i| point_at(used, i))
             .collect();
         c.markers(

@@ -88,9 +88,11 @@ pub struct VisiblePiece {
     pub wall: usize,
     /// First beam of the run.
     pub first: usize,
-    /// Last beam of the run (inclusive).
+    /// Last beam of the run (inclusive). Below `first` when the run goes on across the seam
+    /// of a scan that goes once round ([`laserlines::ScanView::full_turn`]): `first..n`,
+    /// then `0..=last`.
     pub last: usize,
-    /// Number of beams in the run, `last - first + 1` (dropped returns included).
+    /// Number of beams in the run (dropped returns included).
     pub beams: usize,
     /// Distance of the wall's infinite line from the laser, m (`>= 0`).
     pub r: f64,
@@ -289,7 +291,33 @@ fn visible_pieces(
         }
         i += 1;
     }
+    if full_turn(n, model.angle_increment) {
+        join_at_seam(&mut pieces, n);
+    }
     pieces
+}
+
+/// True when `n` beams `increment` apart go once round ([`laserlines::ScanView::full_turn`]).
+fn full_turn(n: usize, increment: f64) -> bool {
+    let inc = increment.abs();
+    n >= 3 && inc.is_finite() && (n as f64 * inc - std::f64::consts::TAU).abs() <= 0.5 * inc
+}
+
+/// A full turn's run on one wall that ends at the last beam and goes on at beam 0 is one
+/// piece: the last takes in the first, which is removed.
+fn join_at_seam(pieces: &mut Vec<VisiblePiece>, n: usize) {
+    let (Some(&first), Some(&last)) = (pieces.first(), pieces.last()) else {
+        return;
+    };
+    if pieces.len() < 2 || first.wall != last.wall || first.first != 0 || last.last + 1 != n {
+        return;
+    }
+    if let Some(joined) = pieces.last_mut() {
+        joined.last = first.last;
+        joined.beams = last.beams + first.beams;
+        joined.end = first.end;
+        pieces.remove(0);
+    }
 }
 
 fn indices(flags: &[bool]) -> Vec<usize> {

@@ -94,6 +94,55 @@ fn square_room_from_its_centre_gives_four_pieces_with_exact_geometry() {
 }
 
 #[test]
+fn a_wall_across_the_seam_of_a_full_turn_is_one_piece() {
+    // The room above with the turn beginning 45 deg later: the seam falls in the middle of
+    // the wall that beams 0-44 and 315-359 see, which is one run of 90 beams.
+    let mut world = World::new();
+    world.add_polygon(&[p(3.0, 1.0), p(7.0, 1.0), p(7.0, 5.0), p(3.0, 5.0)]);
+    let model = LaserModel {
+        beams: 360,
+        angle_min: (-29.5f64).to_radians(),
+        angle_increment: 1f64.to_radians(),
+        range_min: 0.02,
+        range_max: 10.0,
+        ..LaserModel::urg04lx().ideal()
+    };
+    let sim = simulate(&world, pose(5.0, 3.0, 30.0), &model, &mut Rng::new(1));
+    assert!(sim.scan.full_turn());
+    let pieces = &sim.truth.pieces;
+    let runs: Vec<_> = pieces
+        .iter()
+        .map(|q| (q.wall, q.first, q.last, q.beams))
+        .collect();
+    assert_eq!(
+        runs,
+        [
+            (2, 45, 134, 90),
+            (3, 135, 224, 90),
+            (0, 225, 314, 90),
+            (1, 315, 44, 90)
+        ]
+    );
+    // From the hit of beam 315 to that of beam 44, the wall's corners 0.5 deg beyond.
+    let across = pieces[3];
+    let hit = |beam: usize| {
+        let phi = model.angle(beam);
+        p(phi.cos(), phi.sin()) * sim.truth.ranges[beam]
+    };
+    assert!(close_pt(across.start, hit(315), 1e-9) && close_pt(across.end, hit(44), 1e-9));
+    assert!((across.length() - 4.0 * 44.5f64.to_radians().tan()).abs() < 1e-9);
+    // A scan one beam short of the turn has no seam: the wall is two runs.
+    let short = LaserModel {
+        beams: 358,
+        ..model
+    };
+    let sim = simulate(&world, pose(5.0, 3.0, 30.0), &short, &mut Rng::new(1));
+    assert!(!sim.scan.full_turn());
+    let walls: Vec<_> = sim.truth.pieces.iter().map(|q| q.wall).collect();
+    assert_eq!(walls, [1, 2, 3, 0, 1]);
+}
+
+#[test]
 fn urg04lx_noise_has_the_specified_sigma_in_both_regimes() {
     let model = LaserModel {
         round_to: None,

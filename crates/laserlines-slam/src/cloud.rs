@@ -61,7 +61,7 @@ pub fn scan_normals(
 
 /// Gives the points of `points` (in beam order) that support one of `lines` the line's
 /// normal, toward the sensor: a point supports a line when its beam lies in the line's
-/// `first..=last` within three times the line's RMS residual (at least 5 mm) of it. Every
+/// `first..=last` (across the seam of a full turn when `first > last`) within three times the line's RMS residual (at least 5 mm) of it. Every
 /// such point of a line whose RMS residual is `replace_rms` (m) or more takes it; on a
 /// smoother line only those whose neighbourhood gave no normal ([`scan_normals`]) do.
 ///
@@ -76,8 +76,6 @@ pub fn line_normals(
     normals: &mut [Option<Vector2>],
 ) {
     for line in lines {
-        let lo = points.partition_point(|p| p.index < line.first);
-        let hi = points.partition_point(|p| p.index <= line.last);
         let (c, s) = (line.alpha.cos(), line.alpha.sin());
         let reach = 3.0 * line.rms.max(0.005);
         // Every point of a rough line takes its normal; on a smooth one, those without one.
@@ -87,14 +85,25 @@ pub fn line_normals(
         if !(reach.is_finite() && toward.x.is_finite() && toward.y.is_finite()) {
             continue;
         }
-        // A line whose `last` comes before its `first` supports no point; `normals` shorter
-        // than `points` leaves the rest as they are.
-        let (Some(points), Some(normals)) = (points.get(lo..hi), normals.get_mut(lo..hi)) else {
-            continue;
+        // The points of `first..=last`; a line across the seam of a full turn has two runs,
+        // from `first` to the end and from the start to `last`.
+        let from = points.partition_point(|p| p.index < line.first);
+        let to = points.partition_point(|p| p.index <= line.last);
+        let runs = if line.wraps() {
+            [(from, points.len()), (0, to)]
+        } else {
+            [(from, to), (0, 0)]
         };
-        for (p, n) in points.iter().zip(normals) {
-            if (all || n.is_none()) && (p.point.x * c + p.point.y * s - line.r).abs() <= reach {
-                *n = Some(toward);
+        for (lo, hi) in runs {
+            // `normals` shorter than `points` leaves the rest as they are.
+            let (Some(points), Some(normals)) = (points.get(lo..hi), normals.get_mut(lo..hi))
+            else {
+                continue;
+            };
+            for (p, n) in points.iter().zip(normals) {
+                if (all || n.is_none()) && (p.point.x * c + p.point.y * s - line.r).abs() <= reach {
+                    *n = Some(toward);
+                }
             }
         }
     }
@@ -365,15 +374,27 @@ mod tests {
             assert!(a.is_none() || a == b, "{k}");
         }
         assert!(kept.iter().filter(|n| n.is_some()).count() > 100);
-        // A line backwards (`last` before `first`), or too few normals, changes nothing.
-        let backwards = Line {
+        // A line across the seam of a full turn (`last` before `first`) gives its normal to
+        // the points of beams `90..` and `..=10` only; too few normals change nothing.
+        let across = Line {
             first: 90,
             last: 10,
             ..line
         };
+        let mut wrapped = normals.clone();
+        line_normals(&pts, &[across], 0.0, &mut wrapped);
+        for (k, (a, b)) in normals.iter().zip(&wrapped).enumerate() {
+            let on = k <= 10 || k >= 90;
+            assert!(
+                if on {
+                    *b == Some(Vector2::new(-1.0, -0.0))
+                } else {
+                    a == b
+                },
+                "{k}"
+            );
+        }
         let mut same = normals.clone();
-        line_normals(&pts, &[backwards], 0.0, &mut same);
-        assert_eq!(same, normals);
         line_normals(&pts, std::slice::from_ref(&line), 0.0, &mut same[..5]);
         line_normals(&pts, &[line], 0.015, &mut normals);
         for (k, n) in normals.iter().enumerate() {

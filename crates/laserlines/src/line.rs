@@ -1,6 +1,8 @@
 //! The line segment every extractor returns.
 
 use crate::fit::PolarFit;
+use std::ops::Range;
+
 use crate::math::{Matrix2, Point2};
 
 /// A line segment extracted from one scan, in the sensor frame.
@@ -14,6 +16,11 @@ use crate::math::{Matrix2, Point2};
 /// line plus its split threshold, inward by at most the split threshold. The supporting
 /// points are the valid beams `first..=last` that the extractor kept (`points` of them); the
 /// beam ranges of different lines of one scan never overlap.
+///
+/// In a scan that goes once round ([`ScanView::full_turn`](crate::ScanView::full_turn)), a
+/// line of `hough-split` may run across the seam between the last beam and the first: then
+/// `first > last`, and its beams are `first..n` followed by `0..=last` ([`Line::covers`],
+/// [`Line::beam_span`]). Every other line has `first <= last`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Line {
     /// Start point, m (the end at beam `first`).
@@ -68,6 +75,83 @@ impl Line {
     pub fn nearest_distance(&self) -> f64 {
         distance_to_segment(Point2::origin(), self.start, self.end)
     }
+
+    /// True when beam `i` lies between `first` and `last` (inclusive), across the seam of a
+    /// full turn when `first > last`.
+    #[must_use]
+    pub fn covers(&self, i: usize) -> bool {
+        if self.first <= self.last {
+            (self.first..=self.last).contains(&i)
+        } else {
+            i >= self.first || i <= self.last
+        }
+    }
+
+    /// True when the line runs across the seam of a full turn (`first > last`).
+    #[must_use]
+    pub fn wraps(&self) -> bool {
+        self.first > self.last
+    }
+
+    /// Number of beams from `first` to `last` (inclusive) in a scan of `n` beams
+    /// ([`beam_span`]).
+    #[must_use]
+    pub fn beam_span(&self, n: usize) -> usize {
+        beam_span(self.first, self.last, n)
+    }
+}
+
+/// Number of beams of the inclusive range `first..=last` of a scan of `n` beams. When
+/// `last < first` the range runs across the seam of a full turn, `first..n` then `0..=last`,
+/// and has `n - first + last + 1` beams (0 when `first >= n`, or `n` is 0).
+#[must_use]
+pub fn beam_span(first: usize, last: usize, n: usize) -> usize {
+    if first <= last {
+        last - first + 1
+    } else if first < n {
+        (n - first) + last.min(first - 1) + 1
+    } else {
+        0
+    }
+}
+
+/// The beams of the inclusive range `first..=last` of a scan of `n` beams, in order: across
+/// the seam of a full turn when `last < first` ([`beam_span`]).
+pub fn beams(first: usize, last: usize, n: usize) -> std::iter::Chain<Range<usize>, Range<usize>> {
+    if first <= last {
+        (first..last.saturating_add(1)).chain(0..0)
+    } else if first < n {
+        (first..n).chain(0..last.min(first - 1) + 1)
+    } else {
+        (0..0).chain(0..0)
+    }
+}
+
+/// Beams shared by the inclusive ranges `a` and `b` of a scan of `n` beams, either of which
+/// may run across the seam of a full turn ([`beam_span`]).
+#[must_use]
+pub fn beams_shared(a: (usize, usize), b: (usize, usize), n: usize) -> usize {
+    // A range across the seam is two plain ones: `first..=n - 1` and `0..=last`.
+    let parts = |(f, l): (usize, usize)| -> [(usize, usize); 2] {
+        if f <= l {
+            [(f, l), (1, 0)]
+        } else if f < n {
+            [(f, n - 1), (0, l.min(f - 1))]
+        } else {
+            [(1, 0), (1, 0)]
+        }
+    };
+    let plain = |(a0, a1): (usize, usize), (b0, b1): (usize, usize)| -> usize {
+        if a1 < a0 || b1 < b0 {
+            0
+        } else {
+            (a1.min(b1) + 1).saturating_sub(a0.max(b0))
+        }
+    };
+    let (pa, pb) = (parts(a), parts(b));
+    pa.iter()
+        .map(|&x| pb.iter().map(|&y| plain(x, y)).sum::<usize>())
+        .sum()
 }
 
 pub use crate::geometry::distance_to_segment;

@@ -166,6 +166,12 @@ impl Scan {
         self.view().angle_max()
     }
 
+    /// True when the beams go once round ([`ScanView::full_turn`]).
+    #[must_use]
+    pub fn full_turn(&self) -> bool {
+        self.view().full_turn()
+    }
+
     /// The window of valid ranges for this scan: its own limits, narrowed by `extra`.
     #[must_use]
     pub fn range_window(&self, extra: Option<RangeWindow>) -> RangeWindow {
@@ -297,6 +303,16 @@ impl<'a> ScanView<'a> {
     #[must_use]
     pub fn angle_max(&self) -> f64 {
         self.angle(self.ranges.len().saturating_sub(1))
+    }
+
+    /// True when the beams go once round: at least three beams, and the beam after the last
+    /// would point within half an increment of the first (`n |angle_increment|` within half
+    /// an increment of a full turn). Beam `n - 1` and beam `0` are then neighbours, and a
+    /// surface may be seen across the seam between them (see [`crate::Line`]).
+    #[must_use]
+    pub fn full_turn(&self) -> bool {
+        let (n, inc) = (self.ranges.len(), self.angle_increment.abs());
+        n >= 3 && inc.is_finite() && (n as f64 * inc - std::f64::consts::TAU).abs() <= 0.5 * inc
     }
 
     /// The window of valid ranges for this scan: its own limits, narrowed by `extra`.

@@ -8,6 +8,7 @@ mod common;
 
 use common::{Rng, increment, sigma};
 use laserlines::extractors::{self, *};
+use laserlines::line::beams;
 use laserlines::registry::ALGORITHMS;
 use laserlines::{Line, LineExtractor, Scan, Weight};
 use proptest::prelude::*;
@@ -96,13 +97,21 @@ fn wall_scan() -> impl Strategy<Value = Scan> {
 fn check_invariants(name: &str, scan: &Scan, lines: &[Line]) {
     let mut prev_last: Option<usize> = None;
     let window = scan.range_window(None);
-    for l in lines {
-        assert!(l.first <= l.last, "{name}: first > last: {l:?}");
-        assert!(l.last < scan.len(), "{name}: index out of range: {l:?}");
+    let n = scan.len();
+    for (k, l) in lines.iter().enumerate() {
         assert!(
-            l.points >= 2 && l.points <= l.last - l.first + 1,
-            "{name}: {l:?}"
+            l.first < n && l.last < n,
+            "{name}: index out of range: {l:?}"
         );
+        // Only the last line of a full turn may run across its seam, clear of the first.
+        if l.wraps() {
+            assert!(
+                scan.full_turn() && k + 1 == lines.len(),
+                "{name}: {lines:?}"
+            );
+            assert!(k == 0 || l.last < lines[0].first, "{name}: {lines:?}");
+        }
+        assert!(l.points >= 2 && l.points <= l.beam_span(n), "{name}: {l:?}");
         if let Some(p) = prev_last {
             assert!(
                 l.first > p,
@@ -119,7 +128,7 @@ fn check_invariants(name: &str, scan: &Scan, lines: &[Line]) {
         assert!(l.r >= 0.0, "{name}: {l:?}");
         // Both ends are valid measurements, and there are enough valid beams between them.
         assert!(window.contains(scan.ranges[l.first]) && window.contains(scan.ranges[l.last]));
-        let valid = (l.first..=l.last)
+        let valid = beams(l.first, l.last, n)
             .filter(|&i| window.contains(scan.ranges[i]))
             .count();
         assert!(valid >= l.points, "{name}: {l:?}");

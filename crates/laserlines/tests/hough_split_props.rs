@@ -11,6 +11,7 @@
 mod common;
 
 use laserlines::hough_split::SILENT_GAP;
+use laserlines::line::beams;
 use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, Scan, Weight};
 use proptest::prelude::*;
 
@@ -87,10 +88,15 @@ fn wall_scan() -> impl Strategy<Value = Scan> {
 
 fn check_invariants(scan: &Scan, lines: &[Line]) {
     let mut prev_last: Option<usize> = None;
-    for l in lines {
-        assert!(l.first <= l.last, "first > last: {l:?}");
-        assert!(l.last < scan.len(), "index out of range: {l:?}");
-        assert!(l.points >= 2 && l.points <= l.last - l.first + 1, "{l:?}");
+    let n = scan.len();
+    for (k, l) in lines.iter().enumerate() {
+        assert!(l.first < n && l.last < n, "index out of range: {l:?}");
+        // Only the last line of a full turn may run across its seam, clear of the first.
+        if l.wraps() {
+            assert!(scan.full_turn() && k + 1 == lines.len(), "{lines:?}");
+            assert!(k == 0 || l.last < lines[0].first, "{lines:?}");
+        }
+        assert!(l.points >= 2 && l.points <= l.beam_span(n), "{l:?}");
         if let Some(p) = prev_last {
             assert!(l.first > p, "lines share or reorder beams: {lines:?}");
         }
@@ -101,7 +107,7 @@ fn check_invariants(scan: &Scan, lines: &[Line]) {
         assert!(l.r >= 0.0);
         // Every supporting beam is a valid measurement.
         assert!(
-            (l.first..=l.last)
+            beams(l.first, l.last, n)
                 .filter(|&i| scan.range_window(None).contains(scan.ranges[i]))
                 .count()
                 >= l.points
@@ -121,23 +127,28 @@ fn check_bounds(scan: &Scan, hs: &HoughSplit, lines: &[Line]) {
     let bridge = p.bridge_for(scan.angle_increment, st.dropout());
     for l in lines {
         // The line's support: the kept points of its beam span, all of them its own.
-        let support: Vec<_> = points
+        // In beam order from `first` (across the seam of a full turn).
+        let n = scan.len();
+        let mut support: Vec<_> = points
             .iter()
-            .filter(|q| (l.first..=l.last).contains(&q.index) && kept.contains(&q.index))
+            .filter(|q| l.covers(q.index) && kept.contains(&q.index))
             .collect();
+        support.sort_by_key(|q| (q.index + n - l.first) % n);
         assert_eq!(support.len(), l.points, "{l:?}");
         for w in support.windows(2) {
             let (a, b) = (w[0], w[1]);
-            let gap = (b.index - a.index) as f64 * step;
+            // Beams from `a` to `b`, across the seam of a full turn.
+            let apart_beams = (b.index + n - a.index) % n;
+            let gap = apart_beams as f64 * step;
             // Across beams that all returned nothing, two points within `SILENT_GAP` may
             // follow each other; else the beam bridge's bounds hold.
-            let silent = scan.ranges[a.index + 1..b.index]
-                .iter()
-                .all(|&r| r.is_nan() || r < scan.range_min.max(p.min_range));
-            if b.index > a.index + 1 && silent && (b.point - a.point).norm() <= SILENT_GAP + 1e-9 {
+            let silent = (1..apart_beams)
+                .map(|k| scan.ranges[(a.index + k) % n])
+                .all(|r| r.is_nan() || r < scan.range_min.max(p.min_range));
+            if apart_beams > 1 && silent && (b.point - a.point).norm() <= SILENT_GAP + 1e-9 {
                 continue;
             }
-            assert!(b.index - a.index <= bridge.max_gap + 1, "{l:?}");
+            assert!(apart_beams <= bridge.max_gap + 1, "{l:?}");
             let d = p.breakpoint_distance(a.range, gap, bridge.spacing, noise.sigma(a.range));
             let Some(d) = d else {
                 panic!(
@@ -278,7 +289,13 @@ proptest! {
             let st = hs.stages();
             prop_assert_eq!(st.kept().count() + st.removed().len(), st.points().len());
             for l in &lines {
-                prop_assert!(st.segments().any(|s| s.first <= l.first && l.last <= s.last));
+                if l.wraps() {
+                    // Across the seam of a full turn: its ends in segments.
+                    prop_assert!(st.segments().any(|s| s.covers(l.first)));
+                    prop_assert!(st.segments().any(|s| s.covers(l.last)));
+                } else {
+                    prop_assert!(st.segments().any(|s| s.first <= l.first && l.last <= s.last));
+                }
             }
         }
     }

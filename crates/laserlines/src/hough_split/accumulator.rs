@@ -243,7 +243,9 @@ impl Accumulator {
     /// sector's centre in `along`.
     fn fill(&mut self, scan: ScanView<'_>, valid: &Valid, table: &BeamTable, points: &mut Vec<Pt>) {
         let (window, min_range) = (valid.window, valid.min_range);
-        let n = scan.ranges.len().min(table.beams.len());
+        // A full turn is walked from its seam: its beams in the order of the walk.
+        let walk = table.walk();
+        let n = scan.ranges.len().min(walk.len());
         points.resize(n, Pt::default());
         self.along.resize(n, 0.0);
         // RangeWindow::contains and the minimum range as two comparisons: `r >= lo` implies
@@ -255,7 +257,7 @@ impl Accumulator {
             window.min.max(min_range).max(f64::from_bits(1))
         };
         let hi = window.max.min(f64::MAX);
-        let (ranges, beams) = (&scan.ranges[..n], &table.beams[..n]);
+        let (ranges, beams) = (&scan.ranges[..n], &walk[..n]);
         let (out, along) = (&mut points[..n], &mut self.along[..n]);
         let mut count = 0usize;
         // With finite beam directions, a finite range gives a finite point.

@@ -27,6 +27,7 @@ mod mixed;
 mod params;
 mod points;
 mod presets;
+mod seam;
 mod segment;
 
 pub use crate::params::ParamsError;
@@ -78,6 +79,11 @@ pub struct HoughSplit {
     /// certain.
     candidates: Vec<lines::Candidate>,
     groups: collinear::Groups,
+    /// The last scan's beam count, and the beam its walk started from (0 unless it went
+    /// once round: [`seam`]); the stages above are in the walk's beam indices.
+    turn: (usize, usize),
+    /// The ranges of a full turn in the order of its walk.
+    walk: Vec<f64>,
 }
 
 impl HoughSplit {
@@ -106,6 +112,8 @@ impl HoughSplit {
             split_ranges: Vec::new(),
             candidates: Vec::new(),
             groups: collinear::Groups::default(),
+            turn: (0, 0),
+            walk: Vec::new(),
         })
     }
 
@@ -160,11 +168,48 @@ impl LineExtractor for HoughSplit {
         self.candidates.clear();
         self.split_points.clear();
         self.split_ranges.clear();
+        self.turn = (scan.ranges.len(), 0);
         // Broken geometry (a view built without `ScanView::new`) gives no line.
         if scan.validate().is_err() {
             self.forget_stages();
             return;
         }
+        let window = scan.range_window(self.params.range_limits);
+        let lo = window.min.max(self.params.min_range).max(f64::MIN_POSITIVE);
+        let seam = if scan.full_turn() {
+            seam::start(scan.ranges, (lo, window.max), scan.angle_increment)
+        } else {
+            0
+        };
+        if seam == 0 {
+            self.run(scan, out);
+            return;
+        }
+        // A full turn is walked from `seam`, so that no surface is cut where the scan's
+        // beams begin; its lines come back in the scan's own beam indices.
+        let mut walk = std::mem::take(&mut self.walk);
+        walk.clear();
+        walk.extend_from_slice(&scan.ranges[seam..]);
+        walk.extend_from_slice(&scan.ranges[..seam]);
+        self.turn.1 = seam;
+        self.run(
+            ScanView {
+                ranges: &walk,
+                ..scan
+            },
+            out,
+        );
+        if let (Some(a), Some(b)) = (self.candidates.last(), self.candidates.first()) {
+            seam::join_ends(out, &walk, lo, (a.ends.1, b.ends.0));
+        }
+        self.walk = walk;
+        seam::unwalk(out, &mut self.split_points, seam, scan.ranges.len());
+    }
+}
+
+impl HoughSplit {
+    /// Steps 0-7 on `scan` (a full turn in the order of its walk).
+    fn run(&mut self, scan: ScanView<'_>, out: &mut Vec<Line>) {
         self.vote(scan);
         self.group(scan);
         self.fit_segments(scan, out);
@@ -178,9 +223,7 @@ impl LineExtractor for HoughSplit {
             &mut self.groups,
         );
     }
-}
 
-impl HoughSplit {
     /// Empties every stage (for a scan that gives no line).
     fn forget_stages(&mut self) {
         self.points.clear();
@@ -204,6 +247,7 @@ impl HoughSplit {
             scan.ranges.len(),
             p.sector_step,
         );
+        self.table.walk_from(self.turn.1);
         self.angles = (scan.angle_min, scan.angle_increment);
         self.noise_of(Some(scan));
         let valid = Valid {
@@ -325,6 +369,19 @@ pub struct DataSegment {
     pub points: usize,
 }
 
+impl DataSegment {
+    /// True when beam `i` lies between `first` and `last` (inclusive), across the seam of a
+    /// full turn when `first > last`.
+    #[must_use]
+    pub fn covers(&self, i: usize) -> bool {
+        if self.first <= self.last {
+            (self.first..=self.last).contains(&i)
+        } else {
+            i >= self.first || i <= self.last
+        }
+    }
+}
+
 /// A radius group: a run of kept cells along one ring (paper Fig. 4a).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct RadiusGroup {
@@ -393,17 +450,35 @@ impl<'a> Stages<'a> {
         self.hs.estimator.bands()
     }
 
-    /// The valid points the pipeline started from, in beam order.
+    /// The beam the last scan was walked from: 0, unless it went once round
+    /// ([`ScanView::full_turn`]), when the walk starts after the widest gap between its
+    /// returns, so that no surface is cut where its beams begin. Every stage below is in the
+    /// order of the walk, and names the scan's own beam indices.
+    #[must_use]
+    pub fn seam(&self) -> usize {
+        self.hs.turn.1
+    }
+
+    /// The scan's own index of beam `w` of the walk.
+    fn beam(&self, w: usize) -> usize {
+        let (n, seam) = self.hs.turn;
+        if seam == 0 { w } else { (w + seam) % n }
+    }
+
+    /// The valid points the pipeline started from, in beam order (from [`Stages::seam`]).
     #[must_use]
     pub fn points(&self) -> Vec<ScanPoint> {
         let pts = &self.hs.points;
         let (angle_min, increment) = self.hs.angles;
         (0..pts.len())
-            .map(|k| ScanPoint {
-                index: pts[k].idx,
-                range: pts[k].range,
-                angle: angle_min + pts[k].idx as f64 * increment,
-                point: Point2::new(pts[k].x, pts[k].y),
+            .map(|k| {
+                let index = self.beam(pts[k].idx);
+                ScanPoint {
+                    index,
+                    range: pts[k].range,
+                    angle: angle_min + index as f64 * increment,
+                    point: Point2::new(pts[k].x, pts[k].y),
+                }
             })
             .collect()
     }
@@ -421,7 +496,8 @@ impl<'a> Stages<'a> {
     }
 
     /// The direction `gamma` of a sector's centre, rad, in the frame of `scan` (a
-    /// [`Scan`](crate::Scan) or a [`ScanView`]).
+    /// [`Scan`](crate::Scan) or a [`ScanView`]). Sectors count from the walk's first beam
+    /// ([`Stages::seam`]).
     #[must_use]
     pub fn sector_angle<'s>(&self, scan: impl Into<ScanView<'s>>, sector: u32) -> f64 {
         let scan = scan.into();
@@ -430,7 +506,7 @@ impl<'a> Stages<'a> {
         } else {
             1.0
         };
-        scan.angle_min + sign * (f64::from(sector) + 0.5) * self.hs.params.sector_step
+        scan.angle(self.hs.turn.1) + sign * (f64::from(sector) + 0.5) * self.hs.params.sector_step
     }
 
     /// Radius groups: runs of kept cells along each ring, bridging `group_gap` empty sectors.
@@ -460,22 +536,31 @@ impl<'a> Stages<'a> {
         out
     }
 
-    /// The data segments, in beam order.
+    /// The data segments, in beam order (from [`Stages::seam`]; one segment of a full turn
+    /// may run across the scan's seam, `first > last`).
     pub fn segments(&self) -> impl Iterator<Item = DataSegment> + 'a {
+        let stages = *self;
         let segs = &self.hs.segments;
         segs.runs.iter().map(move |run| DataSegment {
-            first: segs.kept[run.start as usize].idx,
-            last: segs.kept[run.end as usize - 1].idx,
+            first: stages.beam(segs.kept[run.start as usize].idx),
+            last: stages.beam(segs.kept[run.end as usize - 1].idx),
             points: (run.end - run.start) as usize,
         })
     }
 
-    /// Beam indices of the surviving points (the paper's non-zero `Pm[i]`).
+    /// Beam indices of the surviving points (the paper's non-zero `Pm[i]`), in beam order
+    /// (from [`Stages::seam`]).
     pub fn kept(&self) -> impl Iterator<Item = usize> + 'a {
-        self.hs.segments.kept.iter().map(|p| p.idx)
+        let stages = *self;
+        self.hs
+            .segments
+            .kept
+            .iter()
+            .map(move |p| stages.beam(p.idx))
     }
 
-    /// Beam indices of valid points removed as sparse or cluttered (the paper's `Pm[i] = 0`).
+    /// Beam indices of valid points removed as sparse or cluttered (the paper's `Pm[i] = 0`),
+    /// in beam order (from [`Stages::seam`]).
     #[must_use]
     pub fn removed(&self) -> Vec<usize> {
         let mut keep = self.hs.segments.kept.iter().map(|p| p.idx).peekable();
@@ -484,14 +569,15 @@ impl<'a> Stages<'a> {
             if keep.peek().is_some_and(|&x| x == i) {
                 keep.next();
             } else {
-                out.push(i);
+                out.push(self.beam(i));
             }
         }
         out
     }
 
-    /// The split tree's end points of each data segment (beam indices, ascending, the
-    /// segment's first and last beam included), before the collinear merge.
+    /// The split tree's end points of each data segment (beam indices in beam order, the
+    /// segment's first and last beam included; past the last beam of a full turn they go on
+    /// from 0, see [`Stages::seam`]), before the collinear merge.
     pub fn split_points(&self) -> impl Iterator<Item = &'a [usize]> + 'a {
         let hs = self.hs;
         hs.split_ranges

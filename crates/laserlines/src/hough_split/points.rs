@@ -23,6 +23,13 @@ pub(crate) struct BeamTable {
     pub(crate) finite: bool,
     /// The angle between beams, rad.
     pub(crate) increment: f64,
+    /// The beam a full turn is walked from (0 otherwise): range `i` of the walk is beam
+    /// `seam + i` (mod the beam count). Set per scan ([`BeamTable::walk_from`]), not part of
+    /// the cached shape.
+    pub(crate) seam: usize,
+    /// With a seam: per beam of the walk, the direction of its beam and the sector of its
+    /// place in the walk.
+    turned: Vec<Beam>,
 }
 
 impl BeamTable {
@@ -72,6 +79,38 @@ impl BeamTable {
                 },
                 sector: k as u32,
             });
+        }
+    }
+}
+
+impl BeamTable {
+    /// Sets the beam the scan is walked from ([`BeamTable::seam`]): beam `i` of the walk
+    /// points where beam `seam + i` (mod the beam count) does, and lies in the sector of
+    /// the walk's `i`-th beam (sectors count from the walk's first beam).
+    pub(crate) fn walk_from(&mut self, seam: usize) {
+        let n = self.beams.len();
+        self.seam = if seam < n { seam } else { 0 };
+        if self.seam == 0 {
+            return;
+        }
+        let turned = self.beams[self.seam..]
+            .iter()
+            .chain(&self.beams[..self.seam]);
+        self.turned.clear();
+        self.turned
+            .extend(self.beams.iter().zip(turned).map(|(place, dir)| Beam {
+                cos: dir.cos,
+                sin: dir.sin,
+                ..*place
+            }));
+    }
+
+    /// The beams in the order of the walk ([`BeamTable::walk_from`]).
+    pub(crate) fn walk(&self) -> &[Beam] {
+        if self.seam == 0 {
+            &self.beams
+        } else {
+            &self.turned
         }
     }
 }
