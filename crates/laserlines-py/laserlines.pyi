@@ -11,7 +11,9 @@ Lines come as a numpy structured array, one record per line (``lines["r"]`` is t
   ``first``);
 - ``r``: (n,) float64, distance of the line from the laser, m; ``alpha``: (n,) float64, the
   direction of its normal, rad, in (-pi, pi] (the line is ``x cos(alpha) + y sin(alpha) = r``);
-- ``first``, ``last``: (n,) int64, the first and last supporting beam (inclusive);
+- ``first``, ``last``: (n,) int64, the first and last supporting beam (inclusive; a line of
+  ``hough-split`` across the seam of a 360 deg scan has ``first > last``: beams ``first..n``,
+  then ``0..=last``);
   ``points``: (n,) int64, the number of supporting points;
 - ``rms``: (n,) float64, RMS orthogonal residual, m;
 - ``covariance``: (n, 2, 2) float64, covariance of (r, alpha): [[m², m rad], [m rad, rad²]].

@@ -246,12 +246,14 @@ fn a_sparse_360_deg_scanner_finds_walls_without_phantoms() {
     // 1 % and none of the pieces. With that bridge but the dense scan's 8 points per data
     // segment and line (`HoughSplitParams::min_points_for`), 81, 70, 56, 38 and 24 %, and 6,
     // 5, 8, 4 and 2 false lines (field criteria) of 274, 257, 185, 108 and 58.
+    // A full turn walked from a break (a wall across the seam one line, one piece) finds
+    // 82, 76, 61, 49 and 32 %; cut at the seam, 82, 74, 58, 45 and 30 %.
     for (dropout, share) in [
-        (0.3, 0.78),
-        (0.5, 0.72),
-        (0.7, 0.58),
-        (0.85, 0.45),
-        (0.9, 0.28),
+        (0.3, 0.80),
+        (0.5, 0.74),
+        (0.7, 0.60),
+        (0.85, 0.48),
+        (0.9, 0.30),
     ] {
         let model = ydlidar_like(dropout);
         let what = format!("ydlidar-like, {dropout} missing");

@@ -14,7 +14,7 @@
 //! | `end_x`, `end_y` | float64 | no | end point (the end at beam `last`), m |
 //! | `r` | float64 | no | distance of the line from the laser, m |
 //! | `alpha` | float64 | no | direction of the line's normal, rad, in `(-pi, pi]` |
-//! | `first`, `last` | int64 | no | first and last supporting beam (inclusive) |
+//! | `first`, `last` | int64 | no | first and last supporting beam (inclusive; `first > last` across the seam of a 360 deg scan) |
 //! | `points` | int64 | no | number of supporting points |
 //! | `rms` | float64 | no | RMS orthogonal residual, m |
 //! | `cov_rr`, `cov_ralpha`, `cov_alphaalpha` | float64 | no | covariance of `(r, alpha)`: m², m rad, rad² |
