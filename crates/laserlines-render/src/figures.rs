@@ -470,9 +470,14 @@ fn value_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
         })
 }
 
-/// Faint dashed rays along the first and last beam: the scan's field of view.
+/// Faint dashed rays along the first and last beam: the scan's field of view (none for a
+/// scan that goes once round).
 fn draw_field_of_view(panel: &mut Panel, scan: &Scan, view: &Extent) {
-    if scan.is_empty() || !scan.angle_min.is_finite() || !scan.angle_increment.is_finite() {
+    if scan.is_empty()
+        || !scan.angle_min.is_finite()
+        || !scan.angle_increment.is_finite()
+        || scan.full_turn()
+    {
         return;
     }
     let reach = 2.0 * (view.width() + view.height());

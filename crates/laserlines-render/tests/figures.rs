@@ -97,6 +97,35 @@ fn assert_clipped(root: &Element) {
 }
 
 #[test]
+fn hough_figure_draws_a_full_turn_across_its_seam() {
+    // The wall x = 0 lies across the seam: one line, and one data segment of the walk's
+    // points, drawn whole in panel (c); no field of view in panel (a).
+    let scan = common::turn_scan();
+    let (hs, lines, svg) = hough(&scan);
+    let root = parse(&svg).unwrap();
+    let st = hs.stages();
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.wraps() && l.covers(0) && (l.r - 1.3).abs() < 0.03)
+    );
+    assert!(st.segments().any(|s| s.covers(359) && s.covers(0)));
+    let segments = st.segments().count();
+    assert_eq!(root.count("line", "segment-chord"), segments);
+    assert_eq!(root.count_in_group("segment-end", "rect"), 2 * segments);
+    assert_eq!(
+        root.count_in_group("segment-point", "circle"),
+        st.kept().count()
+    );
+    assert_eq!(
+        root.count_in_group("raw-point", "circle"),
+        st.points().len()
+    );
+    assert_eq!(root.count("line", "field-of-view"), 0);
+    assert_eq!(root.count("line", "extracted-line"), lines.len());
+}
+
+#[test]
 fn hough_figure_draws_every_stage() {
     let scan = common::room_scan();
     let (hs, lines, svg) = hough(&scan);

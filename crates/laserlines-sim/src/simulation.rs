@@ -300,7 +300,7 @@ fn visible_pieces(
 /// True when `n` beams `increment` apart go once round ([`laserlines::ScanView::full_turn`]).
 fn full_turn(n: usize, increment: f64) -> bool {
     let inc = increment.abs();
-    n >= 3 && inc.is_finite() && (n as f64 * inc - std::f64::consts::TAU).abs() <= 0.5 * inc
+    n >= 3 && inc.is_finite() && n as f64 * inc >= std::f64::consts::TAU - 0.5 * inc
 }
 
 /// A full turn's run on one wall that ends at the last beam and goes on at beam 0 is one

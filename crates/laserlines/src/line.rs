@@ -14,8 +14,9 @@ use crate::math::{Matrix2, Point2};
 /// `hough-split` (with `refine_ends`, its default) moves the ends of two neighbouring lines
 /// that meet at a corner to the lines' intersection: outward by at most the gap to the other
 /// line plus its split threshold, inward by at most the split threshold. The supporting
-/// points are the valid beams `first..=last` that the extractor kept (`points` of them); the
-/// beam ranges of different lines of one scan never overlap.
+/// points are the valid beams `first..=last` that the extractor kept (`points` of them; with
+/// `hough-split`, a lone spike between two pieces of one surface that it joined is kept but
+/// is none of them); the beam ranges of different lines of one scan never overlap.
 ///
 /// In a scan that goes once round ([`ScanView::full_turn`](crate::ScanView::full_turn)), a
 /// line of `hough-split` may run across the seam between the last beam and the first: then

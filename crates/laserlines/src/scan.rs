@@ -305,14 +305,17 @@ impl<'a> ScanView<'a> {
         self.angle(self.ranges.len().saturating_sub(1))
     }
 
-    /// True when the beams go once round: at least three beams, and the beam after the last
-    /// would point within half an increment of the first (`n |angle_increment|` within half
-    /// an increment of a full turn). Beam `n - 1` and beam `0` are then neighbours, and a
-    /// surface may be seen across the seam between them (see [`crate::Line`]).
+    /// True when the beams go once round: at least three beams spanning a full turn, less
+    /// half an increment or more (`n |angle_increment| >= 2 pi - |angle_increment| / 2`): the
+    /// beam after the last would point within half an increment of the first, or the last
+    /// repeats the first's direction, as some drivers give it (361 beams of 1 deg). Beam
+    /// `n - 1` and beam `0` are then neighbours, and a surface may be seen across the seam
+    /// between them (see [`crate::Line`]). [`ScanView::validate`] refuses more than a full
+    /// turn between the first beam and the last.
     #[must_use]
     pub fn full_turn(&self) -> bool {
         let (n, inc) = (self.ranges.len(), self.angle_increment.abs());
-        n >= 3 && inc.is_finite() && (n as f64 * inc - std::f64::consts::TAU).abs() <= 0.5 * inc
+        n >= 3 && inc.is_finite() && n as f64 * inc >= std::f64::consts::TAU - 0.5 * inc
     }
 
     /// The window of valid ranges for this scan: its own limits, narrowed by `extra`.

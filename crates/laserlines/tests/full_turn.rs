@@ -82,6 +82,27 @@ fn the_wall_across_the_seam_is_one_line() {
     }
 }
 
+#[test]
+fn a_turn_whose_last_beam_repeats_the_first_is_a_full_turn() {
+    // 361 beams of 1 deg: the last points where the first does, as some drivers give a turn.
+    for seed in 1..=10 {
+        let scan = turn(&room(), 361, &mut Rng(seed));
+        assert!(scan.full_turn());
+        let lines = extract(&scan);
+        assert_eq!(lines.len(), 4, "seed {seed}: {lines:?}");
+        let back = lines[3];
+        assert!(on_back_wall(&back, 0.03), "{lines:?}");
+        assert!(
+            back.covers(0) && back.covers(360) && back.covers(359),
+            "{back:?}"
+        );
+    }
+    // One beam short of a full turn, or half a beam, is none.
+    for beams in [359, 358] {
+        assert!(!turn(&room(), beams, &mut Rng(1)).full_turn());
+    }
+}
+
 /// `scan` begun `k` beams later: the same beams, in the same directions.
 fn turned(scan: &Scan, k: usize) -> Scan {
     let n = scan.ranges.len();
@@ -152,5 +173,82 @@ fn two_walls_meeting_at_the_seam_keep_their_own_lines() {
         let at_corner = |l: &Line| (l.start - corner).norm().min((l.end - corner).norm());
         let (a, b) = (at_corner(back), at_corner(slant));
         assert!(a < 0.1 && b < 0.1, "seed {seed}: {a} {b} {lines:?}");
+    }
+}
+
+/// `scan` with the beams `missing` returning nothing (NaN).
+fn without(scan: &Scan, missing: &[usize]) -> Scan {
+    let mut ranges = scan.ranges.clone();
+    for &i in missing {
+        ranges[i] = f64::NAN;
+    }
+    Scan::new(scan.angle_min, scan.angle_increment, 0.15, 12.0, ranges).unwrap()
+}
+
+#[test]
+fn beams_without_a_return_at_the_seam_leave_the_wall_one_line() {
+    // The wall behind, 1.5 m away, with one or two beams on either side of the seam
+    // missing: the beam bridge spans them, as anywhere else on the wall.
+    for missing in [&[0usize][..], &[359], &[0, 1], &[359, 0], &[358, 359]] {
+        for seed in 1..=10 {
+            let scan = without(&turn(&room(), 360, &mut Rng(seed)), missing);
+            let lines = extract(&scan);
+            assert_eq!(lines.len(), 4, "{missing:?}, seed {seed}: {lines:?}");
+            let back = lines[3];
+            assert!(
+                on_back_wall(&back, 0.03) && back.wraps(),
+                "{missing:?}: {lines:?}"
+            );
+            // The same scan begun 5 beams later gives the same line.
+            let other = extract(&turned(&scan, 5));
+            let same = other
+                .iter()
+                .find(|l| on_back_wall(l, 0.03))
+                .expect("back wall");
+            assert_eq!(
+                ((same.first + 5) % 360, (same.last + 5) % 360),
+                (back.first, back.last)
+            );
+        }
+    }
+}
+
+#[test]
+fn a_gap_the_bridge_spans_leaves_the_wall_one_line() {
+    // A 10 m x 5 m room with the sensor 4.3 m from the wall behind it, two beams of which
+    // return nothing 10 deg from the seam: no break to begin the walk at (the bridge spans
+    // them), so it begins at the farthest corner and the wall is one line across the seam.
+    // Three missing beams are a break, as the bridge of a 1 deg scanner spans no more than
+    // two: the walk begins after them, and the wall is two lines, as it is away from the
+    // seam.
+    let corners = [
+        Point2::new(-4.3, -2.0),
+        Point2::new(5.7, -2.0),
+        Point2::new(5.7, 3.0),
+        Point2::new(-4.3, 3.0),
+    ];
+    let back = |lines: &[Line]| -> Vec<Line> {
+        lines
+            .iter()
+            .filter(|l| (l.r - 4.3).abs() < 0.05 && angle_diff(l.alpha, PI).abs() < 0.05)
+            .copied()
+            .collect()
+    };
+    for seed in 1..=10 {
+        let scan = turn(&corners, 360, &mut Rng(seed));
+        let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
+        let lines = hs.extract(&without(&scan, &[10, 11]));
+        let on_back = back(&lines);
+        assert_eq!(on_back.len(), 1, "seed {seed}: {lines:?}");
+        assert!(on_back[0].covers(9) && on_back[0].covers(12) && on_back[0].covers(0));
+        // The walk begins at the farthest return: near the corner (5.7, 3.0), at 27.8 deg
+        // (beam 208), where 1 % of noise (6 cm) exceeds the ranges' fall along the walls.
+        let seam = hs.stages().seam();
+        assert!((seam as i64 - 208).abs() <= 5, "{seam}");
+        let lines = hs.extract(&without(&scan, &[10, 11, 12]));
+        assert_eq!(hs.stages().seam(), 13);
+        let pieces = back(&lines);
+        assert_eq!(pieces.len(), 2, "seed {seed}: {lines:?}");
+        assert_eq!((pieces[0].first, pieces[1].last), (13, 9), "{pieces:?}");
     }
 }

@@ -134,6 +134,18 @@ fn check_bounds(scan: &Scan, hs: &HoughSplit, lines: &[Line]) {
             .filter(|q| l.covers(q.index) && kept.contains(&q.index))
             .collect();
         support.sort_by_key(|q| (q.index + n - l.first) % n);
+        // A lone spike between two pieces of one surface that step 7 joined is kept, but is
+        // not the line's: far off it, with the line's points on both sides.
+        let off = |q: &laserlines::ScanPoint| {
+            (q.point.x * l.alpha.cos() + q.point.y * l.alpha.sin() - l.r).abs()
+                > 10.0 * noise.sigma(q.range).max(l.rms)
+        };
+        let spikes: Vec<usize> = (1..support.len().saturating_sub(1))
+            .filter(|&k| off(support[k]) && !off(support[k - 1]) && !off(support[k + 1]))
+            .collect();
+        for &k in spikes.iter().rev() {
+            support.remove(k);
+        }
         assert_eq!(support.len(), l.points, "{l:?}");
         for w in support.windows(2) {
             let (a, b) = (w[0], w[1]);

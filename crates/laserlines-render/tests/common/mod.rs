@@ -118,6 +118,31 @@ pub fn room_scan() -> Scan {
     Scan::new(angle_min, inc, 0.02, 5.6, ranges).expect("valid scan")
 }
 
+/// A 360 deg scan of the room [0,4]x[0,6] without the box and pole, from (1.3, 1.8) facing
+/// +x: 360 beams 1 deg apart from -180 deg, so that the wall x = 0 lies across the scan's
+/// seam; gaussian range noise of 10 mm from a fixed seed.
+pub fn turn_scan() -> Scan {
+    let walls: [([f64; 2], [f64; 2]); 4] = [
+        ([0.0, 0.0], [4.0, 0.0]),
+        ([4.0, 0.0], [4.0, 6.0]),
+        ([4.0, 6.0], [0.0, 6.0]),
+        ([0.0, 6.0], [0.0, 0.0]),
+    ];
+    let (sensor, inc) = ([1.3, 1.8], 1.0_f64.to_radians());
+    let mut rng = Rng::new(0x5EED_2009);
+    let ranges = (0..360)
+        .map(|i| {
+            let a = -std::f64::consts::PI + i as f64 * inc;
+            let t = walls
+                .iter()
+                .filter_map(|&(p, q)| ray_segment(sensor, a, p, q))
+                .fold(f64::INFINITY, f64::min);
+            t + 0.01 * rng.gauss()
+        })
+        .collect();
+    Scan::new(-std::f64::consts::PI, inc, 0.02, 8.0, ranges).expect("valid scan")
+}
+
 /// An XML element: name, attributes, children and the text directly inside it.
 #[derive(Debug, Clone, Default)]
 pub struct Element {

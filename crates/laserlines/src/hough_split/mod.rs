@@ -84,6 +84,8 @@ pub struct HoughSplit {
     turn: (usize, usize),
     /// The ranges of a full turn in the order of its walk.
     walk: Vec<f64>,
+    /// A full turn's returns, for [`seam::start`].
+    returns: Vec<(usize, f64)>,
 }
 
 impl HoughSplit {
@@ -114,6 +116,7 @@ impl HoughSplit {
             groups: collinear::Groups::default(),
             turn: (0, 0),
             walk: Vec::new(),
+            returns: Vec::new(),
         })
     }
 
@@ -176,15 +179,17 @@ impl LineExtractor for HoughSplit {
         }
         let window = scan.range_window(self.params.range_limits);
         let lo = window.min.max(self.params.min_range).max(f64::MIN_POSITIVE);
-        let seam = if scan.full_turn() {
-            seam::start(scan.ranges, (lo, window.max), scan.angle_increment)
-        } else {
-            0
-        };
-        if seam == 0 {
+        if !scan.full_turn() {
             self.run(scan, out);
             return;
         }
+        let n = scan.ranges.len();
+        let seam = seam::start(
+            scan.ranges,
+            (lo, window.max),
+            scan.angle_increment,
+            &mut self.returns,
+        );
         // A full turn is walked from `seam`, so that no surface is cut where the scan's
         // beams begin; its lines come back in the scan's own beam indices.
         let mut walk = std::mem::take(&mut self.walk);
@@ -203,7 +208,7 @@ impl LineExtractor for HoughSplit {
             seam::join_ends(out, &walk, lo, (a.ends.1, b.ends.0));
         }
         self.walk = walk;
-        seam::unwalk(out, &mut self.split_points, seam, scan.ranges.len());
+        seam::unwalk(out, &mut self.split_points, seam, n);
     }
 }
 
@@ -465,12 +470,12 @@ impl<'a> Stages<'a> {
         if seam == 0 { w } else { (w + seam) % n }
     }
 
-    /// The valid points the pipeline started from, in beam order (from [`Stages::seam`]).
+    /// The valid points the pipeline started from, in beam order.
     #[must_use]
     pub fn points(&self) -> Vec<ScanPoint> {
         let pts = &self.hs.points;
         let (angle_min, increment) = self.hs.angles;
-        (0..pts.len())
+        let mut out: Vec<ScanPoint> = (0..pts.len())
             .map(|k| {
                 let index = self.beam(pts[k].idx);
                 ScanPoint {
@@ -480,7 +485,10 @@ impl<'a> Stages<'a> {
                     point: Point2::new(pts[k].x, pts[k].y),
                 }
             })
-            .collect()
+            .collect();
+        // The walk of a full turn passes beam 0 part of the way.
+        out.sort_by_key(|p| p.index);
+        out
     }
 
     /// Every accumulator cell that received a vote, sector by sector in ring order.
