@@ -291,16 +291,17 @@ fn visible_pieces(
         }
         i += 1;
     }
-    if full_turn(n, model.angle_increment) {
+    let turn = laserlines::ScanView {
+        angle_min: model.angle_min,
+        angle_increment: model.angle_increment,
+        range_min: model.range_min,
+        range_max: model.range_max,
+        ranges: &ranges[..n],
+    };
+    if turn.full_turn() {
         join_at_seam(&mut pieces, n);
     }
     pieces
-}
-
-/// True when `n` beams `increment` apart go once round ([`laserlines::ScanView::full_turn`]).
-fn full_turn(n: usize, increment: f64) -> bool {
-    let inc = increment.abs();
-    n >= 3 && inc.is_finite() && n as f64 * inc >= std::f64::consts::TAU - 0.5 * inc
 }
 
 /// A full turn's run on one wall that ends at the last beam and goes on at beam 0 is one

@@ -81,11 +81,7 @@ impl Line {
     /// full turn when `first > last`.
     #[must_use]
     pub fn covers(&self, i: usize) -> bool {
-        if self.first <= self.last {
-            (self.first..=self.last).contains(&i)
-        } else {
-            i >= self.first || i <= self.last
-        }
+        covers(self.first, self.last, i)
     }
 
     /// True when the line runs across the seam of a full turn (`first > last`).
@@ -113,6 +109,17 @@ pub fn beam_span(first: usize, last: usize, n: usize) -> usize {
         (n - first) + last.min(first - 1) + 1
     } else {
         0
+    }
+}
+
+/// True when beam `i` lies in the inclusive range `first..=last`, which runs across the seam
+/// of a full turn when `last < first` ([`beam_span`]).
+#[must_use]
+pub fn covers(first: usize, last: usize, i: usize) -> bool {
+    if first <= last {
+        (first..=last).contains(&i)
+    } else {
+        i >= first || i <= last
     }
 }
 

@@ -379,11 +379,7 @@ impl DataSegment {
     /// full turn when `first > last`.
     #[must_use]
     pub fn covers(&self, i: usize) -> bool {
-        if self.first <= self.last {
-            (self.first..=self.last).contains(&i)
-        } else {
-            i >= self.first || i <= self.last
-        }
+        crate::line::covers(self.first, self.last, i)
     }
 }
 
