@@ -1,8 +1,8 @@
 //! The line segment every extractor returns.
 
-use crate::fit::PolarFit;
 use std::ops::Range;
 
+use crate::fit::PolarFit;
 use crate::math::{Matrix2, Point2};
 
 /// A line segment extracted from one scan, in the sensor frame.
@@ -98,18 +98,28 @@ impl Line {
     }
 }
 
+/// The beams of the inclusive range `first..=last` of a scan of `n` beams as two runs: the
+/// range itself and an empty one, or, across the seam of a full turn (`last < first`),
+/// `first..n` and `0..=last` (none when `first >= n`).
+fn runs(first: usize, last: usize, n: usize) -> [Range<usize>; 2] {
+    if first <= last {
+        [first..last.saturating_add(1), 0..0]
+    } else if first < n {
+        [first..n, 0..last.min(first - 1) + 1]
+    } else {
+        [0..0, 0..0]
+    }
+}
+
 /// Number of beams of the inclusive range `first..=last` of a scan of `n` beams. When
 /// `last < first` the range runs across the seam of a full turn, `first..n` then `0..=last`,
 /// and has `n - first + last + 1` beams (0 when `first >= n`, or `n` is 0).
 #[must_use]
 pub fn beam_span(first: usize, last: usize, n: usize) -> usize {
-    if first <= last {
-        last - first + 1
-    } else if first < n {
-        (n - first) + last.min(first - 1) + 1
-    } else {
-        0
-    }
+    runs(first, last, n)
+        .iter()
+        .map(ExactSizeIterator::len)
+        .sum()
 }
 
 /// True when beam `i` lies in the inclusive range `first..=last`, which runs across the seam
@@ -126,39 +136,20 @@ pub fn covers(first: usize, last: usize, i: usize) -> bool {
 /// The beams of the inclusive range `first..=last` of a scan of `n` beams, in order: across
 /// the seam of a full turn when `last < first` ([`beam_span`]).
 pub fn beams(first: usize, last: usize, n: usize) -> std::iter::Chain<Range<usize>, Range<usize>> {
-    if first <= last {
-        (first..last.saturating_add(1)).chain(0..0)
-    } else if first < n {
-        (first..n).chain(0..last.min(first - 1) + 1)
-    } else {
-        (0..0).chain(0..0)
-    }
+    let [a, b] = runs(first, last, n);
+    a.chain(b)
 }
 
 /// Beams shared by the inclusive ranges `a` and `b` of a scan of `n` beams, either of which
 /// may run across the seam of a full turn ([`beam_span`]).
 #[must_use]
 pub fn beams_shared(a: (usize, usize), b: (usize, usize), n: usize) -> usize {
-    // A range across the seam is two plain ones: `first..=n - 1` and `0..=last`.
-    let parts = |(f, l): (usize, usize)| -> [(usize, usize); 2] {
-        if f <= l {
-            [(f, l), (1, 0)]
-        } else if f < n {
-            [(f, n - 1), (0, l.min(f - 1))]
-        } else {
-            [(1, 0), (1, 0)]
-        }
-    };
-    let plain = |(a0, a1): (usize, usize), (b0, b1): (usize, usize)| -> usize {
-        if a1 < a0 || b1 < b0 {
-            0
-        } else {
-            (a1.min(b1) + 1).saturating_sub(a0.max(b0))
-        }
-    };
-    let (pa, pb) = (parts(a), parts(b));
-    pa.iter()
-        .map(|&x| pb.iter().map(|&y| plain(x, y)).sum::<usize>())
+    let (ra, rb) = (runs(a.0, a.1, n), runs(b.0, b.1, n));
+    ra.iter()
+        .flat_map(|x| {
+            rb.iter()
+                .map(move |y| y.end.min(x.end).saturating_sub(y.start.max(x.start)))
+        })
         .sum()
 }
 

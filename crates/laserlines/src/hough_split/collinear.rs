@@ -143,19 +143,24 @@ fn join_followers(lines: &mut [Line], candidates: &[Candidate], groups: &Groups)
     for k in 1..n {
         // `lines[w]` holds line `k - 1`, alone or with those it took in.
         if candidates[k].follows && moved[k - 1] && moved[k] && group[k - 1] == group[k] {
-            let (a, b) = (lines[w], lines[k]);
-            let (na, nb) = (a.points as f64, b.points as f64);
-            let line = &mut lines[w];
-            line.end = b.end;
-            line.last = b.last;
-            line.points = a.points + b.points;
-            line.rms = ((a.rms * a.rms * na + b.rms * b.rms * nb) / (na + nb)).sqrt();
+            let next = lines[k];
+            take_in(&mut lines[w], &next);
         } else {
             w += 1;
             lines[w] = lines[k];
         }
     }
     w + 1
+}
+
+/// `line` takes in `next`, the piece of its surface after it: `next`'s end, last beam and
+/// points, and the RMS of both sets of points.
+pub(crate) fn take_in(line: &mut Line, next: &Line) {
+    let (na, nb) = (line.points as f64, next.points as f64);
+    line.rms = ((line.rms * line.rms * na + next.rms * next.rms * nb) / (na + nb)).sqrt();
+    line.end = next.end;
+    line.last = next.last;
+    line.points += next.points;
 }
 
 /// `q` projected onto the line of `l`.

@@ -41,7 +41,14 @@ pub(crate) fn follows_across_silence(
         && (first - last).norm() <= SILENT_GAP
         && ranges
             .get(prev.last + 1..next.first)
-            .is_some_and(|between| between.iter().all(|&r| r.is_nan() || r < lo))
+            .is_some_and(|between| between.iter().all(|&r| returned_nothing(r, lo)))
+}
+
+/// True when a beam's range `r` is no return for a scan whose smallest valid range is `lo`:
+/// NaN, or below `lo` (0, or the robot's own body).
+#[inline]
+pub(crate) fn returned_nothing(r: f64, lo: f64) -> bool {
+    r.is_nan() || r < lo
 }
 
 /// Points on each side of a shared end point that [`Pieces::best_cut`] may move to the other

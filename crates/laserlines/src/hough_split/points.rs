@@ -26,7 +26,7 @@ pub(crate) struct BeamTable {
     /// The beam a full turn is walked from (0 otherwise): range `i` of the walk is beam
     /// `seam + i` (mod the beam count). Set per scan ([`BeamTable::walk_from`]), not part of
     /// the cached shape.
-    pub(crate) seam: usize,
+    seam: usize,
     /// With a seam: per beam of the walk, the direction of its beam and the sector of its
     /// place in the walk.
     turned: Vec<Beam>,

@@ -16,7 +16,8 @@
 //! beams that returned nothing lies between them), the two are one line ([`join_ends`]). A
 //! line across the seam has `first > last` ([`Line`](crate::Line)).
 
-use super::lines::SILENT_GAP;
+use super::collinear::take_in;
+use super::lines::{SILENT_GAP, returned_nothing};
 use crate::line::Line;
 use crate::math::Point2;
 
@@ -101,16 +102,12 @@ pub(crate) fn join_ends(out: &mut Vec<Line>, walk: &[f64], lo: f64, ends: (Point
     let silent = walk[last.last + 1..]
         .iter()
         .chain(&walk[..first.first])
-        .all(|&r| r.is_nan() || r < lo);
+        .all(|&r| returned_nothing(r, lo));
     if !(neighbours || (silent && (ends.1 - ends.0).norm() <= SILENT_GAP)) {
         return;
     }
-    let (na, nb) = (last.points as f64, first.points as f64);
     if let Some(line) = out.last_mut() {
-        line.end = first.end;
-        line.last = first.last;
-        line.points = last.points + first.points;
-        line.rms = ((last.rms * last.rms * na + first.rms * first.rms * nb) / (na + nb)).sqrt();
+        take_in(line, &first);
         out.remove(0);
     }
 }
