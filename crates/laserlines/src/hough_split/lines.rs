@@ -4,10 +4,10 @@
 
 use super::arcs::drop_arcs;
 use super::corners::{Seen, join_corners};
-use super::linseg::{incidence_cos, rms_passes, split_is_significant, sums};
+use super::linseg::{rms_passes, split_is_significant, sums};
 use super::params::HoughSplitParams;
 use super::points::Seg;
-use crate::fit::{FitSums, NormalFit, PolarFit};
+use crate::fit::{FitSums, PolarFit};
 use crate::line::Line;
 use crate::math::{Matrix2, Point2, Vector2};
 use crate::noise::RangeNoise;
@@ -121,65 +121,6 @@ impl Pieces<'_> {
         let last = breaks[breaks.len() - 1];
         breaks[w] = last;
         breaks.truncate(w + 1);
-    }
-
-    /// Where to cut between the piece `seg[lo..=b]` and the piece `seg[b..=next]`, which
-    /// share the split point `b`: returns `c` such that the first piece keeps `seg[lo..c]`.
-    ///
-    /// The split point is the farthest point from a chord, which noise can move a few points
-    /// away from the true corner. Both pieces are fitted without the `CUT_WINDOW` points
-    /// around `b`, and the cut is placed where the points of the window are best explained
-    /// (least sum of squared distances) by the line on their side. When one piece is too
-    /// short to fit without the window, the other line takes the window's points for as long
-    /// as they lie within `split_sigmas * sigma(r)` of it.
-    fn best_cut(&self, lo: usize, b: usize, next: usize) -> usize {
-        let wlo = b.saturating_sub(self.cut_window).max(lo + 1);
-        let whi = (b + self.cut_window).min(next.saturating_sub(1));
-        if whi < wlo {
-            return b + 1;
-        }
-        let left = sums(self.pre, lo, wlo).normal_fit();
-        let right = sums(self.pre, whi + 1, next + 1).normal_fit();
-        let near = |fit: &NormalFit, k: usize| {
-            let q = self.point(k);
-            fit.distance(q).abs()
-                <= self.p.split_sigmas
-                    * self.noise.sigma(self.seg.range(k))
-                    * incidence_cos(q, fit.normal, self.p.noise_along_beams)
-        };
-        let (left, right) = match (left, right) {
-            (Some(l), Some(r)) => (l, r),
-            (Some(l), None) => {
-                let mut c = wlo;
-                while c <= whi && near(&l, c) {
-                    c += 1;
-                }
-                return c.max(b + 1).min(next);
-            }
-            (None, Some(r)) => {
-                let mut c = whi;
-                while c >= wlo && near(&r, c) {
-                    c -= 1;
-                }
-                return (c + 1).min(b + 1).max(lo + 1);
-            }
-            (None, None) => return b + 1,
-        };
-        // cost(c) = sum over window points before c of dL^2 + from c on of dR^2.
-        let (dl, dr) = (|p| left.distance(p), |p| right.distance(p));
-        let mut cost: f64 = (wlo..=whi).map(|k| dr(self.point(k)).powi(2)).sum();
-        let mut best = (cost, wlo);
-        for c in wlo..=whi {
-            let q = self.point(c);
-            cost += dl(q).powi(2) - dr(q).powi(2);
-            // Ties keep the cut nearest the split point.
-            let better = cost < best.0
-                || (cost == best.0 && (c + 1).abs_diff(b + 1) < best.1.abs_diff(b + 1));
-            if better {
-                best = (cost, c + 1);
-            }
-        }
-        best.1
     }
 
     /// The line of `seg[a..z]` and the sums of its points, when it has enough points, is long
