@@ -23,7 +23,8 @@ impl Pieces<'_> {
     /// away from the true corner. Both pieces are fitted without the `CUT_WINDOW` points
     /// around `b`, and the cut is placed where the points of the window are best explained
     /// by the line on their side: the least sum of their squared distances, each in
-    /// variances of that line's noise across it at the point ([`cut_variance`]). A wall
+    /// variances of that line's noise across it at the point ([`cut_variance`], with
+    /// `noise_along_beams`). A wall
     /// seen at a glancing angle scatters little across itself, so the first points of the
     /// wall it meets, a few centimetres off it, are far off in its noise: by distances alone
     /// it took 3-5 of them where a glancing wall meets a facing one. When one piece is too
@@ -194,8 +195,13 @@ impl Pieces<'_> {
 /// [`Pieces::best_cut`] weighs it: the range noise across the line, `sigma` times the
 /// cosine of the beam's incidence ([`incidence_cos`]), or the line's own residual variance
 /// when that is larger (noise larger than the model), and never below a micrometre squared.
+/// Without `noise_along_beams` the noise across both lines at a point is the same
+/// `sigma(r)`, and every point weighs 1: the cut by distances alone.
 fn cut_variance(fit: &NormalFit, q: Point2, sigma: f64, p: &HoughSplitParams) -> f64 {
-    let across = sigma * incidence_cos(q, fit.normal, p.noise_along_beams);
+    if !p.noise_along_beams {
+        return 1.0;
+    }
+    let across = sigma * incidence_cos(q, fit.normal, true);
     (across * across).max(fit.s2).max(1e-12)
 }
 
