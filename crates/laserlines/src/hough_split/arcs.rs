@@ -6,7 +6,7 @@
 //! the two lines do, for fewer parameters, where the two faces of a box's corner fit two
 //! lines and no circle.
 
-use super::lines::{CUT_WINDOW, Candidate, Pieces};
+use super::lines::{CUT_WINDOW, Candidate, Piece, Pieces};
 use super::linseg::{sums, variance_at};
 use super::points::Seg;
 use crate::line::Line;
@@ -18,6 +18,10 @@ pub(crate) const MAX_ARC_RADIUS: f64 = 1.0;
 
 /// Fewest points a circle is fitted to.
 const MIN_ARC_POINTS: usize = 8;
+
+/// Fewest points of a piece that gave no line for it to be tried as a chord beside a line
+/// ([`drop_arcs`]): half of a circle's.
+const MIN_CHORD_POINTS: usize = MIN_ARC_POINTS / 2;
 
 /// A circle fitted to points.
 #[derive(Debug, Clone, Copy)]
@@ -214,37 +218,55 @@ fn chords_of_a_circle(
     round(&circle) && better(sse_circle)
 }
 
-/// Drops the lines from `first_line` on (one segment's, in order) of which two neighbours
-/// are chords of one round obstacle ([`chords_of_a_circle`]).
+/// Drops the lines from `first_line` on (one segment's, in order, from its `pieces`) of
+/// which two neighbours are chords of one round obstacle ([`chords_of_a_circle`]).
+///
+/// Each piece is tried with the piece before it when either gave a line. The other need not
+/// have given one: far off, a barrel's next chord is often too short or too uncertain for one
+/// (0.14 m against `min_line_length`), and the chord beside it, 0.16 m, passed every test
+/// of a line on its own. Such a piece counts with [`MIN_CHORD_POINTS`] points or more, and a
+/// smaller one is passed over to the piece before it, as the points trimmed between two
+/// lines are (at most `2 CUT_WINDOW` points between the pair).
 pub(crate) fn drop_arcs(
     pieces: &Pieces<'_>,
+    spans: &[Piece],
     out: &mut Vec<Line>,
     candidates: &mut Vec<Candidate>,
     first_line: usize,
 ) {
     let n = out.len().min(candidates.len());
-    if n < first_line + 2 {
-        return;
-    }
     // Bit k: line first_line + k is dropped (a segment gives at most a few dozen lines; the
     // lines beyond the 64th are left as they are).
     let mut dropped = 0u64;
-    for k in 1..(n - first_line).min(64) {
-        let (prev, next) = (&candidates[first_line + k - 1], &candidates[first_line + k]);
-        // Neighbours: at most the points trimmed from their ends lie between them.
-        if next.span.0.saturating_sub(prev.span.1) as usize > 2 * CUT_WINDOW {
+    // The line of each piece that gave one, counted from `first_line`.
+    let mut line = 0usize;
+    let mut before: Option<(Piece, Option<usize>)> = None;
+    for &piece in spans {
+        let own = piece.line.then_some(line);
+        line += usize::from(piece.line);
+        let counts = piece.line || piece.len() >= MIN_CHORD_POINTS;
+        let Some((prev, prev_line)) = before else {
+            before = counts.then_some((piece, own));
             continue;
+        };
+        let near = piece.a.saturating_sub(prev.z) as usize <= 2 * CUT_WINDOW;
+        if counts && (piece.line || prev_line.is_some()) && near {
+            let spans = [prev, piece].map(|q| (q.a as usize, q.z as usize));
+            let sse = sums(pieces.pre, spans[0].0, spans[0].1).sse()
+                + sums(pieces.pre, spans[1].0, spans[1].1).sse();
+            if could_be_chords(pieces.seg, spans)
+                && chords_of_a_circle(pieces, spans, sse, pieces.p.arc_significance)
+            {
+                for k in [prev_line, own].into_iter().flatten().filter(|&k| k < 64) {
+                    dropped |= 1 << k;
+                }
+            }
         }
-        let spans = [prev.span, next.span].map(|(a, z)| (a as usize, z as usize));
-        if !could_be_chords(pieces.seg, spans) {
-            continue;
-        }
-        let sse = prev.sums.sse() + next.sums.sse();
-        if chords_of_a_circle(pieces, spans, sse, pieces.p.arc_significance) {
-            dropped |= 0b11 << (k - 1);
+        if counts {
+            before = Some((piece, own));
         }
     }
-    if dropped == 0 {
+    if dropped == 0 || n < first_line {
         return;
     }
     let mut kept = first_line;
@@ -380,6 +402,85 @@ mod tests {
         );
         assert!(0.005 - sse > 2.0 * sse / 27.0, "{sse}");
         assert!(!check(&wide, 0.005));
+    }
+
+    /// The line of `seg[a..z]` as `emit_lines` gives it, and its candidate.
+    fn line_of(seg: Seg<'_>, pre: &[FitSums], (a, z): (usize, usize)) -> (Line, Candidate) {
+        let sums = sums(pre, a, z);
+        let fit = sums.fit().unwrap();
+        let ends = (seg.point(a), seg.point(z - 1));
+        let line = Line::from_fit(&fit, (a, ends.0), (z - 1, ends.1));
+        let candidate = Candidate {
+            sums,
+            ends,
+            span: (a as u32, z as u32),
+            follows: false,
+            certain: true,
+        };
+        (line, candidate)
+    }
+
+    /// Runs `drop_arcs` on the points `pts` cut into `pieces` (`(a, z, gave a line)`) and
+    /// returns the first point of each line kept.
+    fn kept_lines(pts: &[(f64, f64)], pieces: &[(usize, usize, bool)]) -> Vec<usize> {
+        let p = HoughSplitParams::default();
+        let noise = RangeNoise::new(0.005, 0.005);
+        let seg = points_at(pts);
+        let mut pre: Vec<FitSums> = Vec::new();
+        prefix_sums(Seg(&seg), &mut pre);
+        let spans: Vec<Piece> = pieces
+            .iter()
+            .map(|&(a, z, line)| Piece {
+                a: a as u32,
+                z: z as u32,
+                line,
+            })
+            .collect();
+        let (mut out, mut candidates): (Vec<Line>, Vec<Candidate>) = pieces
+            .iter()
+            .filter(|q| q.2)
+            .map(|&(a, z, _)| line_of(Seg(&seg), &pre, (a, z)))
+            .unzip();
+        let pieces = Pieces {
+            seg: Seg(&seg),
+            pre: &pre,
+            p: &p,
+            noise: &noise,
+            cut_window: CUT_WINDOW,
+            min_points: p.min_line_points,
+            lone_gap: usize::MAX,
+            seen: Seen::default(),
+        };
+        drop_arcs(&pieces, &spans, &mut out, &mut candidates, 0);
+        out.iter().map(|l| l.first).collect()
+    }
+
+    #[test]
+    fn a_chord_beside_a_piece_that_gave_no_line_is_still_a_chord() {
+        // The near side of a barrel 1.5 m ahead: a chord that gave a line, beside one too
+        // short for a line (8 points); before, a chord with no line beside it was kept.
+        let barrel = arc((1.5, 0.0), 0.29, 2.4, 0.05, 30);
+        assert!(kept_lines(&barrel, &[(0, 8, false), (8, 30, true)]).is_empty());
+        assert!(kept_lines(&barrel, &[(0, 22, true), (22, 30, false)]).is_empty());
+        // Two chords that gave lines, with a piece of two points between them (passed
+        // over): both dropped, as before.
+        let two = [(0, 14, true), (14, 16, false), (16, 30, true)];
+        assert!(kept_lines(&barrel, &two).is_empty());
+        // Beside a piece of three points (too few to count), a chord is kept.
+        assert_eq!(kept_lines(&barrel, &[(0, 3, false), (3, 30, true)]), [3]);
+        // A box's corner 1.3 m ahead, towards the sensor: a face of 0.56 m that gave a line
+        // and 6 points of the other face that gave none. Two lines fit it, no circle: the
+        // line is kept.
+        let mut corner: Vec<(f64, f64)> = (0..20)
+            .map(|k| f64::from(20 - k) * 0.02)
+            .map(|t| (1.3 + t, -t))
+            .collect();
+        corner.extend((1..=6).map(|k| (1.3 + 0.02 * f64::from(k), 0.02 * f64::from(k))));
+        assert!(could_be_chords(
+            Seg(&points_at(&corner)),
+            [(0, 20), (20, 26)]
+        ));
+        assert_eq!(kept_lines(&corner, &[(0, 20, true), (20, 26, false)]), [0]);
     }
 
     #[test]

@@ -201,6 +201,22 @@ fn advances(seg: Seg<'_>, a: usize, z: usize, normal: Vector2, min_t: f64) -> bo
     cit * cit * (n - 2.0) >= min_t * min_t * (cii * ctt - cit * cit)
 }
 
+/// A piece of a data segment as [`emit_lines`] leaves it (after its cut and trims): its
+/// points `seg[a..z]`, and whether it gave a line.
+#[derive(Debug, Default, Clone, Copy)]
+pub(crate) struct Piece {
+    pub(crate) a: u32,
+    pub(crate) z: u32,
+    pub(crate) line: bool,
+}
+
+impl Piece {
+    /// Its number of points.
+    pub(crate) fn len(self) -> usize {
+        self.z.saturating_sub(self.a) as usize
+    }
+}
+
 /// A line as [`emit_lines`] gives it, before [`super::collinear::share_fits`].
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Candidate {
@@ -266,17 +282,19 @@ fn chi2_low(k: f64) -> Option<f64> {
     Some(k * c * c * c)
 }
 
-/// Turns the split tree's end points of one segment into lines appended to `out`.
+/// Turns the split tree's end points of one segment into lines appended to `out`, and
+/// leaves the segment's pieces in `spans`.
 ///
 /// Neighbouring pieces share their end point after the split; with `refine_ends`,
 /// [`Pieces::best_cut`] decides which line each point near it supports, so that every point
 /// supports at most one line; without, the shared point goes to the first.
 pub(crate) fn emit_lines(
     pieces: &Pieces<'_>,
-    breaks: &mut Vec<u32>,
+    (breaks, spans): (&mut Vec<u32>, &mut Vec<Piece>),
     out: &mut Vec<Line>,
     candidates: &mut Vec<Candidate>,
 ) {
+    spans.clear();
     if breaks.len() < 2 {
         return;
     }
@@ -303,14 +321,20 @@ pub(crate) fn emit_lines(
         } else {
             (lo, hi)
         };
-        if let Some((line, c)) = pieces.line(a, z) {
+        let line = pieces.line(a, z);
+        spans.push(Piece {
+            a: a as u32,
+            z: z as u32,
+            line: line.is_some(),
+        });
+        if let Some((line, c)) = line {
             out.push(line);
             candidates.push(c);
         }
         lo = hi;
     }
     if p.arc_significance > 0.0 {
-        drop_arcs(pieces, out, candidates, first_line);
+        drop_arcs(pieces, spans, out, candidates, first_line);
     }
     for k in first_line + 1..candidates.len() {
         let between = candidates[k]
@@ -474,7 +498,12 @@ mod tests {
         };
         let mut out = Vec::new();
         let mut breaks = scratch.breaks.clone();
-        emit_lines(&pieces, &mut breaks, &mut out, &mut Vec::new());
+        emit_lines(
+            &pieces,
+            (&mut breaks, &mut Vec::new()),
+            &mut out,
+            &mut Vec::new(),
+        );
         assert_eq!(out.len(), 2);
         assert!((out[0].r - 1.0).abs() < 1e-9 && out[0].alpha.abs() < 1e-9);
         assert!(out[1].r.abs() < 1e-9);

@@ -78,6 +78,8 @@ pub struct HoughSplit {
     /// Per line of the last scan before step 7: the sums of its points, and whether it is
     /// certain.
     candidates: Vec<lines::Candidate>,
+    /// The pieces of the segment being turned into lines.
+    pieces: Vec<lines::Piece>,
     groups: collinear::Groups,
     /// The last scan's beam count, and the beam its walk started from (0 unless it went
     /// once round: [`seam`]); the stages above are in the walk's beam indices.
@@ -113,6 +115,7 @@ impl HoughSplit {
             split_points: Vec::new(),
             split_ranges: Vec::new(),
             candidates: Vec::new(),
+            pieces: Vec::new(),
             groups: collinear::Groups::default(),
             turn: (0, 0),
             walk: Vec::new(),
@@ -340,7 +343,12 @@ impl HoughSplit {
                 seen,
             };
             let first = out.len();
-            lines::emit_lines(&pieces, &mut self.scratch.breaks, out, &mut self.candidates);
+            lines::emit_lines(
+                &pieces,
+                (&mut self.scratch.breaks, &mut self.pieces),
+                out,
+                &mut self.candidates,
+            );
             if first > 0
                 && first < out.len()
                 && lines::follows_across_silence(
