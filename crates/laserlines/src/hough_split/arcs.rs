@@ -20,8 +20,10 @@ pub(crate) const MAX_ARC_RADIUS: f64 = 1.0;
 const MIN_ARC_POINTS: usize = 8;
 
 /// Fewest points of a piece that gave no line for it to be tried as a chord beside a line
-/// ([`drop_arcs`]): half of a circle's.
-const MIN_CHORD_POINTS: usize = MIN_ARC_POINTS / 2;
+/// ([`drop_arcs`]): as many as a circle is fitted to. With four, the last few points of a
+/// straight wall piece that bend away at its end passed for the next chord of a circle of
+/// 1 m, and wall pieces of 0.33-0.39 m on the BreezySLAM runs lost their lines.
+const MIN_CHORD_POINTS: usize = MIN_ARC_POINTS;
 
 /// A circle fitted to points.
 #[derive(Debug, Clone, Copy)]
@@ -171,12 +173,15 @@ const EXTRA_PARAMETERS_CHARGE: f64 = 4.0;
 /// beyond their centroid, leaves a sum of squared distances smaller than the two lines (once
 /// charged [`EXTRA_PARAMETERS_CHARGE`] variances for their extra parameters) by more than
 /// `significance` times the noise variance (`sigma(r)^2` at their centroid, or their scatter
-/// about the circle when larger).
+/// about the circle when larger). Unless both pieces gave lines (`both_lines`), the variance
+/// is at most the two lines' own residual variance: a piece that gave no line may be a few
+/// points that bend off a wall, and a noise model read high (clutter raises it) would let a
+/// circle pass through both.
 fn chords_of_a_circle(
     pieces: &Pieces<'_>,
     [(a0, z0), (a1, z1)]: [(usize, usize); 2],
     sse_lines: f64,
-    significance: f64,
+    (significance, both_lines): (f64, bool),
 ) -> bool {
     let count = z0.saturating_sub(a0) + z1.saturating_sub(a1);
     if count < MIN_ARC_POINTS {
@@ -198,6 +203,12 @@ fn chords_of_a_circle(
     };
     let better = |sse_circle: f64| {
         let variance = variance_at(&all, pieces.noise).max(sse_circle / (count - 3) as f64);
+        // Four parameters of two lines; `count >= MIN_ARC_POINTS`.
+        let variance = if both_lines {
+            variance
+        } else {
+            variance.min(sse_lines / (count - 4) as f64)
+        };
         sse_lines + EXTRA_PARAMETERS_CHARGE * variance - sse_circle > significance * variance
     };
     if !round(&kasa) {
@@ -224,7 +235,8 @@ fn chords_of_a_circle(
 /// Each piece is tried with the piece before it when either gave a line. The other need not
 /// have given one: far off, a barrel's next chord is often too short or too uncertain for one
 /// (0.14 m against `min_line_length`), and the chord beside it, 0.16 m, passed every test
-/// of a line on its own. Such a piece counts with [`MIN_CHORD_POINTS`] points or more, and a
+/// of a line on its own. Such a piece counts with [`MIN_CHORD_POINTS`] points or more, and
+/// its pair is judged against the pieces' own scatter too ([`chords_of_a_circle`]); a
 /// smaller one is passed over to the piece before it, as the points trimmed between two
 /// lines are (at most `2 CUT_WINDOW` points between the pair).
 pub(crate) fn drop_arcs(
@@ -235,6 +247,7 @@ pub(crate) fn drop_arcs(
     first_line: usize,
 ) {
     let n = out.len().min(candidates.len());
+    let significance = pieces.p.arc_significance;
     // Bit k: line first_line + k is dropped (a segment gives at most a few dozen lines; the
     // lines beyond the 64th are left as they are).
     let mut dropped = 0u64;
@@ -250,12 +263,13 @@ pub(crate) fn drop_arcs(
             continue;
         };
         let near = piece.a.saturating_sub(prev.z) as usize <= 2 * CUT_WINDOW;
+        let both = piece.line && prev_line.is_some();
         if counts && (piece.line || prev_line.is_some()) && near {
             let spans = [prev, piece].map(|q| (q.a as usize, q.z as usize));
             let sse = sums(pieces.pre, spans[0].0, spans[0].1).sse()
                 + sums(pieces.pre, spans[1].0, spans[1].1).sse();
             if could_be_chords(pieces.seg, spans)
-                && chords_of_a_circle(pieces, spans, sse, pieces.p.arc_significance)
+                && chords_of_a_circle(pieces, spans, sse, (significance, both))
             {
                 for k in [prev_line, own].into_iter().flatten().filter(|&k| k < 64) {
                     dropped |= 1 << k;
@@ -360,7 +374,12 @@ mod tests {
                 seen: Seen::default(),
             };
             let half = pts.len() / 2;
-            chords_of_a_circle(&pieces, [(0, half), (half, pts.len())], sse_lines, 2.0)
+            chords_of_a_circle(
+                &pieces,
+                [(0, half), (half, pts.len())],
+                sse_lines,
+                (2.0, true),
+            )
         };
         // Exact points, two lines said to leave 1 m^2: a barrel's arc is a round obstacle.
         assert!(check(&arc((1.5, 0.0), 0.29, 2.4, 0.05, 30), 1.0));
@@ -457,8 +476,8 @@ mod tests {
 
     #[test]
     fn a_chord_beside_a_piece_that_gave_no_line_is_still_a_chord() {
-        // The near side of a barrel 1.5 m ahead: a chord that gave a line, beside one too
-        // short for a line (8 points); before, a chord with no line beside it was kept.
+        // The near side of a barrel 1.5 m ahead: a chord that gave a line, beside 8 points
+        // that gave none; before, a chord with no line beside it was kept.
         let barrel = arc((1.5, 0.0), 0.29, 2.4, 0.05, 30);
         assert!(kept_lines(&barrel, &[(0, 8, false), (8, 30, true)]).is_empty());
         assert!(kept_lines(&barrel, &[(0, 22, true), (22, 30, false)]).is_empty());
@@ -466,8 +485,21 @@ mod tests {
         // over): both dropped, as before.
         let two = [(0, 14, true), (14, 16, false), (16, 30, true)];
         assert!(kept_lines(&barrel, &two).is_empty());
-        // Beside a piece of three points (too few to count), a chord is kept.
-        assert_eq!(kept_lines(&barrel, &[(0, 3, false), (3, 30, true)]), [3]);
+        // Beside a piece of seven points (too few to count), a chord is kept.
+        assert_eq!(kept_lines(&barrel, &[(0, 7, false), (7, 30, true)]), [7]);
+        // A straight wall piece of 0.16 m 1 m ahead, then 8 points that bend away from the
+        // sensor by up to 1.3 cm (a door frame): a circle explains them within the noise
+        // model's 5 mm, not within their own scatter, and the wall keeps its line.
+        let mut bent: Vec<(f64, f64)> = (0..14)
+            .map(|k| (1.0, -0.2 + 0.012 * f64::from(k)))
+            .collect();
+        bent.extend((1..=8).map(|k| {
+            (
+                1.0 + 0.0002 * f64::from(k * k),
+                -0.044 + 0.012 * f64::from(k),
+            )
+        }));
+        assert_eq!(kept_lines(&bent, &[(0, 14, true), (14, 22, false)]), [0]);
         // A box's corner 1.3 m ahead, towards the sensor: a face of 0.56 m that gave a line
         // and 6 points of the other face that gave none. Two lines fit it, no circle: the
         // line is kept.
