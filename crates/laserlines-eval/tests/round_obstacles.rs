@@ -76,9 +76,9 @@ const LEVELS: [(&str, RangeNoise); 2] = [
 
 #[test]
 fn a_barrel_gives_few_lines() {
-    // Measured over the ten cases, lines on the barrel: 124 with the test, 425 without (at
-    // 2 m under the real noise 12 against 104; at 1.5 m at half the band 20 against 105);
-    // 149 with the test before two lines were charged for their extra parameters.
+    // Measured over the ten cases, lines on the barrel: 6 with the test (all at 3 m under the
+    // real noise), 495 without; 124 (of 430 without) before a chord was tried beside a piece
+    // that gave no line, and 149 before two lines were charged for their extra parameters.
     let (mut with, mut without) = (0, 0);
     for d in [0.7, 1.0, 1.5, 2.0, 3.0] {
         let barrel = scene(|w| {
@@ -95,7 +95,7 @@ fn a_barrel_gives_few_lines() {
     }
     assert!(without >= 300, "{without} lines without the test");
     assert!(
-        3 * with <= without,
+        20 * with <= without,
         "{with} lines with the test, {without} without"
     );
 }
@@ -104,9 +104,10 @@ fn a_barrel_gives_few_lines() {
 fn a_pillar_seen_by_a_fine_scanner_gives_few_lines() {
     // A pillar of 0.52 m across 1.2 m ahead, seen in 0.25 deg steps over 270 deg under 1 cm
     // of range noise: the algebraic circle of its chords is too small (about 0.21 m for
-    // 0.26 m) and fits them worse than two lines; the geometric fit does not. Measured: 18
-    // lines on the pillar with the test, 105 without (before two lines were charged for
-    // their extra parameters, 39 with the test and 79 with the algebraic circle alone).
+    // 0.26 m) and fits them worse than two lines; the geometric fit does not. Measured: 1
+    // line on the pillar with the test, 102 without (18 before a chord was tried beside a
+    // piece that gave no line; before two lines were charged for their extra parameters, 39
+    // with the test and 79 with the algebraic circle alone).
     let pillar = scene(|w| {
         w.add_disc(Point2::new(1.2, 0.0), 0.26);
     });
@@ -124,7 +125,7 @@ fn a_pillar_seen_by_a_fine_scanner_gives_few_lines() {
     assert_eq!(seen, 50, "the wall");
     assert!(without >= 70, "{without} lines without the test");
     assert!(
-        4 * with <= without,
+        20 * with <= without,
         "{with} lines with the test, {without} without"
     );
 }
