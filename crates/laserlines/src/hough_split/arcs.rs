@@ -299,7 +299,6 @@ pub(crate) fn drop_arcs(
 
 #[cfg(test)]
 mod tests {
-    use super::super::corners::Seen;
     use super::super::linseg::prefix_sums;
     use super::super::params::HoughSplitParams;
     use super::super::points::points_at;
@@ -363,16 +362,7 @@ mod tests {
             let seg = points_at(pts);
             let mut pre: Vec<FitSums> = Vec::new();
             prefix_sums(Seg(&seg), &mut pre);
-            let pieces = Pieces {
-                seg: Seg(&seg),
-                pre: &pre,
-                p: &p,
-                noise: &noise,
-                cut_window: CUT_WINDOW,
-                min_points: p.min_line_points,
-                lone_gap: usize::MAX,
-                seen: Seen::default(),
-            };
+            let pieces = Pieces::for_test(Seg(&seg), &pre, &p, &noise);
             let half = pts.len() / 2;
             chords_of_a_circle(
                 &pieces,
@@ -460,16 +450,7 @@ mod tests {
             .filter(|q| q.2)
             .map(|&(a, z, _)| line_of(Seg(&seg), &pre, (a, z)))
             .unzip();
-        let pieces = Pieces {
-            seg: Seg(&seg),
-            pre: &pre,
-            p: &p,
-            noise: &noise,
-            cut_window: CUT_WINDOW,
-            min_points: p.min_line_points,
-            lone_gap: usize::MAX,
-            seen: Seen::default(),
-        };
+        let pieces = Pieces::for_test(Seg(&seg), &pre, &p, &noise);
         drop_arcs(&pieces, &spans, &mut out, &mut candidates, 0);
         out.iter().map(|l| l.first).collect()
     }

@@ -250,14 +250,10 @@ mod tests {
         let mut pre = Vec::new();
         prefix_sums(seg, &mut pre);
         let pieces = Pieces {
-            seg,
-            pre: &pre,
-            p: &p,
-            noise: &noise,
-            cut_window: CUT_WINDOW,
             min_points,
             lone_gap,
             seen: Seen { returns, step: 0.0 },
+            ..Pieces::for_test(seg, &pre, &p, &noise)
         };
         pieces.cut_lone_ends(0, pts.len(), min_points)
     }
@@ -395,14 +391,8 @@ mod tests {
         let mut pre = Vec::new();
         prefix_sums(seg, &mut pre);
         let pieces = Pieces {
-            seg,
-            pre: &pre,
-            p: &p,
-            noise: &noise,
             cut_window: 6,
-            min_points: p.min_line_points,
-            lone_gap: usize::MAX,
-            seen: Seen::default(),
+            ..Pieces::for_test(seg, &pre, &p, &noise)
         };
         // Wherever the split fell near the corner, the facing wall keeps its beams 0..=36.
         for b in 33..=40 {

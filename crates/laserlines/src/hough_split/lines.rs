@@ -79,6 +79,29 @@ pub(crate) struct Pieces<'a> {
     pub(crate) seen: Seen<'a>,
 }
 
+#[cfg(test)]
+impl<'a> Pieces<'a> {
+    /// The pieces of `seg` (prefix sums `pre`) as the tests take them: the URG-04LX's cut
+    /// window, `p`'s fewest points of a line, no cut of lone end points and no returns.
+    pub(crate) fn for_test(
+        seg: Seg<'a>,
+        pre: &'a [FitSums],
+        p: &'a HoughSplitParams,
+        noise: &'a RangeNoise,
+    ) -> Self {
+        Self {
+            seg,
+            pre,
+            p,
+            noise,
+            cut_window: CUT_WINDOW,
+            min_points: p.min_line_points,
+            lone_gap: usize::MAX,
+            seen: Seen::default(),
+        }
+    }
+}
+
 /// The angle [`Pieces::best_cut`] searches on each side of a split point: `CUT_WINDOW` beams
 /// of the URG-04LX (360/1024 deg each), rad.
 const CUT_ANGLE: f64 = CUT_WINDOW as f64 * std::f64::consts::TAU / 1024.0;
@@ -486,16 +509,7 @@ mod tests {
         let mut scratch = SplitScratch::default();
         prefix_sums(seg, &mut scratch.prefix);
         linseg(seg, &p, &noise, 8, &mut scratch);
-        let pieces = Pieces {
-            seg,
-            pre: &scratch.prefix,
-            p: &p,
-            noise: &noise,
-            cut_window: CUT_WINDOW,
-            min_points: p.min_line_points,
-            lone_gap: usize::MAX,
-            seen: Seen::default(),
-        };
+        let pieces = Pieces::for_test(seg, &scratch.prefix, &p, &noise);
         let mut out = Vec::new();
         let mut breaks = scratch.breaks.clone();
         emit_lines(
