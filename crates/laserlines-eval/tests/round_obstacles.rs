@@ -77,8 +77,9 @@ const LEVELS: [(&str, RangeNoise); 2] = [
 #[test]
 fn a_barrel_gives_few_lines() {
     // Measured over the ten cases, lines on the barrel: 6 with the test (all at 3 m under the
-    // real noise), 495 without; 124 (of 430 without) before a chord was tried beside a piece
-    // that gave no line, and 149 before two lines were charged for their extra parameters.
+    // real noise), 495 without; 124 with and 430 without before the cut between pieces
+    // weighed each line's noise and a chord was tried beside a piece that gave no line, and
+    // 149 with the test before two lines were charged for their extra parameters.
     let (mut with, mut without) = (0, 0);
     for d in [0.7, 1.0, 1.5, 2.0, 3.0] {
         let barrel = scene(|w| {

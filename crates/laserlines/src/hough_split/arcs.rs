@@ -173,10 +173,10 @@ const EXTRA_PARAMETERS_CHARGE: f64 = 4.0;
 /// beyond their centroid, leaves a sum of squared distances smaller than the two lines (once
 /// charged [`EXTRA_PARAMETERS_CHARGE`] variances for their extra parameters) by more than
 /// `significance` times the noise variance (`sigma(r)^2` at their centroid, or their scatter
-/// about the circle when larger). Unless both pieces gave lines (`both_lines`), the variance
-/// is at most the two lines' own residual variance: a piece that gave no line may be a few
-/// points that bend off a wall, and a noise model read high (clutter raises it) would let a
-/// circle pass through both.
+/// about the circle when larger). Unless both pieces gave lines (`both_lines`), the test must
+/// also pass with the variance at most the two lines' own residual variance: a piece that
+/// gave no line may be a few points that bend off a wall, and a noise model read high
+/// (clutter raises it) would let a circle pass through both.
 fn chords_of_a_circle(
     pieces: &Pieces<'_>,
     [(a0, z0), (a1, z1)]: [(usize, usize); 2],
@@ -203,13 +203,13 @@ fn chords_of_a_circle(
     };
     let better = |sse_circle: f64| {
         let variance = variance_at(&all, pieces.noise).max(sse_circle / (count - 3) as f64);
-        // Four parameters of two lines; `count >= MIN_ARC_POINTS`.
-        let variance = if both_lines {
-            variance
-        } else {
-            variance.min(sse_lines / (count - 4) as f64)
+        let passes = |variance: f64| {
+            sse_lines + EXTRA_PARAMETERS_CHARGE * variance - sse_circle > significance * variance
         };
-        sse_lines + EXTRA_PARAMETERS_CHARGE * variance - sse_circle > significance * variance
+        // Four parameters of two lines; `count >= MIN_ARC_POINTS`. Both variances must pass,
+        // so that the bound is never the looser test (as it would be for a significance
+        // above the charge).
+        passes(variance) && (both_lines || passes(variance.min(sse_lines / (count - 4) as f64)))
     };
     if !round(&kasa) {
         return false;
@@ -229,8 +229,9 @@ fn chords_of_a_circle(
     round(&circle) && better(sse_circle)
 }
 
-/// Drops the lines from `first_line` on (one segment's, in order, from its `pieces`) of
-/// which two neighbours are chords of one round obstacle ([`chords_of_a_circle`]).
+/// Drops the lines from `first_line` on (one segment's, in order, from the segment's pieces
+/// `spans`) of which two neighbours are chords of one round obstacle
+/// ([`chords_of_a_circle`]).
 ///
 /// Each piece is tried with the piece before it when either gave a line. The other need not
 /// have given one: far off, a barrel's next chord is often too short or too uncertain for one
@@ -271,8 +272,12 @@ pub(crate) fn drop_arcs(
             if could_be_chords(pieces.seg, spans)
                 && chords_of_a_circle(pieces, spans, sse, (significance, both))
             {
-                for k in [prev_line, own].into_iter().flatten().filter(|&k| k < 64) {
-                    dropped |= 1 << k;
+                // Both lines of the pair, or neither (beyond the 64th line).
+                let lines = [prev_line, own].into_iter().flatten();
+                if lines.clone().all(|k| k < 64) {
+                    for k in lines {
+                        dropped |= 1 << k;
+                    }
                 }
             }
         }
@@ -482,18 +487,18 @@ mod tests {
         }));
         assert_eq!(kept_lines(&bent, &[(0, 14, true), (14, 22, false)]), [0]);
         // A box's corner 1.3 m ahead, towards the sensor: a face of 0.56 m that gave a line
-        // and 6 points of the other face that gave none. Two lines fit it, no circle: the
+        // and 10 points of the other face that gave none. Two lines fit it, no circle: the
         // line is kept.
         let mut corner: Vec<(f64, f64)> = (0..20)
             .map(|k| f64::from(20 - k) * 0.02)
             .map(|t| (1.3 + t, -t))
             .collect();
-        corner.extend((1..=6).map(|k| (1.3 + 0.02 * f64::from(k), 0.02 * f64::from(k))));
+        corner.extend((1..=10).map(|k| (1.3 + 0.02 * f64::from(k), 0.02 * f64::from(k))));
         assert!(could_be_chords(
             Seg(&points_at(&corner)),
-            [(0, 20), (20, 26)]
+            [(0, 20), (20, 30)]
         ));
-        assert_eq!(kept_lines(&corner, &[(0, 20, true), (20, 26, false)]), [0]);
+        assert_eq!(kept_lines(&corner, &[(0, 20, true), (20, 30, false)]), [0]);
     }
 
     #[test]

@@ -24,10 +24,10 @@ impl Pieces<'_> {
     /// around `b`, and the cut is placed where the points of the window are best explained
     /// by the line on their side: the least sum of their squared distances, each in
     /// variances of that line's noise across it at the point ([`cut_variance`], with
-    /// `noise_along_beams`). A wall
-    /// seen at a glancing angle scatters little across itself, so the first points of the
-    /// wall it meets, a few centimetres off it, are far off in its noise: by distances alone
-    /// it took 3-5 of them where a glancing wall meets a facing one. When one piece is too
+    /// `noise_along_beams`). A wall seen at a glancing angle scatters little across itself,
+    /// so the first points of the wall it meets, a few centimetres off it, are far off in its
+    /// noise: by distances alone it took 3-5 of them where a glancing wall meets a facing
+    /// one. When one piece is too
     /// short to fit without the window, the other line takes the window's points for as long
     /// as they lie within `split_sigmas * sigma(r)` of it.
     pub(super) fn best_cut(&self, lo: usize, b: usize, next: usize) -> usize {
@@ -380,10 +380,10 @@ mod tests {
     fn a_glancing_wall_does_not_take_the_first_points_of_the_wall_it_meets() {
         let noise = RangeNoise::new(0.01, 0.01);
         let sigma = noise.sigma(3.8);
-        // The facing wall's beams 2-4 before the corner read 1.2 sigma long: each lies 1-4 cm
-        // off the glancing wall's line and 4.4 cm off its own. By distances alone the glancing
-        // wall took all three; across the glancing wall the noise is 1 cm, across the facing
-        // wall 3.7 cm.
+        // The facing wall's beams 2-4 before the corner read 1.2 sigma long: they lie 3.2, 4.9
+        // and 6.7 cm off the glancing wall's line and 4.4 cm off their own. By distances alone
+        // the cut fell at beam 34, the glancing wall taking beams 34-36; across the glancing
+        // wall the noise is 1 cm, across the facing wall 3.7 cm.
         let (pts, last) = glancing_corner(&[34, 33, 32], sigma);
         assert_eq!(last, 36);
         let seg = Seg(&pts);
@@ -402,6 +402,17 @@ mod tests {
                 "split at {b}"
             );
         }
+        // Without `noise_along_beams`, by distances alone, as the `navigation` and `mapping`
+        // presets cut.
+        let plain = HoughSplitParams {
+            noise_along_beams: false,
+            ..HoughSplitParams::default()
+        };
+        let by_distance = Pieces {
+            p: &plain,
+            ..pieces
+        };
+        assert_eq!(by_distance.best_cut(0, 36, pts.len() - 1), 34);
         // Without noise off the walls, the same.
         let (pts, _) = glancing_corner(&[], sigma);
         let mut pre = Vec::new();

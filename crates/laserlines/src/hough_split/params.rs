@@ -247,8 +247,11 @@ pub struct HoughSplitParams {
     /// explains their points better than the two lines, charged 4 noise variances for their
     /// two extra parameters (Akaike's 2 each), by more than this many times the noise
     /// variance at their centroid: the circle may leave up to `4 - arc_significance`
-    /// variances more than the lines (the default 2: 2 more). Not in the paper. 0 turns it
-    /// off; small values above 0 drop the most.
+    /// variances more than the lines (the default 2: 2 more). A line is tried with the
+    /// piece beside it also when that piece gave no line (8 points or more: a barrel's next
+    /// chord too short or too uncertain for one), the pair then judged against the pieces'
+    /// own scatter as well. Not in the paper. 0 turns it off; small values above 0 drop the
+    /// most.
     pub arc_significance: f64,
     /// Lines whose direction is known worse than this (one standard deviation of `alpha`
     /// from their covariance), rad, are dropped: a short far piece under heavy noise gives a
