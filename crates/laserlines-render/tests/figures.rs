@@ -20,6 +20,24 @@ fn hough(scan: &Scan) -> (HoughSplit, Vec<Line>, String) {
     (hs, lines, svg)
 }
 
+/// Panels (a), (c) and (d) draw every point, every data segment (its chord, its two ends
+/// and its points) and every line of `hs`'s last scan.
+fn assert_stage_marks(root: &Element, hs: &HoughSplit, lines: &[Line]) {
+    let st = hs.stages();
+    assert_eq!(
+        root.count_in_group("raw-point", "circle"),
+        st.points().len()
+    );
+    let segments = st.segments().count();
+    assert_eq!(root.count("line", "segment-chord"), segments);
+    assert_eq!(root.count_in_group("segment-end", "rect"), 2 * segments);
+    assert_eq!(
+        root.count_in_group("segment-point", "circle"),
+        st.kept().count()
+    );
+    assert_eq!(root.count("line", "extracted-line"), lines.len());
+}
+
 fn panels(root: &Element) -> Vec<&Element> {
     root.children
         .iter()
@@ -110,19 +128,8 @@ fn hough_figure_draws_a_full_turn_across_its_seam() {
             .any(|l| l.wraps() && l.covers(0) && (l.r - 1.3).abs() < 0.03)
     );
     assert!(st.segments().any(|s| s.covers(359) && s.covers(0)));
-    let segments = st.segments().count();
-    assert_eq!(root.count("line", "segment-chord"), segments);
-    assert_eq!(root.count_in_group("segment-end", "rect"), 2 * segments);
-    assert_eq!(
-        root.count_in_group("segment-point", "circle"),
-        st.kept().count()
-    );
-    assert_eq!(
-        root.count_in_group("raw-point", "circle"),
-        st.points().len()
-    );
+    assert_stage_marks(&root, &hs, &lines);
     assert_eq!(root.count("line", "field-of-view"), 0);
-    assert_eq!(root.count("line", "extracted-line"), lines.len());
 }
 
 #[test]
@@ -139,32 +146,22 @@ fn hough_figure_draws_every_stage() {
     assert!(lines.len() >= 6, "{} lines", lines.len());
     assert!(!st.removed().is_empty());
 
-    // (a) every point the extractor used, and the robot in each panel.
-    assert_eq!(
-        root.count_in_group("raw-point", "circle"),
-        st.points().len()
-    );
+    // (a), (c) and (d): every point the extractor used, every segment and every line.
+    assert_stage_marks(&root, &hs, &lines);
+    // The robot in each panel.
     assert_eq!(root.count("polygon", "robot"), 4);
     // (b) one mark per cell, kept or not.
     let kept = st.cells().iter().filter(|c| c.kept).count();
     assert!(kept > 0);
     assert_eq!(root.count("line", "cell-kept"), kept);
     assert_eq!(root.count("line", "cell-rejected"), st.cells().len() - kept);
-    // (c) radius groups, segments with their chord and end points, removed points.
-    let segments = st.segments().count();
+    // (c) radius groups and removed points.
     assert_eq!(root.count("path", "radius-group"), st.radius_groups().len());
-    assert_eq!(root.count("line", "segment-chord"), segments);
-    assert_eq!(root.count_in_group("segment-end", "rect"), 2 * segments);
     assert_eq!(
         root.count_in_group("removed-point", "path"),
         st.removed().len()
     );
-    assert_eq!(
-        root.count_in_group("segment-point", "circle"),
-        st.kept().count()
-    );
-    // (d) the lines with their end points, over the faint points.
-    assert_eq!(root.count("line", "extracted-line"), lines.len());
+    // (d) the lines' end points, over the faint points.
     assert_eq!(root.count_in_group("line-end", "circle"), 2 * lines.len());
     assert_eq!(
         root.count_in_group("faint-point", "circle"),

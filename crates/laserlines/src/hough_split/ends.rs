@@ -27,9 +27,8 @@ impl Pieces<'_> {
     /// `noise_along_beams`). A wall seen at a glancing angle scatters little across itself,
     /// so the first points of the wall it meets, a few centimetres off it, are far off in its
     /// noise: by distances alone it took 3-5 of them where a glancing wall meets a facing
-    /// one. When one piece is too
-    /// short to fit without the window, the other line takes the window's points for as long
-    /// as they lie within `split_sigmas * sigma(r)` of it.
+    /// one. When one piece is too short to fit without the window, the other line takes the
+    /// window's points for as long as they lie within `split_sigmas * sigma(r)` of it.
     pub(super) fn best_cut(&self, lo: usize, b: usize, next: usize) -> usize {
         let wlo = b.saturating_sub(self.cut_window).max(lo + 1);
         let whi = (b + self.cut_window).min(next.saturating_sub(1));
