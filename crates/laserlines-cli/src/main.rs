@@ -13,6 +13,36 @@ macro_rules! outln {
     }};
 }
 
+/// `eprintln!` that never panics: a message to standard error is dropped when that has been
+/// closed (`laserlines ... 2>&1 | head`), and the run goes on to its exit code.
+macro_rules! errln {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
+/// `print!` that ends the process quietly (exit code 0) when standard output has been closed,
+/// as [`outln!`] does.
+macro_rules! out {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        if let Err(e) = write!(std::io::stdout(), $($arg)*) {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+        }
+    }};
+}
+
+/// `eprint!` that never panics, as [`errln!`].
+macro_rules! err {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod cmd;
 mod logging;
 
@@ -66,7 +96,7 @@ enum Command {
 /// Where scans come from: a path (or `-` for stdin) and an optional format override.
 #[derive(Debug, Clone, Args)]
 pub struct InputArgs {
-    /// Input file (.json, .jsonl, .csv, .dat, .mcap, .clf/.log for CARMEN, .bag for ROS 1,
+    /// Input file (.json, .jsonl or .ndjson, .csv, .dat, .mcap, .clf/.log for CARMEN, .bag for ROS 1,
     /// .db3; optionally .gz; .parquet, not gzipped), a ROS 2 bag directory (MCAP or sqlite3
     /// storage), or `-` for stdin.
     pub input: PathBuf,
@@ -102,7 +132,7 @@ fn main() -> ExitCode {
         // Standard output closed by its reader: not an error of ours.
         Err(e) if cmd::is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!(
+            errln!(
                 "laserlines: error: {}",
                 laserlines_io::error_chain(e.as_ref())
             );

@@ -352,5 +352,54 @@ fn a_closed_standard_output_ends_quietly() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
         assert!(o.status.success(), "{args:?}: {err}");
         assert!(!err.contains("error"), "{args:?}: {err}");
+        if args[0] == "extract" {
+            // The summary still says how far it got.
+            assert!(
+                err.contains("standard output closed by its reader after"),
+                "{err}"
+            );
+        }
+    }
+}
+
+#[test]
+fn a_closed_standard_error_changes_no_exit_code() {
+    // `laserlines ... 2>&1 | head` whose reader has gone: the messages are lost, the exit
+    // code is what it would have been (0 for a run, 2 for an error), never a panic's 101.
+    let dat = tmp("excerpt-closed-stderr.dat.gz");
+    std::fs::write(&dat, laserlines_io::demo::URG04LX_EXCERPT).unwrap();
+    let missing = tmp("no-such-log.dat");
+    let runs: [(Vec<std::ffi::OsString>, i32); 3] = [
+        (
+            vec![
+                "extract".into(),
+                dat.clone().into(),
+                "-o".into(),
+                "-".into(),
+            ],
+            0,
+        ),
+        (
+            vec![
+                "convert".into(),
+                dat.clone().into(),
+                "-".into(),
+                "--to".into(),
+                "jsonl".into(),
+            ],
+            0,
+        ),
+        (vec!["extract".into(), missing.into()], 2),
+    ];
+    for (args, code) in runs {
+        let mut child = bin()
+            .args(&args)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stderr.take());
+        let status = child.wait().unwrap();
+        assert_eq!(status.code(), Some(code), "{args:?}");
     }
 }

@@ -322,7 +322,9 @@ fn a_bad_table_the_command_does_not_read_is_an_error() {
         ("type.toml", "[iepf]\nbreakpoints.noise = \"x\"\n", "noise"),
     ] {
         let o = extract_with_params(name, toml);
-        fails_with(&o, "[iepf] is not used by extract, but is checked");
+        // The file first, as every error of a params file begins.
+        fails_with(&o, &format!("{name}: [iepf]"));
+        fails_with(&o, "(a table extract does not use, checked all the same)");
         fails_with(&o, needle);
     }
 }

@@ -192,7 +192,12 @@ fn a_log_converted_to_parquet_maps_by_its_odometry_as_the_log_does() {
 fn bad_input_ends_in_a_clear_error() {
     // A scan without a pose, mapped with odometry.
     let csv = repo("crates/laserlines-io/tests/fixtures/scan.csv");
-    let o = run(bin().arg("map").arg(&csv).arg("-o").arg(tmp("csv")));
+    let o = run(bin()
+        .arg("map")
+        .arg(&csv)
+        .arg("-o")
+        .arg(tmp("csv"))
+        .args(["--odometry", "on"]));
     assert_clean_error(
         &o,
         "scan.csv",
@@ -205,6 +210,14 @@ fn bad_input_ends_in_a_clear_error() {
         .arg(tmp("csv"))
         .args(["--odometry", "off"]));
     assert!(o.status.success(), "{}", text(&o.stderr));
+    // By default, a log without odometry is mapped from its scans, and the run says so.
+    let o = run(bin().arg("map").arg(&csv).arg("-o").arg(tmp("csv-auto")));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("no odometry in the first scan: mapped from the scans alone"),
+        "{}",
+        text(&o.stderr)
+    );
     // A grid cell out of its range, an MCAP that cannot be written: refused before mapping.
     for resolution in ["1e300", "0.001"] {
         let o = run(bin()
@@ -248,7 +261,7 @@ fn bad_input_ends_in_a_clear_error() {
     let o = run(bin()
         .arg("map")
         .arg(&csv)
-        .arg("--mcap")
+        .args(["--odometry", "on", "--mcap"])
         .arg(&made)
         .arg("-o")
         .arg(tmp("x")));

@@ -181,7 +181,7 @@ fn maps_a_carmen_log_by_its_odometry_triple_never_its_laser_pose() {
     let o = run(bin()
         .arg("map")
         .arg(&raw)
-        .args(["--topic", "RAWLASER1"])
+        .args(["--topic", "RAWLASER1", "--odometry", "on"])
         .arg("-o")
         .arg(tmp("raw")));
     assert_clean_error(

@@ -268,7 +268,7 @@ fn sectors_panel(
         panel.text(
             Point2::new(view.min_x + 0.1, view.min_y + (2.5 - row) * row_step),
             &format!(
-                "{}: distance {:.2} m, width {:.2} m, angle {:.0} deg",
+                "{}: distance {:.2} m, width {:.2} m, direction {:.0} deg",
                 obj.sector.name(),
                 obj.distance_m,
                 obj.width_m,

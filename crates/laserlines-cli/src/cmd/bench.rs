@@ -144,7 +144,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     if let Some(p) = &args.params {
         for name in names.iter().filter(|n| !file.has(n)) {
-            eprintln!("{}: no [{name}] table, defaults used", p.display());
+            errln!("{}: no [{name}] table, defaults used", p.display());
         }
         let used: Vec<&str> = names.iter().map(String::as_str).collect();
         super::note_unused_tables(Some(p), &used, "bench")?;
@@ -177,7 +177,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     progress.finish_and_clear();
 
     outln!("{source}\n");
-    print!("{}", report.to_markdown());
+    out!("{}", report.to_markdown());
     let ratio = report.speed_ratio(FAST, BASELINE);
     outln!();
     match (ratio, report.get(FAST), report.get(BASELINE)) {
@@ -191,7 +191,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         _ => outln!("speed ratio {FAST} / {BASELINE}: not measured (select both to measure it)"),
     }
     write_outputs(&args.output, &report, ratio)?;
-    eprintln!(
+    errln!(
         "wrote {}, {} and {}",
         args.output.join("results.json").display(),
         args.output.join("results.csv").display(),
@@ -356,7 +356,7 @@ fn arena_suite(
     let mut listed = Vec::with_capacity(loaded.len());
     for (arena, &got) in loaded.iter().zip(&counts) {
         if got == 0 && count > 0 {
-            eprintln!(
+            errln!(
                 "warning: {}: no free floor inside it was found, no scans",
                 arena.name
             );
@@ -441,9 +441,9 @@ fn tune(args: &BenchArgs, algorithm: &str) -> Result<()> {
         );
     }
     let (source, scans) = load_scans(args, args.seed.unwrap_or(TRAIN_SEED))?;
-    eprintln!("tuning {algorithm} on {source}");
+    errln!("tuning {algorithm} on {source}");
     let result = laserlines_eval::tune(algorithm, &scans, &matching(args), &mut |line| {
-        eprintln!("  {line}")
+        errln!("  {line}")
     })?;
     let (a, b) = (&result.start_metrics, &result.chosen_metrics);
     outln!(
@@ -462,6 +462,6 @@ fn tune(args: &BenchArgs, algorithm: &str) -> Result<()> {
     for (from, to) in result.changed() {
         outln!("# {}: {} -> {}", to.name, from.value, to.value);
     }
-    print!("{}", result.to_toml());
+    out!("{}", result.to_toml());
     Ok(())
 }

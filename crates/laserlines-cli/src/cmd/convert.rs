@@ -46,7 +46,7 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
                 Ok(r) => r,
                 Err(e) if super::skips(args.skip_bad, &e) => {
                     // The reader counts it under its reason for the summary.
-                    eprintln!("laserlines: skipped: {e}");
+                    errln!("laserlines: skipped: {e}");
                     continue;
                 }
                 Err(e) => return Err(super::read_error(e, args.skip_bad)),
@@ -64,7 +64,7 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
         remove_partial(&args.output);
         return Err(e);
     }
-    eprintln!(
+    errln!(
         "{}: {} written to {}, skipped: {}",
         reader.name(),
         super::count(scans, "scan"),
@@ -100,7 +100,7 @@ fn output_format(args: &ConvertArgs) -> Result<Format> {
 /// Removes the output of a failed conversion (not standard output).
 fn remove_partial(path: &Path) {
     if path != Path::new("-") && std::fs::remove_file(path).is_ok() {
-        eprintln!(
+        errln!(
             "laserlines: removed the partial {} (the conversion failed)",
             path.display()
         );

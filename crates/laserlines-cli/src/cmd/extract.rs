@@ -140,18 +140,28 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     let written = order.write(&mut writer, &mut totals);
     // The lines of every scan before an error stay readable: the output is closed either way
     // (a Parquet file gets its footer, an MCAP its summary, a gzip stream its end).
-    let closed = writer.close();
+    let closed = writer.close().map_err(anyhow::Error::from);
     progress.finish_and_clear();
     if totals.scans == 0 {
         // Nothing was extracted: no output file stands beside the error as if it were one.
         remove_output(&args.output);
     }
+    let pipe = |r: Option<&anyhow::Error>| r.is_some_and(super::is_broken_pipe);
+    if pipe(written.as_ref().err()) || pipe(closed.as_ref().err()) {
+        // Its reader stopped early (`| head`): not an error, and the summary says so.
+        errln!(
+            "{name}: standard output closed by its reader after {} with {}, in {:.2} s",
+            super::count(totals.scans, "scan"),
+            super::count(totals.lines, "line"),
+            start.elapsed().as_secs_f64()
+        );
+        return Ok(());
+    }
     let waiting = match written {
         Ok(waiting) => waiting,
-        Err(e) if super::is_broken_pipe(&e) => return Err(e),
         Err(e) => {
             // What was written before the error, then the error itself (from `main`).
-            eprintln!(
+            errln!(
                 "{name}: {} with {} written before the error, in {:.2} s",
                 super::count(totals.scans, "scan"),
                 super::count(totals.lines, "line"),
@@ -380,7 +390,7 @@ fn write_batch(
                 if !super::skips(skip_bad, &e) {
                     return Err(super::read_error(e, skip_bad));
                 }
-                progress.suspend(|| eprintln!("laserlines: skipped: {e}"));
+                progress.suspend(|| errln!("laserlines: skipped: {e}"));
                 continue;
             }
             None => anyhow::bail!("internal error: a record was never parsed"),
@@ -461,7 +471,7 @@ fn summary(name: &str, skipped: &SkipCounts, totals: &Totals, bytes: Option<u64>
         ),
         None => format!("{:.0} scans/s", per(totals.scans as f64)),
     };
-    eprintln!(
+    errln!(
         "{name}: {}, {} ({per_scan:.1} per scan), skipped: {}, {secs:.2} s, {speed}",
         super::count(totals.scans, "scan"),
         super::count(totals.lines, "line"),
@@ -470,7 +480,7 @@ fn summary(name: &str, skipped: &SkipCounts, totals: &Totals, bytes: Option<u64>
     let (s, f, n) = totals.noise;
     if n > 0 {
         let mean = RangeNoise::new(s / n as f64, f / n as f64);
-        eprintln!(
+        errln!(
             "{name}: range noise (estimated from each scan unless the parameters give it), \
              mean over the scans: {mean}"
         );
@@ -481,7 +491,7 @@ fn summary(name: &str, skipped: &SkipCounts, totals: &Totals, bytes: Option<u64>
         } else {
             format!("any of the {} scans", totals.scans)
         };
-        eprintln!(
+        errln!(
             "{name}: note: no line in {scans}; if the scans see walls, check the parameters \
              (--params, --preset), the scans' range limits and that the ranges are in metres"
         );

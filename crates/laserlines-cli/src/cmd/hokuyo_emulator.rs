@@ -90,7 +90,7 @@ fn feed(args: &HokuyoEmulatorArgs, model: &Model) -> Result<Box<dyn ScanFeed>> {
         };
         let first = check_log(&input)?;
         if let Some(note) = resampling_note(&first, model) {
-            eprintln!("laserlines: note: {}: {note}", log.display());
+            errln!("laserlines: note: {}: {note}", log.display());
         }
         let reopen = Box::new(move || {
             let reader = super::open_input(&input).map_err(|e| format!("{e:#}"))?;
@@ -220,6 +220,6 @@ pub fn run(args: &HokuyoEmulatorArgs) -> Result<()> {
     }
     let sent = handle.log().count();
     handle.stop()?;
-    eprintln!("laserlines: emulator sent {sent} scans");
+    errln!("laserlines: emulator sent {sent} scans");
     Ok(())
 }

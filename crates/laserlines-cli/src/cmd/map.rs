@@ -16,12 +16,23 @@ use laserlines_slam::{Mapper, MapperParams, Se2};
 use super::map_outputs::{self, Outputs};
 use crate::InputArgs;
 
-/// A switch: the log's odometry, loop closure.
+/// A switch: loop closure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum OnOff {
     /// On.
     On,
     /// Off.
+    Off,
+}
+
+/// Whether the mapper takes the log's wheel odometry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Odometry {
+    /// As the log allows: on when its first scan has odometry, off when it has none.
+    Auto,
+    /// On: every scan must have odometry.
+    On,
+    /// Off: the scans alone.
     Off,
 }
 
@@ -35,9 +46,10 @@ pub struct MapArgs {
     #[arg(short, long, default_value = "laserlines-map")]
     pub output: PathBuf,
     /// Use the log's wheel odometry (`on`: CARMEN's odometry triple, never its laser pose;
-    /// every scan must have it), or map from the scans alone (`off`).
-    #[arg(long, value_enum, default_value_t = OnOff::On)]
-    pub odometry: OnOff,
+    /// every scan must have it), or map from the scans alone (`off`); `auto` is `on` when the
+    /// first scan has odometry and `off` (with a note) when it has none.
+    #[arg(long, value_enum, default_value_t = Odometry::Auto)]
+    pub odometry: Odometry,
     /// Search for loop closures (`off`: scan-to-submap matching alone).
     #[arg(long, value_enum, default_value_t = OnOff::On)]
     pub loop_closure: OnOff,
@@ -133,7 +145,7 @@ fn map_log(
         });
     }
     if let Some(note) = stamp_note(&run.stamps) {
-        progress.suspend(|| eprintln!("laserlines: {name}: {note}"));
+        progress.suspend(|| errln!("laserlines: {name}: {note}"));
     }
     progress.set_message("optimising");
     mapper
@@ -163,7 +175,7 @@ fn map_log(
         &files,
     );
     if args.skip_bad {
-        eprintln!("{name}: skipped: {}", reader.skipped());
+        errln!("{name}: skipped: {}", reader.skipped());
     }
     let mapped = run.stamps.len();
     Ok(run.stopped.map(|e| stopped_error(e, name, mapped, args)))
@@ -182,12 +194,13 @@ fn read_and_map(
     let mut extractor = super::make_mapping_hough_split(&args.params)?;
     let mut lines = Vec::new();
     let mut run = Mapped::default();
+    let mut mode = args.odometry;
     for item in reader.by_ref() {
         let record = match item {
             Ok(r) => r,
             Err(e) if super::skips(args.skip_bad, &e) => {
                 // The reader counts it under its reason for the summary.
-                progress.suspend(|| eprintln!("laserlines: skipped: {e}"));
+                progress.suspend(|| errln!("laserlines: skipped: {e}"));
                 continue;
             }
             Err(e) => {
@@ -196,7 +209,17 @@ fn read_and_map(
             }
         };
         let k = run.stamps.len();
-        let odometry = odometry_of(&record, args.odometry, name, k)?;
+        if mode == Odometry::Auto {
+            mode = if record.odometry.is_some() {
+                Odometry::On
+            } else {
+                progress.suspend(|| {
+                    errln!("laserlines: {name}: no odometry in the first scan: mapped from the scans alone (--odometry off)");
+                });
+                Odometry::Off
+            };
+        }
+        let odometry = odometry_of(&record, mode, name, k)?;
         extractor.extract_into(&record.scan, &mut lines);
         mapper
             .add_scan(&record.scan, &lines, odometry)
@@ -235,11 +258,12 @@ fn stopped_error(
 }
 
 /// The odometry of scan `k` the mapper takes: the record's with `--odometry on` (an error
-/// naming the scan when it has none), none with `--odometry off`.
-fn odometry_of(record: &ScanRecord, mode: OnOff, name: &str, k: usize) -> Result<Option<Se2>> {
+/// naming the scan when it has none), none with `--odometry off` (`auto` is resolved at the
+/// first scan).
+fn odometry_of(record: &ScanRecord, mode: Odometry, name: &str, k: usize) -> Result<Option<Se2>> {
     Ok(match (mode, record.odometry) {
-        (OnOff::On, Some(p)) => Some(Se2::new(p.x, p.y, p.theta)),
-        (OnOff::On, None) => bail!(
+        (Odometry::On | Odometry::Auto, Some(p)) => Some(Se2::new(p.x, p.y, p.theta)),
+        (Odometry::On | Odometry::Auto, None) => bail!(
             "{name}: scan {k}{}: no odometry (the log gives none for this scan{}); map it with --odometry off",
             record
                 .line
@@ -251,7 +275,7 @@ fn odometry_of(record: &ScanRecord, mode: OnOff, name: &str, k: usize) -> Result
                 ""
             }
         ),
-        (OnOff::Off, _) => None,
+        (Odometry::Off, _) => None,
     })
 }
 
@@ -276,7 +300,7 @@ fn summary(name: &str, mapper: &Mapper, mapped_s: f64, total_s: f64, files: &[Pa
     } else {
         0.0
     };
-    eprintln!(
+    errln!(
         "{name}: {} ({} not matched, kept at their prediction), {}, loop closures: {} accepted, {} rejected; {} in {:.2} s; mapped in {:.2} s ({:.0} scans/s), {:.2} s with the outputs",
         super::count(s.scans as u64, "scan"),
         s.unmatched,
@@ -290,7 +314,7 @@ fn summary(name: &str, mapper: &Mapper, mapped_s: f64, total_s: f64, files: &[Pa
         total_s
     );
     let list: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
-    eprintln!("wrote {}", list.join(", "));
+    errln!("wrote {}", list.join(", "));
 }
 
 /// Words for stamps that do not increase from scan to scan (broken in some logs: all zero,

@@ -295,8 +295,9 @@ pub fn note_unused_tables(params: Option<&Path>, used: &[&str], command: &str) -
         // A shared params file: a mistake in another algorithm's table is named now, not on
         // the run that first reads it.
         if ALGORITHMS.contains(&table) {
-            file.extractor(table)
-                .with_context(|| format!("[{table}] is not used by {command}, but is checked"))?;
+            file.extractor(table).map_err(|e| {
+                anyhow!("{e} (a table {command} does not use, checked all the same)")
+            })?;
         }
         let reader = if laserlines_io::params::RUN_TABLES.contains(&table) {
             "read by simulate".to_owned()
@@ -305,7 +306,7 @@ pub fn note_unused_tables(params: Option<&Path>, used: &[&str], command: &str) -
         } else {
             "not an algorithm this command runs".to_owned()
         };
-        eprintln!(
+        errln!(
             "laserlines: {}: [{table}] is not used by {command} ({reader})",
             file.name()
         );

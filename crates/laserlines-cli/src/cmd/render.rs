@@ -65,7 +65,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         for sector in Sector::ALL {
             let text = match objects.get(sector) {
                 Some(o) => format!(
-                    "{}: distance {:.3} m, width {:.3} m, angle {:.1} deg",
+                    "{}: distance {:.3} m, width {:.3} m, line direction {:.1} deg",
                     sector.name(),
                     o.distance_m,
                     o.width_m,
@@ -76,7 +76,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             };
             // Standard output carries the SVG with `-o -`.
             if to_stdout {
-                eprintln!("{text}");
+                errln!("{text}");
             } else {
                 outln!("{text}");
             }
@@ -118,7 +118,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     std::fs::write(&args.output, svg)
         .with_context(|| format!("cannot write {}", args.output.display()))?;
-    eprintln!("wrote {}", args.output.display());
+    errln!("wrote {}", args.output.display());
     Ok(())
 }
 

@@ -303,7 +303,7 @@ fn write_outputs(args: &SimulateArgs, setup: &Setup, record: &RunRecord) -> Resu
             // A picture of an earlier run in the same folder would pass for this one's.
             let stale = args.output.join("sectors.svg");
             let removed = stale.exists() && std::fs::remove_file(&stale).is_ok();
-            eprintln!(
+            errln!(
                 "laserlines: sectors.svg not written{}: the run ended at {:.3} s, before the \
                  snapshot at {:.3} s (--snapshot)",
                 if removed {

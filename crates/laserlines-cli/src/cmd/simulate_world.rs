@@ -17,14 +17,14 @@ pub fn report_skipped(name: &str, report: &ArenaReport) {
         .map(|(t, n)| format!("{t} x {n}"))
         .collect::<Vec<_>>()
         .join(", ");
-    eprintln!(
+    errln!(
         "laserlines: {name}: skipped {} elements whose shape at the laser's height of {} m is not modelled: {list}",
         report.skipped_count(),
         report.laser_height_m
     );
     let unknown = report.unknown_types();
     if !unknown.is_empty() {
-        eprintln!(
+        errln!(
             "laserlines: {name}: unknown element types: {}",
             unknown.join(", ")
         );
@@ -61,11 +61,12 @@ pub fn warn_if_cramped(world: &World, start: Isometry2, radius: f64) {
     let p = Point2::from(start.translation.vector);
     let clearance = world.clearance(p);
     if clearance < radius {
-        eprintln!(
+        errln!(
             "laserlines: warning: --start ({}, {}) lies {clearance:.2} m from the nearest obstacle, \
              within the robot's turning radius of {radius:.2} m: turning on the spot there \
              touches it",
-            p.x, p.y
+            p.x,
+            p.y
         );
     }
 }

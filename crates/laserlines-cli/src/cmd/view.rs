@@ -71,15 +71,15 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     ctrlc::set_handler(move || s.store(true, Ordering::Relaxed)).context("cannot catch Ctrl-C")?;
     let server = LiveServer::start("127.0.0.1", args.port)?;
     // Both status lines on stderr, like every other status line of laserlines.
-    eprintln!(
+    errln!(
         "laserlines: serving ws://127.0.0.1:{} (in Foxglove: Open connection, Foxglove WebSocket)",
         server.port()
     );
     if !args.no_wait {
-        eprintln!("laserlines: waiting for a viewer to subscribe to /scan");
+        errln!("laserlines: waiting for a viewer to subscribe to /scan");
         while !server.wait_for_viewer(Some(Duration::from_millis(100))) {
             if stop.load(Ordering::Relaxed) {
-                eprintln!("laserlines: interrupted before a viewer subscribed");
+                errln!("laserlines: interrupted before a viewer subscribed");
                 server.stop();
                 return Ok(());
             }
@@ -101,7 +101,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         };
         let interrupted = stop.load(Ordering::Relaxed);
         if interrupted {
-            eprintln!("laserlines: interrupted");
+            errln!("laserlines: interrupted");
         }
         if scans == 0 && !interrupted {
             server.stop();
@@ -151,11 +151,11 @@ impl Replay<'_> {
             let record = match item {
                 Ok(r) => r,
                 Err(e) if super::skips(self.skip_bad, &e) => {
-                    eprintln!("laserlines: skipped: {e}");
+                    errln!("laserlines: skipped: {e}");
                     continue;
                 }
                 Err(e) => {
-                    eprintln!(
+                    errln!(
                         "{name}: {}, {} replayed before the error",
                         super::count(scans, "scan"),
                         super::count(total_lines, "line"),
@@ -168,7 +168,7 @@ impl Replay<'_> {
             let wait = pacer.delay(time, Instant::now());
             if !warned && !stamp_notes(&clock, &pacer).is_empty() {
                 warned = true;
-                eprintln!(
+                errln!(
                     "laserlines: warning: {}: scan {scans} has a stamp that {}; no scan waits \
                      longer than {} s / --rate (counted in the summary)",
                     name,
@@ -182,7 +182,7 @@ impl Replay<'_> {
             total_lines += lines.len() as u64;
         }
         let notes = stamp_notes(&clock, &pacer);
-        eprintln!(
+        errln!(
             "{}: {}, {} replayed in {:.1} s, skipped: {}{}",
             reader.name(),
             super::count(scans, "scan"),

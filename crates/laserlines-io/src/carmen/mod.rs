@@ -11,7 +11,7 @@
 //! | `RAWLASERk` | `laser_type start_angle fov angular_resolution maximum_range accuracy remission_mode n r_1 .. r_n m e_1 .. e_m ipc_timestamp ipc_hostname logger_timestamp` | a scan of laser `k` without a pose |
 //! | `ODOM` | `x y theta tv rv accel ipc_timestamp ipc_hostname logger_timestamp` | not a scan: its pose is the odometry of the `RAWLASER` lines after it (the other laser lines carry their own) |
 //! | `PARAM` | `name value ...` | the laser settings below; other parameters are ignored |
-//! | anything else (`NEFF`, `TRUEPOS`, `SYNC`, ...) | | counted as skipped under `unknown message NAME` |
+//! | anything else (`NEFF`, `TRUEPOS`, `SYNC`, ...) | | not a scan: counted as skipped under `NAME message (not a scan)`, so that the summary shows what the log held besides scans |
 //!
 //! **Which laser.** A log may hold several lasers, and the same laser twice (`ROBOTLASER1`
 //! and `RAWLASER1`). By default the reader yields the front laser: every `FLASER` and
@@ -219,9 +219,9 @@ impl State {
             if !self.unknown_names.iter().any(|n| n == name) {
                 self.unknown_names.push(name.to_owned());
             }
-            skipped.add(&format!("unknown message {name}"));
+            skipped.add(&format!("{name} message (not a scan)"));
         } else {
-            skipped.add("unknown message (other names)");
+            skipped.add("other messages (not scans)");
         }
     }
 

@@ -132,7 +132,7 @@ fn pending_items_parse_to_what_next_gives() {
     // Deferred errors are the caller's to count; the rest is counted as usual.
     assert_eq!(reader.skipped().get("malformed record"), 2);
     assert_eq!(pending_reader.skipped().get("malformed record"), 1);
-    assert_eq!(pending_reader.skipped().get("unknown message NEFF"), 1);
+    assert_eq!(pending_reader.skipped().get("NEFF message (not a scan)"), 1);
     assert_eq!(pending_reader.records(), 0);
 }
 
@@ -318,8 +318,8 @@ fn comments_odom_unknown_messages_and_other_lasers() {
     assert_eq!(items.len(), 1);
     assert_eq!(items[0].as_ref().unwrap().line, Some(8));
     let s = reader.skipped();
-    assert_eq!(s.get("unknown message NEFF"), 2);
-    assert_eq!(s.get("unknown message TRUEPOS"), 1);
+    assert_eq!(s.get("NEFF message (not a scan)"), 2);
+    assert_eq!(s.get("TRUEPOS message (not a scan)"), 1);
     assert_eq!(s.get("RLASER scan (another laser)"), 1);
     // The rear laser as the topic.
     let (items, reader) = read(&text, Some("rlaser"));
@@ -336,7 +336,7 @@ fn many_unknown_names_share_one_reason() {
     let s = reader.skipped();
     assert_eq!(s.total(), 40);
     assert_eq!(
-        s.get("unknown message (other names)"),
+        s.get("other messages (not scans)"),
         40 - MAX_UNKNOWN_NAMES as u64
     );
     assert_eq!(s.iter().count(), MAX_UNKNOWN_NAMES + 1);

@@ -283,7 +283,22 @@ pub fn load_raf(path: &Path, options: &ArenaOptions) -> Result<Arena, ArenaError
         |n| n.to_string_lossy().into_owned(),
     );
     let text = String::from_utf8_lossy(&bytes);
-    parse_raf(&text, &name, options)
+    // The arena is called by its file name; an error names the file as it was given.
+    parse_raf(&text, &name, options).map_err(|e| e.in_file(path))
+}
+
+impl ArenaError {
+    /// The error with the file `path` in place of the arena's name.
+    fn in_file(mut self, path: &Path) -> Self {
+        match &mut self {
+            Self::Io { .. } => {}
+            Self::Xml { name, .. }
+            | Self::MissingAttribute { name, .. }
+            | Self::BadAttribute { name, .. }
+            | Self::Empty { name, .. } => *name = path.display().to_string(),
+        }
+        self
+    }
 }
 
 /// The line of an `<elements>` opening tag that no `</elements>` closes: a file cut between

@@ -280,3 +280,26 @@ fn entities_are_decoded() {
     );
     assert_eq!(decode_entities("a&b"), None);
 }
+
+#[test]
+fn a_bad_file_is_named_by_its_path_and_a_good_one_by_its_name() {
+    let dir = std::env::temp_dir().join(format!("laserlines-arena-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("empty.raf");
+    std::fs::write(&bad, "").unwrap();
+    let e = load_raf(&bad, &ArenaOptions::default()).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with(&format!("{}:1: an empty file", bad.display())),
+        "{e}"
+    );
+    let good = dir.join("one_wall.raf");
+    std::fs::write(
+        &good,
+        "<elements><element type=\"small_wall\" rotation=\"0\" x=\"0\" y=\"0\"/></elements>",
+    )
+    .unwrap();
+    let arena = load_raf(&good, &ArenaOptions::default()).unwrap();
+    assert_eq!(arena.name, "one_wall.raf");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -96,7 +96,7 @@ fn open_sensor(args: &LiveArgs, endpoint: &Endpoint, silence: Option<Duration>) 
         scanner = Scanner::open(endpoint, options).context("cannot start the sensor")?;
     }
     let info = scanner.info();
-    eprintln!(
+    errln!(
         "laserlines: {} ({}, serial {}, firmware {}) on {endpoint}: {} beams, {:.2} scans/s{}",
         info.model,
         info.protocol,
@@ -142,7 +142,7 @@ fn stream(
         tally.report(scanner.stats(), done, tty);
     }
     if tty {
-        eprintln!();
+        errln!();
     }
     Ok(())
 }
@@ -196,7 +196,7 @@ pub fn run(args: &LiveArgs) -> Result<()> {
     tally.close_window(Instant::now());
     let quit = scanner.close();
     outputs.close()?;
-    eprintln!(
+    errln!(
         "laserlines: {} scans, {} lines in {:.1} s; {}",
         tally.scans,
         tally.lines,

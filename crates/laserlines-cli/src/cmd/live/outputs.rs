@@ -115,7 +115,7 @@ fn describe_sectors(k: u64, objects: &SectorObjects) -> String {
         .iter()
         .map(|&s| match objects.get(s) {
             Some(o) => format!(
-                "{}: distance {:.3} m, width {:.3} m, angle {:.1} deg",
+                "{}: distance {:.3} m, width {:.3} m, line direction {:.1} deg",
                 s.name(),
                 o.distance_m,
                 o.width_m,

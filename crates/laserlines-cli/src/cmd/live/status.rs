@@ -62,9 +62,9 @@ impl Tally {
         self.window_scans = 1;
         let line = self.status_line(stats);
         if tty {
-            eprint!("\r{line}\x1b[K");
+            err!("\r{line}\x1b[K");
         } else {
-            eprintln!("laserlines: {line}");
+            errln!("laserlines: {line}");
         }
         self.last_status = Some(Instant::now());
     }
