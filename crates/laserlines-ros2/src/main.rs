@@ -1,6 +1,6 @@
 //! `laserlines-ros2`: line segments from laser scans as a ROS 2 node, with no ROS install.
 
-use std::io::IsTerminal as _;
+use std::io::{IsTerminal as _, Write as _};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -57,7 +57,9 @@ fn main() -> ExitCode {
     match run(&args) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!(
+            // A closed standard error loses the message, not the exit code.
+            let _ = writeln!(
+                std::io::stderr(),
                 "laserlines-ros2: error: {}",
                 laserlines_io::error_chain(e.as_ref())
             );
