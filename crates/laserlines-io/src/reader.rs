@@ -408,6 +408,8 @@ pub(crate) struct Lines {
     buf: Vec<u8>,
     line: usize,
     done: bool,
+    /// The last line read ended without `\n` (the input's end came first).
+    unterminated: bool,
 }
 
 impl Lines {
@@ -418,7 +420,14 @@ impl Lines {
             buf: Vec::new(),
             line: 0,
             done: false,
+            unterminated: false,
         }
+    }
+
+    /// True when the last line read had no `\n`: the input ended inside it (a file cut
+    /// there, or one whose writer left out the last line end).
+    pub(crate) fn last_unterminated(&self) -> bool {
+        self.unterminated
     }
 
     /// The number of the last line read (0 before the first).
@@ -457,6 +466,7 @@ impl Lines {
                 None
             }
             Ok(_) => {
+                self.unterminated = self.buf.last() != Some(&b'\n');
                 if self.buf.len() > MAX_LINE_BYTES && self.buf.last() != Some(&b'\n') {
                     self.done = true;
                     return Some(Err(ReadError::Io {

@@ -13,6 +13,10 @@
 //! | `PARAM` | `name value ...` | the laser settings below; other parameters are ignored |
 //! | anything else (`NEFF`, `TRUEPOS`, `SYNC`, ...) | | not a scan: counted as skipped under `NAME message (not a scan)`, so that the summary shows what the log held besides scans |
 //!
+//! A log that ends inside an `ODOM` line (its last line without a line end, and short of
+//! fields) is counted as skipped under [`SKIP_CUT_LAST_LINE`]; a cut scan line is an error of
+//! its own, and a whole last line without its line end is read as any other.
+//!
 //! **Which laser.** A log may hold several lasers, and the same laser twice (`ROBOTLASER1`
 //! and `RAWLASER1`). By default the reader yields the front laser: every `FLASER` and
 //! `ROBOTLASER1` line. A topic ([`crate::ReadOptions::topic`]) names one message instead
@@ -150,7 +154,17 @@ struct State {
     /// A fatal read error ended the input.
     failed: bool,
     ended: bool,
+    /// The last line read was an `ODOM` line with fewer fields than `ODOM` has.
+    short_odom: bool,
 }
+
+/// The skip reason of a log that ends inside an `ODOM` line: its last line has no line end
+/// and fewer fields than `ODOM` has, so the file was cut there (a cut scan line is an error
+/// of its own).
+pub const SKIP_CUT_LAST_LINE: &str = "last line cut short (the log ends inside an ODOM line)";
+
+/// Tokens of a whole `ODOM` line, its name with them.
+const ODOM_TOKENS: usize = 10;
 
 impl CarmenSource {
     /// A reader of `input`; `topic` names the laser message to read (default: the front
@@ -185,6 +199,7 @@ impl CarmenSource {
                 unknown_names: Vec::new(),
                 failed: false,
                 ended: false,
+                short_odom: false,
             },
         })
     }
@@ -331,7 +346,11 @@ impl CarmenSource {
                     return Some(Pending::Ready(Err(e)));
                 }
                 None => {
+                    if !state.ended && state.short_odom && self.lines.last_unterminated() {
+                        skipped.add(SKIP_CUT_LAST_LINE);
+                    }
                     if state.ended || state.failed || state.seen_selected {
+                        state.ended = true;
                         return None;
                     }
                     state.ended = true;
@@ -343,6 +362,7 @@ impl CarmenSource {
                 LineItem::NotUtf8(e) => return Some(Pending::Ready(Err(e))),
                 LineItem::Text(line, text) => (line, text),
             };
+            state.short_odom = false;
             let Some(first) = text.split_ascii_whitespace().next() else {
                 continue; // blank line
             };
@@ -371,6 +391,7 @@ impl CarmenSource {
             }
             match first {
                 "ODOM" => {
+                    state.short_odom = text.split_ascii_whitespace().count() < ODOM_TOKENS;
                     if let Err(e) = state.odom(line, text) {
                         return Some(Pending::Ready(Err(e)));
                     }

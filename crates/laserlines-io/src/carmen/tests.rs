@@ -329,6 +329,30 @@ fn comments_odom_unknown_messages_and_other_lasers() {
 }
 
 #[test]
+fn a_log_cut_inside_its_last_line_says_so() {
+    let scan = flaser(2, 1.0, TAIL);
+    // Cut inside an ODOM line: its scans are read, and the cut is counted.
+    let cut = format!("{scan}ODOM 0.685387 0.112968 1.84");
+    let (items, reader) = read(&cut, None);
+    assert_eq!(items.len(), 1);
+    assert!(items[0].is_ok());
+    assert_eq!(reader.skipped().get(SKIP_CUT_LAST_LINE), 1);
+    // Every line ended, or a last line without its line end but whole (as the Freiburg 101
+    // log ends): nothing cut.
+    for whole in [
+        format!("{scan}ODOM 0 0 0 0 0 0 1 h 1\n"),
+        format!("{scan}ODOM 0 0 0 0 0 0 1 h 1"),
+        format!("{scan}NEFF 12"),
+        scan.trim_end().to_owned(),
+    ] {
+        let (items, reader) = read(&whole, None);
+        assert_eq!(items.len(), 1, "{whole}");
+        assert!(items[0].is_ok(), "{whole}");
+        assert_eq!(reader.skipped().get(SKIP_CUT_LAST_LINE), 0, "{whole}");
+    }
+}
+
+#[test]
 fn many_unknown_names_share_one_reason() {
     let text: String =
         (0..40).map(|i| format!("MSG{i} 1\n")).collect::<String>() + &flaser(2, 1.0, TAIL);
