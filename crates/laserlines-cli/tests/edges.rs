@@ -155,7 +155,32 @@ fn convert_names_what_it_writes_and_leaves_no_partial_file() {
     let csv = tmp("many.csv");
     let o = run(bin().arg("convert").arg(excerpt()).arg(&csv));
     fails_with(&o, "one scan per file");
+    fails_with(&o, "(--scan K converts one scan of the log");
     assert!(!csv.exists(), "the partial CSV is left behind");
+    // One scan of the log, as the same scan written alone: the CSV reads back as scan 5.
+    let o = run(bin()
+        .arg("convert")
+        .arg(excerpt())
+        .arg(&csv)
+        .args(["--scan", "5"]));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("1 scan written"), "{}", stderr(&o));
+    let back: Vec<_> = laserlines_io::reader::open(&csv, None)
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap();
+    let want = laserlines_io::demo::urg04lx_excerpt().unwrap();
+    assert_eq!(back.len(), 1);
+    assert_eq!(back[0].scan.ranges, want[5].scan.ranges);
+    assert_eq!(back[0].scan.stamp, want[5].scan.stamp);
+    // A scan the log does not hold.
+    let o = run(bin()
+        .arg("convert")
+        .arg(excerpt())
+        .arg(&csv)
+        .args(["--scan", "40"]));
+    fails_with(&o, "has no scan 40 (it holds 40 scans)");
+    assert!(!csv.exists(), "a CSV is left behind");
 }
 
 #[test]

@@ -24,6 +24,10 @@ pub struct ConvertArgs {
     /// Output format, overriding the extension (json, jsonl, csv, mcap, parquet).
     #[arg(long)]
     to: Option<String>,
+    /// Convert only scan K (0-based, counting the scans read, as `render --scan` does): one
+    /// scan of a log for a format that holds one (.json, .csv).
+    #[arg(long, value_name = "K")]
+    scan: Option<usize>,
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.
     /// A failed read of the input itself (an I/O error, a corrupt gzip stream) still ends the
     /// run with an error.
@@ -40,6 +44,8 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
     let mut reader = super::open_input(&args.input)?;
     let mut sink = ScanOutput::create(&args.output, Some(to))?;
     let mut scans = 0u64;
+    // Scans read, for `--scan`.
+    let mut read = 0usize;
     let written = (|| -> Result<()> {
         for item in reader.by_ref() {
             let record = match item {
@@ -51,10 +57,24 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
                 }
                 Err(e) => return Err(super::read_error(e, args.skip_bad)),
             };
-            sink.write(&record)?;
+            read += 1;
+            if args.scan.is_some_and(|k| k != read - 1) {
+                continue;
+            }
+            sink.write(&record).map_err(|e| one_scan_hint(e.into()))?;
             scans += 1;
+            if args.scan.is_some() {
+                break;
+            }
         }
         sink.close()?;
+        if let (Some(k), 0) = (args.scan, scans) {
+            bail!(
+                "{}: has no scan {k} (it holds {})",
+                reader.name(),
+                super::count(read as u64, "scan")
+            );
+        }
         if scans == 0 {
             return Err(super::no_scans(reader.name(), reader.skipped()));
         }
@@ -72,6 +92,24 @@ pub fn run(args: &ConvertArgs) -> Result<()> {
         reader.skipped()
     );
     Ok(())
+}
+
+/// `e`, with the way out when it is a second scan for a format of one scan per file.
+fn one_scan_hint(e: anyhow::Error) -> anyhow::Error {
+    let one_per_file = e.chain().any(|c| {
+        matches!(
+            c.downcast_ref::<laserlines_io::WriteError>(),
+            Some(laserlines_io::WriteError::OneScanPerFile { .. })
+        )
+    });
+    if one_per_file {
+        anyhow!(
+            "{} (--scan K converts one scan of the log; .jsonl, .mcap and .parquet hold them all)",
+            laserlines_io::error_chain(e.as_ref())
+        )
+    } else {
+        e
+    }
 }
 
 /// The output format: `--to`, or told from the output's name.
