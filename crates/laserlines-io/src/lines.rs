@@ -7,7 +7,8 @@
 //! ```
 //!
 //! (one line per scan in the file). `scan` is the 0-based number of the scan in its input;
-//! `stamp` (s) and `pose` (the robot's, m and rad) appear when the input has them. Each line
+//! `stamp` (s), `pose` (the robot's, m and rad) and `odometry` (its wheel odometry, m and
+//! rad, as [`crate::ScanRecord::odometry`]) appear when the input has them. Each line
 //! carries its end points (m, sensor frame), the normal form `x cos(alpha) + y sin(alpha) = r`
 //! (`r` in m, `alpha` in rad), the first and last beam index, the number of supporting
 //! points, the RMS residual (m) and the 2x2 covariance of `(r, alpha)`. Numbers are written
@@ -36,6 +37,9 @@ pub struct ScanLines {
     /// The robot's pose when the scan was taken, when known.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pose: Option<Pose2>,
+    /// The robot's wheel odometry when the scan was taken, when the input has it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub odometry: Option<Pose2>,
     /// The lines, ordered by first beam.
     pub lines: Vec<LineRecord>,
 }

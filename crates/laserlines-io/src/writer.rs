@@ -97,8 +97,8 @@ impl Write for Output {
 }
 
 /// Writes the lines JSONL schema ([`crate::lines`]): one object per scan,
-/// `{"scan": k, "stamp": s, "pose": {..}, "lines": [..]}`, with `stamp` and `pose` only
-/// when known.
+/// `{"scan": k, "stamp": s, "pose": {..}, "odometry": {..}, "lines": [..]}`, with `stamp`,
+/// `pose` and `odometry` only when known.
 pub struct LinesWriter<W: Write> {
     out: W,
     name: String,
@@ -152,7 +152,8 @@ impl<W: Write> LinesWriter<W> {
         let mut records = std::mem::take(&mut self.records);
         let mut buf = std::mem::take(&mut self.buf);
         buf.clear();
-        let encoded = encode_scan_lines(scan, stamp, pose, lines, &mut records, &mut buf);
+        let poses = (pose, None);
+        let encoded = encode_scan_lines(scan, stamp, poses, lines, &mut records, &mut buf);
         let written = encoded.and_then(|()| self.out.write_all(&buf));
         self.records = records;
         self.buf = buf;
@@ -177,7 +178,8 @@ impl<W: Write> LinesWriter<W> {
             .map_err(|e| self.io(e))
     }
 
-    /// Writes the lines of scan number `scan`, taking the stamp and pose from its record.
+    /// Writes the lines of scan number `scan`, taking the stamp, pose and odometry from its
+    /// record.
     ///
     /// # Errors
     /// [`WriteError::Io`] when writing fails.
@@ -187,7 +189,16 @@ impl<W: Write> LinesWriter<W> {
         record: &ScanRecord,
         lines: &[Line],
     ) -> Result<(), WriteError> {
-        self.write_scan(scan, record.scan.stamp, record.pose, lines)
+        let mut records = std::mem::take(&mut self.records);
+        let mut buf = std::mem::take(&mut self.buf);
+        buf.clear();
+        let poses = (record.pose, record.odometry);
+        let stamp = record.scan.stamp;
+        let encoded = encode_scan_lines(scan, stamp, poses, lines, &mut records, &mut buf);
+        let written = encoded.and_then(|()| self.out.write_all(&buf));
+        self.records = records;
+        self.buf = buf;
+        written.map_err(|e| self.io(e))
     }
 
     /// Flushes and returns the inner writer.
@@ -215,12 +226,15 @@ pub fn encode_unnumbered(record: &ScanRecord, lines: &[Line], buf: &mut Vec<u8>)
         stamp: Option<f64>,
         #[serde(skip_serializing_if = "Option::is_none")]
         pose: Option<Pose2>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        odometry: Option<Pose2>,
         lines: &'a [LineRecord],
     }
     let records: Vec<LineRecord> = lines.iter().map(LineRecord::from).collect();
     let object = Unnumbered {
         stamp: record.scan.stamp,
         pose: record.pose,
+        odometry: record.odometry,
         lines: &records,
     };
     serde_json::to_writer(&mut *buf, &object).map_err(io::Error::other)?;
@@ -231,7 +245,7 @@ pub fn encode_unnumbered(record: &ScanRecord, lines: &[Line], buf: &mut Vec<u8>)
 fn encode_scan_lines(
     scan: u64,
     stamp: Option<f64>,
-    pose: Option<Pose2>,
+    (pose, odometry): (Option<Pose2>, Option<Pose2>),
     lines: &[Line],
     records: &mut Vec<LineRecord>,
     buf: &mut Vec<u8>,
@@ -242,6 +256,7 @@ fn encode_scan_lines(
         scan,
         stamp,
         pose,
+        odometry,
         lines: std::mem::take(records),
     };
     let serialized = serde_json::to_writer(&mut *buf, &object);

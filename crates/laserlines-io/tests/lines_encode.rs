@@ -18,12 +18,18 @@ fn encoded_lines_equal_written_lines() {
     let lines = hs.extract(&scan);
     assert_eq!(lines.len(), 1);
     let mut record = ScanRecord::new(scan);
-    for (k, (stamp, pose)) in [(None, None), (Some(12.5), Some(Pose2::new(1.0, -2.0, 0.5)))]
-        .into_iter()
-        .enumerate()
+    let (pose, odometry) = (Pose2::new(1.0, -2.0, 0.5), Pose2::new(1.25, -2.5, 0.75));
+    for (k, (stamp, pose, odometry)) in [
+        (None, None, None),
+        (Some(12.5), Some(pose), None),
+        (Some(12.5), Some(pose), Some(odometry)),
+    ]
+    .into_iter()
+    .enumerate()
     {
         record.scan.stamp = stamp;
         record.pose = pose;
+        record.odometry = odometry;
         let mut writer = LinesWriter::new(Vec::new());
         writer.write_record(k as u64, &record, &lines).unwrap();
         writer.write_record(k as u64 + 1, &record, &[]).unwrap();
@@ -36,5 +42,13 @@ fn encoded_lines_equal_written_lines() {
         again.write_numbered(k as u64 + 1, &second).unwrap();
         assert!(again.write_numbered(0, b"[1]").is_err());
         assert_eq!(again.finish().unwrap(), written);
+        // Read back: the pose and the odometry as the record has them.
+        let back =
+            laserlines_io::LinesReader::from_reader("l.jsonl", std::io::Cursor::new(written))
+                .unwrap()
+                .next()
+                .unwrap()
+                .unwrap();
+        assert_eq!((back.pose, back.odometry), (pose, odometry));
     }
 }
