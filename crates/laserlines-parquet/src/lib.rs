@@ -36,6 +36,7 @@
 //! ```
 
 pub mod columns;
+pub mod dictionary;
 mod lines;
 pub mod read;
 mod scans;

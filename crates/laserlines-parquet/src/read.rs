@@ -6,12 +6,14 @@
 //! A row that is not a valid scan (a null where a number is required, limits out of order)
 //! is an error naming the file, the row and the column; reading goes on with the next row.
 //! A file that is not Parquet, lacks a column or holds one of another type, or whose
-//! metadata places a column chunk outside the file, is an error at opening; a page that
+//! metadata places a column chunk outside the file, or one of whose dictionary pages claims
+//! more values than its bytes hold ([`crate::dictionary`]), is an error at opening; a page that
 //! cannot be decoded ends the reader with an error naming the first row of its batch.
 
 use std::fs::File;
 use std::panic::AssertUnwindSafe;
 use std::path::Path;
+use std::sync::Arc;
 
 use bytes::Bytes;
 use laserlines_io::{Format, ReadError, ScanReader, ScanRecord, ScanSource, SkipCounts, SourcePos};
@@ -20,6 +22,7 @@ use parquet::file::metadata::ParquetMetaData;
 use parquet::file::reader::ChunkReader;
 
 use crate::columns::{ScanColumns, check_schema};
+use crate::dictionary::check_dictionaries;
 
 /// Rows decoded at a time.
 const BATCH_ROWS: usize = 1024;
@@ -31,11 +34,14 @@ const BATCH_ROWS: usize = 1024;
 /// a Parquet file; [`ReadError::Field`] for a missing column or one of another type.
 pub fn open(path: &Path) -> Result<ScanReader, ReadError> {
     let name = path.display().to_string();
-    let file = File::open(path).map_err(|source| ReadError::Open {
+    let open = |source| ReadError::Open {
         file: name.clone(),
         source,
-    })?;
-    from_chunks(&name, file)
+    };
+    let file = File::open(path).map_err(open)?;
+    // A second handle, for the check of the dictionary pages before the rows are read.
+    let again = file.try_clone().map_err(open)?;
+    from_chunks(&name, file, &Arc::new(again))
 }
 
 /// Reads scans from a whole Parquet file in memory (standard input, a fuzzer's bytes).
@@ -43,10 +49,17 @@ pub fn open(path: &Path) -> Result<ScanReader, ReadError> {
 /// # Errors
 /// As [`open`], but for opening.
 pub fn from_bytes(name: &str, bytes: impl Into<Bytes>) -> Result<ScanReader, ReadError> {
-    from_chunks(name, bytes.into())
+    let bytes = bytes.into();
+    from_chunks(name, bytes.clone(), &Arc::new(bytes))
 }
 
-fn from_chunks<T: ChunkReader + 'static>(name: &str, input: T) -> Result<ScanReader, ReadError> {
+/// Opens `input` as a reader of scans; `again` is the same input, for
+/// [`check_dictionaries`].
+fn from_chunks<T: ChunkReader + 'static>(
+    name: &str,
+    input: T,
+    again: &Arc<T>,
+) -> Result<ScanReader, ReadError> {
     let not_parquet = |e: parquet::errors::ParquetError| ReadError::Syntax {
         pos: SourcePos::byte(name, 0),
         expected: "a Parquet file".to_owned(),
@@ -71,6 +84,11 @@ fn from_chunks<T: ChunkReader + 'static>(name: &str, input: T) -> Result<ScanRea
     check_chunks(builder.metadata(), file_len).map_err(|(offset, found)| ReadError::Syntax {
         pos: SourcePos::byte(name, offset),
         expected: "column chunks within the file (metadata)".to_owned(),
+        found,
+    })?;
+    check_dictionaries(builder.metadata(), again).map_err(|(offset, found)| ReadError::Syntax {
+        pos: SourcePos::byte(name, offset),
+        expected: "dictionary pages whose values fit in their bytes".to_owned(),
         found,
     })?;
     check_schema(builder.schema()).map_err(|e| ReadError::Field {

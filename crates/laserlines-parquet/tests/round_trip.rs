@@ -327,3 +327,28 @@ fn a_page_the_decoder_panics_on_is_an_error() {
         errors[0]
     );
 }
+
+/// A file the fuzzer made whose dictionary page claims about 1.4 billion doubles in a few
+/// hundred bytes: the decoder would allocate for all of them and abort the process. The
+/// reader refuses it at opening, naming the file, the offset and the claim.
+#[test]
+fn a_dictionary_claiming_more_values_than_its_bytes_is_an_error_at_opening() {
+    let bytes = std::fs::read("tests/fixtures/dictionary_claims_too_many.parquet").unwrap();
+    assert_eq!(bytes.len(), 7277);
+    let Err(e) = read::from_bytes("dictionary_claims_too_many.parquet", bytes) else {
+        panic!("a file with an impossible dictionary opened");
+    };
+    let text = e.to_string();
+    assert!(
+        text.starts_with("dictionary_claims_too_many.parquet: byte "),
+        "{text}"
+    );
+    assert!(
+        text.contains("dictionary pages whose values fit in their bytes")
+            && text.contains("values of 8 bytes in"),
+        "{text}"
+    );
+    // The tables this project writes open as before: their dictionaries pass the check.
+    let written = scans_bytes(&excerpt());
+    assert_eq!(read::from_bytes("t.parquet", written).unwrap().count(), 40);
+}
