@@ -467,7 +467,7 @@ impl Lines {
             }
             Ok(_) => {
                 self.unterminated = self.buf.last() != Some(&b'\n');
-                if self.buf.len() > MAX_LINE_BYTES && self.buf.last() != Some(&b'\n') {
+                if self.buf.len() > MAX_LINE_BYTES && self.unterminated {
                     self.done = true;
                     return Some(Err(ReadError::Io {
                         pos: SourcePos::line(&self.name, self.line),

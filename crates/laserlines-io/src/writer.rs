@@ -149,10 +149,21 @@ impl<W: Write> LinesWriter<W> {
         pose: Option<Pose2>,
         lines: &[Line],
     ) -> Result<(), WriteError> {
+        self.write_encoded(scan, stamp, (pose, None), lines)
+    }
+
+    /// Encodes scan number `scan` with its stamp, pose and odometry into the reused buffers
+    /// and writes it.
+    fn write_encoded(
+        &mut self,
+        scan: u64,
+        stamp: Option<f64>,
+        poses: (Option<Pose2>, Option<Pose2>),
+        lines: &[Line],
+    ) -> Result<(), WriteError> {
         let mut records = std::mem::take(&mut self.records);
         let mut buf = std::mem::take(&mut self.buf);
         buf.clear();
-        let poses = (pose, None);
         let encoded = encode_scan_lines(scan, stamp, poses, lines, &mut records, &mut buf);
         let written = encoded.and_then(|()| self.out.write_all(&buf));
         self.records = records;
@@ -189,16 +200,8 @@ impl<W: Write> LinesWriter<W> {
         record: &ScanRecord,
         lines: &[Line],
     ) -> Result<(), WriteError> {
-        let mut records = std::mem::take(&mut self.records);
-        let mut buf = std::mem::take(&mut self.buf);
-        buf.clear();
         let poses = (record.pose, record.odometry);
-        let stamp = record.scan.stamp;
-        let encoded = encode_scan_lines(scan, stamp, poses, lines, &mut records, &mut buf);
-        let written = encoded.and_then(|()| self.out.write_all(&buf));
-        self.records = records;
-        self.buf = buf;
-        written.map_err(|e| self.io(e))
+        self.write_encoded(scan, record.scan.stamp, poses, lines)
     }
 
     /// Flushes and returns the inner writer.

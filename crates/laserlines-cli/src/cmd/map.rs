@@ -16,7 +16,7 @@ use laserlines_slam::{Mapper, MapperParams, Se2};
 use super::map_outputs::{self, Outputs};
 use crate::InputArgs;
 
-/// A switch: loop closure.
+/// A switch: loop closure, and the log's odometry once `--odometry auto` is resolved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum OnOff {
     /// On.
@@ -194,7 +194,12 @@ fn read_and_map(
     let mut extractor = super::make_mapping_hough_split(&args.params)?;
     let mut lines = Vec::new();
     let mut run = Mapped::default();
-    let mut mode = args.odometry;
+    // `auto` is resolved at the first scan.
+    let mut mode = match args.odometry {
+        Odometry::Auto => None,
+        Odometry::On => Some(OnOff::On),
+        Odometry::Off => Some(OnOff::Off),
+    };
     for item in reader.by_ref() {
         let record = match item {
             Ok(r) => r,
@@ -209,17 +214,17 @@ fn read_and_map(
             }
         };
         let k = run.stamps.len();
-        if mode == Odometry::Auto {
-            mode = if record.odometry.is_some() {
-                Odometry::On
+        let on_off = *mode.get_or_insert_with(|| {
+            if record.odometry.is_some() {
+                OnOff::On
             } else {
                 progress.suspend(|| {
                     errln!("laserlines: {name}: no odometry in the first scan: mapped from the scans alone (--odometry off)");
                 });
-                Odometry::Off
-            };
-        }
-        let odometry = odometry_of(&record, mode, name, k)?;
+                OnOff::Off
+            }
+        });
+        let odometry = odometry_of(&record, on_off, name, k)?;
         extractor.extract_into(&record.scan, &mut lines);
         mapper
             .add_scan(&record.scan, &lines, odometry)
@@ -258,12 +263,11 @@ fn stopped_error(
 }
 
 /// The odometry of scan `k` the mapper takes: the record's with `--odometry on` (an error
-/// naming the scan when it has none), none with `--odometry off` (`auto` is resolved at the
-/// first scan).
-fn odometry_of(record: &ScanRecord, mode: Odometry, name: &str, k: usize) -> Result<Option<Se2>> {
+/// naming the scan when it has none), none with `--odometry off`.
+fn odometry_of(record: &ScanRecord, mode: OnOff, name: &str, k: usize) -> Result<Option<Se2>> {
     Ok(match (mode, record.odometry) {
-        (Odometry::On | Odometry::Auto, Some(p)) => Some(Se2::new(p.x, p.y, p.theta)),
-        (Odometry::On | Odometry::Auto, None) => bail!(
+        (OnOff::On, Some(p)) => Some(Se2::new(p.x, p.y, p.theta)),
+        (OnOff::On, None) => bail!(
             "{name}: scan {k}{}: no odometry (the log gives none for this scan{}); map it with --odometry off",
             record
                 .line
@@ -275,7 +279,7 @@ fn odometry_of(record: &ScanRecord, mode: Odometry, name: &str, k: usize) -> Res
                 ""
             }
         ),
-        (Odometry::Off, _) => None,
+        (OnOff::Off, _) => None,
     })
 }
 
