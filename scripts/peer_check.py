@@ -19,6 +19,8 @@ Written by other tools, read by laserlines:
   mcap writer (ros1msg schema, lz4 chunks).
 - foxglove.mcap: foxglove.LaserScan written by mcap-protobuf-support (zstd chunks), from a
   descriptor built here from the published schema.
+- foxglove_json.mcap: foxglove.LaserScan and foxglove.FrameTransforms (odom -> base_link) in
+  the json encoding, written by the Python mcap writer, the messages by json.dumps.
 - ros2_laserscan_sqlite3/: the messages of ros2.mcap in a ROS 2 bag directory in sqlite3
   storage (metadata.yaml and a .db3 file), written by rosbags' rosbag2 writer.
 - ros1.bag (laserlines-io's bag reader), ROS 2 bag directories in MCAP and in sqlite3
@@ -284,6 +286,102 @@ def foxglove_expected(s):
     }
 
 
+# JSON schemas of our own for the channels of foxglove_json.mcap: the fields of Foxglove's
+# published foxglove.LaserScan and foxglove.FrameTransforms, as the JSON encoding writes them.
+TIME_SCHEMA = {
+    "type": "object",
+    "properties": {"sec": {"type": "integer"}, "nsec": {"type": "integer"}},
+}
+JSON_LASERSCAN_SCHEMA = {
+    "title": "foxglove.LaserScan",
+    "type": "object",
+    "properties": {
+        "timestamp": TIME_SCHEMA,
+        "frame_id": {"type": "string"},
+        "start_angle": {"type": "number"},
+        "end_angle": {"type": "number"},
+        "ranges": {"type": "array", "items": {"type": "number"}},
+        "intensities": {"type": "array", "items": {"type": "number"}},
+    },
+}
+XYZ = {"type": "object", "properties": {k: {"type": "number"} for k in "xyz"}}
+XYZW = {"type": "object", "properties": {k: {"type": "number"} for k in "xyzw"}}
+JSON_TRANSFORMS_SCHEMA = {
+    "title": "foxglove.FrameTransforms",
+    "type": "object",
+    "properties": {
+        "transforms": {
+            "type": "array",
+            "items": {
+                "type": "object",
+                "properties": {
+                    "timestamp": TIME_SCHEMA,
+                    "parent_frame_id": {"type": "string"},
+                    "child_frame_id": {"type": "string"},
+                    "translation": XYZ,
+                    "rotation": XYZW,
+                },
+            },
+        }
+    },
+}
+
+
+def json_odometry(k):
+    """The odometry (x, y, theta) published on /tf before scan k of foxglove_json.mcap."""
+    return (0.5 * k - 0.25, 1.5 + 0.125 * k, 0.3 - 0.7 * k)
+
+
+def write_foxglove_json_mcap(path):
+    """foxglove.LaserScan and foxglove.FrameTransforms in the json encoding, written by the
+    Python mcap writer, the messages by json.dumps with its defaults (NaN and Infinity as
+    Python writes them); /tf gives odom -> base_link before each scan."""
+    from mcap.writer import Writer
+
+    with open(path, "wb") as f:
+        w = Writer(f)
+        w.start()
+        scan_schema = w.register_schema(
+            "foxglove.LaserScan", "jsonschema", json.dumps(JSON_LASERSCAN_SCHEMA).encode()
+        )
+        tf_schema = w.register_schema(
+            "foxglove.FrameTransforms", "jsonschema", json.dumps(JSON_TRANSFORMS_SCHEMA).encode()
+        )
+        tf = w.register_channel("/tf", "json", tf_schema)
+        laser = w.register_channel("/laser", "json", scan_schema)
+        for k, s in enumerate(foxglove_scans()):
+            x, y, theta = json_odometry(k)
+            sec, nsec = divmod(s["log_time"] - 1, 1_000_000_000)
+            transform = {
+                "timestamp": {"sec": sec, "nsec": nsec},
+                "parent_frame_id": "odom",
+                "child_frame_id": "base_link",
+                "translation": {"x": x, "y": y, "z": 0.0},
+                "rotation": {"x": 0.0, "y": 0.0, "z": math.sin(theta / 2), "w": math.cos(theta / 2)},
+            }
+            data = json.dumps({"transforms": [transform]}).encode()
+            w.add_message(tf, log_time=s["log_time"] - 1, data=data, publish_time=s["log_time"] - 1)
+            m = {
+                "frame_id": "laser",
+                "start_angle": s["start_angle"],
+                "end_angle": s["end_angle"],
+                "ranges": s["ranges"],
+                "intensities": s["intensities"],
+            }
+            if s["timestamp"]:
+                m["timestamp"] = {"sec": s["timestamp"][0], "nsec": s["timestamp"][1]}
+            data = json.dumps(m).encode()
+            w.add_message(laser, log_time=s["log_time"], data=data, publish_time=s["log_time"])
+        w.finish()
+
+
+def foxglove_json_expected(k, s):
+    e = foxglove_expected(s)
+    e["odometry"] = list(json_odometry(k))
+    e["pose"] = list(json_odometry(k))
+    return e
+
+
 def write_ros1_bag(path):
     from rosbags.rosbag1 import Writer
     from rosbags.typesys import Stores, get_typestore
@@ -338,6 +436,7 @@ def write_fixtures(out):
     write_ros2_sqlite_dir(out / "ros2_laserscan_sqlite3")
     write_ros1_mcap(out / "ros1_laserscan.mcap")
     write_foxglove_mcap(out / "foxglove_laserscan.mcap")
+    write_foxglove_json_mcap(out / "foxglove_json.mcap")
     ros2 = {
         "/scan": [expected_record(s) for s in scans(0)],
         "/scan_rear": [expected_record(s) for s in scans(1)],
@@ -347,6 +446,9 @@ def write_fixtures(out):
         "ros2_laserscan_sqlite3": ros2,
         "ros1_laserscan.mcap": {"/scan": [expected_record(s) for s in scans(0)]},
         "foxglove_laserscan.mcap": {"/laser": [foxglove_expected(s) for s in foxglove_scans()]},
+        "foxglove_json.mcap": {
+            "/laser": [foxglove_json_expected(k, s) for k, s in enumerate(foxglove_scans())]
+        },
     }
     (out / "expected.json").write_text(json.dumps(expected, indent=1) + "\n")
     return expected
@@ -410,6 +512,18 @@ def check_reader(bin_, fx, expected, fails, tmp):
                     else:
                         fails.eq(f"{at} ranges[{i}]", a, b)
                 fails.eq(f"{at} intensities", g.get("intensities"), w["intensities"] and [as_float(x) for x in w["intensities"]])
+                for key in ("pose", "odometry"):
+                    want = w.get(key)
+                    got = g.get(key)
+                    if want is None:
+                        fails.eq(f"{at} {key}", got, None)
+                    else:
+                        got = got and [got["x"], got["y"], got["theta"]]
+                        fails.eq(f"{at} {key}", got is not None, True)
+                        if got is not None:
+                            for name, a, b in zip("xy", got, want):
+                                fails.eq(f"{at} {key}.{name}", a, b)
+                            fails.eq(f"{at} {key}.theta", abs(got[2] - want[2]) < 1e-12, True)
 
 
 def our_scans():

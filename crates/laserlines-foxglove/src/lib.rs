@@ -5,7 +5,7 @@
 //! live server).
 //!
 //! - [`read`]: a streaming MCAP reader of LaserScans (ROS 2 `sensor_msgs/msg/LaserScan` in
-//!   CDR, ROS 1 `sensor_msgs/LaserScan`, `foxglove.LaserScan` in protobuf), giving a
+//!   CDR, ROS 1 `sensor_msgs/LaserScan`, `foxglove.LaserScan` in protobuf or JSON), giving a
 //!   [`laserlines_io::ScanReader`] like every other format.
 //! - [`write`]: scans, lines and poses into an MCAP file that Foxglove plays.
 //! - [`files`]: the choice between MCAP and the formats of `laserlines-io`, for input
@@ -51,6 +51,7 @@
 
 pub mod files;
 pub mod grid;
+pub mod json;
 #[cfg(feature = "live")]
 pub mod live;
 pub mod message;

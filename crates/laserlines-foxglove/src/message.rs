@@ -8,24 +8,29 @@ use laserlines::Scan;
 use laserlines_io::DecodeError;
 use prost::Message as _;
 
+use crate::json::{self, JsonMessageError};
 use crate::proto::{self, RangeLimits};
 use crate::read::ScanEncoding;
 use crate::ros;
 
 impl ScanEncoding {
     /// The encoding of a channel with schema `schema` and message encoding `encoding`
-    /// (`sensor_msgs/msg/LaserScan` in `cdr`, `sensor_msgs/LaserScan` in `ros1`,
-    /// `foxglove.LaserScan` in `protobuf`); `None` for anything else.
+    /// ([`SCAN_ENCODINGS`]); `None` for anything else.
     #[must_use]
     pub fn of_channel(schema: &str, encoding: &str) -> Option<Self> {
         match (schema, encoding) {
             ("sensor_msgs/msg/LaserScan", "cdr") => Some(Self::Ros2Cdr),
             ("sensor_msgs/LaserScan", "ros1") => Some(Self::Ros1),
             ("foxglove.LaserScan", "protobuf") => Some(Self::FoxgloveProtobuf),
+            ("foxglove.LaserScan", "json") => Some(Self::FoxgloveJson),
             _ => None,
         }
     }
 }
+
+/// The LaserScans this crate decodes, for messages that name them.
+pub const SCAN_ENCODINGS: &str = "sensor_msgs/msg/LaserScan in cdr, sensor_msgs/LaserScan in ros1, \
+                                  or foxglove.LaserScan in protobuf or json";
 
 /// Why a message is not a LaserScan of its encoding.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -36,6 +41,9 @@ pub enum MessageError {
     /// A protobuf message that does not decode.
     #[error("expected a protobuf foxglove.LaserScan, found bytes that do not decode ({0})")]
     Protobuf(String),
+    /// A JSON message that does not decode: the field and what was wrong.
+    #[error(transparent)]
+    Json(#[from] JsonMessageError),
 }
 
 /// The scan of one message of `encoding`. `limits` are the channel's range limits (for
@@ -56,6 +64,9 @@ pub fn decode_scan(
         ScanEncoding::FoxgloveProtobuf => {
             let msg = LaserScan::decode(data).map_err(|e| MessageError::Protobuf(e.to_string()))?;
             proto::scan_from_foxglove(&msg, limits, log_seconds)
+        }
+        ScanEncoding::FoxgloveJson => {
+            proto::scan_from_foxglove(&json::laser_scan(data)?, limits, log_seconds)
         }
     };
     if scan.stamp.is_none() && log_seconds > 0.0 {

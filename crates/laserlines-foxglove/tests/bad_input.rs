@@ -226,6 +226,51 @@ fn a_file_without_laserscans_says_which_channels_it_has() {
     assert!(e.contains("/chatter (std_msgs/msg/String)"), "{e}");
 }
 
+#[test]
+fn a_json_laserscan_with_a_bad_field_is_an_error_naming_topic_field_and_byte() {
+    let mut w = mcap::Writer::new(Cursor::new(Vec::new())).unwrap();
+    let s = w
+        .add_schema("foxglove.LaserScan", "jsonschema", b"{}")
+        .unwrap();
+    let c = w
+        .add_channel(s, "/laser", "json", &Default::default())
+        .unwrap();
+    let messages: [&[u8]; 3] = [
+        br#"{"start_angle": -1.0, "end_angle": 1.0, "ranges": [1.0, null, 2.0]}"#,
+        br#"{"start_angle": -1.0, "end_angle": 1.0, "ranges": [1.0, "far", 2.0]}"#,
+        br#"{"start_angle": -1.0, "end_angle": 1.0, "ranges": [1.0, 1.5, 2.0]}"#,
+    ];
+    for (k, data) in messages.iter().enumerate() {
+        let header = mcap::records::MessageHeader {
+            channel_id: c,
+            sequence: k as u32,
+            log_time: 1_000_000_000 * (k as u64 + 1),
+            publish_time: 0,
+        };
+        w.write_to_known_channel(&header, data).unwrap();
+    }
+    w.finish().unwrap();
+    let items = read_all("json.mcap", w.into_inner().into_inner());
+    assert_eq!(items.len(), 3);
+    let first = items[0].as_ref().unwrap();
+    assert_eq!(first.scan.angle_increment, 1.0);
+    assert!(first.scan.ranges[1].is_nan());
+    assert_eq!(
+        first.scan.stamp,
+        Some(1.0),
+        "the log time, without a timestamp"
+    );
+    let e = items[1].as_ref().unwrap_err();
+    let text = e.to_string();
+    assert!(text.starts_with("json.mcap: byte "), "{text}");
+    assert!(text.contains("/laser message"), "{text}");
+    assert!(text.contains("ranges[1]"), "{text}");
+    assert!(text.contains("expected a number or null"), "{text}");
+    assert!(text.contains("a string (\"far\")"), "{text}");
+    byte_of(e);
+    assert_eq!(items[2].as_ref().unwrap().scan.ranges, vec![1.0, 1.5, 2.0]);
+}
+
 /// A tiny deterministic generator for byte mutations.
 struct Lcg(u64);
 

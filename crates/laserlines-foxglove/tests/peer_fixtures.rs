@@ -1,5 +1,6 @@
 //! MCAP files and a ROS 2 bag in sqlite3 storage written by other tools (rosbags' rosbag2
-//! writer, rosbags' ROS 1 serializer with the Python mcap writer, mcap-protobuf-support), read
+//! writer, rosbags' ROS 1 serializer with the Python mcap writer, mcap-protobuf-support, the
+//! Python mcap writer with JSON messages from `json.dumps`), read
 //! by our reader and compared value by value with what the script that wrote them put in
 //! (`expected.json`). The files and the
 //! values come from `scripts/peer_check.py fixtures crates/laserlines-foxglove/tests/fixtures`.
@@ -74,7 +75,19 @@ fn check_file(name: &str, topics: &serde_json::Map<String, Value>) -> usize {
                 }
                 (a, b) => panic!("{at} intensities: {a:?} vs {b:?}"),
             }
-            assert_eq!(g.pose, None, "{at} pose");
+            for (key, got) in [("pose", g.pose), ("odometry", g.odometry)] {
+                match w.get(key).and_then(Value::as_array) {
+                    None => assert_eq!(got, None, "{at} {key}"),
+                    Some(want) => {
+                        let got = got.unwrap_or_else(|| panic!("{at}: no {key}"));
+                        assert!(same(got.x, num(&want[0])), "{at} {key}.x");
+                        assert!(same(got.y, num(&want[1])), "{at} {key}.y");
+                        let dtheta = got.theta - num(&want[2]);
+                        assert!(dtheta.abs() < 1e-12, "{at} {key}.theta {}", got.theta);
+                        compared += 3;
+                    }
+                }
+            }
         }
     }
     compared
@@ -85,7 +98,7 @@ fn files_written_by_rosbags_and_the_python_mcap_writers_read_value_for_value() {
     let text = std::fs::read_to_string(fixtures().join("expected.json")).unwrap();
     let expected: Value = serde_json::from_str(&text).unwrap();
     let files = expected.as_object().unwrap();
-    assert_eq!(files.len(), 4);
+    assert_eq!(files.len(), 5);
     let mut compared = 0;
     for (name, topics) in files {
         compared += check_file(name, topics.as_object().unwrap());

@@ -317,7 +317,7 @@ pub enum WriteError {
 }
 
 /// Human description of a JSON value's kind, for "found ..." messages.
-pub(crate) fn json_kind(v: &serde_json::Value) -> String {
+pub fn json_kind(v: &serde_json::Value) -> String {
     use serde_json::Value;
     match v {
         Value::Null => "null".to_owned(),

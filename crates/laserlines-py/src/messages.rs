@@ -8,6 +8,7 @@ use arrow_array::{Array, ArrayRef, RecordBatch};
 use arrow_pyarrow::{FromPyArrow, IntoPyArrow, Table};
 use arrow_schema::DataType;
 use laserlines_foxglove::ScanEncoding;
+use laserlines_foxglove::message::SCAN_ENCODINGS;
 use laserlines_foxglove::message::decode_scan;
 use laserlines_foxglove::proto::RangeLimits;
 use laserlines_io::ScanRecord;
@@ -61,8 +62,7 @@ pub fn scan_of_row(batch: &RecordBatch, row: usize) -> Result<ScanRecord, String
     let (schema, encoding) = (text("schema_name")?, text("message_encoding")?);
     let kind = ScanEncoding::of_channel(&schema, &encoding).ok_or_else(|| {
         format!(
-            "messages: row {row}: {schema} in {encoding} is not a LaserScan (sensor_msgs/msg/LaserScan \
-             in cdr, sensor_msgs/LaserScan in ros1 or foxglove.LaserScan in protobuf); \
+            "messages: row {row}: {schema} in {encoding} is not a LaserScan ({SCAN_ENCODINGS}); \
              read_mcap(topics=...) picks the scans"
         )
     })?;

@@ -1,7 +1,7 @@
 //! Schemas and channels: what each channel carries, and the decoding of its messages
 //! (LaserScans in three encodings, transforms for poses).
 
-use foxglove::messages::FrameTransform;
+use foxglove::messages::{FrameTransform, FrameTransforms};
 use laserlines_io::{DecodeError, Pose2, ReadError, ScanRecord, SkipCounts};
 use prost::Message as _;
 
@@ -9,9 +9,23 @@ use super::records::{Body, Loc};
 use super::{
     McapScanSource, SKIP_BAD_TRANSFORM, SKIP_OTHER_TOPIC, SKIP_UNKNOWN_CHANNEL, ScanEncoding,
 };
-use crate::message::{self, MessageError};
+use crate::json;
+use crate::message::{self, MessageError, SCAN_ENCODINGS};
 use crate::proto::{self, RangeLimits};
 use crate::{ODOM_FRAME, ROBOT_FRAME};
+
+/// How a channel's transforms come.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum TransformKind {
+    /// One `foxglove.FrameTransform` in protobuf.
+    Protobuf,
+    /// One `foxglove.FrameTransform` in JSON.
+    Json,
+    /// `foxglove.FrameTransforms` (a list) in protobuf.
+    ProtobufList,
+    /// `foxglove.FrameTransforms` in JSON.
+    JsonList,
+}
 
 /// What a channel carries, as far as this reader cares.
 #[derive(Debug, Clone, PartialEq)]
@@ -20,10 +34,24 @@ pub(super) enum Role {
     Scan(ScanEncoding, RangeLimits),
     /// LaserScans in an encoding this reader does not decode.
     UnsupportedScan,
-    /// `foxglove.FrameTransform`, for poses.
-    Transform,
+    /// `foxglove.FrameTransform` or `foxglove.FrameTransforms`, for poses.
+    Transform(TransformKind),
     /// Anything else.
     Other,
+}
+
+/// The transforms of a message of `kind`, in their order; `Err` when it does not decode.
+fn decode_transforms(kind: TransformKind, data: &[u8]) -> Result<Vec<FrameTransform>, ()> {
+    match kind {
+        TransformKind::Protobuf => FrameTransform::decode(data).map(|t| vec![t]).map_err(drop),
+        TransformKind::Json => json::frame_transform(data).map(|t| vec![t]).map_err(drop),
+        TransformKind::ProtobufList => FrameTransforms::decode(data)
+            .map(|l| l.transforms)
+            .map_err(drop),
+        TransformKind::JsonList => json::frame_transforms(data)
+            .map(|l| l.transforms)
+            .map_err(drop),
+    }
 }
 
 pub(super) fn is_scan_schema(name: &str) -> bool {
@@ -38,7 +66,10 @@ pub(super) fn role_of(schema: &str, encoding: &str, limits: RangeLimits) -> Role
         return Role::Scan(e, limits);
     }
     match (schema, encoding) {
-        ("foxglove.FrameTransform", "protobuf") => Role::Transform,
+        ("foxglove.FrameTransform", "protobuf") => Role::Transform(TransformKind::Protobuf),
+        ("foxglove.FrameTransform", "json") => Role::Transform(TransformKind::Json),
+        ("foxglove.FrameTransforms", "protobuf") => Role::Transform(TransformKind::ProtobufList),
+        ("foxglove.FrameTransforms", "json") => Role::Transform(TransformKind::JsonList),
         (s, _) if is_scan_schema(s) => Role::UnsupportedScan,
         _ => Role::Other,
     }
@@ -96,8 +127,7 @@ impl McapScanSource {
             let e = self.syntax(
                 loc.byte(),
                 format!(
-                    "topic {topic}{} to carry LaserScans (sensor_msgs/msg/LaserScan in cdr, \
-                     sensor_msgs/LaserScan in ros1 or foxglove.LaserScan in protobuf)",
+                    "topic {topic}{} to carry LaserScans ({SCAN_ENCODINGS})",
                     loc.context()
                 ),
                 format!("{what} in the {encoding:?} encoding"),
@@ -134,10 +164,10 @@ impl McapScanSource {
             return Ok(());
         };
         match &channel.role {
-            Role::Transform => {
-                match FrameTransform::decode(data) {
-                    Ok(t) => self.take_transform(&t),
-                    Err(_) => skipped.add(SKIP_BAD_TRANSFORM),
+            Role::Transform(kind) => {
+                match decode_transforms(*kind, data) {
+                    Ok(list) => list.iter().for_each(|t| self.take_transform(t)),
+                    Err(()) => skipped.add(SKIP_BAD_TRANSFORM),
                 }
                 Ok(())
             }
@@ -184,6 +214,12 @@ impl McapScanSource {
         let scan =
             message::decode_scan(encoding, limits, data, log_seconds).map_err(|e| match e {
                 MessageError::Ros(e) => field_error(e),
+                MessageError::Json(e) => ReadError::Field {
+                    pos: self.at(loc.byte()),
+                    field: format!("{} message{}: {}", channel.topic, loc.context(), e.field),
+                    expected: e.expected,
+                    found: e.found,
+                },
                 MessageError::Protobuf(e) => ReadError::Field {
                     pos: self.at(loc.byte()),
                     field: format!("{} message{}", channel.topic, loc.context()),
@@ -236,5 +272,43 @@ impl McapScanSource {
             }
             _ => {}
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use laserlines_io::Pose2;
+
+    #[test]
+    fn transforms_decode_alone_and_as_a_list_in_both_encodings() {
+        let a = proto::transform_from_pose("odom", "base_link", Pose2::new(1.0, 2.0, 0.5), 3.0);
+        let b = proto::transform_from_pose("map", "odom", Pose2::new(-1.0, 0.0, 0.0), 3.0);
+        let list = FrameTransforms {
+            transforms: vec![a.clone(), b.clone()],
+        };
+        let kinds = [
+            ("foxglove.FrameTransform", "protobuf"),
+            ("foxglove.FrameTransforms", "protobuf"),
+        ];
+        let roles: Vec<_> = kinds
+            .iter()
+            .map(|(s, e)| role_of(s, e, RangeLimits::default()))
+            .collect();
+        assert_eq!(roles[0], Role::Transform(TransformKind::Protobuf));
+        assert_eq!(roles[1], Role::Transform(TransformKind::ProtobufList));
+        let one = decode_transforms(TransformKind::Protobuf, &a.encode_to_vec()).unwrap();
+        assert_eq!(one, vec![a.clone()]);
+        let both = decode_transforms(TransformKind::ProtobufList, &list.encode_to_vec()).unwrap();
+        assert_eq!(both, vec![a, b]);
+        let json = br#"{"transforms": [{"child_frame_id": "base_link"}]}"#;
+        let from_json = decode_transforms(TransformKind::JsonList, json).unwrap();
+        assert_eq!(from_json[0].child_frame_id, "base_link");
+        assert!(decode_transforms(TransformKind::Json, b"[]").is_err());
+        assert!(decode_transforms(TransformKind::ProtobufList, &[0xff, 0xff]).is_err());
+        assert_eq!(
+            role_of("foxglove.FrameTransforms", "json", RangeLimits::default()),
+            Role::Transform(TransformKind::JsonList)
+        );
     }
 }

@@ -6,21 +6,23 @@
 //! stops at the `DataEnd` record (or the footer), and reads of the summary only the
 //! `Statistics` record, to count the scans of a skipped chunk.
 //!
-//! Messages come out in file order. Three LaserScan encodings are read:
+//! Messages come out in file order. Four LaserScan encodings are read:
 //!
 //! | schema name | message encoding | decoder |
 //! |---|---|---|
 //! | `sensor_msgs/msg/LaserScan` | `cdr` | [`crate::ros::decode_cdr`] (ROS 2) |
 //! | `sensor_msgs/LaserScan` | `ros1` | [`crate::ros::decode_ros1`] (ROS 1) |
 //! | `foxglove.LaserScan` | `protobuf` | `prost` ([`crate::proto`]) |
+//! | `foxglove.LaserScan` | `json` | [`crate::json`] |
 //!
 //! One topic is read: [`McapReadOptions::topic`], or else the first topic whose channel
 //! carries a LaserScan. LaserScans on other topics are counted as skipped. The stamp is the
 //! message header's (`foxglove.LaserScan`: its `timestamp`), or the record's log time when the
-//! header stamp is zero. Poses: `foxglove.FrameTransform` messages give the pose and the
-//! odometry of the scans that follow (REP 105 frames): `odom -> base_link` is the odometry;
-//! any other `X -> base_link` is the pose, and so is `X -> odom` followed by the odometry
-//! (as laserlines writes them on `/tf`).
+//! header stamp is zero. Poses: `foxglove.FrameTransform` messages (and each transform of a
+//! `foxglove.FrameTransforms`, in protobuf or JSON) give the pose and the odometry of the
+//! scans that follow (REP 105 frames): `odom -> base_link` is the odometry; any other
+//! `X -> base_link` is the pose, and so is `X -> odom` followed by the odometry (as
+//! laserlines writes them on `/tf`).
 //!
 //! Bad input gives errors naming the file and the byte offset of the record (for a record
 //! inside a compressed chunk: the chunk's offset, and the record's offset in the decompressed
@@ -58,7 +60,7 @@ pub const MAGIC: [u8; 8] = [0x89, b'M', b'C', b'A', b'P', 0x30, b'\r', b'\n'];
 
 /// Skip reason for LaserScans on topics other than the one read.
 pub const SKIP_OTHER_TOPIC: &str = "LaserScan on another topic";
-/// Skip reason for `foxglove.FrameTransform` messages that do not decode.
+/// Skip reason for `foxglove.FrameTransform(s)` messages that do not decode.
 pub const SKIP_BAD_TRANSFORM: &str = "malformed FrameTransform";
 /// Skip reason for messages on a channel that was never declared.
 pub const SKIP_UNKNOWN_CHANNEL: &str = "message on an undeclared channel";
@@ -106,6 +108,8 @@ pub enum ScanEncoding {
     Ros1,
     /// `foxglove.LaserScan` in protobuf.
     FoxgloveProtobuf,
+    /// `foxglove.LaserScan` in JSON ([`crate::json`]).
+    FoxgloveJson,
 }
 
 /// The [`ScanSource`] of MCAP files: yields the LaserScans of one topic, in file order.
@@ -370,9 +374,7 @@ impl McapScanSource {
             };
             let expected = match &self.options.topic {
                 Some(t) => format!("a channel on topic {t}"),
-                None => "a LaserScan channel (sensor_msgs/msg/LaserScan, sensor_msgs/LaserScan \
-                         or foxglove.LaserScan)"
-                    .to_owned(),
+                None => format!("a LaserScan channel ({})", crate::message::SCAN_ENCODINGS),
             };
             let e = self.syntax(at, expected, shown);
             self.pending.push_back(Err(e));

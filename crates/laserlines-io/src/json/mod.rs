@@ -73,6 +73,22 @@ impl Strings {
 
 pub(crate) use element::Element;
 
+/// JSON text as Python's `json.dump` writes it by default, for other readers of JSON: `text`
+/// with every `NaN` outside strings rewritten as `null` and every `Infinity` and `-Infinity`
+/// as a string that [`python_infinity`] reads back (see the module docs); `None` when the
+/// text has none of them.
+#[must_use]
+pub fn rewrite_python_tokens(text: &str) -> Option<String> {
+    tokens::rewrite(text).map(|r| r.text)
+}
+
+/// The infinity that a string of a text from [`rewrite_python_tokens`] stands for, if it is
+/// one of its stand-ins.
+#[must_use]
+pub fn python_infinity(s: &str) -> Option<f64> {
+    tokens::standin(s)
+}
+
 /// Reads JSONL: one scan object per line.
 pub(crate) struct JsonlSource {
     name: String,
