@@ -403,3 +403,33 @@ fn a_closed_standard_error_changes_no_exit_code() {
         assert_eq!(status.code(), Some(code), "{args:?}");
     }
 }
+
+#[test]
+fn a_spinning_scanners_raw_readings_give_the_rooms_four_walls() {
+    // Clockwise degrees and millimetres at uneven bearings (tests/fixtures/readings_room.csv
+    // of laserlines-io): the room x = +-2, y = +-1.5 m seen from (0.5, -0.3).
+    let o = run(bin()
+        .args(["extract", "-o", "-"])
+        .arg(common::io_fixture("readings_room.csv")));
+    assert!(o.status.success(), "{}", common::stderr(&o));
+    let out = common::text(&o.stdout);
+    let record: serde_json::Value = serde_json::from_str(out.lines().next().unwrap()).unwrap();
+    let lines = record["lines"].as_array().unwrap();
+    use std::f64::consts::{FRAC_PI_2, PI, TAU};
+    let walls = [(1.5, 0.0), (2.5, PI), (1.8, FRAC_PI_2), (1.2, -FRAC_PI_2)];
+    for (r, alpha) in walls {
+        let found = lines.iter().any(|l| {
+            let (lr, la) = (l["r"].as_f64().unwrap(), l["alpha"].as_f64().unwrap());
+            let da = (la - alpha + PI).rem_euclid(TAU) - PI;
+            (lr - r).abs() < 0.03 && da.abs() < 0.03
+        });
+        assert!(found, "wall r {r} alpha {alpha}: {out}");
+    }
+    let err = common::stderr(&o);
+    assert!(
+        err.contains(
+            "skipped: 38 × reading on a beam that kept a better one (readings put on a grid of beams)"
+        ),
+        "{err}"
+    );
+}

@@ -27,6 +27,16 @@
 //!   three); other comments are ignored. The CSV writer writes them all, so that a scan
 //!   (even one of 0 or 1 beams) survives a round trip exactly.
 //!
+//! **Readings at their own bearings.** A spinning scanner's raw output (an RPLIDAR's or a
+//! YDLIDAR's: bearings that are not evenly spaced) has the header `angle_rad,range_m`, without
+//! `index`; `angle_deg` and `range_mm` name those units instead. Its rows are put on a grid
+//! of evenly spaced beams by [`laserlines::bearings::grid`] (the median spacing, or `#
+//! angle_increment:`; a full turn, or a sector starting after its widest gap; a beam without
+//! a reading is NaN). A row may come in any order. `# clockwise: 1` says the bearings turn
+//! clockwise (as the RPLIDAR SDK's do); they are then negated. Two readings on one beam keep
+//! the one inside the range limits, then the nearer; each reading left out is counted as
+//! skipped under [`SKIP_SHARED_BEAM`]. `# angle_min:` does not apply to such a file.
+//!
 //! Any error (a missing column, a bad number, non-uniform angles) ends the reader: the file
 //! holds only one scan.
 
@@ -41,6 +51,12 @@ use crate::skip::SkipCounts;
 pub const HEADER: &str = "index,angle_rad,range_m";
 /// The header of a CSV scan with intensities.
 pub const HEADER_WITH_INTENSITY: &str = "index,angle_rad,range_m,intensity";
+/// The header of readings at their own bearings (radians, metres; `angle_deg` and
+/// `range_mm` name those units instead).
+pub const READINGS_HEADER: &str = "angle_rad,range_m";
+/// Skip reason of a reading at its own bearing left out because its beam kept a better one.
+pub const SKIP_SHARED_BEAM: &str =
+    "reading on a beam that kept a better one (readings put on a grid of beams)";
 /// Non-uniform angles are accepted up to this fraction of the increment.
 pub const ANGLE_TOLERANCE: f64 = 0.01;
 /// The `range_min` given to a CSV scan without a `# range_min:` comment, m.
@@ -56,6 +72,8 @@ struct Meta {
     stamp: Option<f64>,
     angle_min: Option<f64>,
     angle_increment: Option<f64>,
+    clockwise: Option<f64>,
+    angle_min_line: usize,
     pose: [Option<f64>; 3],
     pose_line: usize,
     odometry: [Option<f64>; 3],
@@ -67,6 +85,8 @@ pub(crate) struct CsvSource {
     name: String,
     lines: Lines,
     done: bool,
+    /// Readings left out by the grid of a file of readings, to count as skipped.
+    shared: u64,
 }
 
 impl CsvSource {
@@ -75,6 +95,7 @@ impl CsvSource {
             name: name.to_owned(),
             lines: Lines::new(name, input),
             done: false,
+            shared: 0,
         }
     }
 
@@ -90,6 +111,9 @@ impl CsvSource {
             });
         };
         let end_line = self.lines.line_number() + 1;
+        if let Columns::Readings { .. } = columns {
+            return self.read_readings(&meta, rows, header_line, end_line);
+        }
         let (angle_min, increment) = geometry(&name, &meta, &rows, end_line)?;
         let pose = triple(&name, "pose", meta.pose, meta.pose_line)?;
         let odometry = triple(&name, "odometry", meta.odometry, meta.odometry_line)?;
@@ -100,7 +124,8 @@ impl CsvSource {
             range_min: meta.range_min.unwrap_or(DEFAULT_RANGE_MIN),
             range_max: meta.range_max.unwrap_or(DEFAULT_RANGE_MAX),
             ranges: rows.ranges,
-            intensities: (columns == 4).then_some(rows.intensities),
+            intensities: (columns == Columns::Indexed { intensity: true })
+                .then_some(rows.intensities),
             stamp: meta.stamp,
         };
         scan.validate().map_err(|source| ReadError::InvalidScan {
@@ -112,6 +137,64 @@ impl CsvSource {
             pose,
             odometry,
             line: Some(first_line),
+        })
+    }
+
+    /// The scan of a file of readings at their own bearings (`rows`), on a grid of beams.
+    fn read_readings(
+        &mut self,
+        meta: &Meta,
+        rows: Rows,
+        header_line: usize,
+        end_line: usize,
+    ) -> Result<ScanRecord, ReadError> {
+        let name = self.name.clone();
+        if meta.angle_min.is_some() {
+            return Err(ReadError::Field {
+                pos: SourcePos::line(&name, meta.angle_min_line),
+                field: "# angle_min".to_owned(),
+                expected: "no `# angle_min:` in a file of readings at their own bearings (the \
+                           grid starts at a reading)"
+                    .to_owned(),
+                found: "one".to_owned(),
+            });
+        }
+        let clockwise = meta.clockwise.is_some_and(|c| c != 0.0);
+        let mut bearings = rows.angles;
+        if clockwise {
+            bearings.iter_mut().for_each(|b| *b = -*b);
+        }
+        let gridded = laserlines::bearings::grid(
+            &bearings,
+            &rows.ranges,
+            meta.angle_increment,
+            meta.range_min.unwrap_or(DEFAULT_RANGE_MIN),
+            meta.range_max.unwrap_or(DEFAULT_RANGE_MAX),
+        )
+        .map_err(|e| match e {
+            laserlines::bearings::GridError::Scan(source) => ReadError::InvalidScan {
+                pos: SourcePos::line(&name, header_line),
+                source,
+            },
+            laserlines::bearings::GridError::Empty => ReadError::Syntax {
+                pos: SourcePos::line(&name, end_line),
+                expected: "at least one row of readings".to_owned(),
+                found: "the end of the input".to_owned(),
+            },
+            other => ReadError::Syntax {
+                pos: SourcePos::line(&name, header_line),
+                expected: "readings that make a grid of beams".to_owned(),
+                found: other.to_string(),
+            },
+        })?;
+        self.shared = gridded.shared as u64;
+        let mut scan = gridded.scan;
+        scan.stamp = meta.stamp;
+        Ok(ScanRecord {
+            scan,
+            pose: triple(&name, "pose", meta.pose, meta.pose_line)?,
+            odometry: triple(&name, "odometry", meta.odometry, meta.odometry_line)?,
+            line: rows.lines.first().copied(),
         })
     }
 
@@ -137,19 +220,20 @@ impl CsvSource {
                 rows.header = Some((line, header_columns(&name, line, trimmed, &fields)?));
                 continue;
             };
-            if fields.len() != columns {
-                let names = if columns == 3 {
-                    HEADER
-                } else {
-                    HEADER_WITH_INTENSITY
-                };
+            if fields.len() != columns.count() {
                 return Err(ReadError::Syntax {
                     pos: SourcePos::line(&name, line),
-                    expected: format!("{columns} columns ({names})"),
+                    expected: format!("{} columns ({})", columns.count(), columns.names()),
                     found: format!("{} columns: {}", fields.len(), shown(trimmed)),
                 });
             }
-            let (angle, range, intensity) = parse_row(&name, line, &fields, rows.angles.len())?;
+            let (angle, range, intensity) = match columns {
+                Columns::Indexed { .. } => parse_row(&name, line, &fields, rows.angles.len())?,
+                Columns::Readings {
+                    degrees,
+                    millimetres,
+                } => parse_reading(&name, line, &fields, degrees, millimetres)?,
+            };
             if let Some(intensity) = intensity {
                 rows.intensities.push(intensity);
             }
@@ -161,11 +245,44 @@ impl CsvSource {
     }
 }
 
+/// The columns a header names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Columns {
+    /// `index,angle_rad,range_m[,intensity]`: evenly spaced beams.
+    Indexed { intensity: bool },
+    /// `angle_rad|angle_deg,range_m|range_mm`: readings at their own bearings.
+    Readings { degrees: bool, millimetres: bool },
+}
+
+impl Columns {
+    fn count(self) -> usize {
+        match self {
+            Self::Indexed { intensity } => 3 + usize::from(intensity),
+            Self::Readings { .. } => 2,
+        }
+    }
+
+    fn names(self) -> String {
+        match self {
+            Self::Indexed { intensity: false } => HEADER.to_owned(),
+            Self::Indexed { intensity: true } => HEADER_WITH_INTENSITY.to_owned(),
+            Self::Readings {
+                degrees,
+                millimetres,
+            } => format!(
+                "{},{}",
+                if degrees { "angle_deg" } else { "angle_rad" },
+                if millimetres { "range_mm" } else { "range_m" }
+            ),
+        }
+    }
+}
+
 /// What the rows of a CSV scan hold.
 #[derive(Debug, Default)]
 struct Rows {
-    /// The header's line and its number of columns (3, or 4 with intensities).
-    header: Option<(usize, usize)>,
+    /// The header's line and its columns.
+    header: Option<(usize, Columns)>,
     angles: Vec<f64>,
     ranges: Vec<f64>,
     intensities: Vec<f64>,
@@ -173,24 +290,75 @@ struct Rows {
     lines: Vec<usize>,
 }
 
-/// The number of columns the header names.
+/// The columns the header names.
 fn header_columns(
     name: &str,
     line: usize,
     trimmed: &str,
     fields: &[&str],
-) -> Result<usize, ReadError> {
-    if fields == ["index", "angle_rad", "range_m"] {
-        Ok(3)
-    } else if fields == ["index", "angle_rad", "range_m", "intensity"] {
-        Ok(4)
-    } else {
-        Err(ReadError::Syntax {
+) -> Result<Columns, ReadError> {
+    match fields {
+        ["index", "angle_rad", "range_m"] => Ok(Columns::Indexed { intensity: false }),
+        ["index", "angle_rad", "range_m", "intensity"] => Ok(Columns::Indexed { intensity: true }),
+        [
+            angle @ ("angle_rad" | "angle_deg"),
+            range @ ("range_m" | "range_mm"),
+        ] => Ok(Columns::Readings {
+            degrees: *angle == "angle_deg",
+            millimetres: *range == "range_mm",
+        }),
+        _ => Err(ReadError::Syntax {
             pos: SourcePos::line(name, line),
-            expected: format!("the header `{HEADER}` (or `{HEADER_WITH_INTENSITY}`)"),
+            expected: format!(
+                "the header `{HEADER}` (or `{HEADER_WITH_INTENSITY}`), or `{READINGS_HEADER}` \
+                 for readings at their own bearings (`angle_deg`, `range_mm` in those units)"
+            ),
             found: shown(trimmed),
-        })
+        }),
     }
+}
+
+/// The bearing (rad) and range (m) of a row of readings.
+fn parse_reading(
+    name: &str,
+    line: usize,
+    fields: &[&str],
+    degrees: bool,
+    millimetres: bool,
+) -> Result<(f64, f64, Option<f64>), ReadError> {
+    let (angle_name, range_name) = if degrees {
+        ("angle_deg", "a finite bearing in degrees")
+    } else {
+        ("angle_rad", "a finite bearing in radians")
+    };
+    let angle = match fields[0].parse::<f64>() {
+        Ok(a) if a.is_finite() => a,
+        _ => {
+            return Err(ReadError::Field {
+                pos: SourcePos::line(name, line),
+                field: angle_name.to_owned(),
+                expected: range_name.to_owned(),
+                found: shown(fields[0]),
+            });
+        }
+    };
+    let range = if fields[1].is_empty() {
+        f64::NAN
+    } else {
+        let what = if millimetres { "range_mm" } else { "range_m" };
+        fields[1].parse::<f64>().map_err(|_| ReadError::Field {
+            pos: SourcePos::line(name, line),
+            field: what.to_owned(),
+            expected: format!(
+                "a range in {}, or empty or `nan` for no return",
+                if millimetres { "millimetres" } else { "metres" }
+            ),
+            found: shown(fields[1]),
+        })?
+    };
+    let angle = if degrees { angle.to_radians() } else { angle };
+    let range = if millimetres { range * 1e-3 } else { range };
+    Ok((angle, range, None))
 }
 
 /// The angle, range and (with 4 columns) intensity of data row number `row`.
@@ -292,7 +460,8 @@ fn geometry(
                 field: "angle_rad".to_owned(),
                 expected: format!(
                     "uniform angles: {want} (= {angle_min} + {i} * {increment}) within \
-                     {tolerance}"
+                     {tolerance} (readings at their own bearings: the header \
+                     `{READINGS_HEADER}`, without `index`)"
                 ),
                 found: format!("{a}"),
             });
@@ -310,7 +479,11 @@ fn parse_comment(name: &str, line: usize, comment: &str, meta: &mut Meta) -> Res
         "range_min" => &mut meta.range_min,
         "range_max" => &mut meta.range_max,
         "stamp" => &mut meta.stamp,
-        "angle_min" => &mut meta.angle_min,
+        "angle_min" => {
+            meta.angle_min_line = line;
+            &mut meta.angle_min
+        }
+        "clockwise" => &mut meta.clockwise,
         "angle_increment" => &mut meta.angle_increment,
         "pose_x" => &mut meta.pose[0],
         "pose_y" => &mut meta.pose[1],
@@ -360,11 +533,15 @@ fn triple(
 }
 
 impl ScanSource for CsvSource {
-    fn next_record(&mut self, _skipped: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
+    fn next_record(&mut self, skipped: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
         if self.done {
             return None;
         }
         self.done = true;
-        Some(self.read_scan())
+        let record = self.read_scan();
+        if self.shared > 0 {
+            skipped.add_n(SKIP_SHARED_BEAM, self.shared);
+        }
+        Some(record)
     }
 }

@@ -266,7 +266,8 @@ fn csv_errors() {
             "noheader.csv",
             b"0,1,2\n",
             "noheader.csv:1: expected the header `index,angle_rad,range_m` (or \
-             `index,angle_rad,range_m,intensity`), found `0,1,2`",
+             `index,angle_rad,range_m,intensity`), or `angle_rad,range_m` for readings at their \
+             own bearings (`angle_deg`, `range_mm` in those units), found `0,1,2`",
         ),
         (
             "empty.csv",
@@ -311,14 +312,16 @@ fn csv_errors() {
         (
             "off.csv",
             b"# angle_increment: 0.1\nindex,angle_rad,range_m\n0,1,2\n1,1.2,2\n",
-            "off.csv:4: angle_rad: expected uniform angles: 1.1 (= 1 + 1 * 0.1) within 0.001, \
+            "off.csv:4: angle_rad: expected uniform angles: 1.1 (= 1 + 1 * 0.1) within 0.001 \
+             (readings at their own bearings: the header `angle_rad,range_m`, without `index`), \
              found 1.2",
         ),
         (
             "amin.csv",
             b"# angle_min: 0.5\nindex,angle_rad,range_m\n0,0,2\n1,0.25,2\n",
             "amin.csv:3: angle_rad: expected uniform angles: 0.5 (= 0.5 + 0 * 0.25) within \
-             0.0025, found 0",
+             0.0025 (readings at their own bearings: the header `angle_rad,range_m`, without \
+             `index`), found 0",
         ),
         (
             "meta.csv",

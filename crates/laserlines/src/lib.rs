@@ -21,6 +21,7 @@
 //! Units are SI (metres, radians); frames follow REP 103 (x forward, y left, angles
 //! counter-clockwise).
 
+pub mod bearings;
 pub mod extractor;
 pub mod extractors;
 pub mod fit;
