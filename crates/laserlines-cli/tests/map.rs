@@ -168,6 +168,42 @@ fn maps_the_bundled_excerpt_with_every_output() {
 /// A log converted to Parquet keeps its wheel odometry and its ranges bit for bit: it maps
 /// with `--odometry on`, along the same odometry, to the same trajectory.
 #[test]
+fn an_earlier_runs_files_that_this_run_does_not_write_are_removed() {
+    // The excerpt has log poses and odometry; the room of raw readings has neither.
+    let dir = tmp("stale");
+    let o = run(bin()
+        .arg("map")
+        .arg(repo("data/urg04lx-exp1-excerpt.dat.gz"))
+        .arg("-o")
+        .arg(&dir));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(dir.join("log-poses.tum").is_file() && dir.join("odometry.tum").is_file());
+    let o = run(bin()
+        .arg("map")
+        .arg(repo(
+            "crates/laserlines-io/tests/fixtures/readings_room.csv",
+        ))
+        .arg("-o")
+        .arg(&dir));
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(!dir.join("log-poses.tum").exists(), "{err}");
+    assert!(!dir.join("odometry.tum").exists(), "{err}");
+    assert!(
+        err.contains("removed log-poses.tum of an earlier run from")
+            && err.contains("removed odometry.tum of an earlier run from"),
+        "{err}"
+    );
+    // Readings left out by the reader are said without --skip-bad.
+    assert!(
+        err.contains("skipped: 38 × reading on a beam that kept a better one"),
+        "{err}"
+    );
+    assert_eq!(tum_rows(&dir.join("trajectory.tum")).len(), 1);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn a_log_converted_to_parquet_maps_by_its_odometry_as_the_log_does() {
     let log = repo("data/urg04lx-exp1-excerpt.dat.gz");
     let parquet = tmp("excerpt-scans.parquet");

@@ -187,6 +187,55 @@ fn simulate_rejects_bad_input() {
 }
 
 #[test]
+fn an_arena_without_a_floor_or_room_for_the_robot_is_refused() {
+    let dir = std::env::temp_dir().join(format!("laserlines-nofloor-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let wall = |rotation: u32| {
+        format!(r#"<element type="small_wall" rotation="{rotation}" x="0" y="0"/>"#)
+    };
+    // One wall, and a 1.2 m cell whose two half barrels leave no place 0.32 m from all.
+    let one = format!("<elements>\n{}\n</elements>\n", wall(0));
+    let cell = format!(
+        "<elements>\n{}\n{}\n{}\n{}\n\
+         <element type=\"red_barrel\" rotation=\"0\" x=\"0\" y=\"0\"/>\n\
+         <element type=\"red_barrel\" rotation=\"180\" x=\"0\" y=\"0\"/>\n</elements>\n",
+        wall(0),
+        wall(90),
+        wall(180),
+        wall(270)
+    );
+    let cases = [
+        (
+            "one_wall.raf",
+            one,
+            "one_wall.raf: its walls enclose no floor: their largest group spans 1.20 m x 0.00 m",
+        ),
+        (
+            "no_room.raf",
+            cell,
+            "no_room.raf: no place among its walls where the robot fits, 0.32 m from every \
+             obstacle; give a start with --start",
+        ),
+    ];
+    for (name, text, says) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        let o = bin()
+            .args(["simulate", "--duration", "2", "-o"])
+            .arg(dir.join("out"))
+            .arg("--arena")
+            .arg(&path)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(err.contains(says), "{err}");
+        assert!(!dir.join("out").join("metrics.json").exists(), "{name}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn simulate_warns_of_a_start_within_the_turning_radius() {
     // 0.30 m from the nearest wall of the default arena: the robot needs 0.32 m to turn.
     let out = std::env::temp_dir().join(format!("laserlines-cramped-{}", std::process::id()));

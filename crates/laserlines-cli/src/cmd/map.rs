@@ -174,7 +174,9 @@ fn map_log(
         start.elapsed().as_secs_f64(),
         &files,
     );
-    if args.skip_bad {
+    // What the reader left out by design (other messages of a log, readings sharing a beam)
+    // is said too, not only the bad records of --skip-bad.
+    if args.skip_bad || !reader.skipped().is_empty() {
         errln!("{name}: skipped: {}", reader.skipped());
     }
     let mapped = run.stamps.len();

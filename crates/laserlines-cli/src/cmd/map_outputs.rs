@@ -77,6 +77,8 @@ pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
                 .map(|(&t, &pose)| StampedPose { t, pose })
                 .collect();
             files.push(write_file(o.dir, file, |w| write_tum(w, &logged))?);
+        } else {
+            remove_stale(o.dir, &[file]);
         }
     }
     let walls = o.mapper.line_map(&LineMapParams::default());
@@ -90,6 +92,7 @@ pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
             ..OccupancyParams::default()
         })
         .map_err(|e| {
+            remove_stale(o.dir, &MAP_FILES);
             anyhow::anyhow!(
                 "{}: occupancy grid: {e} (cells of {} m would fit; the trajectory and \
                  lines.json are written in {})",
@@ -122,6 +125,28 @@ pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
         w.write_all(svg.as_bytes())
     })?);
     Ok(files)
+}
+
+/// The files of the occupancy grid.
+const MAP_FILES: [&str; 4] = ["map.pgm", "map.yaml", "map.png", "map.svg"];
+
+/// Removes the files `names` of `dir` that an earlier run wrote and this one does not, so
+/// that none passes for this run's (a `log-poses.tum` of another log beside this
+/// trajectory), and says so.
+fn remove_stale(dir: &Path, names: &[&str]) {
+    let removed: Vec<&str> = names
+        .iter()
+        .copied()
+        .filter(|n| fs::remove_file(dir.join(n)).is_ok())
+        .collect();
+    if !removed.is_empty() {
+        errln!(
+            "laserlines: removed {} of an earlier run from {}: this run does not write {}",
+            removed.join(", "),
+            dir.display(),
+            if removed.len() == 1 { "it" } else { "them" }
+        );
+    }
 }
 
 fn stamped(t: f64, p: &Se2) -> StampedPose {

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use laserlines::math::{Isometry2, Point2, Vector2};
+use laserlines::math::{Isometry2, Point2};
 use laserlines::robot::RobotDescription;
 use laserlines::{HoughSplitParams, registry};
 use laserlines_foxglove::{NavFrame, NavRecorder};
@@ -21,7 +21,9 @@ use laserlines_sim::arena::{ArenaOptions, ArenaReport, WallLength, interior_star
 use laserlines_sim::maze::{MazeParams, generate};
 use laserlines_sim::robot::RobotParams;
 
-use super::simulate_world::{check_start_inside, parse_start, report_skipped, warn_if_cramped};
+use super::simulate_world::{
+    check_floor, check_start_inside, parse_start, report_skipped, warn_if_cramped,
+};
 
 /// Arguments of `laserlines simulate`.
 #[derive(Debug, Args)]
@@ -178,7 +180,13 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
             warn_if_cramped(&world, start, robot.robot.footprint.circumradius());
             start
         }
-        None => default_start,
+        None => default_start.with_context(|| {
+            format!(
+                "{name}: no place among its walls where the robot fits, {:.2} m from every \
+                 obstacle; give a start with --start X,Y,YAW_DEG",
+                robot.robot.footprint.circumradius()
+            )
+        })?,
     };
     let mut config = RunConfig {
         robot,
@@ -380,12 +388,12 @@ fn robot_of(file: &ParamsFile) -> Result<RobotParams> {
     Ok(RobotParams { robot, ..simulated })
 }
 
-/// The world to explore, its name, the default start and, for an arena, the loader's
-/// report.
+/// The world to explore, its name, the default start (`None` in an arena with no room for
+/// the robot) and, for an arena, the loader's report.
 fn world_of(
     args: &SimulateArgs,
     robot: &RobotParams,
-) -> Result<(String, World, Isometry2, Option<ArenaReport>)> {
+) -> Result<(String, World, Option<Isometry2>, Option<ArenaReport>)> {
     if let Some(seed) = args.maze {
         let params = MazeParams {
             islands: if args.islands { 3 } else { 0 },
@@ -409,7 +417,7 @@ fn world_of(
         if maze.diagonals > 0 {
             name.push_str(&format!(", {} corners cut at 45 degrees", maze.diagonals));
         }
-        return Ok((name, maze.world, maze.start, None));
+        return Ok((name, maze.world, Some(maze.start), None));
     }
     let options = ArenaOptions {
         wall_length: if args.mesh_walls {
@@ -422,8 +430,9 @@ fn world_of(
     let which = args.arena.as_deref().unwrap_or("maze_10m_x_14m");
     let arena = arenas::load(which, &options)?;
     report_skipped(&arena.name, &arena.report);
-    let start = interior_start(&arena.world, robot.robot.footprint.circumradius())
-        .unwrap_or_else(|| Isometry2::new(Vector2::zeros(), 0.0));
+    let radius = robot.robot.footprint.circumradius();
+    check_floor(&arena.name, &arena.world, radius)?;
+    let start = interior_start(&arena.world, radius);
     Ok((arena.name.clone(), arena.world, start, Some(arena.report)))
 }
 

@@ -3,7 +3,7 @@
 use anyhow::{Context, Result, bail};
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines_sim::World;
-use laserlines_sim::arena::ArenaReport;
+use laserlines_sim::arena::{ArenaOutline, ArenaReport};
 use laserlines_sim::cells::extent;
 
 /// Says on standard error which elements the arena loader skipped, by type and count.
@@ -29,6 +29,22 @@ pub fn report_skipped(name: &str, report: &ArenaReport) {
             unknown.join(", ")
         );
     }
+}
+
+/// An arena must have walls round a floor: the bounding box of its largest group of walls
+/// ([`ArenaOutline::bounds`]) at least the robot's width (`radius`: its turning radius) in
+/// both directions. Walls on one line, or a single wall, enclose nothing to explore.
+pub fn check_floor(name: &str, world: &World, radius: f64) -> Result<()> {
+    let bounds = ArenaOutline::new(world).bounds();
+    let (w, h) = bounds.map_or((0.0, 0.0), |(lo, hi)| (hi.x - lo.x, hi.y - lo.y));
+    if w < 2.0 * radius || h < 2.0 * radius {
+        bail!(
+            "{name}: its walls enclose no floor: their largest group spans {w:.2} m x {h:.2} m, \
+             narrower than the robot ({:.2} m across); an arena needs walls round a floor",
+            2.0 * radius
+        );
+    }
+    Ok(())
 }
 
 /// A start given by hand must lie among the walls: within their bounding box.

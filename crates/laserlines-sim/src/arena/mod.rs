@@ -282,9 +282,34 @@ pub fn load_raf(path: &Path, options: &ArenaOptions) -> Result<Arena, ArenaError
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     );
+    if let Some(message) = binary(&bytes) {
+        return Err(ArenaError::Xml {
+            name: path.display().to_string(),
+            line: 1,
+            message,
+        });
+    }
     let text = String::from_utf8_lossy(&bytes);
     // The arena is called by its file name; an error names the file as it was given.
     parse_raf(&text, &name, options).map_err(|e| e.in_file(path))
+}
+
+/// What is wrong with `bytes` that are not text at all (a compressed file, a log given by
+/// mistake), before the XML parser reads them as tags; `None` for text.
+fn binary(bytes: &[u8]) -> Option<String> {
+    const LAYOUT: &str = "not an arena layout (a .raf file is XML text)";
+    if bytes.starts_with(&[0x1f, 0x8b]) {
+        return Some(format!(
+            "a gzip-compressed file: {LAYOUT}; decompress it first"
+        ));
+    }
+    let head = &bytes[..bytes.len().min(4096)];
+    let bad = match std::str::from_utf8(head) {
+        // A character cut by the 4 kB boundary is not binary.
+        Err(e) if e.error_len().is_some() => Some(e.valid_up_to()),
+        _ => head.iter().position(|&b| b == 0),
+    };
+    bad.map(|at| format!("binary data (byte {at} is not text): {LAYOUT}"))
 }
 
 impl ArenaError {
@@ -384,7 +409,15 @@ fn read_elements(text: &str, name: &str) -> Result<Vec<Element>, ArenaError> {
         let tag = tag.map_err(|(line, message)| ArenaError::Xml {
             name: name.to_owned(),
             line,
-            message,
+            // A tag without its `>` runs to the end of the file: a file cut short.
+            message: if message == "unclosed tag" {
+                format!(
+                    "unclosed tag: the file ends inside it, after {} elements (cut short?)",
+                    elements.len()
+                )
+            } else {
+                message
+            },
         })?;
         if tag.name == "element" {
             elements.push(Element::from_tag(&tag, name)?);

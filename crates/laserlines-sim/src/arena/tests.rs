@@ -190,8 +190,13 @@ fn bad_input_is_an_error_naming_the_line() {
         matches!(e, ArenaError::MissingAttribute { attribute: "y", .. }),
         "{e}"
     );
-    let e = parse("<elements>\n<element type=\"small_wall").unwrap_err();
-    assert!(matches!(e, ArenaError::Xml { line: 2, .. }), "{e}");
+    let e = parse("<elements>\n<element type=\"small_wall\" rotation=\"0\" x=\"0\" y=\"0\"/>\n<element type=\"small_wall").unwrap_err();
+    assert!(matches!(e, ArenaError::Xml { line: 3, .. }), "{e}");
+    assert!(
+        e.to_string()
+            .contains("unclosed tag: the file ends inside it, after 1 elements (cut short?)"),
+        "{e}"
+    );
     // Cut between two elements: well-formed up to its end, but only part of the arena.
     let cut = "<?xml version=\"1.0\"?>\n<elements>\n<element type=\"small_wall\" rotation=\"0\" x=\"0\" y=\"0\"/>\n";
     let e = parse(cut).unwrap_err();
@@ -301,5 +306,42 @@ fn a_bad_file_is_named_by_its_path_and_a_good_one_by_its_name() {
     .unwrap();
     let arena = load_raf(&good, &ArenaOptions::default()).unwrap();
     assert_eq!(arena.name, "one_wall.raf");
+    // A compressed file or binary data is said to be so, not read as tags of garbage.
+    let cases: [(&str, &[u8], &str); 3] = [
+        (
+            "log.raf.gz",
+            &[0x1f, 0x8b, 8, 0, 1, 2, 3],
+            "a gzip-compressed file",
+        ),
+        (
+            "bytes.raf",
+            b"<elements>\xff\xfe</elements>",
+            "binary data (byte 10 is not text)",
+        ),
+        (
+            "nul.raf",
+            b"<elements>\0</elements>",
+            "binary data (byte 10 is not text)",
+        ),
+    ];
+    for (name, bytes, says) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        let e = load_raf(&path, &ArenaOptions::default())
+            .unwrap_err()
+            .to_string();
+        let want = format!("{}:1: {says}: not an arena layout", path.display());
+        assert!(e.starts_with(&want), "{e}");
+    }
+    // A character that the first 4 kB cut in two is text.
+    let mut long = String::from("<elements>");
+    long.push_str(&" ".repeat(4080));
+    long.push_str(
+        "<!-- é --><element type=\"small_wall\" rotation=\"0\" x=\"0\" y=\"0\"/></elements>",
+    );
+    assert_eq!(long.as_bytes()[4095], 0xc3);
+    let path = dir.join("long.raf");
+    std::fs::write(&path, &long).unwrap();
+    assert!(load_raf(&path, &ArenaOptions::default()).is_ok());
     std::fs::remove_dir_all(&dir).unwrap();
 }
