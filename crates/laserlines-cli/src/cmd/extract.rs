@@ -15,7 +15,6 @@
 //! any time: the reader waits for a finished batch to be written before reading one more.
 
 use std::collections::BTreeMap;
-use std::io::{self, IsTerminal};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc::{Receiver, Sender, SyncSender, TryRecvError, channel, sync_channel};
@@ -24,7 +23,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
+use indicatif::ProgressBar;
 use laserlines::{Line, LineExtractor, RangeNoise};
 use laserlines_foxglove::LinesOutput;
 use laserlines_io::{Pending, ReadError, ScanReader, ScanRecord, SkipCounts, encode_unnumbered};
@@ -126,7 +125,7 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     let input_bytes = input_size(&args.input.input);
     let mut writer = LinesOutput::create(&args.output)?;
     let encode = matches!(writer, LinesOutput::Jsonl(_));
-    let progress = progress_bar();
+    let progress = super::scan_spinner("");
     let start = Instant::now();
 
     let (tokens, finished, reader_back) = start_reader(reader, &pool, extractors, encode, jobs)?;
@@ -412,27 +411,6 @@ fn write_batch(
     }
     progress.inc(count);
     Ok(())
-}
-
-fn progress_bar() -> ProgressBar {
-    if io::stderr().is_terminal() {
-        let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
-        pb.set_style(
-            ProgressStyle::with_template("{spinner} {pos} scans, {rate} scans/s, {elapsed}")
-                .map(|s| {
-                    s.with_key(
-                        "rate",
-                        |state: &ProgressState, w: &mut dyn std::fmt::Write| {
-                            let _ = w.write_str(&format!("{:.0}", state.per_sec()));
-                        },
-                    )
-                })
-                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
-        );
-        pb
-    } else {
-        ProgressBar::hidden()
-    }
 }
 
 /// Size of the input, bytes: of the file, or of the files of a directory (a ROS 2 bag);

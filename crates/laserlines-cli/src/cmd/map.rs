@@ -1,13 +1,12 @@
 //! `laserlines map LOG -o DIR`: a map and a trajectory from a log of scans, with or without
 //! odometry (`laserlines-slam`), written as files (`map_outputs`).
 
-use std::io::{self, IsTerminal};
 use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::ProgressBar;
 use laserlines::LineExtractor;
 use laserlines_foxglove::McapSceneWriter;
 use laserlines_io::ScanRecord;
@@ -136,7 +135,7 @@ fn map_log(
         params.loops.every_scans = 0;
     }
     let mut mapper = Mapper::new(params);
-    let progress = progress_bar();
+    let progress = super::scan_spinner(" mapped");
     let run = read_and_map(args, name, &mut reader, &mut mapper, &progress)?;
     if run.stamps.is_empty() {
         return Err(match run.stopped {
@@ -283,19 +282,6 @@ fn odometry_of(record: &ScanRecord, mode: OnOff, name: &str, k: usize) -> Result
         ),
         (OnOff::Off, _) => None,
     })
-}
-
-fn progress_bar() -> ProgressBar {
-    if io::stderr().is_terminal() {
-        let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
-        pb.set_style(
-            ProgressStyle::with_template("{spinner} {pos} scans mapped {per_sec} {elapsed} {msg}")
-                .unwrap_or_else(|_| ProgressStyle::default_spinner()),
-        );
-        pb
-    } else {
-        ProgressBar::hidden()
-    }
 }
 
 /// The summary on stderr.

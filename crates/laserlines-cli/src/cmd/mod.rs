@@ -351,6 +351,32 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
 
 /// Makes the output folder `dir` (and its parents); an error saying so when a file of that
 /// name is in the way.
+/// A spinner of scans on standard error when it is a terminal (hidden otherwise): `{pos}
+/// scans {what}, N scans/s, elapsed`, the rate in whole scans per second, then the message.
+pub fn scan_spinner(what: &str) -> indicatif::ProgressBar {
+    use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
+    use std::io::IsTerminal as _;
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let pb = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    let template =
+        format!("{{spinner}} {{pos}} scans{what}, {{rate}} scans/s, {{elapsed}} {{msg}}");
+    pb.set_style(
+        ProgressStyle::with_template(&template)
+            .map(|s| {
+                s.with_key(
+                    "rate",
+                    |state: &ProgressState, w: &mut dyn std::fmt::Write| {
+                        let _ = w.write_str(&format!("{:.0}", state.per_sec()));
+                    },
+                )
+            })
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    pb
+}
+
 pub(crate) fn create_output_dir(dir: &std::path::Path) -> Result<()> {
     if dir.exists() && !dir.is_dir() {
         anyhow::bail!(
