@@ -468,3 +468,62 @@ fn the_freiburg_campus_maps_without_odometry_and_stays_on_the_campus() {
     // Measured: 0.43 m (28 m when the repeated motion grew without bound).
     assert!(t <= 1.0, "translational error {t} m (bound 1 m)");
 }
+
+#[test]
+fn relations_move_a_reference_of_the_base_to_the_laser_by_its_mount() {
+    // A robot driving an arc; the trajectory is its laser's, 0.15 m ahead of the base.
+    let dir = tmp("offset");
+    std::fs::create_dir_all(&dir).unwrap();
+    let tum = |k: usize, x: f64, y: f64, yaw: f64| {
+        format!(
+            "{} {x} {y} 0 0 0 {} {}\n",
+            k as f64 * 0.1,
+            (yaw / 2.0).sin(),
+            (yaw / 2.0).cos()
+        )
+    };
+    let (mut base, mut laser) = (String::new(), String::new());
+    for k in 0..50 {
+        let yaw = 0.05 * k as f64;
+        let (x, y) = (2.0 * yaw.sin(), 2.0 - 2.0 * yaw.cos());
+        base.push_str(&tum(k, x, y, yaw));
+        laser.push_str(&tum(k, x + 0.15 * yaw.cos(), y + 0.15 * yaw.sin(), yaw));
+    }
+    std::fs::write(dir.join("base.tum"), base).unwrap();
+    std::fs::write(dir.join("laser.tum"), laser).unwrap();
+    let score = |extra: &[&str]| {
+        let o = run(bin()
+            .arg("relations")
+            .arg(dir.join("laser.tum"))
+            .arg(dir.join("base.tum"))
+            .args(["--every", "5"])
+            .args(extra));
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        let out = text(&o.stdout);
+        let row = out
+            .lines()
+            .find(|l| l.starts_with("translational error"))
+            .unwrap()
+            .to_owned();
+        row.split_whitespace()
+            .nth(2)
+            .unwrap()
+            .parse::<f64>()
+            .unwrap()
+    };
+    // Without the mount, the laser's chord is longer than the base's on the arc.
+    assert!(score(&[]) > 1e-3, "{}", score(&[]));
+    assert!(score(&["--reference-offset", "0.15,0,0"]) < 1e-9);
+    let o = run(bin()
+        .arg("relations")
+        .arg(dir.join("laser.tum"))
+        .arg(dir.join("base.tum"))
+        .args(["--every", "5", "--reference-offset", "0.15,x,0"]));
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("--reference-offset \"0.15,x,0\": expected x,y,yaw_deg"),
+        "{}",
+        text(&o.stderr)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -32,6 +32,30 @@ pub struct RelationsArgs {
     /// of a log), and say how many were left out; without it, such a relation is an error.
     #[arg(long)]
     pub covered: bool,
+    /// With --every: move each pose of the reference by this offset in its own frame,
+    /// `x,y,yaw_deg` (m, m, deg), before taking relations: a reference of the robot's base
+    /// scored against a trajectory of its laser (`map` gives the laser's) takes the laser's
+    /// mount, e.g. `0.15,0,0` for a laser 0.15 m ahead of the axle.
+    #[arg(
+        long,
+        value_name = "X,Y,YAW_DEG",
+        requires = "every",
+        allow_hyphen_values = true
+    )]
+    pub reference_offset: Option<String>,
+}
+
+/// `x,y,yaw_deg` as a pose (m, m, rad).
+fn offset_of(s: &str) -> Result<Se2> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("--reference-offset {s:?}: expected x,y,yaw_deg"))?;
+    match v.as_slice() {
+        [x, y, yaw] if v.iter().all(|a| a.is_finite()) => Ok(Se2::new(*x, *y, yaw.to_radians())),
+        _ => bail!("--reference-offset {s:?}: expected three finite numbers x,y,yaw_deg"),
+    }
 }
 
 /// The value parser of `--every`: a whole number of poses, at least 1.
@@ -41,9 +65,14 @@ fn every(s: &str) -> Result<usize, String> {
 
 /// Runs `laserlines relations`.
 pub fn run(args: &RelationsArgs) -> Result<()> {
+    let offset = args
+        .reference_offset
+        .as_deref()
+        .map(offset_of)
+        .transpose()?;
     let mut traj = read_trajectory(&args.trajectory)?;
     let rel_name = args.relations.display().to_string();
-    let relations = load_relations(args, &rel_name, &mut traj)?;
+    let relations = load_relations(args, &rel_name, &mut traj, offset)?;
     let relations = if args.covered {
         covered_only(args, &rel_name, &traj, relations)?
     } else {
@@ -89,17 +118,24 @@ pub fn run(args: &RelationsArgs) -> Result<()> {
 }
 
 /// The relations to score: read from the relations file, or with `--every N` made from the
-/// reference trajectory's poses `N` apart (when the two trajectories have the same stamps,
-/// both are renumbered pose by pose in `traj` and the reference). Never empty.
+/// reference trajectory's poses `N` apart (each moved by `offset` first, when given; when the
+/// two trajectories have the same stamps, both are renumbered pose by pose in `traj` and the
+/// reference). Never empty.
 fn load_relations(
     args: &RelationsArgs,
     rel_name: &str,
     traj: &mut [(f64, Se2)],
+    offset: Option<Se2>,
 ) -> Result<Vec<Relation>> {
     let relations: Vec<Relation> = match args.every {
         Some(n) => {
             let mut reference =
                 read_trajectory(&args.relations).map_err(|e| not_relations(&args.relations, e))?;
+            if let Some(offset) = offset {
+                for (_, pose) in &mut reference {
+                    *pose = pose.compose(&offset);
+                }
+            }
             // Two trajectories of one log (as `laserlines map` writes them) pair pose by pose,
             // so that logs whose time stamps repeat or are all zero can be checked too.
             let same_stamps = reference.len() == traj.len()
