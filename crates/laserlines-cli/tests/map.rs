@@ -315,6 +315,11 @@ fn bad_input_ends_in_a_clear_error() {
     std::fs::write(&rel, "0 0.1 0.1 0 0 0 0 0\n1000 1000.1 0.1 0 0 0 0 0\n").unwrap();
     let o = run(bin().arg("relations").arg(&traj).arg(&rel));
     assert_clean_error(&o, "far.relations", "relation 2 (t = 1000): no pose of");
+    assert_clean_error(
+        &o,
+        "far.relations",
+        "t.tum, whose poses span t = 0..0.1 within 0.1 s",
+    );
     // ... unless only the covered ones are asked for: the first alone, exact.
     let o = run(bin().arg("relations").arg(&traj).arg(&rel).arg("--covered"));
     assert!(o.status.success(), "{}", text(&o.stderr));

@@ -79,8 +79,12 @@ pub fn run(args: &RelationsArgs) -> Result<()> {
         relations
     };
     let score = score_relations(&traj, &relations).map_err(|e| {
+        let span = match (traj.first(), traj.last()) {
+            (Some(a), Some(b)) => format!(", whose poses span t = {}..{}", a.0, b.0),
+            _ => String::new(),
+        };
         let e = anyhow::anyhow!(
-            "{rel_name}: relation {} (t = {}): no pose of {} within {MAX_TIME_GAP_S} s \
+            "{rel_name}: relation {} (t = {}): no pose of {}{span} within {MAX_TIME_GAP_S} s \
              (--covered scores only the relations the trajectory covers)",
             e.index + 1,
             e.time,
