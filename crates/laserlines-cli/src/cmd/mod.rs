@@ -351,6 +351,21 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
 
 /// Makes the output folder `dir` (and its parents); an error saying so when a file of that
 /// name is in the way.
+/// `x,y,yaw_deg` (m, m, deg) of option `flag` as `[x, y, yaw]` (m, m, rad).
+pub fn xy_yaw_deg(flag: &str, s: &str) -> Result<[f64; 3]> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("{flag} {s:?}: expected x,y,yaw_deg"))?;
+    match v.as_slice() {
+        [x, y, yaw] if v.iter().all(|a| a.is_finite()) => Ok([*x, *y, yaw.to_radians()]),
+        _ => Err(anyhow!(
+            "{flag} {s:?}: expected three finite numbers x,y,yaw_deg"
+        )),
+    }
+}
+
 /// A spinner of scans on standard error when it is a terminal (hidden otherwise): `{pos}
 /// scans {what}, N scans/s, elapsed`, the rate in whole scans per second, then the message.
 pub fn scan_spinner(what: &str) -> indicatif::ProgressBar {

@@ -45,19 +45,6 @@ pub struct RelationsArgs {
     pub reference_offset: Option<String>,
 }
 
-/// `x,y,yaw_deg` as a pose (m, m, rad).
-fn offset_of(s: &str) -> Result<Se2> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|t| t.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .with_context(|| format!("--reference-offset {s:?}: expected x,y,yaw_deg"))?;
-    match v.as_slice() {
-        [x, y, yaw] if v.iter().all(|a| a.is_finite()) => Ok(Se2::new(*x, *y, yaw.to_radians())),
-        _ => bail!("--reference-offset {s:?}: expected three finite numbers x,y,yaw_deg"),
-    }
-}
-
 /// The value parser of `--every`: a whole number of poses, at least 1.
 fn every(s: &str) -> Result<usize, String> {
     super::whole_in(s, 1, i128::MAX)
@@ -65,11 +52,13 @@ fn every(s: &str) -> Result<usize, String> {
 
 /// Runs `laserlines relations`.
 pub fn run(args: &RelationsArgs) -> Result<()> {
-    let offset = args
-        .reference_offset
-        .as_deref()
-        .map(offset_of)
-        .transpose()?;
+    let offset = match args.reference_offset.as_deref() {
+        Some(s) => {
+            let [x, y, yaw] = super::xy_yaw_deg("--reference-offset", s)?;
+            Some(Se2::new(x, y, yaw))
+        }
+        None => None,
+    };
     let mut traj = read_trajectory(&args.trajectory)?;
     let rel_name = args.relations.display().to_string();
     let relations = load_relations(args, &rel_name, &mut traj, offset)?;

@@ -1,6 +1,6 @@
 //! `laserlines simulate`: the checks and notes of its world and start pose.
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines_sim::World;
 use laserlines_sim::arena::{ArenaOutline, ArenaReport};
@@ -89,15 +89,6 @@ pub fn warn_if_cramped(world: &World, start: Isometry2, radius: f64) {
 
 /// `--start x,y,yaw_deg` (m, m, deg) as a pose.
 pub fn parse_start(s: &str) -> Result<Isometry2> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|t| t.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .with_context(|| format!("--start {s:?}: expected x,y,yaw_deg"))?;
-    match v.as_slice() {
-        [x, y, yaw] if v.iter().all(|a| a.is_finite()) => {
-            Ok(Isometry2::new(Vector2::new(*x, *y), yaw.to_radians()))
-        }
-        _ => bail!("--start {s:?}: expected three finite numbers x,y,yaw_deg"),
-    }
+    let [x, y, yaw] = super::xy_yaw_deg("--start", s)?;
+    Ok(Isometry2::new(Vector2::new(x, y), yaw))
 }
