@@ -13,9 +13,14 @@ wheel (`pip install laserlines`, or a runtime_env with it).
 
 The output is the lines table of `laserlines extract -o lines.parquet` (one row per line:
 scan, stamp, pose, end points, r, alpha, beams, rms, covariance) plus `path`, the log it came
-from. For Parquet input `scan` is the scan's index in its log, as the CLI numbers it; MCAP
-messages are numbered within each batch (use `path` and `stamp` to tell scans apart) and have
-no pose (poses come from other messages of the log).
+from, and `topic`, the MCAP topic of its scan (null for Parquet input: one laser per table).
+Without --topic every LaserScan topic is read, each laser's lines in its own frame: tell them
+apart by `topic`. For Parquet input `scan` is the scan's index in its log, as the CLI numbers
+it; MCAP messages are numbered within each batch (use `path`, `topic` and `stamp` to tell
+scans apart) and have no pose (poses come from other messages of the log).
+
+The output folder must be new or empty (a second run into it would add its files to the
+first's); logs that give no line leave it without files, and the run says so.
 """
 
 import argparse
@@ -24,6 +29,7 @@ import sys
 
 import pyarrow as pa
 import pyarrow.compute as pc
+import pyarrow.fs as pafs
 import ray
 import ray.data
 
@@ -89,7 +95,12 @@ class ExtractLines:
         rows = lines["scan"]  # the row of each line's scan in the batch
         if "scan" in batch.column_names:  # the scan's index in its log, as the CLI has it
             lines = lines.set_column(0, lines.schema.field("scan"), pc.take(batch["scan"], rows))
-        return lines.append_column("path", pc.take(batch["path"], rows))
+        lines = lines.append_column("path", pc.take(batch["path"], rows))
+        if "topic" in batch.column_names:
+            topic = pc.take(batch["topic"], rows).cast(pa.string())
+        else:
+            topic = pa.nulls(lines.num_rows, pa.string())
+        return lines.append_column("topic", topic)
 
 
 def extract_lines(datasets, algorithm="hough-split", params=None, workers=None):
@@ -122,6 +133,26 @@ def scans_per_log(datasets):
     return counts
 
 
+def folder(output):
+    """The filesystem and path of the output folder (a local path or a URI)."""
+    if "://" in output:
+        return pafs.FileSystem.from_uri(output)
+    return pafs.LocalFileSystem(), str(pathlib.Path(output).absolute())
+
+
+def check_output(output):
+    """The output folder must be new or empty: the files of an earlier run would be read as
+    this one's."""
+    fs, path = folder(output)
+    info = fs.get_file_info(path)
+    if info.type == pafs.FileType.NotFound:
+        return
+    if info.type != pafs.FileType.Directory:
+        raise SystemExit(f"{output}: not a folder")
+    if fs.get_file_info(pafs.FileSelector(path, recursive=False)):
+        raise SystemExit(f"{output}: not empty (its files would be read with this run's): give a new -o, or remove it")
+
+
 def parse_param(text):
     key, _, value = text.partition("=")
     for kind in (int, float):
@@ -145,6 +176,7 @@ def main(argv=None):
     p.add_argument("--count-scans", action="store_true", help="print the scans of each log")
     args = p.parse_args(argv)
 
+    check_output(args.output)
     ray.init(address=args.address, num_cpus=None if args.address else args.num_cpus)
     mcap, parquet = log_files(args.inputs)
     if not mcap and not parquet:
@@ -157,8 +189,15 @@ def main(argv=None):
             print(f"{path}: {n} scans", file=sys.stderr)
     lines = extract_lines(datasets, args.algorithm, params, args.workers)
     lines.write_parquet(args.output)
+    logs = f"{len(mcap)} MCAP and {len(parquet)} Parquet logs"
+    fs, path = folder(args.output)
+    # Ray writes no file for no rows (and may not make the folder).
+    missing = fs.get_file_info(path).type == pafs.FileType.NotFound
+    if missing or not fs.get_file_info(pafs.FileSelector(path, recursive=True)):
+        print(f"{logs}: no lines, nothing written to {args.output}", file=sys.stderr)
+        return
     written = ray.data.read_parquet(args.output).count()
-    print(f"{len(mcap)} MCAP and {len(parquet)} Parquet logs: {written} lines in {args.output}", file=sys.stderr)
+    print(f"{logs}: {written} lines in {args.output}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -20,7 +20,7 @@ Lines come as a numpy structured array, one record per line (``lines["r"]`` is t
 """
 
 from os import PathLike
-from typing import Any, Dict, Iterator, Optional, Tuple, Union
+from typing import Any, Dict, Iterator, Optional, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -30,22 +30,24 @@ __version__: str
 ALGORITHMS: Tuple[str, ...]
 """The extractors by name, the paper's ``hough-split`` first."""
 
-Lines = npt.NDArray[np.void]
+# Aliases for this stub's annotations only (the module has no such names).
+_Lines = npt.NDArray[np.void]
 """The lines of one scan, a structured array with the fields ``start``, ``end``, ``r``,
 ``alpha``, ``first``, ``last``, ``points``, ``rms``, ``covariance`` (see the module
 docstring)."""
 
-Ranges = Union[npt.NDArray[np.float64], npt.NDArray[np.float32]]
+_Ranges = Union[npt.NDArray[np.float64], npt.NDArray[np.float32]]
 """Ranges of one scan, m: a 1-D float64 array (read in place when contiguous) or float32."""
 
-Path = Union[str, "PathLike[str]"]
+_Path = Union[str, "PathLike[str]"]
 
+@final
 class Scan:
     """One laser scan, shaped like ``sensor_msgs/LaserScan``."""
 
     def __init__(
         self,
-        ranges: Ranges,
+        ranges: _Ranges,
         angle_min: float,
         angle_increment: float,
         range_min: float = 0.0,
@@ -90,6 +92,7 @@ class Scan:
         has it."""
     def __len__(self) -> int: ...
 
+@final
 class ScanIterator(Iterator[Scan]):
     """The scans of a file, in file order (see :func:`read`)."""
 
@@ -99,6 +102,7 @@ class ScanIterator(Iterator[Scan]):
     def skipped(self) -> int:
         """Records skipped so far (with ``skip_bad=True``)."""
 
+@final
 class Extractor:
     """A line extractor chosen by name (one of :data:`ALGORITHMS`), with its parameters as
     keyword arguments laid over the algorithm's defaults, exactly as a ``[name]`` table of a
@@ -117,6 +121,9 @@ class Extractor:
     @property
     def algorithm(self) -> str:
         """The algorithm's name."""
+    def __reduce__(self) -> Tuple[Any, Tuple[()]]:
+        """Pickling (``pickle``, ``copy``, a Ray task's closure): an extractor of the same
+        algorithm and parameters, with fresh working memory."""
     @property
     def params(self) -> Dict[str, Any]:
         """Every parameter the extractor runs with (SI units, angles in radians), as a
@@ -127,12 +134,12 @@ class Extractor:
         contiguous float64 array was read in place."""
     def extract(
         self,
-        ranges: Union[Ranges, Scan],
+        ranges: Union[_Ranges, Scan],
         angle_min: Optional[float] = None,
         angle_increment: Optional[float] = None,
         range_min: Optional[float] = None,
         range_max: Optional[float] = None,
-    ) -> Lines:
+    ) -> _Lines:
         """The lines of one scan: ranges with their geometry, or a :class:`Scan` (which brings
         its own geometry and range limits: giving any of the four with it is a TypeError).
 
@@ -146,7 +153,7 @@ class Extractor:
         error)."""
     def time_extract(
         self,
-        ranges: Ranges,
+        ranges: _Ranges,
         angle_min: float,
         angle_increment: float,
         range_min: float = 0.0,
@@ -169,7 +176,7 @@ class Extractor:
         through :func:`scans_from_messages`, whose table holds float32 ranges)."""
     def extract_file(
         self,
-        path: Path,
+        path: _Path,
         topic: Optional[str] = None,
         skip_bad: bool = False,
         format: Optional[str] = None,
@@ -179,20 +186,20 @@ class Extractor:
         :func:`lines_schema`."""
 
 def extract(
-    ranges: Union[Ranges, Scan],
+    ranges: Union[_Ranges, Scan],
     angle_min: Optional[float] = None,
     angle_increment: Optional[float] = None,
     range_min: Optional[float] = None,
     range_max: Optional[float] = None,
     algorithm: str = "hough-split",
     **params: Any,
-) -> Lines:
+) -> _Lines:
     """The lines of one scan with a new :class:`Extractor` of ``algorithm`` and ``params``
     (use an :class:`Extractor` for many scans: it keeps its working memory); the arguments
     as :meth:`Extractor.extract` takes them."""
 
 def read(
-    path: Path,
+    path: _Path,
     topic: Optional[str] = None,
     skip_bad: bool = False,
     format: Optional[str] = None,
@@ -208,7 +215,7 @@ def read(
     raises FileNotFoundError."""
 
 def extract_file(
-    path: Path,
+    path: _Path,
     topic: Optional[str] = None,
     algorithm: str = "hough-split",
     skip_bad: bool = False,

@@ -7,7 +7,7 @@ For each scan of the bundled URG-04LX excerpt (682 beams): the time of
 minus the time of the same extraction measured in Rust alone (`Extractor.time_extract`, the
 same scan, the same number of calls, best of 5). Prints the median over the scans of both
 times and of their difference: the binding's overhead (argument parsing, the numpy borrow,
-releasing and taking back the GIL, the dict of arrays).
+releasing and taking back the GIL, the structured array of lines).
 """
 
 import argparse

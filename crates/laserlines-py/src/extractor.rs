@@ -86,6 +86,22 @@ impl Extractor {
         &self.algorithm
     }
 
+    /// Pickling (`pickle`, `copy`, a Ray task's closure): an extractor of the same algorithm
+    /// and parameters, `functools.partial(Extractor, algorithm, **params)()`, with fresh
+    /// working memory.
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, pyo3::types::PyTuple>)> {
+        let py = slf.py();
+        let this = slf.get();
+        let params = kwargs::to_dict(py, &this.params)?;
+        let partial = py
+            .import("functools")?
+            .getattr("partial")?
+            .call((slf.get_type(), this.algorithm.as_str()), Some(&params))?;
+        Ok((partial, pyo3::types::PyTuple::empty(py)))
+    }
+
     /// Every parameter the extractor runs with (SI units, angles in radians), as a dict, as a
     /// params file writes them: one left unset (`range_limits`: the scan's own) is absent.
     #[getter]
@@ -96,8 +112,9 @@ impl Extractor {
     /// Address of the first range the last extraction read: the array's own buffer
     /// (`ranges.ctypes.data`) when it was read in place, a converted copy's otherwise.
     #[getter]
-    fn last_ranges_address(&self) -> usize {
-        self.working().last_address
+    fn last_ranges_address(&self, py: Python<'_>) -> usize {
+        // The lock is waited for without the GIL, as every other use of it.
+        py.detach(|| self.working().last_address)
     }
 
     /// The lines of one scan, a `Scan` or a 1-D float64/float32 array of ranges (m) with

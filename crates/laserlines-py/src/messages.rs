@@ -2,10 +2,9 @@
 //! `schema_name`, `message_encoding`, `log_time` in ns), decoded into a table of scans.
 
 use arrow_array::cast::AsArray;
-use arrow_array::ffi_stream::RecordBatchStreamReader;
 use arrow_array::types::{Int64Type, UInt64Type};
 use arrow_array::{Array, ArrayRef, RecordBatch};
-use arrow_pyarrow::{FromPyArrow, IntoPyArrow, Table};
+use arrow_pyarrow::{IntoPyArrow, Table};
 use arrow_schema::DataType;
 use laserlines_foxglove::ScanEncoding;
 use laserlines_foxglove::message::SCAN_ENCODINGS;
@@ -79,7 +78,7 @@ pub fn scan_of_row(batch: &RecordBatch, row: usize) -> Result<ScanRecord, String
 
 /// The batches of a table of messages (anything with `__arrow_c_stream__`).
 pub fn message_batches(table: &Bound<'_, PyAny>) -> PyResult<Vec<RecordBatch>> {
-    let reader = RecordBatchStreamReader::from_pyarrow_bound(table)?;
+    let reader = crate::tables::arrow_stream(table, "a table of LaserScan messages")?;
     reader.collect::<Result<_, _>>().map_err(value_error)
 }
 

@@ -4,6 +4,7 @@
 //! `laserlines-parquet`, the same code that writes `extract -o lines.parquet`.
 
 use std::path::Path;
+use std::sync::MutexGuard;
 
 use arrow_array::ffi_stream::RecordBatchStreamReader;
 use arrow_array::{RecordBatch, RecordBatchReader};
@@ -20,6 +21,38 @@ use crate::kwargs;
 
 /// Scans between two checks for a pending signal (Ctrl-C) while a file is extracted.
 const SIGNAL_SCANS: u64 = 256;
+
+/// Runs Python's signal handlers (Ctrl-C raises `KeyboardInterrupt`) from inside an
+/// extraction that runs without the GIL, every [`SIGNAL_SCANS`] scans (`done`). The
+/// extractor's lock is released while the GIL is taken: a thread that holds the GIL and waits
+/// for this extractor (or a signal handler that uses it) would otherwise wait for ever.
+fn check_signals<'a>(
+    extractor: &'a Extractor,
+    guard: MutexGuard<'a, Working>,
+    done: u64,
+) -> (MutexGuard<'a, Working>, PyResult<()>) {
+    if done == 0 || !done.is_multiple_of(SIGNAL_SCANS) {
+        return (guard, Ok(()));
+    }
+    drop(guard);
+    let checked = Python::attach(|py| py.check_signals());
+    (extractor.working(), checked)
+}
+
+/// The record batches of `table`, or a `TypeError` that says what is taken (`what`: the
+/// table's role).
+pub fn arrow_stream(table: &Bound<'_, PyAny>, what: &str) -> PyResult<RecordBatchStreamReader> {
+    RecordBatchStreamReader::from_pyarrow_bound(table).map_err(|e| {
+        let kind = table
+            .get_type()
+            .name()
+            .map_or_else(|_| "?".to_owned(), |n| n.to_string());
+        pyo3::exceptions::PyTypeError::new_err(format!(
+            "expected {what}: a pyarrow Table, RecordBatch or RecordBatchReader, or anything \
+             with __arrow_c_stream__ (a pandas DataFrame), got {kind} ({e})"
+        ))
+    })
+}
 
 /// Lines per record batch of a table built here.
 const BATCH_LINES: usize = 64 * 1024;
@@ -71,7 +104,7 @@ pub fn extract_table<'py>(
     py: Python<'py>,
     table: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let reader = RecordBatchStreamReader::from_pyarrow_bound(table)?;
+    let reader = arrow_stream(table, "a table of scans")?;
     check_schema(&reader.schema()).map_err(|e| {
         value_error(format!(
             "table of scans: column {}: expected {}, found {}",
@@ -79,28 +112,31 @@ pub fn extract_table<'py>(
         ))
     })?;
     let batches: Vec<RecordBatch> = reader.collect::<Result<_, _>>().map_err(value_error)?;
-    let built = py.detach(|| -> Result<LinesTable, String> {
+    let built = py.detach(|| -> PyResult<LinesTable> {
         let mut w = extractor.working();
         let mut out = LinesTable::new();
         let mut row = 0u64;
         for batch in &batches {
             let columns = ScanColumns::of(batch)
-                .ok_or_else(|| "table of scans: a batch of another schema".to_owned())?;
+                .ok_or_else(|| value_error("table of scans: a batch of another schema"))?;
             for i in 0..batch.num_rows() {
                 let record = columns
                     .record(i, &SourcePos::row("table of scans", row))
-                    .map_err(|e| e.to_string())?;
+                    .map_err(value_error)?;
                 let scan = columns
                     .scan_index(i)
                     .and_then(|k| u64::try_from(k).ok())
                     .unwrap_or(row);
-                out.push(&mut w, scan, &record)?;
+                out.push(&mut w, scan, &record).map_err(value_error)?;
                 row += 1;
+                let checked;
+                (w, checked) = check_signals(extractor, w, row);
+                checked?;
             }
         }
         Ok(out)
     });
-    built.map_err(value_error)?.into_pyarrow(py)
+    built?.into_pyarrow(py)
 }
 
 /// The lines of every LaserScan message of `table` (rows as `scans_from_messages` takes
@@ -111,20 +147,23 @@ pub fn extract_messages<'py>(
     table: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let batches = crate::messages::message_batches(table)?;
-    let built = py.detach(|| -> Result<LinesTable, String> {
+    let built = py.detach(|| -> PyResult<LinesTable> {
         let mut w = extractor.working();
         let mut out = LinesTable::new();
         let mut row = 0u64;
         for batch in &batches {
             for i in 0..batch.num_rows() {
-                let record = crate::messages::scan_of_row(batch, i)?;
-                out.push(&mut w, row, &record)?;
+                let record = crate::messages::scan_of_row(batch, i).map_err(value_error)?;
+                out.push(&mut w, row, &record).map_err(value_error)?;
                 row += 1;
+                let checked;
+                (w, checked) = check_signals(extractor, w, row);
+                checked?;
             }
         }
         Ok(out)
     });
-    built.map_err(value_error)?.into_pyarrow(py)
+    built?.into_pyarrow(py)
 }
 
 /// The lines of every scan of the file `path`, scans numbered from 0 in file order.
@@ -154,9 +193,9 @@ pub fn extract_path<'py>(
             out.push(&mut w, scan, &record).map_err(value_error)?;
             scan += 1;
             // Ctrl-C (or any signal handler's exception) ends a long file between scans.
-            if scan % SIGNAL_SCANS == 0 {
-                Python::attach(|py| py.check_signals())?;
-            }
+            let checked;
+            (w, checked) = check_signals(extractor, w, scan);
+            checked?;
         }
         Ok((out, skipped))
     });

@@ -123,8 +123,10 @@ def test_bad_tables_name_the_column_and_the_row():
     )
     with pytest.raises(ValueError, match="row 1: invalid scan: angle_increment"):
         ex.extract_table(t)
-    with pytest.raises(TypeError):
+    with pytest.raises(TypeError, match="expected a table of scans: a pyarrow Table, .* got list"):
         ex.extract_table([1, 2, 3])
+    with pytest.raises(TypeError, match="expected a table of LaserScan messages: .* got dict"):
+        ex.extract_messages({"a": 1})
 
 
 def test_a_scan_brings_its_own_range_limits():

@@ -76,3 +76,31 @@ def test_lines_equal_the_cli_for_the_same_scans(fleet, cli, tmp_path):
             assert np.array_equal(got[c].to_numpy(zero_copy_only=False), expected[c].to_numpy(zero_copy_only=False)), (log.name, c)
         total += got.num_rows
     assert total == table.num_rows > 300
+
+
+def test_lines_name_their_topic_and_a_second_run_into_the_output_is_refused(fleet):
+    logs, table, _ = fleet
+    topics = dict(zip(table["path"].to_pylist(), table["topic"].to_pylist()))
+    for path, topic in topics.items():
+        assert topic == ("/scan" if path.endswith(".mcap") else None), (path, topic)
+    run = subprocess.run(
+        [sys.executable, str(REPO / "examples" / "ray_fleet.py"), str(logs), "-o", str(logs.parent / "lines")],
+        capture_output=True, text=True, timeout=600,
+    )
+    assert run.returncode != 0
+    assert "lines: not empty (its files would be read with this run's)" in run.stderr, run.stderr[-2000:]
+
+
+def test_logs_without_lines_write_nothing_and_say_so(tmp_path):
+    # Two scans of 9 and 10 beams: no line in either.
+    logs = tmp_path / "logs"
+    logs.mkdir()
+    shutil.copy(FIXTURES / "foxglove_laserscan.mcap", logs / "tiny.mcap")
+    run = subprocess.run(
+        [sys.executable, str(REPO / "examples" / "ray_fleet.py"), str(logs), "-o", str(tmp_path / "lines"),
+         "--num-cpus", "2", "--workers", "1", "--count-scans"],
+        capture_output=True, text=True, timeout=600,
+    )
+    assert run.returncode == 0, run.stderr[-3000:]
+    assert "tiny.mcap: 2 scans" in run.stderr
+    assert "1 MCAP and 0 Parquet logs: no lines, nothing written to" in run.stderr, run.stderr[-2000:]
