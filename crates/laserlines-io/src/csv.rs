@@ -34,7 +34,8 @@
 //! angle_increment:`; a full turn, or a sector starting after its widest gap; a beam without
 //! a reading is NaN). A row may come in any order. `# clockwise: 1` says the bearings turn
 //! clockwise (as the RPLIDAR SDK's do); they are then negated. Two readings on one beam keep
-//! the one inside the range limits, then the nearer; each reading left out is counted as
+//! a measurement (above 0, inside the range limits), then the nearer; each reading left out
+//! is counted as
 //! skipped under [`SKIP_SHARED_BEAM`]. `# angle_min:` does not apply to such a file.
 //!
 //! Any error (a missing column, a bad number, non-uniform angles) ends the reader: the file

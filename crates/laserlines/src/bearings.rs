@@ -14,13 +14,14 @@
 //!   `round(2 pi / spacing)` beams, the spacing then adjusted to close the turn; a sector
 //!   starts at the reading after its widest gap (where a scanner's blind side is).
 //! - A beam without a reading is NaN (no reading). Two readings on one beam keep the better:
-//!   a range inside the limits before one outside them (a 0 that means "no return"), and of
-//!   two inside, the nearer (an obstacle is not hidden). [`Gridded::shared`] counts the
+//!   a measurement ([`RangeWindow::contains`]: finite, above 0, inside the limits) before
+//!   anything else (a 0 that means "no return"), and of two measurements the nearer (an
+//!   obstacle is not hidden). [`Gridded::shared`] counts the
 //!   readings left out so.
 
 use std::f64::consts::{PI, TAU};
 
-use crate::scan::{Scan, ScanError, Short};
+use crate::scan::{RangeWindow, Scan, ScanError, Short};
 
 /// The most beams [`grid`] makes (a tenth of a millidegree over a full turn is 3.6 million).
 pub const MAX_GRID_BEAMS: usize = 1 << 22;
@@ -128,8 +129,10 @@ pub fn grid(
     let mut out = vec![f64::NAN; layout.beams];
     let mut taken = vec![false; layout.beams];
     let mut shared = 0;
-    // Inside the limits first, then the nearer; a NaN never wins (its comparison fails).
-    let rank = |r: f64| (r >= range_min && r <= range_max, r);
+    // A measurement (finite, above 0, inside the limits) first, then the nearer; a NaN never
+    // wins (its comparison fails).
+    let window = RangeWindow::new(range_min, range_max);
+    let rank = |r: f64| (window.contains(r), r);
     for &(b, i) in &order {
         let (k, new) = (layout.beam(b), ranges[i]);
         if !taken[k] {
@@ -366,6 +369,9 @@ mod tests {
         // Beam 1: 2.5 is nearer than 3.0; beam 2: 4.0 lies inside the limits, 0 does not.
         assert_eq!(g.scan.ranges, vec![1.0, 2.5, 4.0, 1.0]);
         assert_eq!(g.shared, 2);
+        // A 0 ("no return") loses to a reading even when the limits start at 0.
+        let g = grid(&[0.0, 1e-4], &[0.0, 4.0], Some(inc), 0.0, 12.0).unwrap();
+        assert_eq!(g.scan.ranges, vec![4.0]);
         // A beam without a reading is NaN.
         let g = grid(&[0.0, 2.0 * inc], &[1.0, 1.0], Some(inc), 0.15, 12.0).unwrap();
         assert_eq!(g.scan.ranges.len(), 3);
