@@ -21,7 +21,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use crate::scan::{RangeWindow, Scan, ScanError, Short};
+use crate::scan::{MAX_ANGLE_MIN, RangeWindow, Scan, ScanError, Short};
 
 /// The most beams [`grid`] makes (a tenth of a millidegree over a full turn is 3.6 million).
 pub const MAX_GRID_BEAMS: usize = 1 << 22;
@@ -43,8 +43,9 @@ pub enum GridError {
     /// No reading at all.
     #[error("no readings")]
     Empty,
-    /// A bearing that is NaN or infinite cannot be placed.
-    #[error("bearing {index} must be finite, got {}", Short(*value))]
+    /// A bearing that is NaN, infinite or beyond [`MAX_ANGLE_MIN`] (where neighbouring
+    /// bearings round to one) cannot be placed.
+    #[error("bearing {index} must be finite and within +-1000 rad, got {}", Short(*value))]
     BearingNotFinite {
         /// Index of the reading.
         index: usize,
@@ -112,7 +113,7 @@ pub fn grid(
     Scan::new(0.0, 1.0, range_min, range_max, Vec::new())?;
     let mut order = Vec::with_capacity(bearings.len());
     for (index, &value) in bearings.iter().enumerate() {
-        if !value.is_finite() {
+        if !(value.is_finite() && value.abs() <= MAX_ANGLE_MIN) {
             return Err(GridError::BearingNotFinite { index, value });
         }
         order.push((wrap(value), index));
@@ -390,7 +391,15 @@ mod tests {
             matches!(e, GridError::BearingNotFinite { index: 1, value } if value.is_nan()),
             "{e}"
         );
-        assert_eq!(e.to_string(), "bearing 1 must be finite, got NaN");
+        assert_eq!(
+            e.to_string(),
+            "bearing 1 must be finite and within +-1000 rad, got NaN"
+        );
+        let e = grid(&[0.0, 1e300], &[1.0; 2], None, 0.1, 5.0).unwrap_err();
+        assert!(
+            matches!(e, GridError::BearingNotFinite { index: 1, .. }),
+            "{e}"
+        );
         assert!(matches!(
             grid(&[0.5, 0.5], &[1.0, 2.0], None, 0.1, 5.0),
             Err(GridError::BadIncrement(_))
