@@ -198,6 +198,24 @@ def extract(
     (use an :class:`Extractor` for many scans: it keeps its working memory); the arguments
     as :meth:`Extractor.extract` takes them."""
 
+def scan_from_bearings(
+    bearings: npt.ArrayLike,
+    ranges: npt.ArrayLike,
+    angle_increment: Optional[float] = None,
+    range_min: float = 0.0,
+    range_max: float = float("inf"),
+) -> Tuple[Scan, int]:
+    """Readings at their own bearings (a spinning scanner's raw output, RPLIDAR or YDLIDAR:
+    bearings not evenly spaced) as a :class:`Scan` of evenly spaced beams, and the number of
+    readings left out. Bearings in radians, counter-clockwise (REP 103; the RPLIDAR SDK's
+    clockwise degrees: ``-np.radians(theta)``), any turn; ranges in metres. Each reading goes
+    to the beam nearest its bearing; the spacing is the bearings' median spacing, or
+    ``angle_increment``. Readings that leave no gap wider than 4 spacings make a full turn,
+    others a sector that starts after its widest gap; a beam without a reading is NaN. Two
+    readings on one beam keep a measurement (above 0, inside the limits), then the nearer; the
+    other is counted in the returned number. Lengths that differ, a bearing that is not
+    finite, or a spacing that cannot be told raise ValueError."""
+
 def read(
     path: _Path,
     topic: Optional[str] = None,

@@ -53,6 +53,7 @@ fn laserlines_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scans::ScanIterator>()?;
     m.add_function(wrap_pyfunction!(extractor::extract, m)?)?;
     m.add_function(wrap_pyfunction!(scans::read, m)?)?;
+    m.add_function(wrap_pyfunction!(scans::scan_from_bearings, m)?)?;
     m.add_function(wrap_pyfunction!(tables::extract_file, m)?)?;
     m.add_function(wrap_pyfunction!(tables::lines_schema_py, m)?)?;
     m.add_function(wrap_pyfunction!(tables::scans_schema_py, m)?)?;

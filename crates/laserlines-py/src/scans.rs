@@ -261,3 +261,45 @@ pub fn read(
         skipped: Mutex::new(0),
     })
 }
+
+/// Readings at their own bearings (a spinning scanner's raw output: RPLIDAR, YDLIDAR) as a
+/// `Scan` of evenly spaced beams, and the number of readings left out because their beam
+/// kept a better one ([`laserlines::bearings::grid`]).
+#[pyfunction]
+#[pyo3(signature = (bearings, ranges, angle_increment = None, range_min = 0.0, range_max = f64::INFINITY))]
+#[pyo3(
+    text_signature = "(bearings, ranges, angle_increment=None, range_min=0.0, range_max=float('inf'))"
+)]
+pub fn scan_from_bearings(
+    py: Python<'_>,
+    bearings: Vec<f64>,
+    ranges: Vec<f64>,
+    angle_increment: Option<f64>,
+    range_min: f64,
+    range_max: f64,
+) -> PyResult<(Scan, usize)> {
+    // No upper limit, as a `Scan` of Python takes it: the largest finite range.
+    let limit = if range_max == f64::INFINITY {
+        f64::MAX
+    } else {
+        range_max
+    };
+    let gridded = py
+        .detach(|| {
+            laserlines::bearings::grid(&bearings, &ranges, angle_increment, range_min, limit)
+        })
+        .map_err(crate::errors::value_error)?;
+    let s = gridded.scan;
+    let scan = Scan {
+        ranges: PyArray1::from_vec(py, s.ranges).unbind(),
+        angle_min: s.angle_min,
+        angle_increment: s.angle_increment,
+        range_min,
+        range_max,
+        stamp: None,
+        pose: None,
+        odometry: None,
+        intensities: None,
+    };
+    Ok((scan, gridded.shared))
+}

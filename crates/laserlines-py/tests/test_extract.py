@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import laserlines
-from conftest import EXCERPT, same_lines
+from conftest import EXCERPT, REPO, same_lines
 
 
 def scans():
@@ -186,3 +186,26 @@ def test_cut_excursions_is_a_keyword_and_keeps_the_wall_behind_a_leg():
     assert lines["last"][0] < 341 < lines["first"][1]
     off = laserlines.Extractor(cut_excursions=False).extract(ranges, angle_min, inc, 0.02, 5.6)
     assert len(off) == 0
+
+
+def test_readings_at_their_own_bearings_grid_as_the_csv_reader_does():
+    # The fixture of a spinning scanner's raw readings: clockwise degrees and millimetres.
+    path = REPO / "crates" / "laserlines-io" / "tests" / "fixtures" / "readings_room.csv"
+    rows = [line.split(",") for line in path.read_text().splitlines()
+            if line and not line.startswith("#") and not line.startswith("angle")]
+    bearings = -np.radians([float(a) for a, _ in rows])
+    ranges = np.array([float(r) for _, r in rows]) * 1e-3  # as the reader converts
+    scan, shared = laserlines.scan_from_bearings(bearings, ranges, range_min=0.15, range_max=12.0)
+    assert shared == 38
+    (read,) = list(laserlines.read(path))
+    assert scan.angle_min == read.angle_min and scan.angle_increment == read.angle_increment
+    assert np.array_equal(scan.ranges, read.ranges, equal_nan=True)
+    lines = laserlines.Extractor().extract(scan)
+    # The room x = +-2, y = +-1.5 m seen from (0.5, -0.3): its four walls.
+    for r, alpha in [(1.5, 0.0), (2.5, np.pi), (1.8, np.pi / 2), (1.2, -np.pi / 2)]:
+        d_alpha = np.abs((lines["alpha"] - alpha + np.pi) % (2 * np.pi) - np.pi)
+        assert np.any((np.abs(lines["r"] - r) < 0.03) & (d_alpha < 0.03)), (r, alpha, lines)
+    with pytest.raises(ValueError, match="3 bearings but 2 ranges"):
+        laserlines.scan_from_bearings([0.0, 0.1, 0.2], [1.0, 1.0])
+    with pytest.raises(ValueError, match="bearing 1 must be finite"):
+        laserlines.scan_from_bearings([0.0, float("nan")], [1.0, 1.0])
