@@ -91,8 +91,8 @@ fn number(obj: &Map<String, Value>, key: &str, path: &str) -> Result<Option<f64>
     }
 }
 
-fn required(obj: &Map<String, Value>, key: &str, path: &str) -> Result<f64> {
-    number(obj, key, path)?.ok_or_else(|| error(path, "a number", "nothing".to_owned()))
+fn required(obj: &Map<String, Value>, key: &str) -> Result<f64> {
+    number(obj, key, key)?.ok_or_else(|| error(key, "a number", "nothing".to_owned()))
 }
 
 /// The array of numbers at `key` (`null` items as NaN); empty when absent or `null`.
@@ -194,8 +194,8 @@ pub fn laser_scan(data: &[u8]) -> Result<LaserScan> {
         timestamp: timestamp(&obj, "timestamp")?,
         frame_id: string(&obj, "frame_id")?,
         pose: None,
-        start_angle: required(&obj, "start_angle", "start_angle")?,
-        end_angle: required(&obj, "end_angle", "end_angle")?,
+        start_angle: required(&obj, "start_angle")?,
+        end_angle: required(&obj, "end_angle")?,
         ranges: numbers(&obj, "ranges")?,
         intensities: numbers(&obj, "intensities")?,
     })

@@ -327,7 +327,7 @@ fn parse_reading(
     degrees: bool,
     millimetres: bool,
 ) -> Result<(f64, f64, Option<f64>), ReadError> {
-    let (angle_name, range_name) = if degrees {
+    let (angle_field, angle_expected) = if degrees {
         ("angle_deg", "a finite bearing in degrees")
     } else {
         ("angle_rad", "a finite bearing in radians")
@@ -337,8 +337,8 @@ fn parse_reading(
         _ => {
             return Err(ReadError::Field {
                 pos: SourcePos::line(name, line),
-                field: angle_name.to_owned(),
-                expected: range_name.to_owned(),
+                field: angle_field.to_owned(),
+                expected: angle_expected.to_owned(),
                 found: shown(fields[0]),
             });
         }
