@@ -20,7 +20,7 @@ Lines come as a numpy structured array, one record per line (``lines["r"]`` is t
 """
 
 from os import PathLike
-from typing import Any, Dict, Iterator, Optional, Tuple, Union, final
+from typing import Any, Dict, Iterator, Optional, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -39,7 +39,11 @@ docstring)."""
 _Ranges = Union[npt.NDArray[np.float64], npt.NDArray[np.float32]]
 """Ranges of one scan, m: a 1-D float64 array (read in place when contiguous) or float32."""
 
-_Path = Union[str, "PathLike[str]"]
+_Path = Union[str, bytes, "PathLike[str]", "PathLike[bytes]"]
+"""A file path, as ``open()`` takes one."""
+
+_Pose = Union[Tuple[float, float, float], Sequence[float], npt.NDArray[np.float64]]
+"""A pose (x, y, theta) in m, m, rad: any sequence of three numbers."""
 
 @final
 class Scan:
@@ -53,8 +57,8 @@ class Scan:
         range_min: float = 0.0,
         range_max: float = float("inf"),
         stamp: Optional[float] = None,
-        pose: Optional[Tuple[float, float, float]] = None,
-        odometry: Optional[Tuple[float, float, float]] = None,
+        pose: Optional[_Pose] = None,
+        odometry: Optional[_Pose] = None,
     ) -> None:
         """A scan; ``range_max=inf`` means no upper limit. ValueError for broken geometry,
         or a ``stamp``, ``pose`` or ``odometry`` that is not finite.

@@ -253,12 +253,12 @@ impl Extractor {
     fn extract_file<'py>(
         &self,
         py: Python<'py>,
-        path: std::path::PathBuf,
+        path: crate::args::FsPath,
         topic: Option<String>,
         skip_bad: bool,
         format: Option<&str>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        tables::extract_path(self, py, &path, format, topic, skip_bad)
+        tables::extract_path(self, py, &path.0, format, topic, skip_bad)
     }
 
     fn __repr__(&self) -> String {

@@ -19,6 +19,8 @@
 pub mod config;
 
 #[cfg(feature = "python")]
+mod args;
+#[cfg(feature = "python")]
 mod arrays;
 #[cfg(feature = "python")]
 mod errors;

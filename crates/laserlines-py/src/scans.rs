@@ -2,7 +2,6 @@
 //! array) and `read(path, topic=None)`, which iterates the scans of any file the command line
 //! reads.
 
-use std::path::PathBuf;
 use std::sync::Mutex;
 
 use laserlines_io::{Format, ReadOptions, ScanReader, ScanRecord};
@@ -81,9 +80,11 @@ impl Scan {
         range_min: f64,
         range_max: f64,
         stamp: Option<f64>,
-        pose: Option<(f64, f64, f64)>,
-        odometry: Option<(f64, f64, f64)>,
+        pose: Option<&Bound<'_, PyAny>>,
+        odometry: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let pose = crate::args::optional_pose(pose, "pose")?;
+        let odometry = crate::args::optional_pose(odometry, "odometry")?;
         let values = crate::arrays::ranges(ranges)?;
         crate::config::checked_view(
             values.as_slice(),
@@ -97,15 +98,6 @@ impl Scan {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(
                 "stamp must be a finite number of seconds or None, got {t}"
             )));
-        }
-        for (name, p) in [("pose", pose), ("odometry", odometry)] {
-            if let Some((x, y, theta)) =
-                p.filter(|(x, y, t)| !(x.is_finite() && y.is_finite() && t.is_finite()))
-            {
-                return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                    "{name} must be three finite numbers (x, y, theta) or None, got ({x}, {y}, {theta})"
-                )));
-            }
         }
         // A float64 array is kept as given; anything else as its float64 copy.
         let array = match ranges.cast::<PyArray1<f64>>() {
@@ -250,13 +242,13 @@ pub fn open(
 #[pyfunction]
 #[pyo3(signature = (path, topic = None, skip_bad = false, format = None))]
 pub fn read(
-    path: PathBuf,
+    path: crate::args::FsPath,
     topic: Option<String>,
     skip_bad: bool,
     format: Option<&str>,
 ) -> PyResult<ScanIterator> {
     Ok(ScanIterator {
-        reader: Mutex::new(open(&path, format, topic)?),
+        reader: Mutex::new(open(&path.0, format, topic)?),
         skip_bad,
         skipped: Mutex::new(0),
     })

@@ -221,7 +221,7 @@ pub fn extract_path<'py>(
 #[pyo3(signature = (path, topic = None, algorithm = "hough-split", skip_bad = false, format = None, **params))]
 pub fn extract_file<'py>(
     py: Python<'py>,
-    path: std::path::PathBuf,
+    path: crate::args::FsPath,
     topic: Option<String>,
     algorithm: &str,
     skip_bad: bool,
@@ -229,7 +229,7 @@ pub fn extract_file<'py>(
     params: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let extractor = Extractor::build(algorithm, kwargs::to_table(params)?)?;
-    extract_path(&extractor, py, &path, format, topic, skip_bad)
+    extract_path(&extractor, py, &path.0, format, topic, skip_bad)
 }
 
 /// The schema of the lines table (`extract -o lines.parquet`, `extract_file`).

@@ -62,6 +62,28 @@ def test_a_single_number_nan_limits_and_nan_poses_are_named():
     assert laserlines.Scan(GOOD, 0.0, 0.1, stamp=1.5, pose=(1.0, 2.0, 0.5)).stamp == 1.5
 
 
+def test_a_pose_is_any_sequence_of_three_numbers():
+    for given in ([1.0, 2.0, 0.5], np.array([1.0, 2.0, 0.5]), (1, 2, 0.5)):
+        assert laserlines.Scan(GOOD, 0.0, 0.1, pose=given).pose == (1.0, 2.0, 0.5)
+    with pytest.raises(ValueError, match="pose must be three finite numbers .* got 2 numbers"):
+        laserlines.Scan(GOOD, 0.0, 0.1, pose=[1.0, 2.0])
+    with pytest.raises(TypeError, match="odometry must be three finite numbers .* got str"):
+        laserlines.Scan(GOOD, 0.0, 0.1, odometry="1 2 3")
+    with pytest.raises(TypeError, match="pose must be three finite numbers .* got dict"):
+        laserlines.Scan(GOOD, 0.0, 0.1, pose={"x": 1.0})
+
+
+def test_a_path_is_str_bytes_or_path_like():
+    expected = [len(s) for s in laserlines.read(str(EXCERPT))]
+    assert len(expected) == 40
+    assert [len(s) for s in laserlines.read(os.fsencode(EXCERPT))] == expected
+    assert [len(s) for s in laserlines.read(EXCERPT)] == expected
+    table = laserlines.extract_file(os.fsencode(EXCERPT))
+    assert table.num_rows == laserlines.extract_file(str(EXCERPT)).num_rows > 0
+    with pytest.raises(TypeError, match="path must be a str, bytes or os.PathLike, got int"):
+        laserlines.read(3)
+
+
 def test_signatures_show_inf_as_python_writes_it():
     assert "range_max=float('inf')" in laserlines.Scan.__text_signature__
     assert "range_max=float('inf')" in laserlines.Extractor.time_extract.__text_signature__
