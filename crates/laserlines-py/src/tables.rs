@@ -123,10 +123,14 @@ pub fn extract_table<'py>(
                 let record = columns
                     .record(i, &SourcePos::row("table of scans", row))
                     .map_err(value_error)?;
-                let scan = columns
-                    .scan_index(i)
-                    .and_then(|k| u64::try_from(k).ok())
-                    .unwrap_or(row);
+                let scan = match columns.scan_index(i) {
+                    None => row,
+                    Some(k) => u64::try_from(k).map_err(|_| {
+                        value_error(format!(
+                            "table of scans, row {row}: column scan: expected an index of 0 or more, found {k}"
+                        ))
+                    })?,
+                };
                 out.push(&mut w, scan, &record).map_err(value_error)?;
                 row += 1;
                 let checked;

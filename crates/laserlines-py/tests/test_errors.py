@@ -145,6 +145,18 @@ def test_bad_tables_name_the_column_and_the_row():
     )
     with pytest.raises(ValueError, match="row 1: invalid scan: angle_increment"):
         ex.extract_table(t)
+    numbered = pa.table(
+        {
+            "scan": pa.array([7, -3], pa.int64()),
+            "angle_min": [0.0, 0.0],
+            "angle_increment": [0.1, 0.1],
+            "range_min": [0.0, 0.0],
+            "range_max": [5.0, 5.0],
+            "ranges": [[1.0, 1.0], [1.0, 1.0]],
+        }
+    )
+    with pytest.raises(ValueError, match="row 1: column scan: expected an index of 0 or more, found -3"):
+        ex.extract_table(numbered)
     with pytest.raises(TypeError, match="expected a table of scans: a pyarrow Table, .* got list"):
         ex.extract_table([1, 2, 3])
     with pytest.raises(TypeError, match="expected a table of LaserScan messages: .* got dict"):
