@@ -23,6 +23,10 @@ Written by other tools, read by laserlines:
   the json encoding, written by the Python mcap writer, the messages by json.dumps.
 - ros2_laserscan_sqlite3/: the messages of ros2.mcap in a ROS 2 bag directory in sqlite3
   storage (metadata.yaml and a .db3 file), written by rosbags' rosbag2 writer.
+- ros1_multiecho.bag, ros2_multiecho.mcap, ros2_multiecho_sqlite3/: sensor_msgs/MultiEchoLaserScan
+  (the message of multi-echo drivers and of Cartographer's public bags) on two topics, 0 to 2
+  echoes per beam, written by rosbags' rosbag1 writer and its rosbag2 writer (MCAP and
+  sqlite3 storage); laserlines keeps each beam's first echo (NaN for a beam without one).
 - ros1.bag (laserlines-io's bag reader), ROS 2 bag directories in MCAP and in sqlite3
   storage (read by laserlines-foxglove), all written with rosbags, checked when `laserlines
   convert` reads them.
@@ -104,6 +108,53 @@ def expected_record(s):
     }
 
 
+MULTI_ECHO_TOPICS = ("/horizontal_laser_2d", "/vertical_laser_2d")
+
+
+def multi_echo_scans(topic_seed):
+    """Two MultiEchoLaserScans per topic: beam i has (i + k + topic_seed) % 3 echoes, the
+    first scan with intensities (as many echoes per beam as its ranges), the second without;
+    one first echo is inf."""
+    out = []
+    for k in range(2):
+        n = 6 + k
+        counts = [(i + k + topic_seed) % 3 for i in range(n)]
+        ranges = [[F32(0.8 + 0.25 * i + 0.5 * j + 0.01 * k + 0.1 * topic_seed) for j in range(c)] for i, c in enumerate(counts)]
+        for echo in ranges[1:2]:
+            if echo:
+                echo[0] = F32(np.inf)
+        intensities = [[F32(200.0 + i + 10.0 * j) for j in range(c)] for i, c in enumerate(counts)] if k == 0 else []
+        out.append(
+            {
+                "sec": 1_600_000_000 + k,
+                "nanosec": 250_000_000 * (k + 1),
+                "frame_id": "horizontal_laser_link" if topic_seed == 0 else "vertical_laser_link",
+                "angle_min": F32(-1.6),
+                "angle_max": F32(1.6),
+                "angle_increment": F32(0.0043),
+                "time_increment": F32(1.7e-5),
+                "scan_time": F32(0.025),
+                "range_min": F32(0.1),
+                "range_max": F32(30.0),
+                "ranges": ranges,
+                "intensities": intensities,
+            }
+        )
+    return out
+
+
+def multi_echo_expected(s):
+    """Each beam's first echo (NaN for none), as laserlines reads these messages."""
+    first = lambda echoes: [e[0] if e else F32(np.nan) for e in echoes]  # noqa: E731
+    flat = dict(s, ranges=first(s["ranges"]), intensities=first(s["intensities"]))
+    return expected_record(flat)
+
+
+def multi_echo_left_out(topic_seed):
+    """The echoes after each beam's first, over a topic's scans: what laserlines counts."""
+    return sum(max(len(e) - 1, 0) for s in multi_echo_scans(topic_seed) for seq in (s["ranges"], s["intensities"]) for e in seq)
+
+
 # --- writers of other people ----------------------------------------------------------------
 
 
@@ -127,6 +178,72 @@ def ros_msg(typestore, s, ros1):
         ranges=np.array(s["ranges"], dtype=np.float32),
         intensities=np.array(s["intensities"], dtype=np.float32),
     )
+
+
+def multi_echo_msg(typestore, s, ros1):
+    t = typestore.types
+    Time = t["builtin_interfaces/msg/Time"]
+    Header = t["std_msgs/msg/Header"]
+    Echo = t["sensor_msgs/msg/LaserEcho"]
+    stamp = Time(sec=s["sec"], nanosec=s["nanosec"])
+    header = Header(seq=0, stamp=stamp, frame_id=s["frame_id"]) if ros1 else Header(stamp=stamp, frame_id=s["frame_id"])
+    echoes = lambda lists: [Echo(echoes=np.array(e, dtype=np.float32)) for e in lists]  # noqa: E731
+    return t["sensor_msgs/msg/MultiEchoLaserScan"](
+        header=header,
+        angle_min=float(s["angle_min"]),
+        angle_max=float(s["angle_max"]),
+        angle_increment=float(s["angle_increment"]),
+        time_increment=float(s["time_increment"]),
+        scan_time=float(s["scan_time"]),
+        range_min=float(s["range_min"]),
+        range_max=float(s["range_max"]),
+        ranges=echoes(s["ranges"]),
+        intensities=echoes(s["intensities"]),
+    )
+
+
+def write_ros1_multi_echo_bag(path):
+    """rosbags' rosbag1 writer: MultiEchoLaserScans on two topics, interleaved."""
+    from rosbags.rosbag1 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    ts = get_typestore(Stores.ROS1_NOETIC)
+    kind = "sensor_msgs/msg/MultiEchoLaserScan"
+    if path.exists():
+        path.unlink()
+    with Writer(path) as w:
+        conns = [w.add_connection(topic, kind, typestore=ts) for topic in MULTI_ECHO_TOPICS]
+        for k in range(2):
+            for seed, c in enumerate(conns):
+                s = multi_echo_scans(seed)[k]
+                w.write(c, stamp_ns(s), ts.serialize_ros1(multi_echo_msg(ts, s, True), kind))
+
+
+def write_ros2_multi_echo_bag(path, storage):
+    """rosbags' rosbag2 writer: MultiEchoLaserScans (CDR) on two topics, interleaved."""
+    from rosbags.rosbag2 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    ts = get_typestore(Stores.ROS2_HUMBLE)
+    kind = "sensor_msgs/msg/MultiEchoLaserScan"
+    if path.exists():
+        shutil.rmtree(path)
+    with Writer(path, version=9, storage_plugin=storage) as w:
+        conns = [w.add_connection(topic, kind, typestore=ts) for topic in MULTI_ECHO_TOPICS]
+        for k in range(2):
+            for seed, c in enumerate(conns):
+                s = multi_echo_scans(seed)[k]
+                w.write(c, stamp_ns(s), ts.serialize_cdr(multi_echo_msg(ts, s, False), kind))
+
+
+def write_ros2_multi_echo_mcap(path):
+    """The MCAP file of a rosbag2 bag in MCAP storage."""
+    from rosbags.rosbag2 import StoragePlugin
+
+    with tempfile.TemporaryDirectory() as t:
+        bag = Path(t) / "bag"
+        write_ros2_multi_echo_bag(bag, StoragePlugin.MCAP)
+        shutil.copy(next(bag.glob("*.mcap")), path)
 
 
 def stamp_ns(s):
@@ -437,6 +554,12 @@ def write_fixtures(out):
     write_ros1_mcap(out / "ros1_laserscan.mcap")
     write_foxglove_mcap(out / "foxglove_laserscan.mcap")
     write_foxglove_json_mcap(out / "foxglove_json.mcap")
+    write_ros1_multi_echo_bag(out / "ros1_multiecho.bag")
+    write_ros2_multi_echo_mcap(out / "ros2_multiecho.mcap")
+    from rosbags.rosbag2 import StoragePlugin
+
+    write_ros2_multi_echo_bag(out / "ros2_multiecho_sqlite3", StoragePlugin.SQLITE3)
+    multi_echo = {topic: [multi_echo_expected(s) for s in multi_echo_scans(seed)] for seed, topic in enumerate(MULTI_ECHO_TOPICS)}
     ros2 = {
         "/scan": [expected_record(s) for s in scans(0)],
         "/scan_rear": [expected_record(s) for s in scans(1)],
@@ -449,6 +572,9 @@ def write_fixtures(out):
         "foxglove_json.mcap": {
             "/laser": [foxglove_json_expected(k, s) for k, s in enumerate(foxglove_scans())]
         },
+        "ros1_multiecho.bag": multi_echo,
+        "ros2_multiecho.mcap": multi_echo,
+        "ros2_multiecho_sqlite3": multi_echo,
     }
     (out / "expected.json").write_text(json.dumps(expected, indent=1) + "\n")
     return expected
@@ -511,7 +637,10 @@ def check_reader(bin_, fx, expected, fails, tmp):
                         fails.eq(f"{at} ranges[{i}] (no return)", a, None)
                     else:
                         fails.eq(f"{at} ranges[{i}]", a, b)
-                fails.eq(f"{at} intensities", g.get("intensities"), w["intensities"] and [as_float(x) for x in w["intensities"]])
+                # null in our JSONL is a NaN intensity (a beam without an echo).
+                got_i = g.get("intensities")
+                got_i = got_i and [as_float(x) for x in got_i]
+                fails.eq(f"{at} intensities", str(got_i), str(w["intensities"] and [as_float(x) for x in w["intensities"]]))
                 for key in ("pose", "odometry"):
                     want = w.get(key)
                     got = g.get(key)

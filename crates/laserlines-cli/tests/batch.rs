@@ -198,7 +198,7 @@ fn bad_topics_and_bags_are_clean_errors() {
     assert_eq!(o.status.code(), Some(2));
     let err = stderr(&o);
     assert!(
-        err.contains("no_laserscan.bag: byte 4939: expected a sensor_msgs/LaserScan connection"),
+        err.contains("no_laserscan.bag: byte 4939: expected a sensor_msgs/LaserScan or sensor_msgs/MultiEchoLaserScan connection"),
         "{err}"
     );
     // A truncated bag: the scans before the cut, then an error naming the offset.

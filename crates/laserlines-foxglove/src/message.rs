@@ -21,6 +21,8 @@ impl ScanEncoding {
         match (schema, encoding) {
             ("sensor_msgs/msg/LaserScan", "cdr") => Some(Self::Ros2Cdr),
             ("sensor_msgs/LaserScan", "ros1") => Some(Self::Ros1),
+            ("sensor_msgs/msg/MultiEchoLaserScan", "cdr") => Some(Self::Ros2CdrMultiEcho),
+            ("sensor_msgs/MultiEchoLaserScan", "ros1") => Some(Self::Ros1MultiEcho),
             ("foxglove.LaserScan", "protobuf") => Some(Self::FoxgloveProtobuf),
             ("foxglove.LaserScan", "json") => Some(Self::FoxgloveJson),
             _ => None,
@@ -29,8 +31,9 @@ impl ScanEncoding {
 }
 
 /// The LaserScans this crate decodes, for messages that name them.
-pub const SCAN_ENCODINGS: &str = "sensor_msgs/msg/LaserScan in cdr, sensor_msgs/LaserScan in ros1, \
-                                  or foxglove.LaserScan in protobuf or json";
+pub const SCAN_ENCODINGS: &str = "sensor_msgs/msg/LaserScan or sensor_msgs/msg/MultiEchoLaserScan \
+                                  in cdr, sensor_msgs/LaserScan or sensor_msgs/MultiEchoLaserScan \
+                                  in ros1, or foxglove.LaserScan in protobuf or json";
 
 /// Why a message is not a LaserScan of its encoding.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -58,19 +61,41 @@ pub fn decode_scan(
     data: &[u8],
     log_seconds: f64,
 ) -> Result<Scan, MessageError> {
-    let mut scan = match encoding {
-        ScanEncoding::Ros2Cdr => ros::decode_cdr(data).map_err(MessageError::Ros)?.to_scan(),
-        ScanEncoding::Ros1 => ros::decode_ros1(data).map_err(MessageError::Ros)?.to_scan(),
+    decode_scan_counted(encoding, limits, data, log_seconds).map(|(scan, _)| scan)
+}
+
+/// [`decode_scan`], and the echoes after each beam's first left out of a
+/// `MultiEchoLaserScan` (0 for the other encodings).
+///
+/// # Errors
+/// As [`decode_scan`].
+pub fn decode_scan_counted(
+    encoding: ScanEncoding,
+    limits: RangeLimits,
+    data: &[u8],
+    log_seconds: f64,
+) -> Result<(Scan, usize), MessageError> {
+    use ros::ScanMsgType::{LaserScan as Single, MultiEcho};
+    let ros_scan = |msg: Result<ros::LaserScanMsg, DecodeError>| {
+        msg.map(|m| (m.to_scan(), m.echoes_left_out))
+            .map_err(MessageError::Ros)
+    };
+    let (mut scan, left_out) = match encoding {
+        ScanEncoding::Ros2Cdr => ros_scan(ros::decode_cdr_as(data, Single))?,
+        ScanEncoding::Ros1 => ros_scan(ros::decode_ros1_as(data, Single))?,
+        ScanEncoding::Ros2CdrMultiEcho => ros_scan(ros::decode_cdr_as(data, MultiEcho))?,
+        ScanEncoding::Ros1MultiEcho => ros_scan(ros::decode_ros1_as(data, MultiEcho))?,
         ScanEncoding::FoxgloveProtobuf => {
             let msg = LaserScan::decode(data).map_err(|e| MessageError::Protobuf(e.to_string()))?;
-            proto::scan_from_foxglove(&msg, limits, log_seconds)
+            (proto::scan_from_foxglove(&msg, limits, log_seconds), 0)
         }
-        ScanEncoding::FoxgloveJson => {
-            proto::scan_from_foxglove(&json::laser_scan(data)?, limits, log_seconds)
-        }
+        ScanEncoding::FoxgloveJson => (
+            proto::scan_from_foxglove(&json::laser_scan(data)?, limits, log_seconds),
+            0,
+        ),
     };
     if scan.stamp.is_none() && log_seconds > 0.0 {
         scan.stamp = Some(log_seconds);
     }
-    Ok(scan)
+    Ok((scan, left_out))
 }

@@ -1,6 +1,6 @@
-//! MCAP files and a ROS 2 bag in sqlite3 storage written by other tools (rosbags' rosbag2
-//! writer, rosbags' ROS 1 serializer with the Python mcap writer, mcap-protobuf-support, the
-//! Python mcap writer with JSON messages from `json.dumps`), read
+//! MCAP files, ROS 2 bags in sqlite3 storage and a ROS 1 bag written by other tools (rosbags'
+//! rosbag1 and rosbag2 writers, rosbags' ROS 1 serializer with the Python mcap writer,
+//! mcap-protobuf-support, the Python mcap writer with JSON messages from `json.dumps`), read
 //! by our reader and compared value by value with what the script that wrote them put in
 //! (`expected.json`). The files and the
 //! values come from `scripts/peer_check.py fixtures crates/laserlines-foxglove/tests/fixtures`.
@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 
 use laserlines_foxglove::McapReadOptions;
 use laserlines_foxglove::read;
+use laserlines_io::ReadOptions;
 use serde_json::Value;
 
 fn fixtures() -> PathBuf {
@@ -35,7 +36,8 @@ fn check_file(name: &str, topics: &serde_json::Map<String, Value>) -> usize {
     let mut compared = 0;
     for (topic, records) in topics {
         let path = fixtures().join(name);
-        let reader = read::open(&path, &McapReadOptions::topic(Some(topic))).unwrap();
+        let options = ReadOptions::format(None).with_topic(Some(topic));
+        let reader = laserlines_foxglove::open_scans(&path, &options).unwrap();
         let got: Vec<_> = reader.collect::<Result<_, _>>().unwrap();
         let want = records.as_array().unwrap();
         assert_eq!(got.len(), want.len(), "{name} {topic}");
@@ -98,12 +100,42 @@ fn files_written_by_rosbags_and_the_python_mcap_writers_read_value_for_value() {
     let text = std::fs::read_to_string(fixtures().join("expected.json")).unwrap();
     let expected: Value = serde_json::from_str(&text).unwrap();
     let files = expected.as_object().unwrap();
-    assert_eq!(files.len(), 5);
+    assert_eq!(files.len(), 8);
     let mut compared = 0;
     for (name, topics) in files {
         compared += check_file(name, topics.as_object().unwrap());
     }
     assert!(compared > 100, "{compared}");
+}
+
+/// Echoes after each beam's first over the two scans of one topic of the multi-echo
+/// fixtures (`multi_echo_scans` of `peer_check.py`): beams with 0, 1, 2, 0, 1, 2 echoes and
+/// then 1, 2, 0, 1, 2, 0, 1 on the first topic, their intensities alike in the first scan only:
+/// 2 + 2 in the first scan, 2 in the second.
+const FIRST_TOPIC_ECHOES_LEFT_OUT: u64 = 6;
+
+#[test]
+fn multi_echo_scans_count_the_echoes_after_the_first_and_the_other_topic() {
+    for name in [
+        "ros1_multiecho.bag",
+        "ros2_multiecho.mcap",
+        "ros2_multiecho_sqlite3",
+    ] {
+        let path = fixtures().join(name);
+        let mut reader =
+            laserlines_foxglove::open_scans(&path, &ReadOptions::format(None)).unwrap();
+        let scans: Vec<_> = reader.by_ref().collect::<Result<_, _>>().unwrap();
+        // The default topic is the first: its scans have 6 and 7 beams.
+        let beams: Vec<usize> = scans.iter().map(|r| r.scan.ranges.len()).collect();
+        assert_eq!(beams, [6, 7], "{name}");
+        let skipped = reader.skipped();
+        assert_eq!(
+            skipped.get(read::SKIP_LATER_ECHOES),
+            FIRST_TOPIC_ECHOES_LEFT_OUT,
+            "{name}"
+        );
+        assert_eq!(skipped.get(read::SKIP_OTHER_TOPIC), 2, "{name}");
+    }
 }
 
 #[test]

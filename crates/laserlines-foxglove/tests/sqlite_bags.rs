@@ -71,8 +71,8 @@ fn a_missing_topic_is_an_error_naming_the_topics_there() {
     let e = items[0].as_ref().unwrap_err().to_string();
     assert!(
         e.ends_with(
-            "ros2_laserscan_sqlite3.db3: byte 0: expected a sensor_msgs/msg/LaserScan topic \
-             /nope, found topics /scan (sensor_msgs/msg/LaserScan), /scan_rear \
+            "ros2_laserscan_sqlite3.db3: byte 0: expected a sensor_msgs/msg/LaserScan or \
+             sensor_msgs/msg/MultiEchoLaserScan topic /nope, found topics /scan (sensor_msgs/msg/LaserScan), /scan_rear \
              (sensor_msgs/msg/LaserScan), /note (std_msgs/msg/String)"
         ),
         "{e}"

@@ -18,6 +18,13 @@
 //! float32[] intensities
 //! ```
 //!
+//! `sensor_msgs/MultiEchoLaserScan` (a multi-echo driver's output, such as `urg_node`'s
+//! `echoes` topic or the 2D lasers of Cartographer's public bags) has the same fields but
+//! for `ranges` and `intensities`, which are `sensor_msgs/LaserEcho[]`, each a `float32[]
+//! echoes` list per beam. Its decoders keep each beam's first echo, as Cartographer reads
+//! these messages (NaN, no return, for a beam with none), and count the echoes left out
+//! ([`LaserScanMsg::echoes_left_out`]).
+//!
 //! ROS 1 writes little-endian numbers back to back; a string or array is a `uint32` count and
 //! its elements. ROS 2 writes CDR: a 4-byte encapsulation header (`00 01` little-endian or
 //! `00 00` big-endian, then two option bytes), then every number aligned to its size counted from
@@ -55,6 +62,41 @@ pub struct LaserScanMsg {
     pub ranges: Vec<f32>,
     /// Intensities (empty when the driver gives none).
     pub intensities: Vec<f32>,
+    /// Echoes after the first left out of a `MultiEchoLaserScan`'s ranges and intensities
+    /// (0 for a `LaserScan`).
+    pub echoes_left_out: usize,
+}
+
+/// The scan message types read, by their ROS 1 and ROS 2 names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ScanMsgType {
+    /// `sensor_msgs/LaserScan`, `sensor_msgs/msg/LaserScan`.
+    LaserScan,
+    /// `sensor_msgs/MultiEchoLaserScan`, `sensor_msgs/msg/MultiEchoLaserScan`: each beam's
+    /// first echo.
+    MultiEcho,
+}
+
+impl ScanMsgType {
+    /// The type of the ROS 1 name `name` (`sensor_msgs/LaserScan`), `None` for any other.
+    #[must_use]
+    pub fn ros1(name: &str) -> Option<Self> {
+        match name {
+            "sensor_msgs/LaserScan" => Some(Self::LaserScan),
+            "sensor_msgs/MultiEchoLaserScan" => Some(Self::MultiEcho),
+            _ => None,
+        }
+    }
+
+    /// The type of the ROS 2 name `name` (`sensor_msgs/msg/LaserScan`), `None` for any other.
+    #[must_use]
+    pub fn ros2(name: &str) -> Option<Self> {
+        match name {
+            "sensor_msgs/msg/LaserScan" => Some(Self::LaserScan),
+            "sensor_msgs/msg/MultiEchoLaserScan" => Some(Self::MultiEcho),
+            _ => None,
+        }
+    }
 }
 
 impl LaserScanMsg {
@@ -90,7 +132,7 @@ impl LaserScanMsg {
 }
 
 /// The fields after the header, identical in both serializations but for alignment.
-fn body(w: &mut Wire<'_>, msg: &mut LaserScanMsg) -> Result<(), DecodeError> {
+fn body(w: &mut Wire<'_>, msg: &mut LaserScanMsg, kind: ScanMsgType) -> Result<(), DecodeError> {
     msg.angle_min = w.f32("angle_min")?;
     msg.angle_max = w.f32("angle_max")?;
     msg.angle_increment = w.f32("angle_increment")?;
@@ -98,8 +140,17 @@ fn body(w: &mut Wire<'_>, msg: &mut LaserScanMsg) -> Result<(), DecodeError> {
     msg.scan_time = w.f32("scan_time")?;
     msg.range_min = w.f32("range_min")?;
     msg.range_max = w.f32("range_max")?;
-    msg.ranges = w.f32_seq("ranges")?;
-    msg.intensities = w.f32_seq("intensities")?;
+    match kind {
+        ScanMsgType::LaserScan => {
+            msg.ranges = w.f32_seq("ranges")?;
+            msg.intensities = w.f32_seq("intensities")?;
+        }
+        ScanMsgType::MultiEcho => {
+            let (ranges, a) = w.first_echoes("ranges")?;
+            let (intensities, b) = w.first_echoes("intensities")?;
+            (msg.ranges, msg.intensities, msg.echoes_left_out) = (ranges, intensities, a + b);
+        }
+    }
     Ok(())
 }
 
@@ -109,7 +160,15 @@ fn body(w: &mut Wire<'_>, msg: &mut LaserScanMsg) -> Result<(), DecodeError> {
 /// # Errors
 /// A [`DecodeError`] naming the field that runs past the end of `data`.
 pub fn decode_ros1(data: &[u8]) -> Result<LaserScanMsg, DecodeError> {
-    decode_ros1_at(data).map(|(msg, _)| msg)
+    decode_ros1_as(data, ScanMsgType::LaserScan)
+}
+
+/// [`decode_ros1`] of a message of type `kind`.
+///
+/// # Errors
+/// As [`decode_ros1`].
+pub fn decode_ros1_as(data: &[u8], kind: ScanMsgType) -> Result<LaserScanMsg, DecodeError> {
+    decode_ros1_at(data, kind).map(|(msg, _)| msg)
 }
 
 /// [`decode_ros1`] of a message that must end right after its intensities, as a ROS bag's
@@ -118,7 +177,15 @@ pub fn decode_ros1(data: &[u8]) -> Result<LaserScanMsg, DecodeError> {
 /// # Errors
 /// As [`decode_ros1`], and a [`DecodeError`] on `intensities` for bytes left after them.
 pub fn decode_ros1_whole(data: &[u8]) -> Result<LaserScanMsg, DecodeError> {
-    let (msg, end) = decode_ros1_at(data)?;
+    decode_ros1_whole_as(data, ScanMsgType::LaserScan)
+}
+
+/// [`decode_ros1_whole`] of a message of type `kind`.
+///
+/// # Errors
+/// As [`decode_ros1_whole`].
+pub fn decode_ros1_whole_as(data: &[u8], kind: ScanMsgType) -> Result<LaserScanMsg, DecodeError> {
+    let (msg, end) = decode_ros1_at(data, kind)?;
     if end != data.len() {
         return Err(DecodeError {
             offset: end,
@@ -131,7 +198,7 @@ pub fn decode_ros1_whole(data: &[u8]) -> Result<LaserScanMsg, DecodeError> {
 }
 
 /// The message and the byte where it ends.
-fn decode_ros1_at(data: &[u8]) -> Result<(LaserScanMsg, usize), DecodeError> {
+fn decode_ros1_at(data: &[u8], kind: ScanMsgType) -> Result<(LaserScanMsg, usize), DecodeError> {
     let mut w = Wire::new(data, 0, Endian::Little, false);
     let _seq = w.u32("header.seq")?;
     let mut msg = LaserScanMsg {
@@ -140,7 +207,7 @@ fn decode_ros1_at(data: &[u8]) -> Result<(LaserScanMsg, usize), DecodeError> {
         frame_id: w.string("header.frame_id", false)?,
         ..LaserScanMsg::default()
     };
-    body(&mut w, &mut msg)?;
+    body(&mut w, &mut msg, kind)?;
     Ok((msg, w.position()))
 }
 
@@ -149,6 +216,14 @@ fn decode_ros1_at(data: &[u8]) -> Result<(LaserScanMsg, usize), DecodeError> {
 /// # Errors
 /// A [`DecodeError`] for an unknown encapsulation or a field that runs past the end of `data`.
 pub fn decode_cdr(data: &[u8]) -> Result<LaserScanMsg, DecodeError> {
+    decode_cdr_as(data, ScanMsgType::LaserScan)
+}
+
+/// [`decode_cdr`] of a message of type `kind`.
+///
+/// # Errors
+/// As [`decode_cdr`].
+pub fn decode_cdr_as(data: &[u8], kind: ScanMsgType) -> Result<LaserScanMsg, DecodeError> {
     let Some(head) = data.get(..4) else {
         return Err(DecodeError {
             offset: 0,
@@ -176,7 +251,7 @@ pub fn decode_cdr(data: &[u8]) -> Result<LaserScanMsg, DecodeError> {
         frame_id: w.string("header.frame_id", true)?,
         ..LaserScanMsg::default()
     };
-    body(&mut w, &mut msg)?;
+    body(&mut w, &mut msg, kind)?;
     Ok(msg)
 }
 
@@ -187,6 +262,40 @@ pub mod encode {
     /// The ROS 1 serialization (header `seq` 7).
     #[must_use]
     pub fn ros1(m: &LaserScanMsg) -> Vec<u8> {
+        let flat = [m.ranges.as_slice(), m.intensities.as_slice()];
+        ros1_with(m, |o| {
+            for seq in flat {
+                put_seq_le(o, seq);
+            }
+        })
+    }
+
+    /// The ROS 1 serialization of a `sensor_msgs/MultiEchoLaserScan` with `m`'s header and
+    /// scalars, `ranges` and `intensities` one echo list per beam (`m`'s own are not used).
+    #[must_use]
+    pub fn ros1_multi_echo(
+        m: &LaserScanMsg,
+        ranges: &[Vec<f32>],
+        intensities: &[Vec<f32>],
+    ) -> Vec<u8> {
+        ros1_with(m, |o| {
+            for lists in [ranges, intensities] {
+                o.extend_from_slice(&(lists.len() as u32).to_le_bytes());
+                for seq in lists {
+                    put_seq_le(o, seq);
+                }
+            }
+        })
+    }
+
+    fn put_seq_le(o: &mut Vec<u8>, seq: &[f32]) {
+        o.extend_from_slice(&(seq.len() as u32).to_le_bytes());
+        for v in seq {
+            o.extend_from_slice(&v.to_le_bytes());
+        }
+    }
+
+    fn ros1_with(m: &LaserScanMsg, sequences: impl FnOnce(&mut Vec<u8>)) -> Vec<u8> {
         let mut o = Vec::new();
         o.extend_from_slice(&7u32.to_le_bytes());
         o.extend_from_slice(&(m.stamp_sec as u32).to_le_bytes());
@@ -196,12 +305,7 @@ pub mod encode {
         for v in scalars(m) {
             o.extend_from_slice(&v.to_le_bytes());
         }
-        for seq in [&m.ranges, &m.intensities] {
-            o.extend_from_slice(&(seq.len() as u32).to_le_bytes());
-            for v in seq {
-                o.extend_from_slice(&v.to_le_bytes());
-            }
-        }
+        sequences(&mut o);
         o
     }
 
@@ -220,35 +324,75 @@ pub mod encode {
     /// The CDR serialization of ROS 2, big-endian when `big`.
     #[must_use]
     pub fn cdr(m: &LaserScanMsg, big: bool) -> Vec<u8> {
-        let mut o = vec![0, u8::from(!big), 0, 0];
-        let put = |o: &mut Vec<u8>, b: [u8; 4]| {
-            while !(o.len() - 4).is_multiple_of(4) {
-                o.push(0);
+        let flat = [m.ranges.as_slice(), m.intensities.as_slice()];
+        cdr_with(m, big, |c| {
+            for seq in flat {
+                c.seq(seq);
             }
-            o.extend_from_slice(&b);
-        };
-        let u = |v: u32| {
-            if big {
+        })
+    }
+
+    /// The CDR serialization of a `sensor_msgs/msg/MultiEchoLaserScan`, as
+    /// [`ros1_multi_echo`].
+    #[must_use]
+    pub fn cdr_multi_echo(
+        m: &LaserScanMsg,
+        big: bool,
+        ranges: &[Vec<f32>],
+        intensities: &[Vec<f32>],
+    ) -> Vec<u8> {
+        cdr_with(m, big, |c| {
+            for lists in [ranges, intensities] {
+                c.u32(lists.len() as u32);
+                for seq in lists {
+                    c.seq(seq);
+                }
+            }
+        })
+    }
+
+    /// A CDR writer: numbers aligned to 4 from the end of the encapsulation header.
+    struct Cdr {
+        o: Vec<u8>,
+        big: bool,
+    }
+
+    impl Cdr {
+        fn u32(&mut self, v: u32) {
+            while !(self.o.len() - 4).is_multiple_of(4) {
+                self.o.push(0);
+            }
+            let b = if self.big {
                 v.to_be_bytes()
             } else {
                 v.to_le_bytes()
-            }
-        };
-        put(&mut o, u(m.stamp_sec as i32 as u32));
-        put(&mut o, u(m.stamp_nanosec));
-        put(&mut o, u(m.frame_id.len() as u32 + 1));
-        o.extend_from_slice(m.frame_id.as_bytes());
-        o.push(0);
-        for v in scalars(m) {
-            put(&mut o, u(v.to_bits()));
+            };
+            self.o.extend_from_slice(&b);
         }
-        for seq in [&m.ranges, &m.intensities] {
-            put(&mut o, u(seq.len() as u32));
+
+        fn seq(&mut self, seq: &[f32]) {
+            self.u32(seq.len() as u32);
             for v in seq {
-                put(&mut o, u(v.to_bits()));
+                self.u32(v.to_bits());
             }
         }
-        o
+    }
+
+    fn cdr_with(m: &LaserScanMsg, big: bool, sequences: impl FnOnce(&mut Cdr)) -> Vec<u8> {
+        let mut c = Cdr {
+            o: vec![0, u8::from(!big), 0, 0],
+            big,
+        };
+        c.u32(m.stamp_sec as i32 as u32);
+        c.u32(m.stamp_nanosec);
+        c.u32(m.frame_id.len() as u32 + 1);
+        c.o.extend_from_slice(m.frame_id.as_bytes());
+        c.o.push(0);
+        for v in scalars(m) {
+            c.u32(v.to_bits());
+        }
+        sequences(&mut c);
+        c.o
     }
 }
 
@@ -270,6 +414,7 @@ mod tests {
             range_max: 30.0,
             ranges: vec![1.0, f32::INFINITY, f32::NAN, 0.0, 31.5],
             intensities: vec![10.0, 0.0, 0.0, 0.0, 3.5],
+            echoes_left_out: 0,
         }
     }
 
@@ -327,6 +472,82 @@ mod tests {
         let e = decode_ros1_whole(&data).unwrap_err();
         assert_eq!((e.field, e.offset), ("intensities", data.len() - 3));
         assert_eq!(e.found, "3 more bytes");
+    }
+
+    /// Three beams: two echoes, none, one; intensities likewise.
+    fn echoes() -> (Vec<Vec<f32>>, Vec<Vec<f32>>) {
+        (
+            vec![vec![1.5, 4.0], vec![], vec![2.25]],
+            vec![vec![100.0, 7.0], vec![], vec![50.0]],
+        )
+    }
+
+    #[test]
+    fn multi_echo_scans_keep_each_beams_first_echo() {
+        let head = LaserScanMsg {
+            ranges: vec![],
+            intensities: vec![],
+            ..sample()
+        };
+        let (ranges, intensities) = echoes();
+        let kind = ScanMsgType::MultiEcho;
+        for (data, decoded) in [
+            (
+                encode::ros1_multi_echo(&head, &ranges, &intensities),
+                decode_ros1_whole_as as fn(&[u8], ScanMsgType) -> _,
+            ),
+            (
+                encode::cdr_multi_echo(&head, false, &ranges, &intensities),
+                decode_cdr_as,
+            ),
+            (
+                encode::cdr_multi_echo(&head, true, &ranges, &intensities),
+                decode_cdr_as,
+            ),
+        ] {
+            let m = decoded(&data, kind).unwrap();
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&m.ranges), bits(&[1.5, f32::NAN, 2.25]));
+            assert_eq!(bits(&m.intensities), bits(&[100.0, f32::NAN, 50.0]));
+            assert_eq!(m.echoes_left_out, 2);
+            assert_eq!((m.frame_id.as_str(), m.angle_increment), ("laser", 0.75));
+            // Every cut is an error naming the field, never a panic.
+            for cut in 0..data.len() {
+                let e = decoded(&data[..cut], kind).unwrap_err();
+                assert!(e.offset <= cut, "{e}");
+            }
+        }
+        assert_eq!(
+            ScanMsgType::ros1("sensor_msgs/MultiEchoLaserScan"),
+            Some(kind)
+        );
+        assert_eq!(
+            ScanMsgType::ros2("sensor_msgs/msg/MultiEchoLaserScan"),
+            Some(kind)
+        );
+        assert_eq!(ScanMsgType::ros2("sensor_msgs/MultiEchoLaserScan"), None);
+    }
+
+    #[test]
+    fn a_huge_echo_count_is_an_error_naming_the_list() {
+        let head = LaserScanMsg {
+            ranges: vec![],
+            intensities: vec![],
+            ..sample()
+        };
+        let mut data = encode::ros1_multi_echo(&head, &[vec![1.0]], &[]);
+        // The first beam's echo list claims 2^30 values.
+        let at = data.len() - 4 - 4 - 4;
+        data[at..at + 4].copy_from_slice(&(1u32 << 30).to_le_bytes());
+        let e = decode_ros1_as(&data, ScanMsgType::MultiEcho).unwrap_err();
+        assert_eq!((e.field, e.offset), ("ranges", at));
+        assert!(
+            e.expected
+                .starts_with("echo list 0 of 1: 1073741824 float32"),
+            "{e}"
+        );
+        // Decoded as a plain LaserScan, the same bytes do not fit either.
+        assert!(decode_ros1_whole(&data).is_err());
     }
 
     #[test]

@@ -173,6 +173,59 @@ impl<'a> Wire<'a> {
             })
             .collect())
     }
+
+    /// A sequence of `sensor_msgs/LaserEcho` (each a sequence of `f32`): the first value of
+    /// each, NaN for one with none, and how many values past the first were left out. The
+    /// count is checked against the bytes left (4 at least per echo list) before anything is
+    /// allocated.
+    pub(crate) fn first_echoes(
+        &mut self,
+        field: &'static str,
+    ) -> Result<(Vec<f32>, usize), DecodeError> {
+        let at = self.pos;
+        let n = self.u32(field)? as usize;
+        if n.checked_mul(4).is_none_or(|b| b > self.remaining()) {
+            return Err(DecodeError {
+                offset: at,
+                field,
+                expected: format!("{n} echo lists (at least {} bytes)", n as u64 * 4),
+                found: format!("the message ends after {} bytes", self.remaining()),
+            });
+        }
+        let mut firsts = Vec::with_capacity(n);
+        let mut more = 0;
+        for _ in 0..n {
+            let list_at = self.pos;
+            let m = self.u32(field)? as usize;
+            let bytes = m.checked_mul(4).filter(|b| *b <= self.remaining());
+            let Some(bytes) = bytes else {
+                return Err(DecodeError {
+                    offset: list_at,
+                    field,
+                    expected: format!(
+                        "echo list {} of {n}: {m} float32 values ({} bytes)",
+                        firsts.len(),
+                        m as u64 * 4
+                    ),
+                    found: format!("the message ends after {} bytes", self.remaining()),
+                });
+            };
+            let first = if m == 0 {
+                f32::NAN
+            } else {
+                let c = &self.data[self.pos..self.pos + 4];
+                let b = [c[0], c[1], c[2], c[3]];
+                f32::from_bits(match self.endian {
+                    Endian::Little => u32::from_le_bytes(b),
+                    Endian::Big => u32::from_be_bytes(b),
+                })
+            };
+            self.pos += bytes;
+            firsts.push(first);
+            more += m.saturating_sub(1);
+        }
+        Ok((firsts, more))
+    }
 }
 
 #[cfg(test)]

@@ -129,7 +129,7 @@ fn a_bag_without_laserscan_ends_with_an_error_naming_its_connections() {
     assert_eq!(
         e,
         format!(
-            "t.bag: byte {}: expected a sensor_msgs/LaserScan connection, found connections \
+            "t.bag: byte {}: expected a sensor_msgs/LaserScan or sensor_msgs/MultiEchoLaserScan connection, found connections \
              /chatter (std_msgs/String)",
             bytes.len()
         )
@@ -140,7 +140,7 @@ fn a_bag_without_laserscan_ends_with_an_error_naming_its_connections() {
     assert_eq!(items.len(), 1);
     let e = items[0].as_ref().unwrap_err().to_string();
     assert!(
-        e.contains("expected a sensor_msgs/LaserScan connection on topic /nope, found connections"),
+        e.contains("expected a sensor_msgs/LaserScan or sensor_msgs/MultiEchoLaserScan connection on topic /nope, found connections"),
         "{e}"
     );
     // A topic that is not a LaserScan.

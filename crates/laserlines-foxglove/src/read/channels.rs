@@ -7,7 +7,8 @@ use prost::Message as _;
 
 use super::records::{Body, Loc};
 use super::{
-    McapScanSource, SKIP_BAD_TRANSFORM, SKIP_OTHER_TOPIC, SKIP_UNKNOWN_CHANNEL, ScanEncoding,
+    McapScanSource, SKIP_BAD_TRANSFORM, SKIP_LATER_ECHOES, SKIP_OTHER_TOPIC, SKIP_UNKNOWN_CHANNEL,
+    ScanEncoding,
 };
 use crate::json;
 use crate::message::{self, MessageError, SCAN_ENCODINGS};
@@ -57,7 +58,11 @@ fn decode_transforms(kind: TransformKind, data: &[u8]) -> Result<Vec<FrameTransf
 pub(super) fn is_scan_schema(name: &str) -> bool {
     matches!(
         name,
-        "sensor_msgs/msg/LaserScan" | "sensor_msgs/LaserScan" | "foxglove.LaserScan"
+        "sensor_msgs/msg/LaserScan"
+            | "sensor_msgs/LaserScan"
+            | "sensor_msgs/msg/MultiEchoLaserScan"
+            | "sensor_msgs/MultiEchoLaserScan"
+            | "foxglove.LaserScan"
     )
 }
 
@@ -178,7 +183,12 @@ impl McapScanSource {
                 }
                 let log_seconds =
                     (log_time / 1_000_000_000) as f64 + (log_time % 1_000_000_000) as f64 * 1e-9;
-                let item = self.decode_scan(*encoding, *limits, data, log_seconds, loc, channel);
+                let item = self
+                    .decode_scan(*encoding, *limits, data, log_seconds, loc, channel)
+                    .map(|(record, left_out)| {
+                        skipped.add_n(SKIP_LATER_ECHOES, left_out as u64);
+                        record
+                    });
                 self.pending.push_back(item);
                 Ok(())
             }
@@ -198,7 +208,7 @@ impl McapScanSource {
         log_seconds: f64,
         loc: Loc,
         channel: &ChannelInfo,
-    ) -> Result<ScanRecord, ReadError> {
+    ) -> Result<(ScanRecord, usize), ReadError> {
         let field_error = |e: DecodeError| ReadError::Field {
             pos: self.at(loc.byte()),
             field: format!(
@@ -211,8 +221,8 @@ impl McapScanSource {
             expected: e.expected,
             found: e.found,
         };
-        let scan =
-            message::decode_scan(encoding, limits, data, log_seconds).map_err(|e| match e {
+        let (scan, left_out) = message::decode_scan_counted(encoding, limits, data, log_seconds)
+            .map_err(|e| match e {
                 MessageError::Ros(e) => field_error(e),
                 MessageError::Json(e) => ReadError::Field {
                     pos: self.at(loc.byte()),
@@ -231,12 +241,13 @@ impl McapScanSource {
             pos: self.at(loc.byte()),
             source,
         })?;
-        Ok(ScanRecord {
+        let record = ScanRecord {
             scan,
             pose: self.pose,
             odometry: self.odometry,
             line: None,
-        })
+        };
+        Ok((record, left_out))
     }
 
     /// Takes a transform of `/tf`: the odometry (`odom -> base_link`), the pose (any other

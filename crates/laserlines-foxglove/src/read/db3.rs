@@ -1,5 +1,6 @@
 //! ROS 2 bags in sqlite3 storage (`.db3`, the default storage before ROS 2 Iron): the
-//! `sensor_msgs/msg/LaserScan` messages (CDR) of one topic, read from the `topics` and
+//! `sensor_msgs/msg/LaserScan` messages (CDR) of one topic (or `sensor_msgs/msg/MultiEchoLaserScan`,
+//! each beam's first echo, the echoes after it counted), read from the `topics` and
 //! `messages` tables that every version of the storage has (`topics`: `id`, `name`, `type`,
 //! `serialization_format`; `messages`: `id`, `topic_id`, `timestamp`, `data`).
 //!
@@ -19,12 +20,15 @@ use std::path::{Path, PathBuf};
 use laserlines_io::{ReadError, ScanRecord, ScanSource, SkipCounts, SourcePos};
 use rusqlite::{Connection, OpenFlags, params};
 
-use super::SKIP_OTHER_TOPIC;
+use super::{SKIP_LATER_ECHOES, SKIP_OTHER_TOPIC};
+use laserlines_io::ros::ScanMsgType;
 
 /// The first 16 bytes of every SQLite 3 database.
 pub const SQLITE_MAGIC: &[u8; 16] = b"SQLite format 3\0";
 /// The message type read.
 pub const LASER_SCAN_TYPE: &str = "sensor_msgs/msg/LaserScan";
+/// The multi-echo message type read (each beam's first echo).
+pub const MULTI_ECHO_TYPE: &str = "sensor_msgs/msg/MultiEchoLaserScan";
 /// Messages read from the database at a time.
 pub const PAGE: i64 = 64;
 
@@ -66,6 +70,7 @@ struct Db3File {
     db: Connection,
     topic_id: i64,
     topic: String,
+    kind: ScanMsgType,
     /// The id of the last message read.
     after: i64,
     page: VecDeque<(i64, i64, Vec<u8>)>,
@@ -101,10 +106,13 @@ impl Db3File {
         let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
         let db = Connection::open_with_flags(path, flags).map_err(|e| db_error(&name, &e))?;
         let topics = read_topics(&db).map_err(|e| db_error(&name, &e))?;
-        let chosen = topics.iter().find(|t| {
-            t.kind == LASER_SCAN_TYPE && topic.is_none_or(|given| same_topic(given, &t.name))
+        let chosen = topics.iter().find_map(|t| {
+            let kind = ScanMsgType::ros2(&t.kind)?;
+            topic
+                .is_none_or(|given| same_topic(given, &t.name))
+                .then_some((t, kind))
         });
-        let Some(chosen) = chosen else {
+        let Some((chosen, kind)) = chosen else {
             return Err(no_topic(&name, topic, &topics));
         };
         if chosen.format != "cdr" {
@@ -116,7 +124,7 @@ impl Db3File {
         }
         let others: Vec<i64> = topics
             .iter()
-            .filter(|t| t.kind == LASER_SCAN_TYPE && t.id != chosen.id)
+            .filter(|t| ScanMsgType::ros2(&t.kind).is_some() && t.id != chosen.id)
             .map(|t| t.id)
             .collect();
         for id in others {
@@ -132,6 +140,7 @@ impl Db3File {
         Ok(Self {
             topic_id: chosen.id,
             topic: chosen.name.clone(),
+            kind,
             name,
             db,
             after: i64::MIN,
@@ -161,7 +170,8 @@ impl Db3File {
         Ok(())
     }
 
-    fn next(&mut self) -> Option<Result<ScanRecord, ReadError>> {
+    /// The next record and the echoes left out of it.
+    fn next(&mut self) -> Option<Result<(ScanRecord, usize), ReadError>> {
         if self.page.is_empty()
             && !self.done
             && let Err(e) = self.fetch()
@@ -178,17 +188,23 @@ impl Db3File {
         Some(self.decode(id, timestamp, &data))
     }
 
-    fn decode(&self, id: i64, timestamp: i64, data: &[u8]) -> Result<ScanRecord, ReadError> {
+    fn decode(
+        &self,
+        id: i64,
+        timestamp: i64,
+        data: &[u8],
+    ) -> Result<(ScanRecord, usize), ReadError> {
         let pos = || SourcePos::message(&self.name, id);
-        let msg = laserlines_io::ros::decode_cdr(data).map_err(|e| ReadError::Field {
-            pos: pos(),
-            field: format!(
-                "{} message: {} (byte {} of the message)",
-                self.topic, e.field, e.offset
-            ),
-            expected: e.expected,
-            found: e.found,
-        })?;
+        let msg =
+            laserlines_io::ros::decode_cdr_as(data, self.kind).map_err(|e| ReadError::Field {
+                pos: pos(),
+                field: format!(
+                    "{} message: {} (byte {} of the message)",
+                    self.topic, e.field, e.offset
+                ),
+                expected: e.expected,
+                found: e.found,
+            })?;
         let mut scan = msg.to_scan();
         if scan.stamp.is_none() && timestamp > 0 {
             scan.stamp = Some(
@@ -197,12 +213,13 @@ impl Db3File {
         }
         scan.validate()
             .map_err(|source| ReadError::InvalidScan { pos: pos(), source })?;
-        Ok(ScanRecord {
+        let record = ScanRecord {
             scan,
             pose: None,
             odometry: None,
             line: None,
-        })
+        };
+        Ok((record, msg.echoes_left_out))
     }
 }
 
@@ -220,7 +237,7 @@ fn read_topics(db: &Connection) -> Result<Vec<Topic>, rusqlite::Error> {
     rows.collect()
 }
 
-/// The error of a bag without the topic asked for (or without any LaserScan topic).
+/// The error of a bag without the topic asked for (or without any scan topic).
 fn no_topic(name: &str, topic: Option<&str>, topics: &[Topic]) -> ReadError {
     let mut seen: Vec<String> = topics
         .iter()
@@ -237,8 +254,8 @@ fn no_topic(name: &str, topic: Option<&str>, topics: &[Topic]) -> ReadError {
         found.push_str(&format!(" ({total} in all)"));
     }
     let expected = match topic {
-        Some(t) => format!("a {LASER_SCAN_TYPE} topic {t}"),
-        None => format!("a {LASER_SCAN_TYPE} topic"),
+        Some(t) => format!("a {LASER_SCAN_TYPE} or {MULTI_ECHO_TYPE} topic {t}"),
+        None => format!("a {LASER_SCAN_TYPE} or {MULTI_ECHO_TYPE} topic"),
     };
     ReadError::Syntax {
         pos: SourcePos::byte(name, 0),
@@ -281,7 +298,12 @@ impl ScanSource for Db3FilesSource {
             }
             let current = self.current.as_mut()?;
             match current.next() {
-                Some(item) => return Some(item),
+                Some(item) => {
+                    return Some(item.map(|(record, left_out)| {
+                        skipped.add_n(SKIP_LATER_ECHOES, left_out as u64);
+                        record
+                    }));
+                }
                 None => self.current = None,
             }
         }

@@ -6,12 +6,14 @@
 //! stops at the `DataEnd` record (or the footer), and reads of the summary only the
 //! `Statistics` record, to count the scans of a skipped chunk.
 //!
-//! Messages come out in file order. Four LaserScan encodings are read:
+//! Messages come out in file order. Six LaserScan encodings are read:
 //!
 //! | schema name | message encoding | decoder |
 //! |---|---|---|
 //! | `sensor_msgs/msg/LaserScan` | `cdr` | [`crate::ros::decode_cdr`] (ROS 2) |
 //! | `sensor_msgs/LaserScan` | `ros1` | [`crate::ros::decode_ros1`] (ROS 1) |
+//! | `sensor_msgs/msg/MultiEchoLaserScan` | `cdr` | [`crate::ros::decode_cdr_as`]: each beam's first echo |
+//! | `sensor_msgs/MultiEchoLaserScan` | `ros1` | [`crate::ros::decode_ros1_as`]: each beam's first echo |
 //! | `foxglove.LaserScan` | `protobuf` | `prost` ([`crate::proto`]) |
 //! | `foxglove.LaserScan` | `json` | [`crate::json`] |
 //!
@@ -60,6 +62,8 @@ pub const MAGIC: [u8; 8] = [0x89, b'M', b'C', b'A', b'P', 0x30, b'\r', b'\n'];
 
 /// Skip reason for LaserScans on topics other than the one read.
 pub const SKIP_OTHER_TOPIC: &str = "LaserScan on another topic";
+/// Counted (the scan is kept) per echo after a beam's first in a `MultiEchoLaserScan`.
+pub const SKIP_LATER_ECHOES: &str = laserlines_io::bag::SKIP_LATER_ECHOES;
 /// Skip reason for `foxglove.FrameTransform(s)` messages that do not decode.
 pub const SKIP_BAD_TRANSFORM: &str = "malformed FrameTransform";
 /// Skip reason for messages on a channel that was never declared.
@@ -106,6 +110,10 @@ pub enum ScanEncoding {
     Ros2Cdr,
     /// ROS 1 `sensor_msgs/LaserScan` (ROS serialization).
     Ros1,
+    /// ROS 2 `sensor_msgs/msg/MultiEchoLaserScan` in CDR: each beam's first echo.
+    Ros2CdrMultiEcho,
+    /// ROS 1 `sensor_msgs/MultiEchoLaserScan`: each beam's first echo.
+    Ros1MultiEcho,
     /// `foxglove.LaserScan` in protobuf.
     FoxgloveProtobuf,
     /// `foxglove.LaserScan` in JSON ([`crate::json`]).

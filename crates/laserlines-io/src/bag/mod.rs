@@ -29,10 +29,10 @@
 //! `12 * count` were written, so the reader skips an index data record by its `count`
 //! (12 bytes per entry), falling back to `data_len` when that is smaller.
 //!
-//! **Which topic.** Messages of every connection whose `type` is `sensor_msgs/LaserScan` on the
-//! chosen topic become records, in file order: the topic given
-//! ([`crate::ReadOptions::topic`], with or without its leading `/`), or else the topic of the
-//! first LaserScan connection in the file. Messages of other types and LaserScans on other
+//! **Which topic.** Messages of every connection whose `type` is `sensor_msgs/LaserScan` or
+//! `sensor_msgs/MultiEchoLaserScan` on the chosen topic become records, in file order: the
+//! topic given ([`crate::ReadOptions::topic`], with or without its leading `/`), or else the
+//! topic of the first connection of either type in the file. Messages of other types and LaserScans on other
 //! topics are counted as skipped ([`SKIP_OTHER_TYPE`], [`SKIP_OTHER_TOPIC`]). A bag without a
 //! LaserScan connection on the chosen topic ends with an error listing its connections.
 //!
@@ -40,7 +40,9 @@
 //! `stamp: u32 secs, u32 nsecs`, `frame_id: string`), `angle_min`, `angle_max`,
 //! `angle_increment`, `time_increment`, `scan_time`, `range_min`, `range_max` (`f32`),
 //! `ranges: f32[]`, `intensities: f32[]` (arrays and strings are a `u32` length and the items),
-//! decoded by [`crate::ros::decode_ros1_whole`] (the decoder of the MCAP reader too).
+//! decoded by [`crate::ros::decode_ros1_whole`] (the decoder of the MCAP reader too). A
+//! `MultiEchoLaserScan` gives each beam's first echo (NaN for a beam without one), the
+//! echoes after it counted ([`SKIP_LATER_ECHOES`]; the scan is kept).
 //! The scan keeps `angle_min`, `angle_increment`, `range_min`, `range_max` and the ranges
 //! (widened to `f64`; NaN and infinities kept, they are no returns); `angle_max` is not
 //! checked (drivers disagree on it by a beam). Intensities are kept when there is one per
@@ -81,6 +83,8 @@ pub const MAGIC: &[u8; 13] = b"#ROSBAG V2.0\n";
 pub const MAGIC_V12: &[u8; 16] = b"#ROSRECORD V1.2\n";
 /// The connection `type` of the messages read.
 pub const LASER_SCAN_TYPE: &str = "sensor_msgs/LaserScan";
+/// The connection `type` of the multi-echo messages read (each beam's first echo).
+pub const MULTI_ECHO_TYPE: &str = "sensor_msgs/MultiEchoLaserScan";
 /// Default largest chunk read, compressed or decompressed, bytes (also the largest message
 /// outside a chunk). ROS writes chunks of 768 KiB by default.
 pub const MAX_CHUNK_BYTES: u64 = 256 << 20;
@@ -96,6 +100,9 @@ pub const SKIP_UNKNOWN_CONNECTION: &str = "message on an undeclared connection";
 /// Skip reason for records of an op code the format does not define (or that do not belong
 /// where they are, e.g. a chunk inside a chunk).
 pub const SKIP_UNKNOWN_RECORD: &str = "record of an unknown or misplaced op";
+/// Counted (the scan itself is kept) per echo after a beam's first in a
+/// `MultiEchoLaserScan`'s ranges and intensities: the first echo is read.
+pub const SKIP_LATER_ECHOES: &str = "later echoes left out (first echo read)";
 /// Counted (the scan itself is kept) when a LaserScan's intensities are not one per range.
 pub const SKIP_BAD_INTENSITIES: &str = "intensities dropped (not one per range)";
 
@@ -505,8 +512,10 @@ impl BagSource {
             found.push_str(&format!(" and {} more", total - seen.len()));
         }
         let expected = match &self.state.requested {
-            Some(topic) => format!("a {LASER_SCAN_TYPE} connection on topic {topic}"),
-            None => format!("a {LASER_SCAN_TYPE} connection"),
+            Some(topic) => {
+                format!("a {LASER_SCAN_TYPE} or {MULTI_ECHO_TYPE} connection on topic {topic}")
+            }
+            None => format!("a {LASER_SCAN_TYPE} or {MULTI_ECHO_TYPE} connection"),
         };
         Some(Err(ReadError::Syntax {
             pos: SourcePos::byte(&self.name, self.input.pos),

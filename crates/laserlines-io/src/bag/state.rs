@@ -7,12 +7,12 @@ use laserlines::Scan;
 
 use crate::error::ReadError;
 use crate::record::ScanRecord;
-use crate::ros::{LaserScanMsg, decode_ros1_whole};
+use crate::ros::{LaserScanMsg, ScanMsgType, decode_ros1_whole_as};
 use crate::skip::SkipCounts;
 
 use super::records::{Bad, Loc, for_each_field};
 use super::{
-    LASER_SCAN_TYPE, SKIP_BAD_INTENSITIES, SKIP_OTHER_TOPIC, SKIP_OTHER_TYPE,
+    SKIP_BAD_INTENSITIES, SKIP_LATER_ECHOES, SKIP_OTHER_TOPIC, SKIP_OTHER_TYPE,
     SKIP_UNKNOWN_CONNECTION,
 };
 
@@ -24,8 +24,9 @@ pub(super) struct Connection {
 }
 
 impl Connection {
-    pub(super) fn is_laser_scan(&self) -> bool {
-        self.kind == LASER_SCAN_TYPE
+    /// The scan message type the connection carries, `None` for any other type.
+    pub(super) fn scan_type(&self) -> Option<ScanMsgType> {
+        ScanMsgType::ros1(&self.kind)
     }
 }
 
@@ -78,7 +79,7 @@ impl State {
     /// Remembers a connection, choosing its topic when it is the first LaserScan topic
     /// asked for.
     pub(super) fn add(&mut self, conn: u32, connection: Connection) {
-        if connection.is_laser_scan()
+        if connection.scan_type().is_some()
             && self.chosen.is_none()
             && self
                 .requested
@@ -103,15 +104,15 @@ impl State {
             skipped.add(SKIP_UNKNOWN_CONNECTION);
             return Ok(None);
         };
-        if !connection.is_laser_scan() {
+        let Some(kind) = connection.scan_type() else {
             skipped.add(SKIP_OTHER_TYPE);
             return Ok(None);
-        }
+        };
         if self.chosen.as_deref() != Some(connection.topic.as_str()) {
             skipped.add(SKIP_OTHER_TOPIC);
             return Ok(None);
         }
-        let message = decode_ros1_whole(data).map_err(|bad| ReadError::Field {
+        let message = decode_ros1_whole_as(data, kind).map_err(|bad| ReadError::Field {
             pos: loc.pos(&self.name),
             field: format!("{} message{}", connection.topic, loc.context()),
             expected: format!(
@@ -129,8 +130,10 @@ impl State {
             range_max,
             ranges,
             intensities,
+            echoes_left_out,
             ..
         } = message;
+        skipped.add_n(SKIP_LATER_ECHOES, echoes_left_out as u64);
         let (secs, nsecs) = if (stamp_sec, stamp_nanosec) == (0, 0) {
             time.map_or((0, 0), |(s, n)| (i64::from(s), n))
         } else {
