@@ -24,6 +24,7 @@ mod ends;
 mod lines;
 mod linseg;
 mod mixed;
+mod opening;
 mod params;
 mod points;
 mod presets;
