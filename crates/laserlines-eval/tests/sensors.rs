@@ -8,6 +8,8 @@
 //! - **the documented bounds** ([`HoughSplitParams::breakpoint_distance`]): consecutive
 //!   supporting points lie at most the scan's bridge of missing beams apart
 //!   ([`HoughSplitParams::bridge_for`]) and within the breakpoint distance `D` of each other,
+//!   or farther apart across beams that all returned nothing on a sparse stretch by the
+//!   local bridge of a surface that returns few of its beams (`hough_split::LOCAL_DROPOUT`),
 //!   or, across beams that all returned nothing, within [`SILENT_GAP`] of each other; the
 //!   RMS residual is within `max_rms_sigmas` standard deviations of the noise at the line's
 //!   centroid, no supporting point is nearer than `min_range`;
@@ -15,7 +17,9 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use laserlines::hough_split::SILENT_GAP;
+use laserlines::hough_split::{
+    LOCAL_DROPOUT, LOCAL_MAX_SIN_INCIDENCE, LOCAL_MIN_MISSING, LOCAL_WINDOW, SILENT_GAP,
+};
 use laserlines::line::beams;
 use laserlines::math::{Isometry2, Point2, Vector2};
 use laserlines::{
@@ -53,12 +57,34 @@ fn check_bounds(hs: &HoughSplit, scan: &Scan, lines: &[Line], what: &str) {
             let d = (point(b) - point(a)).norm();
             // Across beams that all returned nothing, two points within `SILENT_GAP` may
             // follow each other (a dark patch on a wall); else the beam bridge's bounds hold.
-            let silent = (1..gap)
-                .map(|k| scan.ranges[(a + k) % n])
-                .all(|r| r.is_nan() || r < lo);
+            let nothing = |r: f64| r.is_nan() || r < lo || r <= 0.0;
+            let silent = (1..gap).map(|k| scan.ranges[(a + k) % n]).all(nothing);
             if gap > 1 && silent && d <= SILENT_GAP + 1e-9 {
                 continue;
             }
+            // Beyond the scan's own bridge, the local one of a sparse surface: every beam
+            // between returned nothing, and so did a share of those around.
+            let local = gap > bridge.max_gap + 1;
+            let bridge = if local {
+                assert!(silent, "{what}: beams {a}, {b} in {l:?}");
+                // The window around (where it lies whole within the scan: a full turn is
+                // walked from elsewhere).
+                if a >= LOCAL_WINDOW && a < b && b + 1 + LOCAL_WINDOW <= n {
+                    let around = (a - LOCAL_WINDOW..a).chain(b + 1..b + 1 + LOCAL_WINDOW);
+                    let missing = around.filter(|&i| nothing(scan.ranges[i])).count();
+                    let share = missing as f64 / (2 * LOCAL_WINDOW) as f64;
+                    assert!(share >= LOCAL_MIN_MISSING, "{what}: beams {a}, {b}");
+                }
+                let chord = point(b) - point(a);
+                let along = chord.dot(&point(a).coords).abs() / ra;
+                assert!(
+                    along <= LOCAL_MAX_SIN_INCIDENCE * chord.norm() + 1e-9,
+                    "{what}"
+                );
+                p.bridge_for(scan.angle_increment, LOCAL_DROPOUT)
+            } else {
+                bridge
+            };
             assert!(gap <= bridge.max_gap + 1, "{what}: beams {a}, {b} in {l:?}");
             let limit = p
                 .breakpoint_distance(ra, gap as f64 * step, bridge.spacing, noise.sigma(ra))

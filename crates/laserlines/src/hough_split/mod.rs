@@ -23,6 +23,7 @@ mod corners;
 mod ends;
 mod lines;
 mod linseg;
+mod local_bridge;
 mod mixed;
 mod opening;
 mod params;
@@ -34,6 +35,7 @@ mod segment;
 pub use crate::params::ParamsError;
 pub use accumulator::Cell;
 pub use lines::SILENT_GAP;
+pub use local_bridge::{LOCAL_DROPOUT, LOCAL_MAX_SIN_INCIDENCE, LOCAL_MIN_MISSING, LOCAL_WINDOW};
 pub use params::{
     Bridge, GAP_CHANCE, HoughSplitParams, MAX_BRIDGE_GAP, MAX_RING_STEP, MAX_WINDOW_RINGS,
     MIN_RING_STEP, MIN_SPARSE_POINTS, MinPoints, PAPER_SECTOR_BEAMS, Weight,
@@ -277,7 +279,7 @@ impl HoughSplit {
             &self.params,
             scan.angle_increment,
             self.noise,
-            (self.dropout, valid.window.max),
+            (self.dropout, valid.window.min, valid.window.max),
         );
         if self.params.bridge_beams && self.acc.loose > 0 {
             segment::rescue_points(
@@ -294,7 +296,13 @@ impl HoughSplit {
     fn group(&mut self, scan: ScanView<'_>) {
         components::connect_cells(&self.acc, &self.params, &mut self.uf);
         if self.params.bridge_beams {
-            segment::bridge_beams(&self.points, &self.cell_of, &self.breakpoints, &mut self.uf);
+            segment::bridge_beams(
+                scan.ranges,
+                &self.points,
+                &self.cell_of,
+                &self.breakpoints,
+                &mut self.uf,
+            );
         }
         let min_points = self.params.min_points_for(self.dropout);
         segment::cut_segments(

@@ -8,6 +8,7 @@
 
 use super::accumulator::{Bin, NONE, VOID};
 use super::components::Components;
+use super::local_bridge::{LOCAL_MAX_SIN_INCIDENCE, LocalBridge};
 use super::params::HoughSplitParams;
 use super::points::Pt;
 use crate::noise::{RangeNoise, SPARSE_DROPOUT};
@@ -32,17 +33,20 @@ pub(crate) struct Breakpoints {
     /// The farthest reading that tells a beam saw through: `+inf` on a scan whose beams
     /// mostly return, the range limit on a sparse one ([`SPARSE_DROPOUT`]).
     see_max: f64,
+    /// The bridge across a surface that returns few of its beams on a scan that returns most.
+    local: LocalBridge,
 }
 
 impl Breakpoints {
     /// Makes the table right for `p`, beams `increment` apart, `noise`, the scan's
-    /// `dropout` ([`HoughSplitParams::bridge_for`]) and its largest valid range `range_max`.
+    /// `dropout` ([`HoughSplitParams::bridge_for`]) and its smallest and largest valid ranges
+    /// `range_min` and `range_max`.
     pub(crate) fn prepare(
         &mut self,
         p: &HoughSplitParams,
         increment: f64,
         noise: RangeNoise,
-        (dropout, range_max): (f64, f64),
+        (dropout, range_min, range_max): (f64, f64, f64),
     ) {
         self.see_max = if dropout >= SPARSE_DROPOUT {
             range_max
@@ -68,6 +72,8 @@ impl Breakpoints {
             self.spread = p.bridge_sigmas * std::f64::consts::SQRT_2;
         }
         self.noise = noise;
+        self.local
+            .prepare(p, (increment, self.factor.len()), range_min);
     }
 
     /// The geometric part of `D` for neighbouring beams per metre of range,
@@ -80,7 +86,7 @@ impl Breakpoints {
             .unwrap_or(0.0)
     }
 
-    /// Most beams apart two points of one segment may be.
+    /// Most beams apart two points of one segment may be by the scan's own bridge.
     pub(crate) fn reach(&self) -> usize {
         self.factor.len()
     }
@@ -92,6 +98,39 @@ impl Breakpoints {
         let Some(&f) = self.factor.get(gap.wrapping_sub(1)) else {
             return false;
         };
+        self.within(a, (xb, yb), f)
+    }
+
+    /// True when the point `b`, `gap` beams after the point `a`, lies within `D` of it, by
+    /// the scan's own bridge or, beyond it, by the local one of a sparse surface
+    /// ([`LocalBridge::factor`], which reads `ranges`).
+    #[inline(always)]
+    pub(crate) fn joins_across(&self, ranges: &[f64], a: &Pt, b: &Pt, gap: usize) -> bool {
+        if gap <= self.factor.len() {
+            self.joins(a, (b.x, b.y), gap)
+        } else {
+            self.joins_sparse(ranges, a, b, gap)
+        }
+    }
+
+    /// The local bridge's part of [`Breakpoints::joins_across`]: a gap the scan's own bridge
+    /// does not reach.
+    #[cold]
+    #[inline(never)]
+    fn joins_sparse(&self, ranges: &[f64], a: &Pt, b: &Pt, gap: usize) -> bool {
+        let Some(f) = self.local.factor(ranges, a, b.idx, gap) else {
+            return false;
+        };
+        // The chord from `a` to `b` against `a`'s beam: the sine of the incidence of the
+        // surface the two would share.
+        let (dx, dy) = (b.x - a.x, b.y - a.y);
+        let steep = (dx * a.x + dy * a.y).abs() > LOCAL_MAX_SIN_INCIDENCE * dx.hypot(dy) * a.range;
+        !steep && self.within(a, (b.x, b.y), f)
+    }
+
+    /// True when a point at `(xb, yb)` lies within `D` of `a` for the geometric factor `f`.
+    #[inline(always)]
+    fn within(&self, a: &Pt, (xb, yb): (f64, f64), f: f64) -> bool {
         let limit = a.range * f + self.spread * self.noise.sigma(a.range);
         let (dx, dy) = (xb - a.x, yb - a.y);
         let d2 = dx * dx + dy * dy;
@@ -195,8 +234,15 @@ fn rescue_between(
 /// Joins the cells of nearby surviving points that lie closer than the breakpoint distance
 /// `D`: each point is compared with the points up to `bridge_max_gap` beams before it
 /// (missing beams, or points of other cells in between) until one joins it, so that a single
-/// outlier does not cut a wall in two.
-pub(crate) fn bridge_beams(points: &[Pt], cell_of: &[u32], bp: &Breakpoints, uf: &mut Components) {
+/// outlier does not cut a wall in two; and with the return before it, farther, by the local
+/// bridge of a sparse surface ([`Breakpoints::joins_across`]).
+pub(crate) fn bridge_beams(
+    ranges: &[f64],
+    points: &[Pt],
+    cell_of: &[u32],
+    bp: &Breakpoints,
+    uf: &mut Components,
+) {
     let reach = bp.reach();
     let points = &points[..cell_of.len()];
     for pi in 1..cell_of.len() {
@@ -227,6 +273,17 @@ pub(crate) fn bridge_beams(points: &[Pt], cell_of: &[u32], bp: &Breakpoints, uf:
                 uf.union(cell, other);
                 break;
             }
+        }
+        // Beyond the scan's own bridge only the return before, across beams that returned
+        // nothing, may join it: the local bridge of a sparse surface.
+        let prev = points[pi - 1];
+        let gap = here.idx - prev.idx;
+        if gap > reach
+            && pb != NONE
+            && !uf.same(cell, before)
+            && bp.joins_across(ranges, &prev, &here, gap)
+        {
+            uf.union(cell, before);
         }
     }
 }
@@ -351,7 +408,7 @@ fn runs_of<const BRIDGE: bool>(
             continue;
         }
         let mut gap = pt.idx - last.idx;
-        let mut far = BRIDGE && run_root != NONE && !bp.joins(&last, (pt.x, pt.y), gap);
+        let mut far = BRIDGE && run_root != NONE && !bp.joins_across(ranges, &last, &pt, gap);
         if far
             && root == run_root
             && m >= run_start + 2
@@ -457,7 +514,7 @@ mod tests {
         let increment = 0.02f64.to_radians();
         let noise = RangeNoise::new(0.01, 0.0);
         let mut bp = Breakpoints::default();
-        bp.prepare(&p, increment, noise, (0.0, f64::INFINITY));
+        bp.prepare(&p, increment, noise, (0.0, 0.0, f64::INFINITY));
         let points: Vec<Pt> = ranges
             .iter()
             .enumerate()
