@@ -158,45 +158,30 @@ def multi_echo_left_out(topic_seed):
 # --- writers of other people ----------------------------------------------------------------
 
 
-def ros_msg(typestore, s, ros1):
+def scan_fields(typestore, s, ros1):
+    """The header and the scalar fields that LaserScan and MultiEchoLaserScan share."""
     t = typestore.types
     Time = t["builtin_interfaces/msg/Time"]
     Header = t["std_msgs/msg/Header"]
-    if ros1:
-        header = Header(seq=0, stamp=Time(sec=s["sec"], nanosec=s["nanosec"]), frame_id=s["frame_id"])
-    else:
-        header = Header(stamp=Time(sec=s["sec"], nanosec=s["nanosec"]), frame_id=s["frame_id"])
-    return t["sensor_msgs/msg/LaserScan"](
-        header=header,
-        angle_min=float(s["angle_min"]),
-        angle_max=float(s["angle_max"]),
-        angle_increment=float(s["angle_increment"]),
-        time_increment=float(s["time_increment"]),
-        scan_time=float(s["scan_time"]),
-        range_min=float(s["range_min"]),
-        range_max=float(s["range_max"]),
+    stamp = Time(sec=s["sec"], nanosec=s["nanosec"])
+    header = Header(seq=0, stamp=stamp, frame_id=s["frame_id"]) if ros1 else Header(stamp=stamp, frame_id=s["frame_id"])
+    scalars = ("angle_min", "angle_max", "angle_increment", "time_increment", "scan_time", "range_min", "range_max")
+    return dict(header=header, **{k: float(s[k]) for k in scalars})
+
+
+def ros_msg(typestore, s, ros1):
+    return typestore.types["sensor_msgs/msg/LaserScan"](
+        **scan_fields(typestore, s, ros1),
         ranges=np.array(s["ranges"], dtype=np.float32),
         intensities=np.array(s["intensities"], dtype=np.float32),
     )
 
 
 def multi_echo_msg(typestore, s, ros1):
-    t = typestore.types
-    Time = t["builtin_interfaces/msg/Time"]
-    Header = t["std_msgs/msg/Header"]
-    Echo = t["sensor_msgs/msg/LaserEcho"]
-    stamp = Time(sec=s["sec"], nanosec=s["nanosec"])
-    header = Header(seq=0, stamp=stamp, frame_id=s["frame_id"]) if ros1 else Header(stamp=stamp, frame_id=s["frame_id"])
+    Echo = typestore.types["sensor_msgs/msg/LaserEcho"]
     echoes = lambda lists: [Echo(echoes=np.array(e, dtype=np.float32)) for e in lists]  # noqa: E731
-    return t["sensor_msgs/msg/MultiEchoLaserScan"](
-        header=header,
-        angle_min=float(s["angle_min"]),
-        angle_max=float(s["angle_max"]),
-        angle_increment=float(s["angle_increment"]),
-        time_increment=float(s["time_increment"]),
-        scan_time=float(s["scan_time"]),
-        range_min=float(s["range_min"]),
-        range_max=float(s["range_max"]),
+    return typestore.types["sensor_msgs/msg/MultiEchoLaserScan"](
+        **scan_fields(typestore, s, ros1),
         ranges=echoes(s["ranges"]),
         intensities=echoes(s["intensities"]),
     )
