@@ -203,7 +203,8 @@ fn errors_name_the_file_the_table_and_the_key() {
         "p.toml: [hough-split]: unknown field `ring_stp`, expected one of `ring_step`, \
          `sector_step`, `window`, `weight`, `criterion`, `group_gap`, `noise`, \
          `noise_floor`, `bridge_beams`, `bridge_incidence`, `bridge_sigmas`, \
-         `bridge_max_gap`, `min_segment_points`, `split_sigmas`, `split_significance`, \
+         `bridge_max_gap`, `local_bridge`, `min_segment_points`, `split_sigmas`, \
+         `split_significance`, \
          `noise_along_beams`, `merge_collinear`, `cut_excursions`, `share_fits`, \
          `refine_ends`, \
          `min_line_points`, \

@@ -169,6 +169,12 @@ pub struct HoughSplitParams {
     /// leave after a point with 1 % chance, if that is more ([`HoughSplitParams::bridge_for`]).
     /// Default 2. Sensible: 0..5.
     pub bridge_max_gap: usize,
+    /// With `bridge_beams`, also join the points of a surface that returns few of its beams
+    /// (glass, a dark or shiny panel) on a scan that returns most of them, across gaps beyond
+    /// `bridge_max_gap` where every beam between and 30 % of those around returned nothing
+    /// (the local bridge, `hough_split::LOCAL_DROPOUT`). Not in the paper. Default `true`;
+    /// off in [`HoughSplitParams::mapping`].
+    pub local_bridge: bool,
     /// Data segments with fewer surviving points are removed as clutter (on a sparse scan,
     /// fewer: [`HoughSplitParams::min_points_for`]). Default 8. Sensible: 3..10.
     pub min_segment_points: usize,
@@ -304,6 +310,7 @@ impl Default for HoughSplitParams {
             bridge_incidence: 4.0_f64.to_radians(),
             bridge_sigmas: 3.0,
             bridge_max_gap: 2,
+            local_bridge: true,
             min_segment_points: 8,
             split_sigmas: 3.0,
             split_significance: 20.0,

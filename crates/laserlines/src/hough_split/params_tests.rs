@@ -32,6 +32,8 @@ fn scan_matching_caps_the_limit_on_r() {
     assert!(!m.own_scatter && !HoughSplitParams::paper().own_scatter);
     assert!(HoughSplitParams::default().own_scatter && HoughSplitParams::navigation().own_scatter);
     assert!(!HoughSplitParams::complete().for_mapping().own_scatter);
+    assert!(!m.local_bridge && !HoughSplitParams::paper().local_bridge);
+    assert!(HoughSplitParams::default().local_bridge);
     let loose = HoughSplitParams::complete().for_mapping();
     assert_eq!(loose.max_r_sd, HoughSplitParams::MAPPING_MAX_R_SD);
     let tight = HoughSplitParams {

@@ -19,6 +19,7 @@ impl HoughSplitParams {
             noise: NoiseModel::Fixed(RangeNoise::new(0.0025, 0.005)),
             noise_floor: 0.0,
             bridge_beams: false,
+            local_bridge: false,
             min_segment_points: 3,
             split_sigmas: 4.0,
             split_significance: 0.0,
@@ -107,8 +108,10 @@ impl HoughSplitParams {
 
     /// These parameters as scan matching reads them ([`mapping`](Self::mapping)): without
     /// shared fits, with `sigma(r)` across every line and without `cut_excursions`,
-    /// `min_advance_t`, `arc_significance` and `own_scatter`, whatever they said of those,
-    /// and `max_r_sd` at most [`MAPPING_MAX_R_SD`](Self::MAPPING_MAX_R_SD).
+    /// `min_advance_t`, `arc_significance`, `own_scatter` and `local_bridge`, whatever they
+    /// said of those, and `max_r_sd` at most [`MAPPING_MAX_R_SD`](Self::MAPPING_MAX_R_SD).
+    /// (With the local bridge, loop closure on the simulated loop of the mapping tests gave
+    /// 0.091 m where scan matching alone gave 0.049 m.)
     #[must_use]
     pub fn for_mapping(self) -> Self {
         Self {
@@ -118,6 +121,7 @@ impl HoughSplitParams {
             min_advance_t: 0.0,
             arc_significance: 0.0,
             own_scatter: false,
+            local_bridge: false,
             // A NaN stays, for `validate` to refuse.
             max_r_sd: if self.max_r_sd.is_nan() {
                 self.max_r_sd

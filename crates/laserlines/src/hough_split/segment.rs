@@ -72,8 +72,13 @@ impl Breakpoints {
             self.spread = p.bridge_sigmas * std::f64::consts::SQRT_2;
         }
         self.noise = noise;
-        self.local
-            .prepare(p, (increment, self.factor.len()), range_min);
+        // Off: a local reach no longer than the scan's own is no local bridge.
+        let dense = if p.local_bridge {
+            self.factor.len()
+        } else {
+            usize::MAX
+        };
+        self.local.prepare(p, (increment, dense), range_min);
     }
 
     /// The geometric part of `D` for neighbouring beams per metre of range,
