@@ -1,8 +1,9 @@
 //! Other scanners than the paper's, as simulated sensors for the benchmark
 //! ([`crate::workload::sensor`]): their geometry and resolution, their data sheet's noise as
-//! one standard deviation (the presets of [`laserlines::noise::PRESETS`]), and the field
+//! one standard deviation (the presets of [`laserlines::noise::PRESETS`]; for the depth
+//! cameras, noise and steps that grow with the square of the range), and the field
 //! conditions of the URG-04LX suites (chair and table legs, dropouts; mixed pixels at depth
-//! edges for the time-of-flight scanners).
+//! edges for the time-of-flight scanners and the depth cameras).
 
 use laserlines::RangeNoise;
 use laserlines_sim::{LaserModel, Noise};
@@ -17,12 +18,32 @@ struct Scanner {
     angle_min: f64,
     increment: f64,
     range: (f64, f64),
-    /// Its noise preset ([`laserlines::noise::PRESETS`]).
-    noise: &'static str,
+    /// Its noise.
+    noise: ScannerNoise,
     /// Share of the beams without a return, drawn per scan from this range.
     dropout: (f64, f64),
     /// Mixed pixels at half of the depth edges (a time-of-flight scanner).
     mixed: bool,
+}
+
+/// A scanner's range noise.
+#[derive(Clone, Copy)]
+enum ScannerNoise {
+    /// A preset of [`laserlines::noise::PRESETS`], by name.
+    Preset(&'static str),
+    /// A depth camera's ([`Noise::Depth`]): standard deviation at 1 m (m), step of the
+    /// inverse range (1/m).
+    Depth(f64, f64),
+}
+
+impl ScannerNoise {
+    /// The simulated noise (`None` for a preset of another name).
+    fn model(self) -> Option<Noise> {
+        match self {
+            Self::Preset(name) => RangeNoise::preset(name).map(Noise::Range),
+            Self::Depth(coefficient, step) => Some(Noise::Depth { coefficient, step }),
+        }
+    }
 }
 
 /// The scanners, by name.
@@ -34,7 +55,7 @@ const SCANNERS: &[Scanner] = &[
         angle_min: -135.0,
         increment: 0.25,
         range: (0.1, 30.0),
-        noise: "utm-30lx",
+        noise: ScannerNoise::Preset("utm-30lx"),
         dropout: (0.0, 0.05),
         mixed: true,
     },
@@ -45,7 +66,7 @@ const SCANNERS: &[Scanner] = &[
         angle_min: -135.0,
         increment: 0.25,
         range: (0.06, 10.0),
-        noise: "ust-10lx",
+        noise: ScannerNoise::Preset("ust-10lx"),
         dropout: (0.0, 0.05),
         mixed: true,
     },
@@ -56,7 +77,7 @@ const SCANNERS: &[Scanner] = &[
         angle_min: -135.0,
         increment: 0.5,
         range: (0.5, 20.0),
-        noise: "lms1xx",
+        noise: ScannerNoise::Preset("lms1xx"),
         dropout: (0.0, 0.05),
         mixed: true,
     },
@@ -67,7 +88,7 @@ const SCANNERS: &[Scanner] = &[
         angle_min: -90.0,
         increment: 1.0,
         range: (0.02, 8.0),
-        noise: "lms2xx",
+        noise: ScannerNoise::Preset("lms2xx"),
         dropout: (0.0, 0.05),
         mixed: true,
     },
@@ -79,7 +100,7 @@ const SCANNERS: &[Scanner] = &[
         angle_min: -180.0,
         increment: 1.0,
         range: (0.15, 12.0),
-        noise: "rplidar-a1",
+        noise: ScannerNoise::Preset("rplidar-a1"),
         dropout: (0.0, 0.05),
         mixed: false,
     },
@@ -91,7 +112,7 @@ const SCANNERS: &[Scanner] = &[
         angle_min: -180.0,
         increment: 0.9,
         range: (0.15, 12.0),
-        noise: "rplidar-a2",
+        noise: ScannerNoise::Preset("rplidar-a2"),
         dropout: (0.0, 0.05),
         mixed: false,
     },
@@ -103,9 +124,36 @@ const SCANNERS: &[Scanner] = &[
         angle_min: -180.0,
         increment: 0.85,
         range: (0.12, 10.0),
-        noise: "ydlidar-x4",
+        noise: ScannerNoise::Preset("ydlidar-x4"),
         dropout: (0.3, 0.7),
         mixed: false,
+    },
+    // A Microsoft Kinect (v1) depth camera through `depthimage_to_laserscan`: 640 columns over
+    // 57 deg, 0.45-5 m; depth noise 1.425e-3 z^2 m and disparity steps of 2.85e-3 z^2 m
+    // (1/8 pixel; Khoshelham and Elberink 2012); flying pixels at depth edges.
+    Scanner {
+        name: "kinect",
+        beams: 640,
+        angle_min: -28.5,
+        increment: 57.0 / 639.0,
+        range: (0.45, 5.0),
+        noise: ScannerNoise::Depth(1.425e-3, 2.85e-3),
+        dropout: (0.0, 0.05),
+        mixed: true,
+    },
+    // An Intel RealSense D435 stereo depth camera through `depthimage_to_laserscan`: 848
+    // columns over 87 deg, 0.3-6 m; depth noise 3.6e-3 z^2 m (0.08 pixel of subpixel error
+    // at a 50 mm baseline and 447 pixels of focal length) in steps of 1/32 pixel of
+    // disparity (1.4e-3 z^2 m); flying pixels at depth edges.
+    Scanner {
+        name: "realsense-d435",
+        beams: 848,
+        angle_min: -43.5,
+        increment: 87.0 / 847.0,
+        range: (0.3, 6.0),
+        noise: ScannerNoise::Depth(3.6e-3, 1.4e-3),
+        dropout: (0.0, 0.05),
+        mixed: true,
     },
 ];
 
@@ -114,7 +162,7 @@ const SCANNERS: &[Scanner] = &[
 #[must_use]
 pub fn sensor(name: &str) -> Option<Sensor> {
     let s = SCANNERS.iter().find(|s| s.name == name)?;
-    let noise = RangeNoise::preset(s.noise)?;
+    let noise = s.noise.model()?;
     Some(Sensor {
         model: LaserModel {
             beams: s.beams,
@@ -122,7 +170,7 @@ pub fn sensor(name: &str) -> Option<Sensor> {
             angle_increment: s.increment.to_radians(),
             range_min: s.range.0,
             range_max: s.range.1,
-            noise: Noise::Range(noise),
+            noise,
             round_to: Some(0.001),
             mixed_pixels: if s.mixed { 0.5 } else { 0.0 },
             ..LaserModel::urg04lx()
@@ -143,10 +191,8 @@ mod tests {
             assert!(SENSORS.contains(&s.name), "{}", s.name);
             let sensor = sensor(s.name).unwrap_or_else(|| panic!("{}: no preset", s.name));
             assert_eq!(sensor.model.beams, s.beams);
-            assert_eq!(
-                sensor.model.noise,
-                Noise::Range(RangeNoise::preset(s.noise).unwrap_or_default())
-            );
+            assert_eq!(Some(sensor.model.noise), s.noise.model());
+            assert!(sensor.model.validate().is_ok(), "{}", s.name);
             // The last beam ends where the scanner's field of view does.
             let last = s.angle_min + (s.beams - 1) as f64 * s.increment;
             assert!(

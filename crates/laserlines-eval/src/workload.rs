@@ -31,6 +31,8 @@ pub const SENSORS: &[&str] = &[
     "rplidar-a1",
     "rplidar-a2",
     "ydlidar-x4",
+    "kinect",
+    "realsense-d435",
 ];
 
 /// The noise levels of the field conditions (`urg04lx-half`, `-full`, `-1.5x`), as multiples
@@ -81,6 +83,11 @@ impl Sensor {
             Noise::Gaussian { sigma } => {
                 laserlines::registry::noise_scale(&RangeNoise::new(sigma, 0.0))
             }
+            // A depth camera's noise at 2 m, as a range noise's.
+            Noise::Depth { .. } => laserlines::registry::noise_scale(&RangeNoise::new(
+                self.model.noise.sigma(2.0),
+                0.0,
+            )),
             // A stepped noise has no one figure: the others keep the URG-04LX defaults.
             Noise::Urg04lx | Noise::None | Noise::Stepped { .. } => 1.0,
         }
@@ -130,7 +137,8 @@ impl Sensor {
 ///   deviation;
 /// - `urg04lx-real`: the field conditions at a real URG-04LX's noise ([`Sensor::field_real`]);
 /// - `utm30lx`, `ust10lx`, `lms1xx`, `lms2xx`, `rplidar-a1`, `rplidar-a2`, `ydlidar-x4`: other
-///   scanners at their data sheet's noise, in the field conditions ([`crate::scanners`]).
+///   scanners at their data sheet's noise, and `kinect`, `realsense-d435`: depth cameras read
+///   as scans, in the field conditions ([`crate::scanners`]).
 #[must_use]
 pub fn sensor(name: &str) -> Option<Sensor> {
     if let Some((_, level)) = FIELD_LEVELS.iter().find(|(n, _)| *n == name) {

@@ -1,6 +1,7 @@
 //! `hough-split` with one set of defaults on what real sensors deliver: the field conditions
 //! at three noise levels, other scanner geometries (UTM-30LX-like, a sparse 360 deg
-//! triangulation scanner, SICK LMS-like) and chair legs at a URG-04LX's real noise.
+//! triangulation scanner, SICK LMS-like, depth cameras read as scans) and chair legs at a
+//! URG-04LX's real noise.
 //!
 //! What is asserted, for every line of every scan:
 //! - **no phantom**: the line's middle lies on a real surface of the simulated world (within
@@ -262,6 +263,27 @@ fn a_utm30lx_like_scanner_finds_its_walls_without_phantoms() {
     };
     let (found, pieces, ..) = run(&model, &mixed, 24, "utm-30lx-like");
     assert!(found as f64 >= 0.85 * pieces as f64, "{found} of {pieces}");
+}
+
+#[test]
+fn depth_cameras_read_as_scans_find_their_walls_without_phantoms() {
+    // A Kinect's and a RealSense D435's depth through `depthimage_to_laserscan`: noise and
+    // range steps that grow with the square of the range (4 and 6 cm at 4 m for the Kinect,
+    // 6 cm and 2 cm for the D435), which no `max(sigma_min, fraction r)` follows; the
+    // estimate of each scan's noise takes them as they come.
+    for (name, share) in [("kinect", 0.9), ("realsense-d435", 0.85)] {
+        let model = sensor(name).unwrap().model;
+        assert!(matches!(model.noise, Noise::Depth { .. }), "{name}");
+        let (found, pieces, lines, false_lines) = run(&model, &mixed, 40, name);
+        assert!(
+            found as f64 >= share * pieces as f64,
+            "{name}: {found} of {pieces}"
+        );
+        assert!(
+            false_lines * 20 <= lines,
+            "{name}: {false_lines} false of {lines} lines"
+        );
+    }
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! ziggurat sampler, mixed pixels at depth edges, dropouts, rounding to the resolution, the
 //! range limits and max-range returns (see [`crate::LaserModel`]).
 
-use crate::laser::LaserModel;
+use crate::laser::{LaserModel, Noise};
 use crate::rng::Rng;
 use crate::simulation::MIXED_PIXEL_MIN_JUMP;
 use crate::world::Target;
@@ -45,6 +45,11 @@ pub(crate) fn report(
                 *r = f64::NAN;
                 flags[i] |= DROPPED;
             }
+        }
+    }
+    if matches!(model.noise, Noise::Depth { step, .. } if step > 0.0) {
+        for r in ranges.iter_mut() {
+            *r = model.noise.quantize(*r);
         }
     }
     let step = model.round_to.filter(|q| q.is_finite() && *q > 0.0);

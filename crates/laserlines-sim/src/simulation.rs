@@ -117,7 +117,8 @@ impl VisiblePiece {
 ///
 /// Per beam: the exact nearest hit within `range_max` (obstacles nearer than `range_min` give
 /// no return and hide what is behind them); gaussian noise by [`LaserModel::noise`]; then
-/// mixed pixels at depth edges, dropouts, rounding to [`LaserModel::round_to`]. A reported
+/// mixed pixels at depth edges, dropouts, the noise's own steps ([`crate::Noise::quantize`]),
+/// rounding to [`LaserModel::round_to`]. A reported
 /// range that ends up outside `range_min..=range_max` (or not positive) is no return.
 /// No return is NaN; beams that hit nothing report `range_max` instead when
 /// [`LaserModel::max_range_returns`] is set.
@@ -162,6 +163,7 @@ pub fn simulate(
     // Rounding, the measurable window, and beams without a hit.
     let step = model.round_to.filter(|q| q.is_finite() && *q > 0.0);
     for (i, r) in ranges.iter_mut().enumerate() {
+        *r = model.noise.quantize(*r);
         if let Some(q) = step {
             *r = (*r / q).round() * q;
         }

@@ -64,7 +64,8 @@ pub struct BenchArgs {
     /// mixed pixels, 0-5 % dropouts) and urg04lx-real (those conditions at a real URG-04LX's
     /// noise: 4 mm below 3 m, 1 % of the range beyond), or another scanner in those
     /// conditions at its data sheet's noise: utm30lx, ust10lx, lms1xx, lms2xx, rplidar-a1,
-    /// rplidar-a2, ydlidar-x4 (30-70 % dropouts).
+    /// rplidar-a2, ydlidar-x4 (30-70 % dropouts), or a depth camera's depth read as a scan
+    /// (noise and steps growing with the square of the range): kinect, realsense-d435.
     #[arg(long, default_value = "urg04lx", conflicts_with = "data")]
     sensor: String,
     /// Which lines count as right: strict (each visible piece, intersection over union of
