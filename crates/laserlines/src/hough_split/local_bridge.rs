@@ -13,6 +13,7 @@
 //! than 70 deg of incidence ([`LOCAL_MAX_SIN_INCIDENCE`]): points strung out along the beams
 //! (clutter beyond the range, legs) are no glass wall.
 
+use super::lines::returned_nothing;
 use super::params::HoughSplitParams;
 use super::points::Pt;
 
@@ -40,7 +41,7 @@ pub(crate) struct LocalBridge {
     factor: Vec<f64>,
     /// The scan's own bridge reaches this many beams; the local one only beyond.
     dense_reach: usize,
-    /// The smallest valid range: below it a beam returned nothing.
+    /// The smallest valid range, above 0: below it (or NaN) a beam returned nothing.
     lo: f64,
 }
 
@@ -54,7 +55,8 @@ impl LocalBridge {
         (increment, dense_reach): (f64, usize),
         lo: f64,
     ) {
-        self.lo = lo;
+        // Above 0 as a valid range is (a reading of 0 returned nothing).
+        self.lo = lo.max(f64::from_bits(1));
         self.table(p, increment, dense_reach);
     }
 
@@ -72,12 +74,7 @@ impl LocalBridge {
         }
         self.key = Some(key);
         self.dense_reach = dense_reach;
-        self.factor.clear();
-        let step = increment.abs();
-        for g in 1..=bridge.max_gap + 1 {
-            let f = p.breakpoint_distance(1.0, step * g as f64, bridge.spacing, 0.0);
-            self.factor.push(f.unwrap_or(f64::NAN));
-        }
+        p.breakpoint_factors(increment, bridge, &mut self.factor);
         // Nothing beyond the scan's own reach: no local bridge.
         if self.factor.len() <= dense_reach {
             self.factor.clear();
@@ -98,7 +95,7 @@ impl LocalBridge {
             return None;
         }
         let f = *self.factor.get(gap.wrapping_sub(1))?;
-        let nothing = |r: &f64| r.is_nan() || *r < self.lo || *r <= 0.0;
+        let nothing = |r: &f64| returned_nothing(*r, self.lo);
         if !ranges.get(a.idx + 1..b)?.iter().all(nothing) {
             return None;
         }

@@ -540,6 +540,18 @@ impl HoughSplitParams {
         (dphi.is_finite() && dphi >= 0.0 && dphi <= reach && denom > 0.0)
             .then(|| r * dphi.sin() / denom + self.bridge_sigmas * std::f64::consts::SQRT_2 * sigma)
     }
+
+    /// The geometric part of `D` per metre of range for points 1 to `bridge.max_gap + 1`
+    /// beams apart (beams `increment` rad apart) into `out`, in that order: NaN where `D`
+    /// joins none.
+    pub(crate) fn breakpoint_factors(&self, increment: f64, bridge: Bridge, out: &mut Vec<f64>) {
+        let step = increment.abs();
+        out.clear();
+        out.extend((1..=bridge.max_gap + 1).map(|g| {
+            self.breakpoint_distance(1.0, step * g as f64, bridge.spacing, 0.0)
+                .unwrap_or(f64::NAN)
+        }));
+    }
 }
 
 #[cfg(test)]

@@ -63,12 +63,7 @@ impl Breakpoints {
         );
         if self.key != Some(key) {
             self.key = Some(key);
-            let step = increment.abs();
-            self.factor.clear();
-            for g in 1..=bridge.max_gap + 1 {
-                let f = p.breakpoint_distance(1.0, step * g as f64, bridge.spacing, 0.0);
-                self.factor.push(f.unwrap_or(f64::NAN));
-            }
+            p.breakpoint_factors(increment, bridge, &mut self.factor);
             self.spread = p.bridge_sigmas * std::f64::consts::SQRT_2;
         }
         self.noise = noise;
