@@ -155,34 +155,8 @@ impl Ros2Args {
     /// A bad `ROS_DOMAIN_ID`, `--localhost-only` with `--interface`, or an `--interface`
     /// address no interface of this host has.
     pub fn node_config(&self) -> Result<NodeConfig> {
-        let domain_id = match self.domain_id {
-            Some(d) => d,
-            None => match std::env::var("ROS_DOMAIN_ID") {
-                Ok(s) if !s.trim().is_empty() => s
-                    .trim()
-                    .parse()
-                    .with_context(|| format!("ROS_DOMAIN_ID must be 0..=232, got {s:?}"))?,
-                _ => 0,
-            },
-        };
-        if domain_id > MAX_DOMAIN_ID {
-            bail!("the DDS domain must be 0..={MAX_DOMAIN_ID} (its UDP ports), got {domain_id}");
-        }
-        let localhost = self.localhost_only || env_localhost_only();
-        if localhost && !self.interfaces.is_empty() {
-            bail!("--interface and localhost-only (flag or environment) exclude each other");
-        }
-        let only_networks = if localhost {
-            Some(vec![IpAddr::V4(Ipv4Addr::LOCALHOST)])
-        } else if self.interfaces.is_empty() {
-            None
-        } else {
-            let own = local_ipv4();
-            for &addr in &self.interfaces {
-                check_local(addr, &own)?;
-            }
-            Some(self.interfaces.clone())
-        };
+        let domain_id = self.domain_id()?;
+        let only_networks = self.networks()?;
         if self.scan_depth == 0 {
             bail!("--scan-depth must be at least 1 (a DDS history of 0 scans keeps none)");
         }
@@ -200,6 +174,70 @@ impl Ros2Args {
                 format!("{}/{topic}", namespace.trim_end_matches('/'))
             }
         };
+        self.check_outputs(&resolve)?;
+        if !is_package_name(&self.message_package) {
+            bail!(
+                "--message-package must be a ROS 2 package name (lower-case letters, digits \
+                 and underscores, from a letter), got {:?}",
+                self.message_package
+            );
+        }
+        // Topics resolved here (a relative one under the namespace), so that the node's log
+        // names what it subscribes and publishes to.
+        Ok(NodeConfig {
+            node_name: self.node_name.clone(),
+            scan_topic: resolve(&self.scan_topic),
+            lines_topic: resolve(&self.lines_topic),
+            markers_topic: resolve(&self.markers_topic),
+            sectors_topic: self.sectors.then(|| resolve(&self.sectors_topic)),
+            namespace,
+            line_package: self.message_package.clone(),
+            scan_depth: self.scan_depth,
+            domain_id,
+            only_networks,
+        })
+    }
+
+    /// The DDS domain: `--domain-id`, else `ROS_DOMAIN_ID`, else 0.
+    fn domain_id(&self) -> Result<u16> {
+        let domain_id = match self.domain_id {
+            Some(d) => d,
+            None => match std::env::var("ROS_DOMAIN_ID") {
+                Ok(s) if !s.trim().is_empty() => s
+                    .trim()
+                    .parse()
+                    .with_context(|| format!("ROS_DOMAIN_ID must be 0..=232, got {s:?}"))?,
+                _ => 0,
+            },
+        };
+        if domain_id > MAX_DOMAIN_ID {
+            bail!("the DDS domain must be 0..={MAX_DOMAIN_ID} (its UDP ports), got {domain_id}");
+        }
+        Ok(domain_id)
+    }
+
+    /// The networks the node talks on: loopback alone (`--localhost-only` or
+    /// `ROS_LOCALHOST_ONLY`), the `--interface` addresses, or every one (`None`).
+    fn networks(&self) -> Result<Option<Vec<IpAddr>>> {
+        let localhost = self.localhost_only || env_localhost_only();
+        if localhost && !self.interfaces.is_empty() {
+            bail!("--interface and localhost-only (flag or environment) exclude each other");
+        }
+        Ok(if localhost {
+            Some(vec![IpAddr::V4(Ipv4Addr::LOCALHOST)])
+        } else if self.interfaces.is_empty() {
+            None
+        } else {
+            let own = local_ipv4();
+            for &addr in &self.interfaces {
+                check_local(addr, &own)?;
+            }
+            Some(self.interfaces.clone())
+        })
+    }
+
+    /// Refuses an output topic that is the scan topic or another output's (`resolve`d).
+    fn check_outputs(&self, resolve: &dyn Fn(&str) -> String) -> Result<()> {
         let mut outputs = vec![
             ("--lines-topic", &self.lines_topic),
             ("--markers-topic", &self.markers_topic),
@@ -228,27 +266,7 @@ impl Ros2Args {
                 );
             }
         }
-        if !is_package_name(&self.message_package) {
-            bail!(
-                "--message-package must be a ROS 2 package name (lower-case letters, digits \
-                 and underscores, from a letter), got {:?}",
-                self.message_package
-            );
-        }
-        // Topics resolved here (a relative one under the namespace), so that the node's log
-        // names what it subscribes and publishes to.
-        Ok(NodeConfig {
-            node_name: self.node_name.clone(),
-            scan_topic: resolve(&self.scan_topic),
-            lines_topic: resolve(&self.lines_topic),
-            markers_topic: resolve(&self.markers_topic),
-            sectors_topic: self.sectors.then(|| resolve(&self.sectors_topic)),
-            namespace,
-            line_package: self.message_package.clone(),
-            scan_depth: self.scan_depth,
-            domain_id,
-            only_networks,
-        })
+        Ok(())
     }
 
     /// When the node stops by itself, and how often it logs.

@@ -102,18 +102,7 @@ pub const MAX_JOBS: usize = 256;
 
 /// Runs the command.
 pub fn run(args: &ExtractArgs) -> Result<()> {
-    let jobs = match args.jobs {
-        Some(n) => usize::try_from(n)
-            .ok()
-            .filter(|n| (1..=MAX_JOBS).contains(n))
-            .ok_or_else(|| anyhow::anyhow!("--jobs must be from 1 to {MAX_JOBS}, got {n}"))?,
-        None => std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get),
-    };
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(jobs)
-        .thread_name(|i| format!("extract-{i}"))
-        .build()
-        .context("cannot start the extraction threads")?;
+    let (jobs, pool) = extraction_pool(args.jobs)?;
     super::refuse_same_file(&args.input.input, &args.output)?;
     super::output_folder_exists(&args.output)?;
     super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "extract")?;
@@ -170,14 +159,14 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
         }
     };
     closed?;
-    let reader = reader_back
-        .recv()
-        .map_err(|_| anyhow::anyhow!("internal error: the reader did not come back"))?;
     anyhow::ensure!(
         waiting.is_empty(),
         "internal error: {} batches were extracted but never written",
         waiting.len()
     );
+    let reader = reader_back
+        .recv()
+        .map_err(|_| anyhow::anyhow!("internal error: the reader did not come back"))?;
     let mut skipped = reader.skipped().clone();
     skipped.merge(&totals.skipped);
     summary(
@@ -191,6 +180,23 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
         return Err(super::no_scans(&name, &skipped));
     }
     Ok(())
+}
+
+/// The number of extraction threads `--jobs` asks for (default: one per core) and their pool.
+fn extraction_pool(jobs: Option<i64>) -> Result<(usize, rayon::ThreadPool)> {
+    let jobs = match jobs {
+        Some(n) => usize::try_from(n)
+            .ok()
+            .filter(|n| (1..=MAX_JOBS).contains(n))
+            .ok_or_else(|| anyhow::anyhow!("--jobs must be from 1 to {MAX_JOBS}, got {n}"))?,
+        None => std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get),
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(jobs)
+        .thread_name(|i| format!("extract-{i}"))
+        .build()
+        .context("cannot start the extraction threads")?;
+    Ok((jobs, pool))
 }
 
 /// Removes the output file this run wrote no scan to, when it is a regular file: standard
