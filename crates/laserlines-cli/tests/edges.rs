@@ -183,6 +183,58 @@ fn convert_names_what_it_writes_and_leaves_no_partial_file() {
     assert!(!csv.exists(), "a CSV is left behind");
 }
 
+/// A failed run removes the output file it made, never a device, a pipe or a symbolic link
+/// named as its output (a run as root once took `/dev/full` with it): each output here is a
+/// link to a file of the user's, which must survive the error, link and file.
+#[cfg(unix)]
+#[test]
+fn a_failed_run_leaves_an_output_that_is_no_regular_file_alone() {
+    let bad = tmp("bad-third.jsonl");
+    let good = r#"{"angle_min": -1.0, "angle_increment": 0.01, "range_min": 0.02, "range_max": 5.6, "ranges": [2.0, 2.0, 2.0, 2.0]}"#;
+    std::fs::write(&bad, format!("{good}\n{good}\n{{\"ranges\": oops}}\n")).unwrap();
+    let keep = tmp("users-file.jsonl");
+    let link = |name: &str| {
+        std::fs::write(&keep, b"the user's own\n").unwrap();
+        let l = tmp(name);
+        let _ = std::fs::remove_file(&l);
+        std::os::unix::fs::symlink(&keep, &l).unwrap();
+        l
+    };
+    let survived = |l: &Path, what: &str| {
+        let meta = std::fs::symlink_metadata(l);
+        assert!(
+            meta.is_ok_and(|m| m.file_type().is_symlink()),
+            "{what}: the link was removed"
+        );
+        assert!(keep.exists(), "{what}: the file it points to was removed");
+    };
+    let out = link("convert-out.jsonl");
+    let o = run(bin().arg("convert").arg(&bad).arg(&out));
+    fails_with(&o, "bad-third.jsonl:3");
+    survived(&out, "convert");
+    let empty = tmp("nothing.jsonl");
+    std::fs::write(&empty, b"").unwrap();
+    let out = link("extract-out.jsonl");
+    let o = run(bin().arg("extract").arg(&empty).arg("-o").arg(&out));
+    fails_with(&o, "no scans to read");
+    survived(&out, "extract");
+    let mcap = link("map-out.mcap");
+    let o = run(bin()
+        .arg("map")
+        .arg(&empty)
+        .arg("-o")
+        .arg(tmp("map-dir"))
+        .arg("--mcap")
+        .arg(&mcap));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    survived(&mcap, "map --mcap");
+    // A regular file the run made is still removed.
+    let plain = tmp("convert-plain.jsonl");
+    let o = run(bin().arg("convert").arg(&bad).arg(&plain));
+    fails_with(&o, "removed the partial");
+    assert!(!plain.exists());
+}
+
 #[test]
 fn values_out_of_range_are_errors_not_clamped() {
     for (args, needle) in [

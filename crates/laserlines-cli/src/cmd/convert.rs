@@ -135,9 +135,10 @@ fn output_format(args: &ConvertArgs) -> Result<Format> {
     Ok(format)
 }
 
-/// Removes the output of a failed conversion (not standard output).
+/// Removes the output of a failed conversion when it is a regular file
+/// ([`super::remove_own_output`]).
 fn remove_partial(path: &Path) {
-    if path != Path::new("-") && std::fs::remove_file(path).is_ok() {
+    if super::remove_own_output(path) {
         errln!(
             "laserlines: removed the partial {} (the conversion failed)",
             path.display()

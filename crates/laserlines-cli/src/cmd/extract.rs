@@ -132,7 +132,7 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     progress.finish_and_clear();
     if totals.scans == 0 {
         // Nothing was extracted: no output file stands beside the error as if it were one.
-        remove_output(&args.output);
+        super::remove_own_output(&args.output);
     }
     let pipe = |r: Option<&anyhow::Error>| r.is_some_and(super::is_broken_pipe);
     if pipe(written.as_ref().err()) || pipe(closed.as_ref().err()) {
@@ -197,16 +197,6 @@ fn extraction_pool(jobs: Option<i64>) -> Result<(usize, rayon::ThreadPool)> {
         .build()
         .context("cannot start the extraction threads")?;
     Ok((jobs, pool))
-}
-
-/// Removes the output file this run wrote no scan to, when it is a regular file: standard
-/// output (`-`), `/dev/null`, a named pipe or a symbolic link stay as they are.
-fn remove_output(output: &Path) {
-    let regular = std::fs::symlink_metadata(output).is_ok_and(|m| m.file_type().is_file());
-    if output != Path::new("-") && regular {
-        // It was just created by this run; a failure leaves an empty file, nothing worse.
-        let _ = std::fs::remove_file(output);
-    }
 }
 
 /// The reading side of the pipeline, run on one pool thread.

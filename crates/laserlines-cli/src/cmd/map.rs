@@ -93,7 +93,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
     }
     let writer = McapSceneWriter::create(path)?;
     if let Err(e) = map_outputs::prepare_dir(&args.output) {
-        let _ = std::fs::remove_file(path);
+        super::remove_own_output(path);
         return Err(e);
     }
     match map_log(args, &name, reader, Some((path, writer)), start) {
@@ -101,7 +101,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
         // The scans before a bad record were mapped and written, the MCAP too.
         Ok(Some(stopped)) => Err(stopped),
         Err(e) => {
-            let _ = std::fs::remove_file(path);
+            super::remove_own_output(path);
             Err(e)
         }
     }

@@ -49,6 +49,14 @@ pub fn refuse_same_file(input: &Path, output: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Removes the output file of a run that failed or wrote nothing, when it is a regular file:
+/// standard output (`-`), a device (`/dev/null`), a named pipe or a symbolic link (and what it
+/// points to) stay as they are. True when it was removed.
+pub fn remove_own_output(output: &Path) -> bool {
+    let regular = std::fs::symlink_metadata(output).is_ok_and(|m| m.file_type().is_file());
+    output != Path::new("-") && regular && std::fs::remove_file(output).is_ok()
+}
+
 /// Refuses an output file whose folder does not exist, naming the folder, before anything is
 /// read (the commands that write a folder, `map`, `simulate` and `bench -o`, create it).
 pub fn output_folder_exists(output: &Path) -> Result<()> {
