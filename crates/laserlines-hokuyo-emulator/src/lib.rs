@@ -6,8 +6,9 @@
 //! - [`ArenaFeed`]: the simulator's laser model, set up as the emulated sensor (its steps,
 //!   range limits, the URG-04LX noise, 1 mm rounding), moving slowly around a start
 //!   point of a world (a RoboCup Rescue `.raf` arena);
-//! - [`LogFeed`]: a recorded log replayed, each step taking the nearest beam of the log's
-//!   scan, over and over.
+//! - [`LogFeed`]: a recorded log replayed, each step reading where its ray meets the chord
+//!   between the log's two beams beside it on one surface (else the nearest beam), over and
+//!   over.
 
 use std::f64::consts::TAU;
 
@@ -153,10 +154,14 @@ impl LogFeed {
     }
 }
 
-/// The readings of `scan` at the steps of `model`: each step takes the beam of `scan`
-/// nearest in angle; steps outside the log's scan, and beams that are no return (NaN,
-/// beyond the log's `range_max`), read 0 (no echo); error codes kept as ranges below
-/// `range_min` (URG logs keep 1..19 mm) are sent as they are.
+/// The readings of `scan` at the steps of `model`. A step between two beams of `scan` that
+/// both returned from one surface reads where its ray meets the chord between their points
+/// (exact on a straight surface, so a sensor finer than the log sees no staircase of
+/// repeated readings); otherwise, across a depth edge or beside a beam without a return, it
+/// takes the beam nearest in angle, never a point between two surfaces. Steps outside the
+/// log's scan, and beams that are no return (NaN, beyond the log's `range_max`), read 0 (no
+/// echo); error codes kept as ranges below `range_min` (URG logs keep 1..19 mm) are sent as
+/// they are.
 #[must_use]
 pub fn resample(scan: &Scan, model: &Model) -> Vec<u32> {
     let inc = scan.angle_increment;
@@ -165,17 +170,48 @@ pub fn resample(scan: &Scan, model: &Model) -> Vec<u32> {
             if scan.ranges.is_empty() || inc == 0.0 || !inc.is_finite() {
                 return 0;
             }
-            let k = ((model.step_angle(step) - scan.angle_min) / inc).round();
+            let t = (model.step_angle(step) - scan.angle_min) / inc;
+            let k = t.round();
             if k < 0.0 || k >= scan.ranges.len() as f64 {
                 return 0;
             }
-            let r = scan.ranges[k as usize];
+            let r = between(scan, t).unwrap_or(scan.ranges[k as usize]);
             if r > scan.range_max {
                 return 0;
             }
             to_mm(r, model)
         })
         .collect()
+}
+
+/// Widest depth step, as a multiple of the range times the angle between two beams, that
+/// [`between`] takes for one surface: a surface seen at up to 80 deg of incidence
+/// (`tan 80 deg`).
+const SURFACE_SLOPE: f64 = 5.67;
+
+/// The range at the fractional beam `t` of `scan` on the chord between the points of the
+/// beams either side of it, when both returned (within the range limits) and lie on one
+/// surface (their ranges differ by at most [`SURFACE_SLOPE`] times the nearer range times
+/// the angle between them, plus 2 cm); `None` otherwise, and on a beam exactly.
+fn between(scan: &Scan, t: f64) -> Option<f64> {
+    let k0 = t.floor();
+    let f = t - k0;
+    if !(f > 1e-9 && f < 1.0 - 1e-9) || k0 < 0.0 {
+        return None;
+    }
+    let k0 = k0 as usize;
+    let (&r0, &r1) = (scan.ranges.get(k0)?, scan.ranges.get(k0 + 1)?);
+    let valid = |r: f64| r >= scan.range_min && r <= scan.range_max;
+    let dphi = scan.angle_increment;
+    if !(valid(r0) && valid(r1)) || (r1 - r0).abs() > SURFACE_SLOPE * r0.min(r1) * dphi.abs() + 0.02
+    {
+        return None;
+    }
+    // The ray at angle `f dphi` from beam k0 meets the chord from (r0, 0) to (r1, dphi):
+    // r = r0 r1 sin(dphi) / (r0 sin(f dphi) + r1 sin((1 - f) dphi)).
+    let den = r0 * (f * dphi).sin() + r1 * ((1.0 - f) * dphi).sin();
+    let r = r0 * r1 * dphi.sin() / den;
+    r.is_finite().then_some(r)
 }
 
 impl ScanFeed for LogFeed {
@@ -213,6 +249,68 @@ mod tests {
         // Straight ahead (step 384) the wall is 2 m away (noise: 10 mm at 2 sigma).
         let ahead = v[(384 - 44) as usize];
         assert!((1950..=2050).contains(&ahead), "{ahead}");
+    }
+
+    /// A URG-04LX log scan of a room, noise-free: the wall `x = 2` ahead, the walls
+    /// `y = 1.5` and `y = -1.5` beside, and a box whose front is `x = 1` for `|y| <= 0.3`.
+    fn room_log() -> Scan {
+        let inc = TAU / 1024.0;
+        let ranges = (0..682)
+            .map(|i| {
+                let (s, c) = ((f64::from(i) - 340.0) * inc).sin_cos();
+                let mut r = f64::INFINITY;
+                if c > 1e-9 {
+                    r = r.min(2.0 / c);
+                    if (s / c).abs() <= 0.3 {
+                        r = r.min(1.0 / c);
+                    }
+                }
+                if s.abs() > 1e-9 {
+                    r = r.min(1.5 / s.abs());
+                }
+                r
+            })
+            .collect();
+        Scan::new(-340.0 * inc, inc, 0.02, 5.6, ranges).unwrap()
+    }
+
+    #[test]
+    fn a_finer_sensor_reads_the_log_on_its_surfaces_without_a_staircase() {
+        // The UST-10LX's 0.25 deg steps between the log's 0.35 deg beams: each reading lies
+        // on the surface its ray meets (within the 1 mm rounding; the chord between a beam on
+        // each wall of a corner cuts it by up to 2 mm at these ranges), none
+        // between the box and the wall behind it, and no two neighbouring readings on a side
+        // wall, seen at a slant, are equal (the nearest beam, repeated, made a staircase).
+        let log = room_log();
+        let model = Model::new(ModelName::Ust10lx);
+        let v = resample(&log, &model);
+        let last = log.angle_min + 681.0 * log.angle_increment;
+        let (mut on, mut repeated) = (0, 0);
+        for (i, &mm) in v.iter().enumerate() {
+            let step = model.amin + i as u32;
+            let a = model.step_angle(step);
+            if mm == 0 || !(log.angle_min..=last).contains(&a) {
+                continue;
+            }
+            let r = f64::from(mm) / 1000.0;
+            let (x, y) = (r * a.cos(), r * a.sin());
+            let box_front = (x - 1.0).abs() + if y.abs() > 0.31 { 1.0 } else { 0.0 };
+            let off = [(x - 2.0).abs(), (y.abs() - 1.5).abs(), box_front]
+                .into_iter()
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                off < 0.003,
+                "step {step}: ({x:.4}, {y:.4}) on no surface ({off:.4} m)"
+            );
+            on += 1;
+            let side = (y.abs() - 1.5).abs() < 0.002 && x > 1.0;
+            repeated += usize::from(i > 0 && v[i - 1] == mm && side);
+        }
+        assert!(on > 900, "{on} readings on the surfaces");
+        assert_eq!(
+            repeated, 0,
+            "neighbouring readings repeated on the side walls"
+        );
     }
 
     #[test]

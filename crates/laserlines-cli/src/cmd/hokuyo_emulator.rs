@@ -124,7 +124,8 @@ fn check_log(input: &InputArgs) -> Result<laserlines::Scan> {
 }
 
 /// What serving the log's scans as `model` changes, when their geometry is not the model's:
-/// each step takes the nearest beam, and steps outside the log's field of view and ranges
+/// each step reads where its ray meets the chord between the two beams beside it on one
+/// surface (else the nearest beam), and steps outside the log's field of view and ranges
 /// beyond the model's reach send no echo.
 fn resampling_note(scan: &laserlines::Scan, model: &Model) -> Option<String> {
     let step = std::f64::consts::TAU / f64::from(model.ares);
@@ -138,8 +139,9 @@ fn resampling_note(scan: &laserlines::Scan, model: &Model) -> Option<String> {
     (!same).then(|| {
         format!(
             "its scans ({} beams of {:.3} deg from {:.1} deg, up to {} m) are served at the \
-             {}'s {} steps of {:.3} deg from {:.1} deg, up to {} m: each step takes the nearest \
-             beam, and steps outside the log's field of view and ranges beyond {} m send no echo",
+             {}'s {} steps of {:.3} deg from {:.1} deg, up to {} m: each step reads the chord \
+             between the two beams beside it on one surface, else the nearest beam, and steps \
+             outside the log's field of view and ranges beyond {} m send no echo",
             scan.ranges.len(),
             deg(scan.angle_increment),
             deg(scan.angle_min),
