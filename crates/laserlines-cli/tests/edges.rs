@@ -235,6 +235,31 @@ fn a_failed_run_leaves_an_output_that_is_no_regular_file_alone() {
     assert!(!plain.exists());
 }
 
+/// An output that fails part way (a full disk: `/dev/full`) is reported as such: the summary
+/// counts the scans extracted, never as written.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_full_disk_is_not_reported_as_scans_written() {
+    if !Path::new("/dev/full").exists() {
+        eprintln!("SKIPPED: no /dev/full on this machine");
+        return;
+    }
+    // Enough scans that the output's buffer is written before the end.
+    let scan = format!(
+        r#"{{"angle_min": -2.0, "angle_increment": 0.006, "range_min": 0.02, "range_max": 5.6, "ranges": [{}]}}"#,
+        vec!["2.5"; 682].join(", ")
+    );
+    let input = tmp("many.jsonl");
+    std::fs::write(&input, format!("{scan}\n").repeat(400)).unwrap();
+    let o = run(bin().arg("extract").arg(&input).args(["-o", "/dev/full"]));
+    fails_with(&o, "No space left on device");
+    let err = stderr(&o);
+    assert!(
+        err.contains("extracted before the output failed") && !err.contains("written"),
+        "a full disk reported as written: {err}"
+    );
+}
+
 #[test]
 fn values_out_of_range_are_errors_not_clamped() {
     for (args, needle) in [

@@ -148,9 +148,17 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
     let waiting = match written {
         Ok(waiting) => waiting,
         Err(e) => {
-            // What was written before the error, then the error itself (from `main`).
+            // What was written before the error, then the error itself (from `main`). A bad
+            // record leaves the scans before it in a closed output; an output that failed
+            // (a full disk) may hold none of them.
+            let read = e.chain().any(|c| c.is::<laserlines_io::ReadError>());
+            let done = if read && closed.is_ok() {
+                "written before the error"
+            } else {
+                "extracted before the output failed"
+            };
             errln!(
-                "{name}: {} with {} written before the error, in {:.2} s",
+                "{name}: {} with {} {done}, in {:.2} s",
                 super::count(totals.scans, "scan"),
                 super::count(totals.lines, "line"),
                 start.elapsed().as_secs_f64()
