@@ -375,6 +375,8 @@ fn a_truncated_log_keeps_the_map_of_the_scans_before_it() {
         err.contains("the map of the 39 scans before it is written"),
         "{err}"
     );
+    // The record that stopped the map was not skipped, and is not counted as such.
+    assert!(!err.contains("skipped: 1"), "{err}");
     assert_eq!(tum_rows(&out.join("trajectory.tum")).len(), 39);
     assert!(out.join("map.pgm").exists() && out.join("lines.json").exists());
     // With it: the same map, the record counted.

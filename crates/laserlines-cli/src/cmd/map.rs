@@ -175,11 +175,33 @@ fn map_log(
     );
     // What the reader left out by design (other messages of a log, readings sharing a beam)
     // is said too, not only the bad records of --skip-bad.
-    if args.skip_bad || !reader.skipped().is_empty() {
-        errln!("{name}: skipped: {}", reader.skipped());
+    let skipped = skipped_besides(reader.skipped(), run.stopped.as_ref());
+    if args.skip_bad || !skipped.is_empty() {
+        errln!("{name}: skipped: {skipped}");
     }
     let mapped = run.stamps.len();
     Ok(run.stopped.map(|e| stopped_error(e, name, mapped, args)))
+}
+
+/// What the reader skipped, less the bad record that stopped the reading: the reader counts
+/// each bad record it returns, but that one ended the map and was not skipped.
+fn skipped_besides(
+    skipped: &laserlines_io::SkipCounts,
+    stopped: Option<&laserlines_io::ReadError>,
+) -> laserlines_io::SkipCounts {
+    let stop = stopped
+        .filter(|e| e.is_bad_record())
+        .map(laserlines_io::ReadError::reason);
+    let mut out = laserlines_io::SkipCounts::new();
+    for (reason, n) in skipped.iter() {
+        let n = if stop == Some(reason) {
+            n.saturating_sub(1)
+        } else {
+            n
+        };
+        out.add_n(reason, n);
+    }
+    out
 }
 
 /// Reads the scans of `reader` into `mapper`, each with its lines and (with `--odometry
