@@ -428,7 +428,19 @@ fn a_bad_table_the_command_does_not_read_is_an_error() {
         fails_with(&o, &format!("{name}: [iepf]"));
         fails_with(&o, "(a table extract does not use, checked all the same)");
         fails_with(&o, needle);
+        // `simulate` checks the tables it does not read the same way.
+        let o = run(bin()
+            .args(["simulate", "--maze", "2", "--duration", "1", "--params"])
+            .arg(tmp(name))
+            .arg("-o")
+            .arg(tmp("sim-params")));
+        fails_with(&o, &format!("{name}: [iepf]"));
+        fails_with(&o, "(a table simulate does not use, checked all the same)");
     }
+    // And the tables only `simulate` reads are checked by the other commands.
+    let o = extract_with_params("robot.toml", "[robot]\nwheel_base = -1\n");
+    fails_with(&o, "robot.toml: [robot]");
+    fails_with(&o, "(a table extract does not use, checked all the same)");
 }
 
 #[test]

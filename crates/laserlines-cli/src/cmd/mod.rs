@@ -299,6 +299,13 @@ pub fn note_unused_tables(params: Option<&Path>, used: &[&str], command: &str) -
         return Ok(());
     };
     let file = ParamsFile::load(path)?;
+    if file
+        .tables()
+        .any(|t| laserlines_io::params::RUN_TABLES.contains(&t) && !used.contains(&t))
+    {
+        simulate::check_run_tables(&file)
+            .map_err(|e| anyhow!("{e:#} (a table {command} does not use, checked all the same)"))?;
+    }
     for table in file.tables().filter(|t| !used.contains(t)) {
         // A shared params file: a mistake in another algorithm's table is named now, not on
         // the run that first reads it.

@@ -132,6 +132,9 @@ struct Setup {
 /// Runs the command.
 pub fn run(args: &SimulateArgs) -> Result<()> {
     super::seconds("--duration", args.duration, false)?;
+    let mut used = vec!["hough-split"];
+    used.extend_from_slice(laserlines_io::params::RUN_TABLES);
+    super::note_unused_tables(args.params.as_deref(), &used, "simulate")?;
     if let Some(t) = args.snapshot
         && !(t.is_finite() && (0.0..=args.duration).contains(&t))
     {
@@ -374,6 +377,18 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
 
 /// The simulated robot: its description from `[robot]`, the simulator's settings from
 /// `[simulator]`.
+/// Checks the tables of a params file that `simulate` reads (`[robot]`, `[simulator]`,
+/// `[explorer]`) as `simulate` would, for a command that does not read them.
+pub fn check_run_tables(file: &ParamsFile) -> Result<()> {
+    robot_of(file)?;
+    file.read_valid(
+        "explorer",
+        ExplorerParams::default(),
+        ExplorerParams::validate,
+    )?;
+    Ok(())
+}
+
 fn robot_of(file: &ParamsFile) -> Result<RobotParams> {
     let robot = file.read_valid(
         "robot",
