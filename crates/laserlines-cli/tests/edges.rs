@@ -260,6 +260,19 @@ fn a_full_disk_is_not_reported_as_scans_written() {
     );
 }
 
+/// `live` names an output in a missing folder before it opens the sensor (port 1 of the
+/// loopback would refuse the connection).
+#[test]
+fn live_names_a_missing_output_folder_before_the_sensor() {
+    for flag in ["-o", "--record"] {
+        let o = run(bin()
+            .args(["live", "127.0.0.1:1", flag])
+            .arg(tmp("no-such-folder").join("x.mcap")));
+        fails_with(&o, "no-such-folder does not exist");
+        assert!(!stderr(&o).contains("refused"), "{}", stderr(&o));
+    }
+}
+
 #[test]
 fn values_out_of_range_are_errors_not_clamped() {
     for (args, needle) in [

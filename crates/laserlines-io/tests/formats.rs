@@ -43,6 +43,45 @@ fn json_single_object_with_every_field() {
     assert!(close(pts[1].point.y, 1.198_563_846_510_507_5, 1e-15));
 }
 
+/// A ROS message written as JSON keeps its time in `header.stamp`: ROS 2's `sec`/`nanosec`,
+/// ROS 1's `secs`/`nsecs`; a top-level `stamp` comes first; a `header.stamp` of another form
+/// is an error naming it.
+#[test]
+fn json_reads_a_ros_header_stamp() {
+    let read = |text: &str| {
+        let dir = std::env::temp_dir().join(format!("laserlines-io-header-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("scan.jsonl");
+        std::fs::write(&path, text).unwrap();
+        open(&path, None).unwrap().collect::<Result<Vec<_>, _>>()
+    };
+    let scan = r#""angle_min": -0.5, "angle_increment": 0.5, "range_min": 0.1, "range_max": 10.0, "ranges": [1.0, 2.0]"#;
+    let text = [
+        format!(r#"{{"header": {{"stamp": {{"sec": 1700000000, "nanosec": 250000000}}, "frame_id": "laser"}}, {scan}}}"#),
+        format!(r#"{{"header": {{"seq": 7, "stamp": {{"secs": 12, "nsecs": 500000000}}}}, {scan}}}"#),
+        format!(r#"{{"stamp": 3.0, "header": {{"stamp": {{"sec": 9, "nanosec": 0}}}}, {scan}}}"#),
+        format!(r#"{{"header": {{"frame_id": "laser"}}, {scan}}}"#),
+    ]
+    .join("\n");
+    let records = read(&text).unwrap();
+    let stamps: Vec<_> = records.iter().map(|r| r.scan.stamp).collect();
+    assert_eq!(
+        stamps,
+        [Some(1_700_000_000.25), Some(12.5), Some(3.0), None]
+    );
+    let e = read(&format!(r#"{{"header": {{"stamp": 12.5}}, {scan}}}"#)).unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("header.stamp") && msg.contains("nanosec"),
+        "{msg}"
+    );
+    let e = read(&format!(
+        r#"{{"header": {{"stamp": {{"sec": -1, "nanosec": 0}}}}, {scan}}}"#
+    ))
+    .unwrap_err();
+    assert!(e.to_string().contains("header.stamp.sec"), "{e}");
+}
+
 #[test]
 fn json_top_level_array_is_read_element_by_element() {
     let records = read_all("tests/fixtures/two_scans_array.json");

@@ -155,6 +155,10 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
              s), got {t}"
         );
     }
+    // The recording's folder first: a failed run leaves no empty output folder behind.
+    if let Some(path) = &args.mcap {
+        super::output_folder_exists(path)?;
+    }
     super::create_output_dir(&args.output)?;
     let (record, mcap_scans) = explore(args, &setup)?;
     let written = write_outputs(args, &setup, &record)?;

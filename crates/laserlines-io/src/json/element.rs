@@ -94,6 +94,8 @@ impl Element<'_> {
         if let Some(fast) = (!self.python)
             .then(|| serde_json::from_str::<FastScan>(text).ok())
             .flatten()
+            // A ROS header's stamp is read by the slow path.
+            .filter(|f| f.stamp.is_some() || f.header.is_none())
         {
             let scan = Scan {
                 angle_min: fast.angle_min,
@@ -269,7 +271,7 @@ impl Element<'_> {
         Err(self.field_error(&format!("{key}.{name}"), key, "a finite number", found))
     }
 
-    /// The optional `stamp`: a finite number.
+    /// The optional `stamp`: a finite number; without one, a ROS message's `header.stamp`.
     fn stamp(&self, obj: &Map<String, Value>) -> Result<Option<f64>, ReadError> {
         match self.opt_number(obj, "stamp")? {
             Some(t) if !t.is_finite() => Err(self.field_error(
@@ -278,8 +280,50 @@ impl Element<'_> {
                 "a finite number or null",
                 tokens::written(t).to_owned(),
             )),
-            stamp => Ok(stamp),
+            Some(t) => Ok(Some(t)),
+            None => self.header_stamp(obj),
         }
+    }
+
+    /// `header.stamp` as a ROS message written as JSON holds it (rosbridge, `ros2 topic
+    /// echo`, a bag exported by a script): `{"sec", "nanosec"}` (ROS 2) or `{"secs",
+    /// "nsecs"}` (ROS 1), in seconds; `None` without one. A `header.stamp` of another
+    /// form is an error, not a stamp left out in silence.
+    fn header_stamp(&self, obj: &Map<String, Value>) -> Result<Option<f64>, ReadError> {
+        let Some(stamp) = obj.get("header").and_then(|h| h.get("stamp")) else {
+            return Ok(None);
+        };
+        let expected = "{\"sec\", \"nanosec\"} (ROS 2) or {\"secs\", \"nsecs\"} (ROS 1)";
+        let part = |names: [&'static str; 2]| {
+            let Value::Object(fields) = stamp else {
+                return None;
+            };
+            names
+                .into_iter()
+                .find_map(|n| fields.get(n).map(|v| (n, v)))
+        };
+        let (Some((sec_name, sec)), Some((nsec_name, nsec))) =
+            (part(["sec", "secs"]), part(["nanosec", "nsecs"]))
+        else {
+            let found = self.kind_of("header", stamp);
+            return Err(self.field_error("header.stamp", "header", expected, found));
+        };
+        let number = |name: &str, v: &Value| {
+            v.as_f64()
+                .filter(|x| x.is_finite() && *x >= 0.0)
+                .ok_or_else(|| {
+                    let found = self.kind_of("header", v);
+                    self.field_error(
+                        &format!("header.stamp.{name}"),
+                        "header",
+                        "a number from 0 up",
+                        found,
+                    )
+                })
+        };
+        Ok(Some(
+            number(sec_name, sec)? + number(nsec_name, nsec)? * 1e-9,
+        ))
     }
 
     fn scan_from_object(&self, obj: &Map<String, Value>) -> Result<ScanRecord, ReadError> {
@@ -398,6 +442,9 @@ struct FastScan {
     odometry: Option<Pose2>,
     #[serde(default)]
     angle_max: Option<f64>,
+    /// A ROS message's header, looked at only for its stamp ([`Element::header_stamp`]).
+    #[serde(default)]
+    header: Option<serde::de::IgnoredAny>,
 }
 
 /// An array of numbers or `null`, with `null` read as NaN.

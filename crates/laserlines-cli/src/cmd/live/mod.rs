@@ -162,6 +162,13 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         .map(|s| super::seconds("--duration", s, true))
         .transpose()?;
     super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "live")?;
+    // An output in a folder that does not exist is named before the sensor is opened.
+    for path in [args.output.as_deref(), args.record.as_deref()]
+        .into_iter()
+        .flatten()
+    {
+        super::output_folder_exists(path)?;
+    }
     let mut extractor = super::make_extractor(&args.algorithm, &args.params)?;
     let stop = Arc::new(AtomicBool::new(false));
     let s = stop.clone();
