@@ -155,8 +155,11 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
              s), got {t}"
         );
     }
-    // The recording's folder first: a failed run leaves no empty output folder behind.
-    if let Some(path) = &args.mcap {
+    // The recording's folder first (unless it is the output folder, made below): a failed
+    // run leaves no empty output folder behind.
+    if let Some(path) = &args.mcap
+        && !path.parent().is_some_and(|p| p.starts_with(&args.output))
+    {
         super::output_folder_exists(path)?;
     }
     super::create_output_dir(&args.output)?;
@@ -344,12 +347,12 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
     let m = &record.metrics;
     let start = setup.start.translation.vector;
     outln!(
-        "laserlines simulate: {}, seed {}, start ({:.2}, {:.2}): coverage {:.3} of {:.1} m^2 ({}), collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage {}, pose error at most {:.2} m, stop {}{}",
+        "laserlines simulate: {}, seed {}, start ({:.2}, {:.2}): coverage {:.1} % of {:.1} m^2 ({}), collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage {}, pose error at most {:.2} m, stop {}{}",
         setup.name,
         args.seed,
         start.x,
         start.y,
-        m.coverage,
+        100.0 * m.coverage,
         m.arena_area_m2,
         m.coverage_region.name(),
         m.collisions,
