@@ -185,7 +185,8 @@ fn convert_names_what_it_writes_and_leaves_no_partial_file() {
 
 /// A failed run removes the output file it made, never a device, a pipe or a symbolic link
 /// named as its output (a run as root once took `/dev/full` with it): each output here is a
-/// link to a file of the user's, which must survive the error, link and file.
+/// link to a file of the user's; the link stays, and a note says that its file holds what
+/// the run wrote.
 #[cfg(unix)]
 #[test]
 fn a_failed_run_leaves_an_output_that_is_no_regular_file_alone() {
@@ -200,24 +201,36 @@ fn a_failed_run_leaves_an_output_that_is_no_regular_file_alone() {
         std::os::unix::fs::symlink(&keep, &l).unwrap();
         l
     };
-    let survived = |l: &Path, what: &str| {
+    let survived = |l: &Path, what: &str, o: &Output| {
         let meta = std::fs::symlink_metadata(l);
         assert!(
             meta.is_ok_and(|m| m.file_type().is_symlink()),
             "{what}: the link was removed"
         );
         assert!(keep.exists(), "{what}: the file it points to was removed");
+        // The run wrote through the link: the file holds its output now, and a note says so.
+        let err = stderr(o);
+        assert!(
+            err.contains("is a symbolic link: left as it is, and the file it points to holds"),
+            "{what}: {err}"
+        );
+        let held = std::fs::read(&keep).unwrap();
+        let mine: &[u8] = b"the user's own";
+        assert!(
+            !held.windows(mine.len()).any(|w| w == mine),
+            "{what}: unchanged"
+        );
     };
     let out = link("convert-out.jsonl");
     let o = run(bin().arg("convert").arg(&bad).arg(&out));
     fails_with(&o, "bad-third.jsonl:3");
-    survived(&out, "convert");
+    survived(&out, "convert", &o);
     let empty = tmp("nothing.jsonl");
     std::fs::write(&empty, b"").unwrap();
     let out = link("extract-out.jsonl");
     let o = run(bin().arg("extract").arg(&empty).arg("-o").arg(&out));
     fails_with(&o, "no scans to read");
-    survived(&out, "extract");
+    survived(&out, "extract", &o);
     let mcap = link("map-out.mcap");
     let o = run(bin()
         .arg("map")
@@ -227,7 +240,7 @@ fn a_failed_run_leaves_an_output_that_is_no_regular_file_alone() {
         .arg("--mcap")
         .arg(&mcap));
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    survived(&mcap, "map --mcap");
+    survived(&mcap, "map --mcap", &o);
     // A regular file the run made is still removed.
     let plain = tmp("convert-plain.jsonl");
     let o = run(bin().arg("convert").arg(&bad).arg(&plain));

@@ -61,14 +61,24 @@ fn json_reads_a_ros_header_stamp() {
         format!(r#"{{"header": {{"seq": 7, "stamp": {{"secs": 12, "nsecs": 500000000}}}}, {scan}}}"#),
         format!(r#"{{"stamp": 3.0, "header": {{"stamp": {{"sec": 9, "nanosec": 0}}}}, {scan}}}"#),
         format!(r#"{{"header": {{"frame_id": "laser"}}, {scan}}}"#),
+        // Zero is no time, as the bag and MCAP readers take it.
+        format!(r#"{{"header": {{"stamp": {{"sec": 0, "nanosec": 0}}}}, {scan}}}"#),
     ]
     .join("\n");
     let records = read(&text).unwrap();
     let stamps: Vec<_> = records.iter().map(|r| r.scan.stamp).collect();
     assert_eq!(
         stamps,
-        [Some(1_700_000_000.25), Some(12.5), Some(3.0), None]
+        [Some(1_700_000_000.25), Some(12.5), Some(3.0), None, None]
     );
+    for (stamp, needle) in [
+        (r#"{"secs": 1, "nsecs": 3e9}"#, "header.stamp.nsecs"),
+        (r#"{"sec": 1, "nsecs": 0}"#, "(ROS 1)"),
+        (r#"{"sec": Infinity, "nanosec": 0}"#, "found `Infinity`"),
+    ] {
+        let e = read(&format!(r#"{{"header": {{"stamp": {stamp}}}, {scan}}}"#)).unwrap_err();
+        assert!(e.to_string().contains(needle), "{stamp}: {e}");
+    }
     let e = read(&format!(r#"{{"header": {{"stamp": 12.5}}, {scan}}}"#)).unwrap_err();
     let msg = e.to_string();
     assert!(

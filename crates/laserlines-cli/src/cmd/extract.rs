@@ -91,6 +91,9 @@ struct Batch {
 struct Totals {
     scans: u64,
     lines: u64,
+    /// The run stopped at a record of the input (a bad record, a failed read), not at its
+    /// output.
+    input_stopped: bool,
     /// Errors of records parsed by the pool, by reason.
     skipped: SkipCounts,
     /// Sums of the assumed noise's `sigma_min` and `fraction`, and the scans they cover.
@@ -151,8 +154,7 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
             // What was written before the error, then the error itself (from `main`). A bad
             // record leaves the scans before it in a closed output; an output that failed
             // (a full disk) may hold none of them.
-            let read = e.chain().any(|c| c.is::<laserlines_io::ReadError>());
-            let done = if read && closed.is_ok() {
+            let done = if totals.input_stopped && closed.is_ok() {
                 "written before the error"
             } else {
                 "extracted before the output failed"
@@ -391,6 +393,7 @@ fn write_batch(
                     totals.skipped.add(e.reason());
                 }
                 if !super::skips(skip_bad, &e) {
+                    totals.input_stopped = true;
                     return Err(super::read_error(e, skip_bad));
                 }
                 progress.suspend(|| errln!("laserlines: skipped: {e}"));

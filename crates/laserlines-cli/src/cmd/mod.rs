@@ -50,11 +50,22 @@ pub fn refuse_same_file(input: &Path, output: &Path) -> Result<()> {
 }
 
 /// Removes the output file of a run that failed or wrote nothing, when it is a regular file:
-/// standard output (`-`), a device (`/dev/null`), a named pipe or a symbolic link (and what it
-/// points to) stay as they are. True when it was removed.
+/// standard output (`-`), a device (`/dev/null`) and a named pipe stay as they are, and so
+/// does a symbolic link, with a note that the file it points to holds what was written.
+/// True when it was removed.
 pub fn remove_own_output(output: &Path) -> bool {
-    let regular = std::fs::symlink_metadata(output).is_ok_and(|m| m.file_type().is_file());
-    output != Path::new("-") && regular && std::fs::remove_file(output).is_ok()
+    let Ok(meta) = std::fs::symlink_metadata(output) else {
+        return false;
+    };
+    if meta.file_type().is_symlink() {
+        errln!(
+            "laserlines: {} is a symbolic link: left as it is, and the file it points to holds \
+             what this run wrote before it failed",
+            output.display()
+        );
+        return false;
+    }
+    output != Path::new("-") && meta.file_type().is_file() && std::fs::remove_file(output).is_ok()
 }
 
 /// Refuses an output file whose folder does not exist, naming the folder, before anything is

@@ -3,7 +3,7 @@
 
 use std::fs;
 use std::io::{self, IsTerminal};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -158,7 +158,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     // The recording's folder first (unless it is the output folder, made below): a failed
     // run leaves no empty output folder behind.
     if let Some(path) = &args.mcap
-        && !path.parent().is_some_and(|p| p.starts_with(&args.output))
+        && !path.parent().is_some_and(|p| same_folder(p, &args.output))
     {
         super::output_folder_exists(path)?;
     }
@@ -347,7 +347,7 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
     let m = &record.metrics;
     let start = setup.start.translation.vector;
     outln!(
-        "laserlines simulate: {}, seed {}, start ({:.2}, {:.2}): coverage {:.1} % of {:.1} m^2 ({}), collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90% coverage {}, pose error at most {:.2} m, stop {}{}",
+        "laserlines simulate: {}, seed {}, start ({:.2}, {:.2}): coverage {:.1} % of {:.1} m^2 ({}), collisions {}, min clearance {:.3} m, path {:.1} m, {:.0} s simulated in {:.2} s ({:.0}x real time), 90 % coverage {}, pose error at most {:.2} m, stop {}{}",
         setup.name,
         args.seed,
         start.x,
@@ -382,8 +382,18 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
     }
 }
 
-/// The simulated robot: its description from `[robot]`, the simulator's settings from
-/// `[simulator]`.
+/// True when `a` and `b` name one folder as written, `.` components aside (`out`,
+/// `./out/`); links and `..` are not followed.
+fn same_folder(a: &Path, b: &Path) -> bool {
+    use std::path::Component;
+    let parts = |p| {
+        Path::components(p)
+            .filter(|c| !matches!(c, Component::CurDir))
+            .collect::<Vec<_>>()
+    };
+    parts(a) == parts(b)
+}
+
 /// Checks the tables of a params file that `simulate` reads (`[robot]`, `[simulator]`,
 /// `[explorer]`) as `simulate` would, for a command that does not read them.
 pub fn check_run_tables(file: &ParamsFile) -> Result<()> {
@@ -396,6 +406,8 @@ pub fn check_run_tables(file: &ParamsFile) -> Result<()> {
     Ok(())
 }
 
+/// The simulated robot: its description from `[robot]`, the simulator's settings from
+/// `[simulator]`.
 fn robot_of(file: &ParamsFile) -> Result<RobotParams> {
     let robot = file.read_valid(
         "robot",

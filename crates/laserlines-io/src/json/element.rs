@@ -287,43 +287,47 @@ impl Element<'_> {
 
     /// `header.stamp` as a ROS message written as JSON holds it (rosbridge, `ros2 topic
     /// echo`, a bag exported by a script): `{"sec", "nanosec"}` (ROS 2) or `{"secs",
-    /// "nsecs"}` (ROS 1), in seconds; `None` without one. A `header.stamp` of another
-    /// form is an error, not a stamp left out in silence.
+    /// "nsecs"}` (ROS 1), in seconds; `None` without one, and for a zero stamp (no time, as
+    /// the bag and MCAP readers take it). A `header.stamp` of another form, a negative or
+    /// non-finite part, or nanoseconds of a whole second or more, is an error naming it.
     fn header_stamp(&self, obj: &Map<String, Value>) -> Result<Option<f64>, ReadError> {
         let Some(stamp) = obj.get("header").and_then(|h| h.get("stamp")) else {
             return Ok(None);
         };
-        let expected = "{\"sec\", \"nanosec\"} (ROS 2) or {\"secs\", \"nsecs\"} (ROS 1)";
-        let part = |names: [&'static str; 2]| {
-            let Value::Object(fields) = stamp else {
-                return None;
-            };
-            names
-                .into_iter()
-                .find_map(|n| fields.get(n).map(|v| (n, v)))
+        let found = |v: &Value| match self.infinity(v) {
+            Some(x) => tokens::written(x).to_owned(),
+            None => json_kind(v),
         };
-        let (Some((sec_name, sec)), Some((nsec_name, nsec))) =
-            (part(["sec", "secs"]), part(["nanosec", "nsecs"]))
-        else {
-            let found = self.kind_of("header", stamp);
-            return Err(self.field_error("header.stamp", "header", expected, found));
+        let pair = [("sec", "nanosec"), ("secs", "nsecs")]
+            .into_iter()
+            .find_map(|(s, n)| Some(((s, stamp.get(s)?), (n, stamp.get(n)?))));
+        let Some(((sec_name, sec), (nsec_name, nsec))) = pair else {
+            return Err(self.field_error(
+                "header.stamp",
+                "header",
+                "{\"sec\", \"nanosec\"} (ROS 2) or {\"secs\", \"nsecs\"} (ROS 1)",
+                found(stamp),
+            ));
         };
-        let number = |name: &str, v: &Value| {
+        let part = |name: &str, v: &Value, below: f64| {
             v.as_f64()
-                .filter(|x| x.is_finite() && *x >= 0.0)
+                .filter(|x| (0.0..below).contains(x))
                 .ok_or_else(|| {
-                    let found = self.kind_of("header", v);
+                    let expected = if below.is_finite() {
+                        "a number from 0 up to 999999999"
+                    } else {
+                        "a finite number from 0 up"
+                    };
                     self.field_error(
                         &format!("header.stamp.{name}"),
                         "header",
-                        "a number from 0 up",
-                        found,
+                        expected,
+                        found(v),
                     )
                 })
         };
-        Ok(Some(
-            number(sec_name, sec)? + number(nsec_name, nsec)? * 1e-9,
-        ))
+        let t = part(sec_name, sec, f64::INFINITY)? + part(nsec_name, nsec, 1e9)? * 1e-9;
+        Ok((t > 0.0).then_some(t))
     }
 
     fn scan_from_object(&self, obj: &Map<String, Value>) -> Result<ScanRecord, ReadError> {

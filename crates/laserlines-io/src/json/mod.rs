@@ -14,7 +14,9 @@
 //!   increment), `intensities` (numbers or `null`, one per range), `stamp` (s), `pose`
 //!   (`{"x": m, "y": m, "theta": rad}`, the robot's pose), `odometry` (the same form: the
 //!   wheel odometry's pose, the one `laserlines map` uses).
-//! - Other fields (e.g. a ROS `header`, `scan_time`) are ignored.
+//! - Without a `stamp`, a ROS message's `header.stamp` (`{"sec", "nanosec"}` of ROS 2 or
+//!   `{"secs", "nsecs"}` of ROS 1; zero is no stamp, as in bags) gives it; the rest of a
+//!   `header` and other fields (e.g. `scan_time`) are ignored.
 //! - `NaN`, `Infinity` and `-Infinity` are not JSON, but Python's `json.dump` writes them
 //!   for non-finite floats by default: outside strings they are read as NaN, `+inf` and
 //!   `-inf` in `ranges` and `intensities` (`+inf`: a beam that saw nothing within range, REP
