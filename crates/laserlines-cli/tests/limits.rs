@@ -196,11 +196,11 @@ fn counts_and_seconds_beyond_their_bounds_are_refused_with_the_range() {
         ),
         (
             &["live", "x", "--duration", "1e300"][..],
-            "--duration must be seconds, from 0 up to 1e9, got 1e300",
+            "--duration must be seconds, more than 0 up to 1e9, got 1e300",
         ),
         (
             &["live", "x", "--duration", "-2"][..],
-            "--duration must be seconds, from 0 up to 1e9, got -2",
+            "--duration must be seconds, more than 0 up to 1e9, got -2",
         ),
         (
             &["hokuyo-emulator", "--down-for", "1e300"][..],
@@ -212,7 +212,7 @@ fn counts_and_seconds_beyond_their_bounds_are_refused_with_the_range() {
         ),
         (
             &["hokuyo-emulator", "--duration", "1e12"][..],
-            "--duration must be seconds, from 0 up to 1e9, got 1e12",
+            "--duration must be seconds, more than 0 up to 1e9, got 1e12",
         ),
         (
             &["hokuyo-emulator", "--rate", "1e300"][..],
@@ -229,6 +229,15 @@ fn counts_and_seconds_beyond_their_bounds_are_refused_with_the_range() {
         ),
         (
             &["simulate", "--duration", "0", "-o", "/nonexistent/s"][..],
+            "--duration must be seconds, more than 0 up to 1e9, got 0",
+        ),
+        // A run of no time at all is refused by every command that takes one.
+        (
+            &["live", "127.0.0.1:1", "--duration", "0"][..],
+            "--duration must be seconds, more than 0 up to 1e9, got 0",
+        ),
+        (
+            &["hokuyo-emulator", "--duration", "0"][..],
             "--duration must be seconds, more than 0 up to 1e9, got 0",
         ),
         (

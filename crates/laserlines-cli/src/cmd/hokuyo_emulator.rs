@@ -46,7 +46,7 @@ pub struct HokuyoEmulatorArgs {
     /// Seed of the simulated noise.
     #[arg(long, default_value_t = 0, value_parser = super::whole::<u64>, allow_negative_numbers = true)]
     seed: u64,
-    /// Stop after this many seconds (default: until Ctrl-C).
+    /// Stop after this many seconds, more than 0 (default: until Ctrl-C).
     #[arg(long, allow_negative_numbers = true)]
     duration: Option<f64>,
     /// Write every scan sent as a JSON line (connection, time stamp, fault, readings in mm).
@@ -173,7 +173,7 @@ pub fn run(args: &HokuyoEmulatorArgs) -> Result<()> {
     }
     let duration = args
         .duration
-        .map(|d| super::seconds("--duration", d, true))
+        .map(|d| super::seconds("--duration", d, false))
         .transpose()?;
     let faults = Faults {
         bad_checksum_every: args.bad_checksum_every,

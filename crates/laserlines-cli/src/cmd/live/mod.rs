@@ -53,7 +53,7 @@ pub struct LiveArgs {
     /// Stop after this many scans (1 or more).
     #[arg(long, value_parser = |s: &str| super::whole_in::<u64>(s, 1, i128::MAX), allow_negative_numbers = true)]
     scans: Option<u64>,
-    /// Stop after this many seconds.
+    /// Stop after this many seconds (more than 0).
     #[arg(long, allow_negative_numbers = true)]
     duration: Option<f64>,
     /// Cluster count: so many neighbouring steps per beam (1..=99).
@@ -159,7 +159,7 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         .transpose()?;
     let duration = args
         .duration
-        .map(|s| super::seconds("--duration", s, true))
+        .map(|s| super::seconds("--duration", s, false))
         .transpose()?;
     super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "live")?;
     // An output in a folder that does not exist is named before the sensor is opened.
