@@ -196,6 +196,10 @@ const SURFACE_SLOPE: f64 = 5.67;
 /// smaller step, a post just in front of a wall, is bridged as one surface would be);
 /// `None` otherwise, on a beam exactly, and for beams more than 0.1 rad apart.
 fn between(scan: &Scan, t: f64) -> Option<f64> {
+    let dphi = scan.angle_increment;
+    if dphi.abs() > 0.1 {
+        return None;
+    }
     let k0 = t.floor();
     let f = t - k0;
     if !(f > 1e-9 && f < 1.0 - 1e-9) || k0 < 0.0 {
@@ -204,10 +208,6 @@ fn between(scan: &Scan, t: f64) -> Option<f64> {
     let k0 = k0 as usize;
     let (&r0, &r1) = (scan.ranges.get(k0)?, scan.ranges.get(k0 + 1)?);
     let valid = |r: f64| r >= scan.range_min && r <= scan.range_max;
-    let dphi = scan.angle_increment;
-    if dphi.abs() > 0.1 {
-        return None;
-    }
     if !(valid(r0) && valid(r1)) || (r1 - r0).abs() > SURFACE_SLOPE * r0.min(r1) * dphi.abs() + 0.02
     {
         return None;

@@ -54,6 +54,9 @@ pub fn refuse_same_file(input: &Path, output: &Path) -> Result<()> {
 /// does a symbolic link, with a note that the file it points to holds what was written.
 /// True when it was removed.
 pub fn remove_own_output(output: &Path) -> bool {
+    if output == Path::new("-") {
+        return false;
+    }
     let Ok(meta) = std::fs::symlink_metadata(output) else {
         return false;
     };
@@ -65,7 +68,7 @@ pub fn remove_own_output(output: &Path) -> bool {
         );
         return false;
     }
-    output != Path::new("-") && meta.file_type().is_file() && std::fs::remove_file(output).is_ok()
+    meta.file_type().is_file() && std::fs::remove_file(output).is_ok()
 }
 
 /// Refuses an output file whose folder does not exist, naming the folder, before anything is
