@@ -2,6 +2,7 @@
 //! the two lines meet there and the scan does not say the corner is not there.
 
 use super::lines::Candidate;
+use super::opening::{SHALLOW, THROUGH_SIGMAS};
 use super::params::HoughSplitParams;
 use super::points::Pt;
 use super::segment::Breakpoints;
@@ -88,7 +89,10 @@ pub(crate) fn meeting_point(
 /// the breakpoint distance `D` of neighbouring beams there (with the line's own uncertainty
 /// where the beam meets it added to the range noise): the beam saw through where the line
 /// would pass, as beams past the end of a wall see the wall behind it. Drawn to the corner,
-/// such a line would cross that empty space. A surface that bends a little before its corner
+/// such a line would cross that empty space. Two or more consecutive returns beyond it by
+/// [`THROUGH_SIGMAS`] standard deviations of that difference, one of them by [`SHALLOW`]
+/// across it, see through it as well (an opening seen at a glancing angle, where `D` spans it; see
+/// [`super::opening::seen_through`]). A surface that bends a little before its corner
 /// stays well within `D`. Only a line that gains more than `D` (at the corner's range) is
 /// looked at.
 fn seen_through(
@@ -110,28 +114,51 @@ fn seen_through(
         return false;
     }
     let from = seen.returns.partition_point(|q| q.idx < a.first);
+    // Consecutive returns that lie beyond a stretch by `THROUGH_SIGMAS`, and whether one of
+    // them lies beyond it by `SHALLOW`.
+    let (mut run, mut deep) = (0, false);
     seen.returns[from..]
         .iter()
         .take_while(|q| q.idx <= b.last)
         .any(|q| {
-            stretches.iter().zip(gains).any(|(&(l, p0, p1), gains)| {
-                gains && beyond(l, (p0, p1), q, noise, (seen.step, spread))
-            })
+            let (mut far, mut through, mut shallow) = (false, false, true);
+            for (&(l, p0, p1), gains) in stretches.iter().zip(gains) {
+                if let Some((excess, sd, facing)) =
+                    gains.then(|| beyond(l, (p0, p1), q, noise)).flatten()
+                {
+                    far |= excess > excess_along(q.range - excess, seen.step, spread, sd);
+                    if p.cut_excursions && excess > THROUGH_SIGMAS * sd {
+                        through = true;
+                        shallow &= excess * facing <= SHALLOW;
+                    }
+                }
+            }
+            (run, deep) = if through {
+                (run + 1, (deep && run > 0) || !shallow)
+            } else {
+                (0, false)
+            };
+            far || (run >= 2 && deep)
         })
 }
 
-/// True when the beam of `q` crosses the stretch `p0..p1` of the line of `l` and `q` lies
-/// beyond it along the beam by more than `D` of neighbouring beams there: `step` times the
-/// range plus `spread` standard deviations of the difference (the range noise and the line's
-/// own uncertainty at the crossing, from its covariance, seen along the beam: a line met at
-/// a grazing angle is known there the less).
+/// The breakpoint distance `D` of neighbouring beams at range `along`: `step` times the
+/// range plus `spread` standard deviations `sd` of the difference.
+fn excess_along(along: f64, step: f64, spread: f64, sd: f64) -> f64 {
+    along * step + spread * sd
+}
+
+/// When the beam of `q` crosses the stretch `p0..p1` of the line of `l`: how far beyond the
+/// line `q` lies along the beam (m, negative in front of it), the standard deviation of
+/// that difference (the range noise and the line's own uncertainty at the crossing, from its
+/// covariance, seen along the beam: a line met at a grazing angle is known there the less)
+/// and the cosine of the beam's incidence on the line.
 fn beyond(
     l: &Line,
     (p0, p1): (Point2, Point2),
     q: &Pt,
     noise: &RangeNoise,
-    (step, spread): (f64, f64),
-) -> bool {
+) -> Option<(f64, f64, f64)> {
     let u = Vector2::new(q.x, q.y) / q.range;
     let cross = |v: Point2| v.x * u.y - v.y * u.x;
     // The beam passes between the stretch's ends (their cross products differ in sign) on
@@ -140,7 +167,7 @@ fn beyond(
     let (sin, cos) = l.alpha.sin_cos();
     let facing = u.x * cos + u.y * sin;
     if !crosses || facing <= 0.0 {
-        return false;
+        return None;
     }
     let along = l.r / facing;
     // The crossing's coordinate along the line; its offset across the line varies by
@@ -150,7 +177,7 @@ fn beyond(
     let across = (c[(0, 0)] - 2.0 * t * c[(0, 1)] + t * t * c[(1, 1)]).max(0.0);
     let sigma = noise.sigma(along);
     let sd = (sigma * sigma + across / (facing * facing)).sqrt();
-    q.range - along > along * step + spread * sd
+    Some((q.range - along, sd, facing))
 }
 
 /// The intersection of the infinite lines of `a` and `b`, or `None` when they lie closer

@@ -4,7 +4,8 @@
 
 use super::arcs::drop_arcs;
 use super::corners::{Seen, join_corners};
-use super::linseg::{rms_passes, split_is_significant, sums};
+use super::linseg::{rms_passes, split_is_significant, sums, within_noise};
+use super::opening;
 use super::params::HoughSplitParams;
 use super::points::Seg;
 use crate::fit::{FitSums, PolarFit};
@@ -123,6 +124,47 @@ pub(crate) fn cut_window(increment: f64) -> usize {
 impl Pieces<'_> {
     pub(super) fn point(&self, k: usize) -> Point2 {
         self.seg.point(k)
+    }
+
+    /// The first opening in the points `seg[a..z]` ([`opening::seen_through`]): the points
+    /// just before and just after it. Returns beyond the piece's line are either points of
+    /// the piece, which then do not fit one line within the noise, or returns it does not
+    /// hold (removed as noise), so a piece that fits one line and holds every return between
+    /// its ends is not searched.
+    fn opening_in(&self, a: usize, z: usize) -> Option<(usize, usize)> {
+        if z < a + self.min_points.max(2) {
+            return None;
+        }
+        let b = z - 1;
+        let (first, last) = (self.seg.idx(a), self.seg.idx(b));
+        let returns = self.seen.returns;
+        let inner =
+            returns.partition_point(|q| q.idx < last) - returns.partition_point(|q| q.idx <= first);
+        if inner + a + 1 == b && within_noise(self.pre, (a, b), self.p, self.noise) {
+            return None;
+        }
+        opening::seen_through((self.seg, self.pre), returns, (a, b), self.p, self.noise)
+    }
+
+    /// The piece `seg[a..z]`: its line, if it gives one, into `out` and `candidates`, and the
+    /// piece into `spans`.
+    fn emit(
+        &self,
+        (a, z): (usize, usize),
+        spans: &mut Vec<Piece>,
+        out: &mut Vec<Line>,
+        candidates: &mut Vec<Candidate>,
+    ) {
+        let line = self.line(a, z);
+        spans.push(Piece {
+            a: a as u32,
+            z: z as u32,
+            line: line.is_some(),
+        });
+        if let Some((line, c)) = line {
+            out.push(line);
+            candidates.push(c);
+        }
     }
 
     /// Drops every break whose two pieces are one line (the split test, not significant),
@@ -313,11 +355,12 @@ fn chi2_low(k: f64) -> Option<f64> {
 /// supports at most one line; without, the shared point goes to the first.
 pub(crate) fn emit_lines(
     pieces: &Pieces<'_>,
-    (breaks, spans): (&mut Vec<u32>, &mut Vec<Piece>),
+    (breaks, openings, spans): (&mut Vec<u32>, &mut Vec<u32>, &mut Vec<Piece>),
     out: &mut Vec<Line>,
     candidates: &mut Vec<Candidate>,
 ) {
     spans.clear();
+    openings.clear();
     if breaks.len() < 2 {
         return;
     }
@@ -338,22 +381,19 @@ pub(crate) fn emit_lines(
         } else {
             b + 1
         };
-        let (a, z) = if p.refine_ends {
+        let (mut a, z) = if p.refine_ends {
             let (a, z) = pieces.trim_ends(lo, hi, min_points);
             pieces.cut_lone_ends(a, z, min_points)
         } else {
             (lo, hi)
         };
-        let line = pieces.line(a, z);
-        spans.push(Piece {
-            a: a as u32,
-            z: z as u32,
-            line: line.is_some(),
-        });
-        if let Some((line, c)) = line {
-            out.push(line);
-            candidates.push(c);
+        // Each opening the beams see through the piece's line ends a piece.
+        while let Some((s, e)) = p.cut_excursions.then(|| pieces.opening_in(a, z)).flatten() {
+            pieces.emit((a, s + 1), spans, out, candidates);
+            openings.push(s as u32);
+            a = e;
         }
+        pieces.emit((a, z), spans, out, candidates);
         lo = hi;
     }
     if p.arc_significance > 0.0 {
@@ -364,7 +404,10 @@ pub(crate) fn emit_lines(
             .span
             .0
             .saturating_sub(candidates[k - 1].span.1);
-        candidates[k].follows = (between as usize) < GAP_POINTS;
+        // Lines on both sides of an opening never follow each other.
+        let (from, to) = (candidates[k - 1].span.0, candidates[k].span.1);
+        candidates[k].follows =
+            (between as usize) < GAP_POINTS && !openings.iter().any(|&o| from <= o && o < to);
     }
     if p.refine_ends {
         join_corners(
@@ -514,7 +557,7 @@ mod tests {
         let mut breaks = scratch.breaks.clone();
         emit_lines(
             &pieces,
-            (&mut breaks, &mut Vec::new()),
+            (&mut breaks, &mut Vec::new(), &mut Vec::new()),
             &mut out,
             &mut Vec::new(),
         );

@@ -13,6 +13,9 @@ use crate::noise::RangeNoise;
 pub(crate) struct SplitScratch {
     stack: Vec<(u32, u32)>,
     pub(crate) breaks: Vec<u32>,
+    /// The segment's points (positions in it) just before each opening at which step 6 ended
+    /// a line ([`super::opening::seen_through`]).
+    pub(crate) openings: Vec<u32>,
     pub(crate) prefix: Vec<FitSums>,
 }
 
@@ -40,17 +43,6 @@ pub(crate) fn prefix_sums(seg: Seg<'_>, pre: &mut Vec<FitSums>) {
 /// Sums of `seg[from..to]` from the prefix sums, O(1).
 pub(crate) fn sums(pre: &[FitSums], from: usize, to: usize) -> FitSums {
     pre[to].since(&pre[from])
-}
-
-/// The noise variance a test on the points `seg[a..=b]` uses: the range noise seen across
-/// their line at their centroid ([`variance_across`]).
-pub(crate) fn model_variance(
-    pre: &[FitSums],
-    (a, b): (usize, usize),
-    noise: &RangeNoise,
-    along: bool,
-) -> f64 {
-    variance_across(&sums(pre, a, b + 1), noise, along)
 }
 
 /// The smallest cosine of a beam's incidence on a surface the tests take: beams within
@@ -200,6 +192,25 @@ fn excursion(
     (short && s >= a + 2 && e + 2 <= b).then(|| (s - 1, e + 1))
 }
 
+/// True when one line fits `seg[a..=b]` within the noise: its sum of squared residuals, in
+/// variances of the noise across it at its centroid ([`variance_across`]), passes a chi-square test at the
+/// 1e-4 level.
+pub(crate) fn within_noise(
+    pre: &[FitSums],
+    (a, b): (usize, usize),
+    p: &HoughSplitParams,
+    noise: &RangeNoise,
+) -> bool {
+    one_line_fits(&sums(pre, a, b + 1), p, noise)
+}
+
+/// [`within_noise`] for the points summed in `s`.
+pub(crate) fn one_line_fits(s: &FitSums, p: &HoughSplitParams, noise: &RangeNoise) -> bool {
+    let dof = s.len().saturating_sub(2) as f64;
+    let one_line = s.sse() / variance_across(s, noise, p.noise_along_beams);
+    one_line <= dof + 5.3 * (2.0 * dof).sqrt()
+}
+
 /// True when `fit` passes the gate of its RMS residual that every line must pass:
 /// `max_rms_sigmas` of the noise at its centroid (a NaN fails).
 pub(crate) fn rms_passes(fit: &PolarFit, p: &HoughSplitParams, noise: &RangeNoise) -> bool {
@@ -275,10 +286,7 @@ fn split_point(
     if p.split_significance <= 0.0 || split_is_significant(pre, a, middle, b, p, noise) {
         return Some(Split::At(middle));
     }
-    let dof = (b - a).saturating_sub(1) as f64;
-    let one_line =
-        sums(pre, a, b + 1).sse() / model_variance(pre, (a, b), noise, p.noise_along_beams);
-    if one_line <= dof + 5.3 * (2.0 * dof).sqrt() {
+    if within_noise(pre, (a, b), p, noise) {
         return None;
     }
     if p.cut_excursions

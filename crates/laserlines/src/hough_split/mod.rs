@@ -354,7 +354,11 @@ impl HoughSplit {
             let first = out.len();
             lines::emit_lines(
                 &pieces,
-                (&mut self.scratch.breaks, &mut self.pieces),
+                (
+                    &mut self.scratch.breaks,
+                    &mut self.scratch.openings,
+                    &mut self.pieces,
+                ),
                 out,
                 &mut self.candidates,
             );

@@ -1,5 +1,6 @@
-//! Whether the beams between two pieces see through the line they would share: step 7's
-//! physical check on top of its statistical one ([`super::collinear`]).
+//! Whether beams see through a line: within one piece (an opening that step 6 cuts out of
+//! a line, [`seen_through`]), and between two pieces (step 7's physical check on top of its
+//! statistical one, [`super::collinear`]).
 //!
 //! Pieces of one wall lie apart because something stands in front of the wall between them
 //! (its returns nearer than the wall), because the wall returned nothing there (glass, a dark
@@ -10,8 +11,11 @@
 //! take one fit several degrees off each; collinear walls with a wide opening between them
 //! are one line still, which a piece certain on its own shows.
 
-use super::points::Pt;
-use crate::fit::NormalFit;
+use super::lines::SILENT_GAP;
+use super::linseg::{MIN_INCIDENCE_COS, one_line_fits, sums};
+use super::params::HoughSplitParams;
+use super::points::{Pt, Seg};
+use crate::fit::{FitSums, NormalFit};
 use crate::math::Point2;
 use crate::noise::RangeNoise;
 
@@ -66,6 +70,163 @@ pub(crate) fn seen_beyond(
     (hi - lo).max(0.0)
 }
 
+/// How far beyond a piece's line, in sigma of the noise across it, a return sees through
+/// it: as far as an excursion in front of one ([`super::linseg`]), about once in two million
+/// returns of a wall by its noise alone.
+pub(crate) const THROUGH_SIGMAS: f64 = 5.0;
+
+/// How far beyond a piece's line, in sigma of the noise across it, the returns of a run that
+/// sees through it lie, those between the ones beyond by [`THROUGH_SIGMAS`] (the far jamb
+/// of a recessed door, seen next to the wall).
+const RUN_SIGMAS: f64 = 3.0;
+
+/// Depth, m, across a line that some return of a run beyond it must exceed, whatever the
+/// noise: a door's frame, a skirting board, a pipe along a wall or a groove in it is no
+/// opening.
+pub(crate) const SHALLOW: f64 = 0.05;
+
+/// Points on each side of a run that must fit one line for it to see through a surface.
+const SIDE: usize = 4;
+
+/// Widest gap, m, between a piece's points around a run that sees through its line that
+/// does not cut the line: a groove, a gap between two panels or a door's frame, as narrow
+/// as the stretch of silence a line may follow across ([`super::lines::SILENT_GAP`]).
+const NARROW: f64 = SILENT_GAP;
+
+/// The first run of returns that sees through the line of the points `seg[a..=b]`, as the
+/// piece's points just before and just after it; `None` without one.
+///
+/// A run is a stretch of consecutive returns (`returns`: all the scan's, in beam order, those
+/// removed as noise too) between the piece's first and last beams, each more than
+/// [`RUN_SIGMAS`] of the noise across the line beyond it (farther from the sensor), two or
+/// more of them by [`THROUGH_SIGMAS`] and one by [`SHALLOW`]. A return from beyond a surface
+/// shows that the surface is not there: a doorway or a recess in a wall seen at a glancing
+/// angle, whose few returns a line across it carries within its noise, or whose returns the
+/// data segments dropped as sparse. A run sees through only where the surface goes on after
+/// it: the piece's points next to it ([`SIDE`] on each side at most, [`SIDE`] in all at
+/// least) fit one line within the noise ([`one_line_fits`]), its returns all lie beyond
+/// that line by [`RUN_SIGMAS`] too, and the points around it lie more than [`NARROW`] apart.
+/// Beyond a step in a wall, the points of the farther surface are no opening.
+pub(crate) fn seen_through(
+    (seg, pre): (Seg<'_>, &[FitSums]),
+    returns: &[Pt],
+    (a, b): (usize, usize),
+    p: &HoughSplitParams,
+    noise: &RangeNoise,
+) -> Option<(usize, usize)> {
+    let fit = sums(pre, a, b + 1).normal_fit()?;
+    let (first, last) = (seg.idx(a), seg.idx(b));
+    let from = returns.partition_point(|q| q.idx <= first);
+    let inside = &returns[from..];
+    let beyond = Beyond::new(&fit, noise, p.noise_along_beams);
+    // The run as an opening: the piece's points around it.
+    let opening = |run: &Run| {
+        let points = &seg.0[..=b];
+        let s = points
+            .partition_point(|q| q.idx < run.start)
+            .checked_sub(1)?;
+        let e = points.partition_point(|q| q.idx <= run.end);
+        let wide = (seg.point(e) - seg.point(s)).norm() > NARROW;
+        if !(s >= a && e <= b && wide) {
+            return None;
+        }
+        let before = sums(pre, (s + 1).saturating_sub(SIDE).max(a), s + 1);
+        let sides = before.join(&sums(pre, e, (e + SIDE).min(b + 1)));
+        if sides.len() < SIDE || !one_line_fits(&sides, p, noise) {
+            return None;
+        }
+        let wall = Beyond::new(&sides.normal_fit()?, noise, p.noise_along_beams);
+        let run_returns = inside.iter().skip_while(|q| q.idx < run.start);
+        run_returns
+            .take_while(|q| q.idx <= run.end)
+            .all(|q| wall.depth(q).is_some())
+            .then_some((s, e))
+    };
+    let mut run = Run::default();
+    let ends = inside.iter().take_while(|q| q.idx < last).map(Some);
+    for q in ends.chain(std::iter::once(None)) {
+        if let Some(q) = q
+            && let Some((z, depth)) = beyond.depth(q)
+        {
+            run.add(q.idx, z, depth);
+            continue;
+        }
+        if run.strong >= 2
+            && run.metres > SHALLOW
+            && let Some(o) = opening(&run)
+        {
+            return Some(o);
+        }
+        run = Run::default();
+    }
+    None
+}
+
+/// Consecutive returns beyond a line by [`RUN_SIGMAS`].
+#[derive(Default)]
+struct Run {
+    /// The beams of the first and the last.
+    start: usize,
+    end: usize,
+    /// How many lie beyond by [`THROUGH_SIGMAS`].
+    strong: usize,
+    /// The farthest beyond, m.
+    metres: f64,
+}
+
+impl Run {
+    /// The run goes on with the return of beam `idx`, `z` sigma and `depth` m beyond.
+    fn add(&mut self, idx: usize, z: f64, depth: f64) {
+        if self.metres == 0.0 {
+            self.start = idx;
+        }
+        self.end = idx;
+        self.strong += usize::from(z > THROUGH_SIGMAS);
+        self.metres = self.metres.max(depth);
+    }
+}
+
+/// The test of a return beyond a line by [`RUN_SIGMAS`].
+struct Beyond {
+    normal: (f64, f64),
+    r: f64,
+    noise: (f64, f64),
+    floor: f64,
+    along: bool,
+}
+
+impl Beyond {
+    fn new(fit: &NormalFit, noise: &RangeNoise, along: bool) -> Self {
+        Self {
+            normal: (fit.normal.x, fit.normal.y),
+            r: fit.r,
+            noise: (noise.sigma_min, noise.fraction),
+            floor: if along { MIN_INCIDENCE_COS } else { 1.0 },
+            along,
+        }
+    }
+
+    /// How far beyond the line `q` lies, in sigma of the noise across it and in metres, when
+    /// by more than [`RUN_SIGMAS`]. The noise across the line is `sigma(range)
+    /// cos(incidence)`, the cosine `dot / range` (at most 1) floored at `MIN_INCIDENCE_COS`
+    /// ([`super::linseg::incidence_cos`]), or 1 without `noise_along_beams`: the test is
+    /// `depth range > k sigma max(dot, floor range)`, free of divisions.
+    #[inline]
+    fn depth(&self, q: &Pt) -> Option<(f64, f64)> {
+        let dot = q.x * self.normal.0 + q.y * self.normal.1;
+        let depth = dot - self.r;
+        let sigma = (self.noise.1 * q.range).max(self.noise.0);
+        let across = if self.along {
+            dot.max(self.floor * q.range)
+        } else {
+            q.range
+        };
+        // A NaN fails; a positive depth keeps `Run::metres` above 0 once a run starts.
+        (depth * q.range > RUN_SIGMAS * sigma * across)
+            .then(|| (depth * q.range / (sigma * across), depth))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -89,6 +250,69 @@ mod tests {
             s2: 0.0,
             covariance: crate::math::Matrix2::zeros(),
         }
+    }
+
+    /// The points and returns of the wall `y = 2` seen from the origin on beams 0.5 deg apart
+    /// from 30 deg on (60 beams, 2 cm of alternating noise), where the beams `off` meet
+    /// `y = 2 + depth` instead, and those of `removed` are returns the piece does not hold.
+    /// Returns the piece's points and the returns.
+    fn wall_with(off: std::ops::Range<usize>, depth: f64, removed: &[usize]) -> (Vec<Pt>, Vec<Pt>) {
+        let returns: Vec<Pt> = (0..60)
+            .map(|i| {
+                let phi = (30.0 + 0.5 * i as f64).to_radians();
+                let y = if off.contains(&i) { 2.0 + depth } else { 2.0 };
+                let r = y / phi.sin() + if i % 2 == 0 { 0.02 } else { -0.02 };
+                pt(i, r * phi.cos(), r * phi.sin())
+            })
+            .collect();
+        let points = returns
+            .iter()
+            .filter(|q| !removed.contains(&q.idx))
+            .copied()
+            .collect();
+        (points, returns)
+    }
+
+    /// The opening [`seen_through`] finds in the whole piece, as beams.
+    fn opening_of((points, returns): &(Vec<Pt>, Vec<Pt>)) -> Option<(usize, usize)> {
+        let seg = Seg(points);
+        let mut pre = Vec::new();
+        super::super::linseg::prefix_sums(seg, &mut pre);
+        let p = HoughSplitParams::default();
+        let noise = RangeNoise::new(0.02, 0.0);
+        seen_through((seg, &pre), returns, (0, points.len() - 1), &p, &noise)
+            .map(|(s, e)| (seg.idx(s), seg.idx(e)))
+    }
+
+    #[test]
+    fn a_recess_in_a_wall_ends_its_line_and_a_step_a_groove_or_a_lone_return_do_not() {
+        // A doorway 0.3 m deep seen by beams 20 to 26 (0.31 m of wall between the beams
+        // around it): the piece ends at beam 19 and goes on from 27, whether the piece holds
+        // those returns or not.
+        let door = 20..27;
+        assert_eq!(
+            opening_of(&wall_with(door.clone(), 0.3, &[])),
+            Some((19, 27))
+        );
+        let removed: Vec<usize> = door.clone().collect();
+        assert_eq!(
+            opening_of(&wall_with(door.clone(), 0.3, &removed)),
+            Some((19, 27))
+        );
+        assert_eq!(
+            opening_of(&wall_with(door.clone(), 0.3, &[21, 22])),
+            Some((19, 27))
+        );
+        // One return beyond is no run; a groove 4 cm deep is no opening, whatever the noise.
+        assert_eq!(opening_of(&wall_with(20..21, 0.3, &[])), None);
+        assert_eq!(opening_of(&wall_with(door.clone(), 0.04, &[])), None);
+        // A step: the wall goes on 0.3 m farther from beam 20 to the end, no wall after it.
+        assert_eq!(opening_of(&wall_with(20..60, 0.3, &[])), None);
+        // A surface in front of the wall is no view through it.
+        assert_eq!(opening_of(&wall_with(door, -0.3, &[])), None);
+        // Beams 50 and 51, at 55 deg, meet the wall 3 cm apart: the points around them lie
+        // 8 cm apart, narrower than an opening.
+        assert_eq!(opening_of(&wall_with(50..52, 0.3, &[])), None);
     }
 
     #[test]

@@ -208,7 +208,9 @@ pub struct HoughSplitParams {
     /// [`HoughSplitParams::min_points_for`]) there that all lie more than 5 sigma from the
     /// chord (a thin leg just before a wall, which the breakpoint distance joined to it), so
     /// that the wall comes out on both sides of it instead of not at all. Needs
-    /// `split_significance > 0`. Not in the paper; off in
+    /// `split_significance > 0`. Also ends a line where a run of returns beyond it sees
+    /// through it (an opening: a doorway seen at a glancing angle), in step 6 and where two
+    /// lines would meet at a corner. Not in the paper; off in
     /// [`HoughSplitParams::mapping`]. Default `true`.
     pub cut_excursions: bool,
     /// Lines of one surface on both sides of a gap (a leg or a box in front of a wall, a door,
