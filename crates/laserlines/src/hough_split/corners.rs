@@ -89,11 +89,11 @@ pub(crate) fn meeting_point(
 /// the breakpoint distance `D` of neighbouring beams there (with the line's own uncertainty
 /// where the beam meets it added to the range noise): the beam saw through where the line
 /// would pass, as beams past the end of a wall see the wall behind it. Drawn to the corner,
-/// such a line would cross that empty space. Two or more consecutive returns beyond it by
-/// [`THROUGH_SIGMAS`] standard deviations of that difference, one of them by [`SHALLOW`]
-/// across it, see through it as well (an opening seen at a glancing angle, where `D` spans it; see
-/// [`super::opening::seen_through`]). A surface that bends a little before its corner
-/// stays well within `D`. Only a line that gains more than `D` (at the corner's range) is
+/// such a line would cross that empty space. With `cut_excursions`, two or more consecutive
+/// returns beyond it by [`THROUGH_SIGMAS`] standard deviations of that difference, one of
+/// them by [`SHALLOW`] across it, see through it as well (an opening seen at a glancing
+/// angle, where `D` spans it; see [`super::opening::seen_through`]). A surface that bends a
+/// little before its corner stays well within `D`. Only a line that gains more than `D` (at the corner's range) is
 /// looked at.
 fn seen_through(
     a: &Line,
@@ -121,20 +121,21 @@ fn seen_through(
         .iter()
         .take_while(|q| q.idx <= b.last)
         .any(|q| {
-            let (mut far, mut through, mut shallow) = (false, false, true);
+            let (mut far, mut through, mut deep_here) = (false, false, false);
             for (&(l, p0, p1), gains) in stretches.iter().zip(gains) {
-                if let Some((excess, sd, facing)) =
+                if let Some((along, sd, facing)) =
                     gains.then(|| beyond(l, (p0, p1), q, noise)).flatten()
                 {
-                    far |= excess > excess_along(q.range - excess, seen.step, spread, sd);
+                    let excess = q.range - along;
+                    far |= excess > along * seen.step + spread * sd;
                     if p.cut_excursions && excess > THROUGH_SIGMAS * sd {
                         through = true;
-                        shallow &= excess * facing <= SHALLOW;
+                        deep_here |= excess * facing > SHALLOW;
                     }
                 }
             }
             (run, deep) = if through {
-                (run + 1, (deep && run > 0) || !shallow)
+                (run + 1, deep || deep_here)
             } else {
                 (0, false)
             };
@@ -142,17 +143,12 @@ fn seen_through(
         })
 }
 
-/// The breakpoint distance `D` of neighbouring beams at range `along`: `step` times the
-/// range plus `spread` standard deviations `sd` of the difference.
-fn excess_along(along: f64, step: f64, spread: f64, sd: f64) -> f64 {
-    along * step + spread * sd
-}
-
-/// When the beam of `q` crosses the stretch `p0..p1` of the line of `l`: how far beyond the
-/// line `q` lies along the beam (m, negative in front of it), the standard deviation of
-/// that difference (the range noise and the line's own uncertainty at the crossing, from its
-/// covariance, seen along the beam: a line met at a grazing angle is known there the less)
-/// and the cosine of the beam's incidence on the line.
+/// When the beam of `q` crosses the stretch `p0..p1` of the line of `l`: the range at which
+/// it meets the line, the standard deviation of the difference of `q`'s range from it (the
+/// range noise and the line's own uncertainty at the crossing, from its covariance, seen
+/// along the beam: a line met at a grazing angle is known there the less) and the cosine of
+/// the beam's incidence on the line. `q` lies beyond the line by more than `D` of
+/// neighbouring beams when `q.range - along > step along + spread sd`.
 fn beyond(
     l: &Line,
     (p0, p1): (Point2, Point2),
@@ -177,7 +173,7 @@ fn beyond(
     let across = (c[(0, 0)] - 2.0 * t * c[(0, 1)] + t * t * c[(1, 1)]).max(0.0);
     let sigma = noise.sigma(along);
     let sd = (sigma * sigma + across / (facing * facing)).sqrt();
-    Some((q.range - along, sd, facing))
+    Some((along, sd, facing))
 }
 
 /// The intersection of the infinite lines of `a` and `b`, or `None` when they lie closer

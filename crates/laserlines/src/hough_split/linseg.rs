@@ -193,8 +193,8 @@ fn excursion(
 }
 
 /// True when one line fits `seg[a..=b]` within the noise: its sum of squared residuals, in
-/// variances of the noise across it at its centroid ([`variance_across`]), passes a chi-square test at the
-/// 1e-4 level.
+/// variances of the noise across it at its centroid ([`variance_across`]), passes a
+/// chi-square test at the 1e-4 level.
 pub(crate) fn within_noise(
     pre: &[FitSums],
     (a, b): (usize, usize),

@@ -142,28 +142,30 @@ pub(crate) fn seen_through(
             .all(|q| wall.depth(q).is_some())
             .then_some((s, e))
     };
-    let mut run = Run::default();
+    let mut run: Option<Run> = None;
     let ends = inside.iter().take_while(|q| q.idx < last).map(Some);
     for q in ends.chain(std::iter::once(None)) {
         if let Some(q) = q
             && let Some((z, depth)) = beyond.depth(q)
         {
-            run.add(q.idx, z, depth);
+            match &mut run {
+                Some(run) => run.add(q.idx, z, depth),
+                None => run = Some(Run::new(q.idx, z, depth)),
+            }
             continue;
         }
-        if run.strong >= 2
+        if let Some(run) = run.take()
+            && run.strong >= 2
             && run.metres > SHALLOW
             && let Some(o) = opening(&run)
         {
             return Some(o);
         }
-        run = Run::default();
     }
     None
 }
 
 /// Consecutive returns beyond a line by [`RUN_SIGMAS`].
-#[derive(Default)]
 struct Run {
     /// The beams of the first and the last.
     start: usize,
@@ -175,11 +177,18 @@ struct Run {
 }
 
 impl Run {
+    /// A run of the return of beam `idx`, `z` sigma and `depth` m beyond.
+    fn new(idx: usize, z: f64, depth: f64) -> Self {
+        Self {
+            start: idx,
+            end: idx,
+            strong: usize::from(z > THROUGH_SIGMAS),
+            metres: depth,
+        }
+    }
+
     /// The run goes on with the return of beam `idx`, `z` sigma and `depth` m beyond.
     fn add(&mut self, idx: usize, z: f64, depth: f64) {
-        if self.metres == 0.0 {
-            self.start = idx;
-        }
         self.end = idx;
         self.strong += usize::from(z > THROUGH_SIGMAS);
         self.metres = self.metres.max(depth);
@@ -190,8 +199,7 @@ impl Run {
 struct Beyond {
     normal: (f64, f64),
     r: f64,
-    noise: (f64, f64),
-    floor: f64,
+    noise: RangeNoise,
     along: bool,
 }
 
@@ -200,8 +208,7 @@ impl Beyond {
         Self {
             normal: (fit.normal.x, fit.normal.y),
             r: fit.r,
-            noise: (noise.sigma_min, noise.fraction),
-            floor: if along { MIN_INCIDENCE_COS } else { 1.0 },
+            noise: *noise,
             along,
         }
     }
@@ -215,13 +222,13 @@ impl Beyond {
     fn depth(&self, q: &Pt) -> Option<(f64, f64)> {
         let dot = q.x * self.normal.0 + q.y * self.normal.1;
         let depth = dot - self.r;
-        let sigma = (self.noise.1 * q.range).max(self.noise.0);
+        let sigma = self.noise.sigma(q.range);
         let across = if self.along {
-            dot.max(self.floor * q.range)
+            dot.max(MIN_INCIDENCE_COS * q.range)
         } else {
             q.range
         };
-        // A NaN fails; a positive depth keeps `Run::metres` above 0 once a run starts.
+        // A NaN fails.
         (depth * q.range > RUN_SIGMAS * sigma * across)
             .then(|| (depth * q.range / (sigma * across), depth))
     }
