@@ -177,7 +177,7 @@ impl Pieces<'_> {
         for r in 1..breaks.len() - 1 {
             let from = breaks[w - 1] as usize;
             let (at, to) = (breaks[r] as usize, breaks[r + 1] as usize);
-            if !split_is_significant(self.pre, from, at, to, self.p, self.noise) {
+            if !split_is_significant(self.seg, self.pre, (from, at, to), self.p, self.noise) {
                 continue;
             }
             breaks[w] = breaks[r];

@@ -4,7 +4,7 @@
 
 use super::params::HoughSplitParams;
 use super::points::Seg;
-use crate::fit::{FitSums, PolarFit};
+use crate::fit::{FitSums, NormalFit, PolarFit};
 use crate::math::{Point2, Vector2};
 use crate::noise::RangeNoise;
 
@@ -97,12 +97,15 @@ pub(crate) fn variance_at(s: &FitSums, noise: &RangeNoise) -> f64 {
 /// significantly better than one: the drop of the sum of squared residuals exceeds
 /// `split_significance` times the noise variance, the larger of the model's noise across the
 /// joint line ([`variance_across`]) and the two lines' own residual variance (so that noise
-/// larger than the model never makes a split significant).
+/// larger than the model never makes a split significant); and the two lines depart from
+/// the one by more than `min_bend`: in the mean square over the points (the drop over
+/// their number), or else at the piece's ends or the split point, or meet at an angle no
+/// bow makes ([`bends`]), or the one line would fail the RMS gate that every line must
+/// pass ([`rms_passes`]).
 pub(crate) fn split_is_significant(
+    seg: Seg<'_>,
     pre: &[FitSums],
-    a: usize,
-    m: usize,
-    b: usize,
+    (a, m, b): (usize, usize, usize),
     p: &HoughSplitParams,
     noise: &RangeNoise,
 ) -> bool {
@@ -112,7 +115,67 @@ pub(crate) fn split_is_significant(
     let dof = (b - a + 1).saturating_sub(3);
     let residual = if dof > 0 { two / dof as f64 } else { 0.0 };
     let variance = variance_across(&whole, noise, p.noise_along_beams).max(residual);
-    whole.sse() - two > p.split_significance * variance
+    let drop = whole.sse() - two;
+    // The drop is about the squared departure of the two lines from the one, summed over
+    // the points: a mean above `min_bend^2` departs by more at its ends or split point (a
+    // corner, most often), and needs no fits of its own.
+    let (bend, n) = (p.min_bend, (b - a + 1) as f64);
+    drop > p.split_significance * variance
+        && (bend <= 0.0
+            || drop > n * bend * bend
+            || bends(seg, pre, (a, m, b), bend)
+            || !rms_within(whole.sse() / n, whole.centroid_norm_squared(), p, noise))
+}
+
+/// [`rms_passes`] for a mean squared residual `ms` at a centroid `centroid2` (m^2) from the
+/// sensor: a bow merged into one line must still give a line.
+fn rms_within(ms: f64, centroid2: f64, p: &HoughSplitParams, noise: &RangeNoise) -> bool {
+    let limit = p.max_rms_sigmas * noise.sigma(centroid2.sqrt());
+    ms <= limit * limit
+}
+
+/// The largest angle between two lines that a bow can make, rad: 5 deg. A scanner's slowly
+/// changing range error bends a wall's pieces by a degree or two; two sides of a small
+/// object meet at more, however little they depart from one line.
+const BOW_ANGLE: f64 = 0.087_155_742_747_658_17; // sin(5 deg)
+
+/// True when the two lines of `seg[a..=m]` and `seg[m..=b]` bend away from the one line of
+/// `seg[a..=b]` by more than a bow `depth` deep (m): the two lie farther apart than `depth`
+/// at the shared point, or the points where they pass the piece's ends and the shared point
+/// lie farther than `depth` from the one line, or the two meet at more than [`BOW_ANGLE`]
+/// (or a line cannot be fitted). A corner or a
+/// step departs by its depth; a wall bowed by a few millimetres, or read through a
+/// scanner's slowly changing range error, by no more than that, however many its points.
+pub(crate) fn bends(
+    seg: Seg<'_>,
+    pre: &[FitSums],
+    (a, m, b): (usize, usize, usize),
+    depth: f64,
+) -> bool {
+    let fits = (
+        sums(pre, a, b + 1).normal_fit(),
+        sums(pre, a, m + 1).normal_fit(),
+        sums(pre, m, b + 1).normal_fit(),
+    );
+    let (Some(whole), Some(first), Some(second)) = fits else {
+        return true;
+    };
+    let (u, v) = (first.normal, second.normal);
+    if (u.x * v.y - u.y * v.x).abs() > BOW_ANGLE || u.dot(&v) < 0.0 {
+        return true;
+    }
+    let on = |line: &NormalFit, k: usize| {
+        let q = seg.point(k);
+        q - line.normal * line.distance(q)
+    };
+    let departs = |line: &NormalFit, k: usize| whole.distance(on(line, k)).abs() > depth;
+    // A step departs from the joint line by half its height on each side: the two lines'
+    // own distance at the split point tells it whole.
+    second.distance(on(&first, m)).abs() > depth
+        || departs(&first, a)
+        || departs(&first, m)
+        || departs(&second, m)
+        || departs(&second, b)
 }
 
 /// The position in `a + 1..b` where two lines fit `seg[a..=b]` best (least total squared
@@ -283,7 +346,7 @@ fn split_point(
     if chord_distance(far, pa, pb) <= p.split_sigmas * noise.sigma(seg.range(middle)) * cos {
         return None;
     }
-    if p.split_significance <= 0.0 || split_is_significant(pre, a, middle, b, p, noise) {
+    if p.split_significance <= 0.0 || split_is_significant(seg, pre, (a, middle, b), p, noise) {
         return Some(Split::At(middle));
     }
     if within_noise(pre, (a, b), p, noise) {
@@ -296,7 +359,7 @@ fn split_point(
         return Some(Split::Around(s, e));
     }
     best_split(pre, a, b)
-        .filter(|&m| split_is_significant(pre, a, m, b, p, noise))
+        .filter(|&m| split_is_significant(seg, pre, (a, m, b), p, noise))
         .map(Split::At)
 }
 
@@ -423,5 +486,59 @@ mod tests {
             ..HoughSplitParams::paper()
         };
         assert!(run(&xy, &paper).len() > 2);
+    }
+
+    /// A wall along x = 2 of 81 points 2 cm apart (the noise of the test, 2 mm, left out):
+    /// `shape(y)` moves each point in x.
+    fn wall_shaped(shape: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
+        (0..81)
+            .map(|i| {
+                let y = -0.8 + 0.02 * f64::from(i);
+                (2.0 + shape(y), y)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_bow_within_min_bend_stays_one_line_but_a_step_or_a_bend_splits() {
+        let p = HoughSplitParams::default();
+        let tilted = HoughSplitParams {
+            min_bend: 0.0,
+            ..HoughSplitParams::default()
+        };
+        // A bow of 12 mm from crest to trough, 5 sigma of the noise either way.
+        let bow = wall_shaped(|y| 0.006 * (std::f64::consts::PI * y / 0.8).cos());
+        assert_eq!(run(&bow, &p), vec![0, 80]);
+        assert!(run(&bow, &tilted).len() > 2, "{:?}", run(&bow, &tilted));
+        // A step of 3 cm halfway (each line departs from the joint one by half of it, the
+        // two lie 3 cm apart), and a bend of 6 deg there (8 cm over the second half): more
+        // than a bow.
+        let step = wall_shaped(|y| if y > 0.0 { 0.03 } else { 0.0 });
+        assert!(run(&step, &p).len() > 2, "{:?}", run(&step, &p));
+        let bend = wall_shaped(|y| 0.105 * y.max(0.0));
+        assert_eq!(run(&bend, &p), vec![0, 40, 80]);
+    }
+
+    #[test]
+    fn two_short_sides_meeting_at_more_than_a_bow_s_angle_bend() {
+        // A box's corner 1 cm deep: two sides of 6 points 1 cm apart, at 10 deg from their
+        // joint line each, depart by less than `min_bend` but meet at 20 deg.
+        let xy: Vec<(f64, f64)> = (0..11)
+            .map(|i| {
+                let y = 0.01 * f64::from(i) - 0.05;
+                (1.0 + 0.176 * (0.05 - y.abs()), y)
+            })
+            .collect();
+        let points = crate::hough_split::points::points_at(&xy);
+        let seg = Seg(&points);
+        let mut pre = Vec::new();
+        prefix_sums(seg, &mut pre);
+        assert!(bends(seg, &pre, (0, 5, 10), 0.015));
+        // Seen as one plane with a bow of the same depth, it does not.
+        let flat = wall_shaped(|y| 0.004 * (1.0 - (y / 0.8).powi(2)));
+        let points = crate::hough_split::points::points_at(&flat);
+        let seg = Seg(&points);
+        prefix_sums(seg, &mut pre);
+        assert!(!bends(seg, &pre, (0, 40, 80), 0.015));
     }
 }

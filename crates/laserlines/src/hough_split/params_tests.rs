@@ -34,6 +34,12 @@ fn scan_matching_caps_the_limit_on_r() {
     assert!(!HoughSplitParams::complete().for_mapping().own_scatter);
     assert!(!m.local_bridge && !HoughSplitParams::paper().local_bridge);
     assert!(HoughSplitParams::default().local_bridge);
+    // Bows split for scan matching and the paper; the defaults and navigation merge them.
+    assert_eq!(m.min_bend, 0.0);
+    assert_eq!(HoughSplitParams::paper().min_bend, 0.0);
+    assert!(
+        HoughSplitParams::default().min_bend > 0.0 && HoughSplitParams::navigation().min_bend > 0.0
+    );
     let loose = HoughSplitParams::complete().for_mapping();
     assert_eq!(loose.max_r_sd, HoughSplitParams::MAPPING_MAX_R_SD);
     let tight = HoughSplitParams {
