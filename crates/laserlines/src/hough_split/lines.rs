@@ -147,15 +147,26 @@ impl Pieces<'_> {
     }
 
     /// The piece `seg[a..z]`: its line, if it gives one, into `out` and `candidates`, and the
-    /// piece into `spans`.
+    /// piece into `spans`. When it gives none but the part of it within `tree` (the split
+    /// tree's own piece, before where lines end was refined) does, that part is the piece: a
+    /// cut moved onto the few points of a step beside a wall must not lose the wall.
     fn emit(
         &self,
         (a, z): (usize, usize),
-        spans: &mut Vec<Piece>,
-        out: &mut Vec<Line>,
-        candidates: &mut Vec<Candidate>,
+        tree: Option<(usize, usize)>,
+        (spans, out, candidates): (&mut Vec<Piece>, &mut Vec<Line>, &mut Vec<Candidate>),
     ) {
-        let line = self.line(a, z);
+        let (mut a, mut z) = (a, z);
+        let mut line = self.line(a, z);
+        if line.is_none()
+            && let Some((ta, tz)) = tree
+            && (ta > a || tz < z)
+        {
+            let (na, nz) = (a.max(ta), z.min(tz));
+            if let Some(l) = self.line(na, nz) {
+                (a, z, line) = (na, nz, Some(l));
+            }
+        }
         spans.push(Piece {
             a: a as u32,
             z: z as u32,
@@ -387,13 +398,15 @@ pub(crate) fn emit_lines(
         } else {
             (lo, hi)
         };
-        // Each opening the beams see through the piece's line ends a piece.
+        // Each opening the beams see through the piece's line ends a piece; the last part, if
+        // it gives no line, is taken within the split tree's piece (with `cut_excursions`).
+        let mut tree = p.cut_excursions.then(|| (breaks[i - 1] as usize, b + 1));
         while let Some((s, e)) = p.cut_excursions.then(|| pieces.opening_in(a, z)).flatten() {
-            pieces.emit((a, s + 1), spans, out, candidates);
+            pieces.emit((a, s + 1), None, (spans, out, candidates));
             openings.push(s as u32);
-            a = e;
+            (a, tree) = (e, None);
         }
-        pieces.emit((a, z), spans, out, candidates);
+        pieces.emit((a, z), tree, (spans, out, candidates));
         lo = hi;
     }
     if p.arc_significance > 0.0 {

@@ -221,7 +221,9 @@ pub struct HoughSplitParams {
     /// that the wall comes out on both sides of it instead of not at all. Needs
     /// `split_significance > 0`. Also ends a line where a run of returns beyond it sees
     /// through it (an opening: a doorway seen at a glancing angle), in step 6 and where two
-    /// lines would meet at a corner. Not in the paper; off in
+    /// lines would meet at a corner; and where a piece whose ends `refine_ends` moved gives
+    /// no line, takes it within the split's own bounds (a cut moved onto the few points of
+    /// a step beside a wall lost the wall). Not in the paper; off in
     /// [`HoughSplitParams::mapping`]. Default `true`.
     pub cut_excursions: bool,
     /// Lines of one surface on both sides of a gap (a leg or a box in front of a wall, a door,
