@@ -399,8 +399,8 @@ pub(crate) fn emit_lines(
             (lo, hi)
         };
         // Each opening the beams see through the piece's line ends a piece; the last part, if
-        // it gives no line, is taken within the split tree's piece (with `cut_excursions`).
-        let mut tree = p.cut_excursions.then(|| (breaks[i - 1] as usize, b + 1));
+        // it gives no line, is taken within the split tree's piece (`keep_split_bounds`).
+        let mut tree = p.keep_split_bounds.then(|| (breaks[i - 1] as usize, b + 1));
         while let Some((s, e)) = p.cut_excursions.then(|| pieces.opening_in(a, z)).flatten() {
             pieces.emit((a, s + 1), None, (spans, out, candidates));
             openings.push(s as u32);

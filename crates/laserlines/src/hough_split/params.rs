@@ -221,11 +221,14 @@ pub struct HoughSplitParams {
     /// that the wall comes out on both sides of it instead of not at all. Needs
     /// `split_significance > 0`. Also ends a line where a run of returns beyond it sees
     /// through it (an opening: a doorway seen at a glancing angle), in step 6 and where two
-    /// lines would meet at a corner; and where a piece whose ends `refine_ends` moved gives
-    /// no line, takes it within the split's own bounds (a cut moved onto the few points of
-    /// a step beside a wall lost the wall). Not in the paper; off in
+    /// lines would meet at a corner. Not in the paper; off in
     /// [`HoughSplitParams::mapping`]. Default `true`.
     pub cut_excursions: bool,
+    /// Where a piece whose ends `refine_ends` moved gives no line, take it within the
+    /// split's own bounds: a cut moved onto the few points of a step beside a wall made the
+    /// wall's line fail the RMS gate, and the wall had none. Not in the paper; off in
+    /// [`HoughSplitParams::mapping`] and [`HoughSplitParams::navigation`]. Default `true`.
+    pub keep_split_bounds: bool,
     /// Lines of one surface on both sides of a gap (a leg or a box in front of a wall, a door,
     /// missing beams) share one fit: when one line explains the points of two lines (their
     /// joint line's sum of squared residuals exceeds theirs by less than the chi-square
@@ -333,6 +336,7 @@ impl Default for HoughSplitParams {
             noise_along_beams: true,
             merge_collinear: true,
             cut_excursions: true,
+            keep_split_bounds: true,
             share_fits: true,
             refine_ends: true,
             min_line_points: 8,

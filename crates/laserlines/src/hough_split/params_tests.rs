@@ -34,12 +34,15 @@ fn scan_matching_caps_the_limit_on_r() {
     assert!(!HoughSplitParams::complete().for_mapping().own_scatter);
     assert!(!m.local_bridge && !HoughSplitParams::paper().local_bridge);
     assert!(HoughSplitParams::default().local_bridge);
-    // Bows split for scan matching and the paper; the defaults and navigation merge them.
+    // Bows split for scan matching, the paper and navigation; the defaults merge them, and
+    // keep a piece within the split's bounds where its refined ends give no line.
     assert_eq!(m.min_bend, 0.0);
     assert_eq!(HoughSplitParams::paper().min_bend, 0.0);
-    assert!(
-        HoughSplitParams::default().min_bend > 0.0 && HoughSplitParams::navigation().min_bend > 0.0
-    );
+    assert_eq!(HoughSplitParams::navigation().min_bend, 0.0);
+    assert!(HoughSplitParams::default().min_bend > 0.0);
+    assert!(!m.keep_split_bounds && !HoughSplitParams::paper().keep_split_bounds);
+    assert!(!HoughSplitParams::navigation().keep_split_bounds);
+    assert!(HoughSplitParams::default().keep_split_bounds);
     let loose = HoughSplitParams::complete().for_mapping();
     assert_eq!(loose.max_r_sd, HoughSplitParams::MAPPING_MAX_R_SD);
     let tight = HoughSplitParams {
