@@ -143,9 +143,9 @@ const BOW_ANGLE: f64 = 0.087_155_742_747_658_17; // sin(5 deg)
 /// `seg[a..=b]` by more than a bow `depth` deep (m): the two lie farther apart than `depth`
 /// at the shared point, or the points where they pass the piece's ends and the shared point
 /// lie farther than `depth` from the one line, or the two meet at more than [`BOW_ANGLE`]
-/// (or a line cannot be fitted). A corner or a
-/// step departs by its depth; a wall bowed by a few millimetres, or read through a
-/// scanner's slowly changing range error, by no more than that, however many its points.
+/// (or a line cannot be fitted). A corner or a step departs by its depth; a wall bowed by a
+/// few millimetres, or read through a scanner's slowly changing range error, by no more
+/// than that, however many its points.
 pub(crate) fn bends(
     seg: Seg<'_>,
     pre: &[FitSums],
@@ -506,7 +506,7 @@ mod tests {
             min_bend: 0.0,
             ..HoughSplitParams::default()
         };
-        // A bow of 12 mm from crest to trough, 5 sigma of the noise either way.
+        // A bow of 12 mm from crest to trough, 3 sigma of the test's noise either way.
         let bow = wall_shaped(|y| 0.006 * (std::f64::consts::PI * y / 0.8).cos());
         assert_eq!(run(&bow, &p), vec![0, 80]);
         assert!(run(&bow, &tilted).len() > 2, "{:?}", run(&bow, &tilted));

@@ -191,9 +191,10 @@ pub struct HoughSplitParams {
     /// allowing for the split point being the worst of many). Sensible: 10..40.
     pub split_significance: f64,
     /// ...and when the two lines bend away from the one line of the piece by more than this,
-    /// m: the largest distance from that line of the points where the two pass the piece's
-    /// ends and the split point (or in the mean square over the points), unless they meet
-    /// at more than 5 deg. Real walls are not flat to a millimetre, and real scanners' range
+    /// m: they lie farther apart at the split point, or the points where they pass the
+    /// piece's ends and the split point lie farther from the one line (or do in the mean
+    /// square over the points); or else meet at more than 5 deg, or the one line would
+    /// fail the RMS gate (`max_rms_sigmas`). Real walls are not flat to a millimetre, and real scanners' range
     /// errors include a part that changes slowly along a surface (a URG-04LX's accuracy is
     /// +-10 mm below 1 m against its 3-5 mm of noise, a SICK LMS200's systematic error +-15
     /// mm against 5 mm), which the noise estimate, read between neighbouring beams, does not
