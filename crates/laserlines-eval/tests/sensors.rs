@@ -517,7 +517,8 @@ fn legs_and_posts_give_no_line_and_walls_stay() {
     // the full band, pieces of 0.2-0.4 m at 3-4 m (10 beams under 3-4 cm of noise) are
     // beyond a fit of their own points, and the defaults' gates drop pieces whose `r` is
     // known worse than 6 cm; the pieces of one wall share their fit, which places most of
-    // them (measured, of 182: 179, 179 and 175 against 179, 180 and 178; before the noise
+    // them (measured, of 182: 179, 180 and 176 against 179, 181 and 179; before `min_bend`
+    // and `keep_split_bounds` 179, 179 and 176 against 179, 180 and 179; before the noise
     // estimate read its far ends 179, 178 and 175 against 179, 179 and 177; without shared
     // fits 176, 166 and 157 against 180, 177 and 171).
     for (what, noise, share, complete_share) in [
