@@ -205,7 +205,8 @@ fn errors_name_the_file_the_table_and_the_key() {
          `noise_floor`, `bridge_beams`, `bridge_incidence`, `bridge_sigmas`, \
          `bridge_max_gap`, `local_bridge`, `min_segment_points`, `split_sigmas`, \
          `split_significance`, `min_bend`, \
-         `noise_along_beams`, `merge_collinear`, `cut_excursions`, `keep_split_bounds`, `share_fits`, \
+         `noise_along_beams`, `merge_collinear`, `cut_excursions`, `keep_split_bounds`, \
+         `share_fits`, \
          `refine_ends`, \
          `min_line_points`, \
          `min_line_length`, `max_rms_sigmas`, `min_advance_t`, `arc_significance`, \

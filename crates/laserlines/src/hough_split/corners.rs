@@ -93,8 +93,8 @@ pub(crate) fn meeting_point(
 /// returns beyond it by [`THROUGH_SIGMAS`] standard deviations of that difference, one of
 /// them by [`SHALLOW`] across it, see through it as well (an opening seen at a glancing
 /// angle, where `D` spans it; see [`super::opening::seen_through`]). A surface that bends a
-/// little before its corner stays well within `D`. Only a line that gains more than `D` (at the corner's range) is
-/// looked at.
+/// little before its corner stays well within `D`. Only a line that gains more than `D` (at
+/// the corner's range) is looked at.
 fn seen_through(
     a: &Line,
     b: &Line,

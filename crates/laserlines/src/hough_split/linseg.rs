@@ -115,7 +115,8 @@ pub(crate) fn split_is_significant(
     let dof = (b - a + 1).saturating_sub(3);
     let residual = if dof > 0 { two / dof as f64 } else { 0.0 };
     let variance = variance_across(&whole, noise, p.noise_along_beams).max(residual);
-    let drop = whole.sse() - two;
+    let sse = whole.sse();
+    let drop = sse - two;
     // The drop is about the squared departure of the two lines from the one, summed over
     // the points: a mean above `min_bend^2` departs by more at its ends or split point (a
     // corner, most often), and needs no fits of its own.
@@ -124,14 +125,12 @@ pub(crate) fn split_is_significant(
         && (bend <= 0.0
             || drop > n * bend * bend
             || bends(seg, pre, (a, m, b), bend)
-            || !rms_within(whole.sse() / n, whole.centroid_norm_squared(), p, noise))
-}
-
-/// [`rms_passes`] for a mean squared residual `ms` at a centroid `centroid2` (m^2) from the
-/// sensor: a bow merged into one line must still give a line.
-fn rms_within(ms: f64, centroid2: f64, p: &HoughSplitParams, noise: &RangeNoise) -> bool {
-    let limit = p.max_rms_sigmas * noise.sigma(centroid2.sqrt());
-    ms <= limit * limit
+            || !rms_within(
+                (sse / n).sqrt(),
+                whole.centroid_norm_squared().sqrt(),
+                p,
+                noise,
+            ))
 }
 
 /// The largest angle between two lines that a bow can make, rad: 5 deg. A scanner's slowly
@@ -277,7 +276,13 @@ pub(crate) fn one_line_fits(s: &FitSums, p: &HoughSplitParams, noise: &RangeNois
 /// True when `fit` passes the gate of its RMS residual that every line must pass:
 /// `max_rms_sigmas` of the noise at its centroid (a NaN fails).
 pub(crate) fn rms_passes(fit: &PolarFit, p: &HoughSplitParams, noise: &RangeNoise) -> bool {
-    fit.rms <= p.max_rms_sigmas * noise.sigma(fit.centroid.coords.norm())
+    rms_within(fit.rms, fit.centroid.coords.norm(), p, noise)
+}
+
+/// The gate of [`rms_passes`] for an RMS residual `rms` at a centroid `distance` m from the
+/// sensor (a bow merged into one line must still give a line: [`split_is_significant`]).
+fn rms_within(rms: f64, distance: f64, p: &HoughSplitParams, noise: &RangeNoise) -> bool {
+    rms <= p.max_rms_sigmas * noise.sigma(distance)
 }
 
 /// True when the line of `seg[a..=b]` passes the RMS gate ([`rms_passes`]).

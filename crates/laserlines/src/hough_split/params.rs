@@ -194,12 +194,12 @@ pub struct HoughSplitParams {
     /// m: they lie farther apart at the split point, or the points where they pass the
     /// piece's ends and the split point lie farther from the one line (or do in the mean
     /// square over the points); or else meet at more than 5 deg, or the one line would
-    /// fail the RMS gate (`max_rms_sigmas`). Real walls are not flat to a millimetre, and real scanners' range
-    /// errors include a part that changes slowly along a surface (a URG-04LX's accuracy is
-    /// +-10 mm below 1 m against its 3-5 mm of noise, a SICK LMS200's systematic error +-15
-    /// mm against 5 mm), which the noise estimate, read between neighbouring beams, does not
-    /// see: with hundreds of points the significance test alone split a wall at every such
-    /// bow. Applies with `split_significance > 0` (the merge reads the same test). Not in
+    /// fail the RMS gate (`max_rms_sigmas`). Real walls are not flat to a millimetre, and
+    /// real scanners' range errors include a part that changes slowly along a surface (a
+    /// URG-04LX's accuracy is +-10 mm below 1 m against its 3-5 mm of noise, a SICK
+    /// LMS200's systematic error +-15 mm against 5 mm), which the noise estimate, read
+    /// between neighbouring beams, does not see: with hundreds of points the significance
+    /// test alone split a wall at every such bow. Applies with `split_significance > 0` (the merge reads the same test). Not in
     /// the paper. Default 0.015. Sensible: 0..0.03.
     pub min_bend: f64,
     /// Range noise lies along the beams: the split (its distance criterion and significance
