@@ -130,9 +130,9 @@ pub fn grid(
     let mut out = vec![f64::NAN; layout.beams];
     let mut taken = vec![false; layout.beams];
     let mut shared = 0;
-    // A measurement (finite, above 0, inside the limits) first, then the nearer; a NaN never
-    // wins (its comparison fails).
-    let window = RangeWindow::new(range_min, range_max);
+    // A measurement (finite, above 0, inside the limits, below the saturated limit) first,
+    // then the nearer; a NaN never wins (its comparison fails).
+    let window = RangeWindow::new(range_min, crate::scan::saturated_below(range_max));
     let rank = |r: f64| (window.contains(r), r);
     for &(b, i) in &order {
         let (k, new) = (layout.beam(b), ranges[i]);

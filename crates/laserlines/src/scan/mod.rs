@@ -2,6 +2,10 @@
 
 use crate::math::Point2;
 
+mod window;
+
+pub use window::{CEILING_SHARE, CEILING_TIES, RangeWindow, clamp_ceiling, saturated_below};
+
 /// Errors found when validating a [`Scan`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ScanError {
@@ -67,8 +71,9 @@ impl std::fmt::Display for Short {
 ///
 /// Beam `i` points at `angle_min + i * angle_increment` (radians, counter-clockwise, x forward
 /// in the sensor frame). `angle_increment` may be negative: reversed scans exist. A range is a
-/// measurement only if it is valid by [`RangeWindow::contains`]; everything else (NaN, inf,
-/// 0, out of limits) is "no return".
+/// measurement only if it lies in the scan's window ([`Scan::range_window`],
+/// [`RangeWindow::contains`]); everything else (NaN, inf, 0, out of limits, `range_max`
+/// itself: [`saturated_below`]) is "no return".
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Scan {
     /// Angle of the first beam, rad.
@@ -77,7 +82,8 @@ pub struct Scan {
     pub angle_increment: f64,
     /// Smallest valid range, m.
     pub range_min: f64,
-    /// Largest valid range, m.
+    /// The range limit, m: valid ranges lie below it (a reading of the limit itself is no
+    /// return, [`saturated_below`]).
     pub range_max: f64,
     /// Ranges, m; invalid values mean "no return".
     pub ranges: Vec<f64>,
@@ -213,7 +219,8 @@ pub struct ScanView<'a> {
     pub angle_increment: f64,
     /// Smallest valid range, m.
     pub range_min: f64,
-    /// Largest valid range, m.
+    /// The range limit, m: valid ranges lie below it (a reading of the limit itself is no
+    /// return, [`saturated_below`]).
     pub range_max: f64,
     /// Ranges, m; invalid values mean "no return".
     pub ranges: &'a [f64],
@@ -318,10 +325,15 @@ impl<'a> ScanView<'a> {
         n >= 3 && inc.is_finite() && n as f64 * inc >= std::f64::consts::TAU - 0.5 * inc
     }
 
-    /// The window of valid ranges for this scan: its own limits, narrowed by `extra`.
+    /// The window of valid ranges for this scan: its own limits, narrowed by `extra`. A
+    /// reading of `range_max` itself is no return ([`saturated_below`]), and so is the
+    /// ceiling of a driver that clamps below its declared limit ([`clamp_ceiling`]).
     #[must_use]
     pub fn range_window(&self, extra: Option<RangeWindow>) -> RangeWindow {
-        let own = RangeWindow::new(self.range_min, self.range_max);
+        let mut own = RangeWindow::new(self.range_min, saturated_below(self.range_max));
+        if let Some(ceiling) = clamp_ceiling(self.ranges, own) {
+            own.max = ceiling.next_down();
+        }
         match extra {
             Some(e) => own.intersect(e),
             None => own,
@@ -360,60 +372,6 @@ impl<'a> ScanView<'a> {
                 });
             }
         }
-    }
-}
-
-/// The one definition of a valid range, used by every algorithm: finite, strictly positive,
-/// and within `[min, max]` (inclusive, as in ROS). With the `serde` feature it is written
-/// `[min, max]`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(
-    feature = "serde",
-    derive(serde::Serialize, serde::Deserialize),
-    serde(from = "[f64; 2]", into = "[f64; 2]")
-)]
-pub struct RangeWindow {
-    /// Smallest valid range, m.
-    pub min: f64,
-    /// Largest valid range, m.
-    pub max: f64,
-}
-
-impl RangeWindow {
-    /// A window `[min, max]`, metres.
-    #[must_use]
-    pub const fn new(min: f64, max: f64) -> Self {
-        Self { min, max }
-    }
-
-    /// The window that accepts every finite positive range.
-    pub const UNLIMITED: Self = Self::new(0.0, f64::INFINITY);
-
-    /// The paper's window: ranges outside (0.03 m, 3.00 m) are noise and never used.
-    pub const PAPER: Self = Self::new(0.03, 3.00);
-
-    /// True when `r` is a measurement: finite, `> 0` and within `[min, max]`.
-    #[must_use]
-    pub fn contains(self, r: f64) -> bool {
-        r.is_finite() && r > 0.0 && r >= self.min && r <= self.max
-    }
-
-    /// The intersection of two windows (empty windows simply contain nothing).
-    #[must_use]
-    pub fn intersect(self, other: Self) -> Self {
-        Self::new(self.min.max(other.min), self.max.min(other.max))
-    }
-}
-
-impl From<[f64; 2]> for RangeWindow {
-    fn from([min, max]: [f64; 2]) -> Self {
-        Self::new(min, max)
-    }
-}
-
-impl From<RangeWindow> for [f64; 2] {
-    fn from(w: RangeWindow) -> Self {
-        [w.min, w.max]
     }
 }
 
@@ -531,7 +489,8 @@ mod tests {
         .unwrap();
         let pts = s.points(s.range_window(None));
         let idx: Vec<usize> = pts.iter().map(|p| p.index).collect();
-        assert_eq!(idx, vec![6, 7]);
+        // 5.6 is the limit itself: a clamped "no return".
+        assert_eq!(idx, vec![6]);
         let narrowed = s.range_window(Some(RangeWindow::PAPER));
         assert_eq!(s.count_valid(narrowed), 1);
     }

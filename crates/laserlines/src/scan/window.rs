@@ -1,0 +1,138 @@
+//! Which readings of a scan are measurements: its window of valid ranges, below its limit
+//! and a clamping driver's ceiling.
+
+/// The largest valid reading of a scan whose limit is `range_max`: the float just below it
+/// when it is finite and positive (else `range_max` as it is). Drivers that clamp write
+/// `range_max` itself for a beam that saw nothing within range (the ROS driver of the SICK
+/// LMS1xx by default, Gazebo's classic laser plugin, `max_range_returns` of the simulator):
+/// taken as points, those readings lie on a circle around the sensor, which every extractor
+/// cut into chords, lines across empty space. A surface exactly at the limit cannot be told
+/// from nothing there, so such a reading is taken as what it most likely is: no return,
+/// seen through (as `+inf`, REP 117), never a point.
+#[must_use]
+pub fn saturated_below(range_max: f64) -> f64 {
+    if range_max.is_finite() && range_max > 0.0 {
+        range_max.next_down()
+    } else {
+        range_max
+    }
+}
+
+/// Fewest readings of a scan's largest value, and least share of its valid readings, that
+/// make that value a driver's ceiling ([`clamp_ceiling`]). Real scans repeat their largest
+/// reading at most 10 times (of 181-682 beams, in ranges quantised to 1 mm or 1 cm: the
+/// public CARMEN, BreezySLAM and ROS logs), a clamping driver as often as the scene is
+/// open.
+pub const CEILING_TIES: usize = 16;
+
+/// See [`CEILING_TIES`]: 1 in 20 of the valid readings.
+pub const CEILING_SHARE: usize = 20;
+
+/// The value a driver writes for a beam that saw nothing, when it is not the scan's declared
+/// limit: the largest valid reading, when at least [`CEILING_TIES`] readings and one in
+/// [`CEILING_SHARE`] of the valid ones have exactly that value (a driver whose ceiling is a
+/// little below the `range_max` it declares, a SICK S300 at 29.96 m of its 30 m). Measured
+/// ranges, under noise or quantised, hardly ever repeat the largest of them; readings that
+/// all stop at one value are a circle around the sensor, the chords of which would be lines
+/// across empty space. `None` when no value repeats that often.
+#[must_use]
+pub fn clamp_ceiling(ranges: &[f64], window: RangeWindow) -> Option<f64> {
+    let (mut top, mut ties, mut valid) = (f64::NEG_INFINITY, 0usize, 0usize);
+    for &r in ranges {
+        if !window.contains(r) {
+            continue;
+        }
+        valid += 1;
+        if r > top {
+            (top, ties) = (r, 1);
+        } else if r == top {
+            ties += 1;
+        }
+    }
+    (ties >= CEILING_TIES && ties * CEILING_SHARE >= valid).then_some(top)
+}
+
+/// The one definition of a valid range, used by every algorithm: finite, strictly positive,
+/// and within `[min, max]` (inclusive, as in ROS). With the `serde` feature it is written
+/// `[min, max]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(
+    feature = "serde",
+    derive(serde::Serialize, serde::Deserialize),
+    serde(from = "[f64; 2]", into = "[f64; 2]")
+)]
+pub struct RangeWindow {
+    /// Smallest valid range, m.
+    pub min: f64,
+    /// Largest valid range, m.
+    pub max: f64,
+}
+
+impl RangeWindow {
+    /// A window `[min, max]`, metres.
+    #[must_use]
+    pub const fn new(min: f64, max: f64) -> Self {
+        Self { min, max }
+    }
+
+    /// The window that accepts every finite positive range.
+    pub const UNLIMITED: Self = Self::new(0.0, f64::INFINITY);
+
+    /// The paper's window: ranges outside (0.03 m, 3.00 m) are noise and never used.
+    pub const PAPER: Self = Self::new(0.03, 3.00);
+
+    /// True when `r` is a measurement: finite, `> 0` and within `[min, max]`.
+    #[must_use]
+    pub fn contains(self, r: f64) -> bool {
+        r.is_finite() && r > 0.0 && r >= self.min && r <= self.max
+    }
+
+    /// The intersection of two windows (empty windows simply contain nothing).
+    #[must_use]
+    pub fn intersect(self, other: Self) -> Self {
+        Self::new(self.min.max(other.min), self.max.min(other.max))
+    }
+}
+
+impl From<[f64; 2]> for RangeWindow {
+    fn from([min, max]: [f64; 2]) -> Self {
+        Self::new(min, max)
+    }
+}
+
+impl From<RangeWindow> for [f64; 2] {
+    fn from(w: RangeWindow) -> Self {
+        [w.min, w.max]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scan::Scan;
+
+    #[test]
+    fn a_value_many_beams_stop_at_is_a_ceiling() {
+        let window = RangeWindow::new(0.02, 30.0);
+        let scan = |ties: usize, others: usize| -> Vec<f64> {
+            let mut r = vec![29.96; ties];
+            r.extend((0..others).map(|i| 1.0 + 0.01 * i as f64));
+            r
+        };
+        assert_eq!(clamp_ceiling(&scan(16, 300), window), Some(29.96));
+        // Too few, or too small a share of the valid readings.
+        assert_eq!(clamp_ceiling(&scan(15, 100), window), None);
+        assert_eq!(clamp_ceiling(&scan(16, 305), window), None);
+        // The largest reading repeated: a ceiling only if it is the largest.
+        let mut above = scan(40, 100);
+        above.push(29.97);
+        assert_eq!(clamp_ceiling(&above, window), None);
+        // Readings outside the window take no part.
+        let mut outside = scan(20, 100);
+        outside.extend([31.0, f64::NAN, f64::INFINITY]);
+        assert_eq!(clamp_ceiling(&outside, window), Some(29.96));
+        let s = Scan::new(0.0, 0.01, 0.02, 30.0, scan(20, 100)).unwrap();
+        let w = s.range_window(None);
+        assert!(!w.contains(29.96) && w.contains(29.959) && w.contains(1.0));
+    }
+}
