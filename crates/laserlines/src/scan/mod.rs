@@ -4,7 +4,10 @@ use crate::math::Point2;
 
 mod window;
 
-pub use window::{CEILING_SHARE, CEILING_TIES, RangeWindow, clamp_ceiling, saturated_below};
+pub use window::{
+    CEILING_BAND, CEILING_SHARE, CEILING_TIES, RangeWindow, clamp_ceiling, saturated_below,
+    scan_window,
+};
 
 /// Errors found when validating a [`Scan`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -327,13 +330,11 @@ impl<'a> ScanView<'a> {
 
     /// The window of valid ranges for this scan: its own limits, narrowed by `extra`. A
     /// reading of `range_max` itself is no return ([`saturated_below`]), and so is the
-    /// ceiling of a driver that clamps below its declared limit ([`clamp_ceiling`]).
+    /// ceiling of a driver that clamps ([`clamp_ceiling`]) and a band below it
+    /// ([`scan_window`]).
     #[must_use]
     pub fn range_window(&self, extra: Option<RangeWindow>) -> RangeWindow {
-        let mut own = RangeWindow::new(self.range_min, saturated_below(self.range_max));
-        if let Some(ceiling) = clamp_ceiling(self.ranges, own) {
-            own.max = ceiling.next_down();
-        }
+        let own = scan_window(self.range_min, self.range_max, self.ranges);
         match extra {
             Some(e) => own.intersect(e),
             None => own,

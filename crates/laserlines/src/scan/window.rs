@@ -28,18 +28,25 @@ pub const CEILING_TIES: usize = 16;
 /// See [`CEILING_TIES`]: 1 in 20 of the valid readings.
 pub const CEILING_SHARE: usize = 20;
 
-/// The value a driver writes for a beam that saw nothing, when it is not the scan's declared
-/// limit: the largest valid reading, when at least [`CEILING_TIES`] readings and one in
-/// [`CEILING_SHARE`] of the valid ones have exactly that value (a driver whose ceiling is a
-/// little below the `range_max` it declares, a SICK S300 at 29.96 m of its 30 m). Measured
-/// ranges, under noise or quantised, hardly ever repeat the largest of them; readings that
-/// all stop at one value are a circle around the sensor, the chords of which would be lines
-/// across empty space. `None` when no value repeats that often.
+/// Share of a driver's ceiling below it whose readings are taken as clamped too
+/// ([`scan_window`]): a simulator that adds noise to a beam that hit nothing and then clamps
+/// (Gazebo's classic laser plugin) writes the limit for half of those beams and readings a
+/// few noise widths below it for the other half, which still make chords of a circle.
+pub const CEILING_BAND: f64 = 0.02;
+
+/// The value a driver writes for a beam that saw nothing: the largest reading within
+/// `limits` (the scan's own `[range_min, range_max]`), when at least [`CEILING_TIES`]
+/// readings and one in [`CEILING_SHARE`] of those within `limits` have exactly that value
+/// (the limit itself, or a little below the `range_max` a driver declares: a SICK S300 at
+/// 29.96 m of its 30 m). Measured ranges, under noise or quantised, hardly ever repeat the
+/// largest of them; readings that all stop at one value are a circle around the sensor, the
+/// chords of which would be lines across empty space. `None` when no value repeats that
+/// often.
 #[must_use]
-pub fn clamp_ceiling(ranges: &[f64], window: RangeWindow) -> Option<f64> {
+pub fn clamp_ceiling(ranges: &[f64], limits: RangeWindow) -> Option<f64> {
     let (mut top, mut ties, mut valid) = (f64::NEG_INFINITY, 0usize, 0usize);
     for &r in ranges {
-        if !window.contains(r) {
+        if !limits.contains(r) {
             continue;
         }
         valid += 1;
@@ -50,6 +57,19 @@ pub fn clamp_ceiling(ranges: &[f64], window: RangeWindow) -> Option<f64> {
         }
     }
     (ties >= CEILING_TIES && ties * CEILING_SHARE >= valid).then_some(top)
+}
+
+/// The window of valid readings of a scan with limits `range_min..range_max` and readings
+/// `ranges`: from `range_min` to below `range_max` ([`saturated_below`]), or, when the
+/// readings show a driver's ceiling `c` ([`clamp_ceiling`]), to `c (1 - CEILING_BAND)`.
+#[must_use]
+pub fn scan_window(range_min: f64, range_max: f64, ranges: &[f64]) -> RangeWindow {
+    let below = saturated_below(range_max);
+    let max = match clamp_ceiling(ranges, RangeWindow::new(range_min, range_max)) {
+        Some(c) => (c * (1.0 - CEILING_BAND)).min(below),
+        None => below,
+    };
+    RangeWindow::new(range_min, max)
 }
 
 /// The one definition of a valid range, used by every algorithm: finite, strictly positive,
@@ -131,8 +151,18 @@ mod tests {
         let mut outside = scan(20, 100);
         outside.extend([31.0, f64::NAN, f64::INFINITY]);
         assert_eq!(clamp_ceiling(&outside, window), Some(29.96));
+        // The limit itself counts among the ties.
+        let mut at_limit = vec![30.0; 16];
+        at_limit.extend(scan(0, 100));
+        assert_eq!(clamp_ceiling(&at_limit, window), Some(30.0));
+        // A ceiling takes the band below it along; without one, only the limit goes.
         let s = Scan::new(0.0, 0.01, 0.02, 30.0, scan(20, 100)).unwrap();
         let w = s.range_window(None);
-        assert!(!w.contains(29.96) && w.contains(29.959) && w.contains(1.0));
+        let edge = 29.96 * (1.0 - CEILING_BAND);
+        assert!(!w.contains(29.96) && !w.contains(edge + 1e-9) && w.contains(edge));
+        assert!(w.contains(1.0));
+        let s = Scan::new(0.0, 0.01, 0.02, 30.0, scan(15, 100)).unwrap();
+        let w = s.range_window(None);
+        assert!(w.contains(29.96) && w.contains(30f64.next_down()) && !w.contains(30.0));
     }
 }
