@@ -45,7 +45,7 @@ use crate::extractor::LineExtractor;
 use crate::line::Line;
 use crate::math::Point2;
 use crate::noise::{BandEstimate, NOISE_BANDS, NoiseEstimator, NoiseModel, RangeNoise};
-use crate::scan::{ScanPoint, ScanView};
+use crate::scan::{RangeWindow, ScanPoint, ScanView};
 use accumulator::{Accumulator, Valid};
 use components::Components;
 use linseg::SplitScratch;
@@ -91,6 +91,8 @@ pub struct HoughSplit {
     walk: Vec<f64>,
     /// A full turn's returns, for [`seam::start`].
     returns: Vec<(usize, f64)>,
+    /// The window of valid ranges of the scan being processed ([`ScanView::range_window`]).
+    window: RangeWindow,
 }
 
 impl HoughSplit {
@@ -123,6 +125,7 @@ impl HoughSplit {
             turn: (0, 0),
             walk: Vec::new(),
             returns: Vec::new(),
+            window: RangeWindow::UNLIMITED,
         })
     }
 
@@ -141,8 +144,7 @@ impl HoughSplit {
         let (noise, estimated) = match (p.noise, scan) {
             (NoiseModel::Fixed(n), _) => (n, false),
             (NoiseModel::Auto, Some(scan)) => {
-                let window = scan.range_window(p.range_limits);
-                match self.estimator.estimate(scan, window, floor) {
+                match self.estimator.estimate(scan, self.window, floor) {
                     Some(n) => (n, true),
                     None => (FALLBACK_NOISE, false),
                 }
@@ -184,6 +186,7 @@ impl LineExtractor for HoughSplit {
             return;
         }
         let window = scan.range_window(self.params.range_limits);
+        self.window = window;
         let lo = window.min.max(self.params.min_range).max(f64::MIN_POSITIVE);
         if !scan.full_turn() {
             self.run(scan, out);
@@ -262,7 +265,7 @@ impl HoughSplit {
         self.angles = (scan.angle_min, scan.angle_increment);
         self.noise_of(Some(scan));
         let valid = Valid {
-            window: scan.range_window(self.params.range_limits),
+            window: self.window,
             min_range: self.params.min_range,
             mixed: self.params.remove_mixed_pixels.then_some(self.noise),
         };
@@ -324,8 +327,7 @@ impl HoughSplit {
         let cut_window = lines::cut_window(scan.angle_increment);
         let lone_gap = self.params.lone_gap_for(self.dropout);
         let seen = corners::Seen::new(&self.points, &self.breakpoints);
-        let window = scan.range_window(self.params.range_limits);
-        let lo = window.min.max(self.params.min_range);
+        let lo = self.window.min.max(self.params.min_range);
         for run in &self.segments.runs {
             let seg = points::Seg(&kept[run.start as usize..run.end as usize]);
             linseg::prefix_sums(seg, &mut self.scratch.prefix);

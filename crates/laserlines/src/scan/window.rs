@@ -44,19 +44,38 @@ pub const CEILING_BAND: f64 = 0.02;
 /// often.
 #[must_use]
 pub fn clamp_ceiling(ranges: &[f64], limits: RangeWindow) -> Option<f64> {
-    let (mut top, mut ties, mut valid) = (f64::NEG_INFINITY, 0usize, 0usize);
-    for &r in ranges {
-        if !limits.contains(r) {
-            continue;
-        }
-        valid += 1;
-        if r > top {
-            (top, ties) = (r, 1);
-        } else if r == top {
-            ties += 1;
+    // `contains` as two comparisons (`r >= lo` implies `r > 0`, `r <= hi` a finite `r`; NaN
+    // fails both).
+    if limits.min.is_nan() || limits.max.is_nan() {
+        return None;
+    }
+    let (lo, hi) = (limits.min.max(f64::from_bits(1)), limits.max.min(f64::MAX));
+    // The largest reading up to `hi` (a NaN is none), in four lanes the compiler keeps in
+    // vector registers; below `lo` it is no valid reading at all.
+    let mut lanes = [0.0f64; 4];
+    let chunks = ranges.chunks_exact(4);
+    let rest = chunks.remainder();
+    for c in chunks {
+        for (t, &r) in lanes.iter_mut().zip(c) {
+            let v = if r <= hi { r } else { 0.0 };
+            *t = if v > *t { v } else { *t };
         }
     }
-    (ties >= CEILING_TIES && ties * CEILING_SHARE >= valid).then_some(top)
+    let mut top = lanes.into_iter().fold(0.0, f64::max);
+    for &r in rest {
+        if r <= hi && r > top {
+            top = r;
+        }
+    }
+    if top < lo {
+        return None;
+    }
+    let ties = ranges.iter().filter(|&&r| r == top).count();
+    if ties < CEILING_TIES {
+        return None;
+    }
+    let valid = ranges.iter().filter(|&&r| (r >= lo) & (r <= hi)).count();
+    (ties * CEILING_SHARE >= valid).then_some(top)
 }
 
 /// The window of valid readings of a scan with limits `range_min..range_max` and readings
