@@ -5,8 +5,8 @@ use crate::math::Point2;
 mod window;
 
 pub use window::{
-    CEILING_BAND, CEILING_SHARE, CEILING_TIES, RangeWindow, clamp_ceiling, saturated_below,
-    scan_window,
+    CEILING_BAND, CEILING_NEAR, CEILING_SHARE, CEILING_TIES, RangeWindow, clamp_ceiling,
+    saturated_below, scan_window,
 };
 
 /// Errors found when validating a [`Scan`].

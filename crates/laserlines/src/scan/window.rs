@@ -28,6 +28,11 @@ pub const CEILING_TIES: usize = 16;
 /// See [`CEILING_TIES`]: 1 in 20 of the valid readings.
 pub const CEILING_SHARE: usize = 20;
 
+/// How near the declared limit a ceiling lies, at least, as a share of it
+/// ([`clamp_ceiling`]): a scan of one range everywhere far inside the limit (a made-up
+/// circle) keeps its readings.
+pub const CEILING_NEAR: f64 = 0.9;
+
 /// Share of a driver's ceiling below it whose readings are taken as clamped too
 /// ([`scan_window`]): a simulator that adds noise to a beam that hit nothing and then clamps
 /// (Gazebo's classic laser plugin) writes the limit for half of those beams and readings a
@@ -35,10 +40,11 @@ pub const CEILING_SHARE: usize = 20;
 pub const CEILING_BAND: f64 = 0.02;
 
 /// The value a driver writes for a beam that saw nothing: the largest reading within
-/// `limits` (the scan's own `[range_min, range_max]`), when at least [`CEILING_TIES`]
-/// readings and one in [`CEILING_SHARE`] of those within `limits` have exactly that value
-/// (the limit itself, or a little below the `range_max` a driver declares: a SICK S300 at
-/// 29.96 m of its 30 m). Measured ranges, under noise or quantised, hardly ever repeat the
+/// `limits` (the scan's own `[range_min, range_max]`), when it lies within the top tenth of
+/// the limit ([`CEILING_NEAR`]) and at least [`CEILING_TIES`] readings and one in
+/// [`CEILING_SHARE`] of those within `limits` have exactly that value (the limit itself, or
+/// a little below the `range_max` a driver declares: a SICK S300 at 29.96 m of its 30 m;
+/// never with an infinite limit). Measured ranges, under noise or quantised, hardly ever repeat the
 /// largest of them; readings that all stop at one value are a circle around the sensor, the
 /// chords of which would be lines across empty space. `None` when no value repeats that
 /// often.
@@ -67,7 +73,7 @@ pub fn clamp_ceiling(ranges: &[f64], limits: RangeWindow) -> Option<f64> {
             top = r;
         }
     }
-    if top < lo {
+    if top < lo || top < CEILING_NEAR * limits.max {
         return None;
     }
     let ties = ranges.iter().filter(|&&r| r == top).count();
@@ -170,6 +176,16 @@ mod tests {
         let mut outside = scan(20, 100);
         outside.extend([31.0, f64::NAN, f64::INFINITY]);
         assert_eq!(clamp_ceiling(&outside, window), Some(29.96));
+        // Far inside the limit, one range everywhere is no ceiling.
+        assert_eq!(
+            clamp_ceiling(&[2.5; 100], RangeWindow::new(0.02, 5.6)),
+            None
+        );
+        assert_eq!(
+            clamp_ceiling(&[5.1; 100], RangeWindow::new(0.02, 5.6)),
+            Some(5.1)
+        );
+        assert_eq!(clamp_ceiling(&[5.1; 100], RangeWindow::UNLIMITED), None);
         // The limit itself counts among the ties.
         let mut at_limit = vec![30.0; 16];
         at_limit.extend(scan(0, 100));
