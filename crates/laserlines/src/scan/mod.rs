@@ -5,8 +5,8 @@ use crate::math::Point2;
 mod window;
 
 pub use window::{
-    CEILING_BAND, CEILING_NEAR, CEILING_SHARE, CEILING_TIES, RangeWindow, clamp_ceiling,
-    saturated_below, scan_window,
+    CLAMPED_BAND, CLAMPED_READINGS, CLAMPED_SHARE, RangeWindow, clamped, saturated_below,
+    scan_window,
 };
 
 /// Errors found when validating a [`Scan`].
@@ -329,9 +329,8 @@ impl<'a> ScanView<'a> {
     }
 
     /// The window of valid ranges for this scan: its own limits, narrowed by `extra`. A
-    /// reading of `range_max` itself is no return ([`saturated_below`]), and so is the
-    /// ceiling of a driver that clamps ([`clamp_ceiling`]) and a band below it
-    /// ([`scan_window`]).
+    /// reading of `range_max` itself is no return ([`saturated_below`]), and so is a band
+    /// below it when the readings show a driver that clamps ([`scan_window`]).
     #[must_use]
     pub fn range_window(&self, extra: Option<RangeWindow>) -> RangeWindow {
         let own = scan_window(self.range_min, self.range_max, self.ranges);
