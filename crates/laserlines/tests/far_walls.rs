@@ -8,7 +8,7 @@
 
 mod common;
 
-use common::{Rng, hit};
+use common::{Rng, nearest};
 use laserlines::math::Point2;
 use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, Scan};
 
@@ -27,11 +27,7 @@ fn scan(seed: u64) -> Scan {
     let ranges = (0..beams)
         .map(|i| {
             let angle = angle_min + i as f64 * inc;
-            walls
-                .iter()
-                .filter_map(|&(a, b)| hit(angle, a, b))
-                .min_by(f64::total_cmp)
-                .map_or(f64::NAN, |r| r + 0.01 * rng.gauss())
+            nearest(angle, &walls).map_or(f64::NAN, |r| r + 0.01 * rng.gauss())
         })
         .collect();
     Scan::new(angle_min, inc, 0.02, 30.0, ranges).unwrap()

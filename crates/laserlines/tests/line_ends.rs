@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{Rng, hit};
+use common::{Rng, nearest};
 use laserlines::math::Point2;
 use laserlines::{HoughSplit, HoughSplitParams, Line, LineExtractor, NoiseModel, RangeNoise, Scan};
 
@@ -15,10 +15,7 @@ type Wall = (Point2, Point2);
 
 /// The nearest hit of the beam at `angle` on `walls`.
 fn cast(angle: f64, walls: &[Wall]) -> Option<f64> {
-    walls
-        .iter()
-        .filter_map(|&(a, b)| hit(angle, a, b))
-        .min_by(f64::total_cmp)
+    nearest(angle, walls)
 }
 
 /// Distance from `q` to the segment `a`-`b`.

@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::{Rng, hit};
+use common::{Rng, hit, nearest};
 use laserlines::math::Point2;
 use laserlines::registry::{self, ALGORITHMS};
 use laserlines::{Line, Scan};
@@ -79,11 +79,7 @@ fn scan(s: &Scanner, seed: u64, clamped: bool) -> Scan {
     let ranges = (0..s.beams)
         .map(|i| {
             let angle = angle_min + i as f64 * inc;
-            walls
-                .iter()
-                .filter_map(|&(a, b)| hit(angle, a, b))
-                .min_by(f64::total_cmp)
-                .map_or_else(&mut no_return, |r| r + s.sigma * rng.gauss())
+            nearest(angle, &walls).map_or_else(&mut no_return, |r| r + s.sigma * rng.gauss())
         })
         .collect();
     Scan::new(angle_min, inc, 0.02, s.range_max, ranges).unwrap()

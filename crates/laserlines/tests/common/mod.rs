@@ -82,3 +82,11 @@ pub fn hit(angle: f64, a: Point2, b: Point2) -> Option<f64> {
     let s = (a.x * d.y - a.y * d.x) / den;
     (t > 0.0 && (0.0..=1.0).contains(&s)).then_some(t)
 }
+
+/// Range of the beam at `angle` to the nearest of `walls` it meets, if any.
+pub fn nearest(angle: f64, walls: &[(Point2, Point2)]) -> Option<f64> {
+    walls
+        .iter()
+        .filter_map(|&(a, b)| hit(angle, a, b))
+        .min_by(f64::total_cmp)
+}
