@@ -6,13 +6,13 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use laserlines::{HoughSplit, HoughSplitParams, LineExtractor, RangeWindow};
+use laserlines::{HoughSplit, HoughSplitParams, LineExtractor};
 use laserlines_slam::cloud::{PointCloud, SurfacePoint, scan_surface};
 use laserlines_slam::icp::{IcpParams, match_points};
 use laserlines_slam::{Mapper, MapperParams, Se2};
 
 fn surface(scan: &laserlines::Scan) -> Vec<SurfacePoint> {
-    scan_surface(scan, RangeWindow::new(scan.range_min, scan.range_max), 3)
+    scan_surface(scan, scan.range_window(None), 3)
 }
 
 fn slam(c: &mut Criterion) {

@@ -1,7 +1,7 @@
 //! Metrics that need no ground truth, for real logs: how much of a scan the lines explain,
 //! and how tightly.
 //!
-//! - A valid point (a range within the scan's own `range_min..range_max`) is **explained**
+//! - A valid point (a range within the scan's own window, `Scan::range_window`) is **explained**
 //!   when its distance to the nearest extracted line *segment* (not the infinite line) is at
 //!   most `max(distance, distance_per_metre * range)`; by default three standard deviations of
 //!   the URG-04LX range noise, 15 mm up to 1 m and 1.5 % of the range beyond.

@@ -11,8 +11,10 @@
 //!   a single beam);
 //! - `range_min`/`range_max` come from the channel metadata keys `range_min` and `range_max`
 //!   (which laserlines writes), widened to take in every finite positive range of the
-//!   message, so that no range the writer kept becomes invalid; without them they are 0 and
-//!   the largest finite range (1 m when there is none);
+//!   message, so that no range the writer kept becomes invalid (`range_max` then lies just
+//!   above the largest, a reading of the limit itself being no return; one equal to the
+//!   metadata's `range_max` stays no return); without them they are 0 and just above the
+//!   largest finite range (1 m when there is none);
 //! - the message's own `pose` (the scan's origin in its frame) is not used: laserlines scans
 //!   are in the sensor frame.
 
@@ -164,10 +166,12 @@ pub fn scan_from_foxglove(msg: &LaserScan, limits: RangeLimits, fallback_stamp: 
         (Some(min), None) => min.max(0.0),
         (None, _) => 0.0,
     };
+    // A reading of the limit itself is no return (`laserlines::scan::saturated_below`): a
+    // limit taken from the data lies just above its largest range.
     let range_max = match (limits.max, largest) {
-        (Some(max), Some(l)) => max.max(l),
-        (Some(max), None) => max,
-        (None, Some(l)) => l,
+        (Some(max), Some(l)) if l > max => l.next_up(),
+        (Some(max), _) => max,
+        (None, Some(l)) => l.next_up(),
         (None, None) => 1.0,
     };
     Scan {
@@ -296,14 +300,15 @@ mod tests {
             0.5,
             0.1,
             4.0,
-            vec![1.0, 5.0, 0.05, f64::INFINITY, 4.0],
+            vec![1.0, 5.0, 0.05, f64::INFINITY, 4.0, 3.9],
         )
         .unwrap();
         scan.stamp = Some(3.25);
         let m = foxglove_from_scan(&scan, "laser", 3.25);
-        assert_eq!(m.ranges[0], 1.0);
-        assert!(m.ranges[1].is_nan() && m.ranges[2].is_nan() && m.ranges[3].is_nan());
-        assert_eq!(m.end_angle, 1.0);
+        assert_eq!((m.ranges[0], m.ranges[5]), (1.0, 3.9));
+        // Beyond the limits, and the limit itself (no return).
+        assert!(m.ranges[1..5].iter().all(|r| r.is_nan()));
+        assert_eq!(m.end_angle, 1.5);
         let limits = RangeLimits {
             min: Some(0.1),
             max: Some(4.0),
@@ -315,14 +320,14 @@ mod tests {
         back.validate().unwrap();
         // Without metadata: every finite positive range is valid.
         let bare = scan_from_foxglove(&m, RangeLimits::default(), 0.0);
-        assert_eq!((bare.range_min, bare.range_max), (0.0, 4.0));
+        assert_eq!((bare.range_min, bare.range_max), (0.0, 3.9f64.next_up()));
         // Metadata narrower than the data is widened.
         let narrow = RangeLimits {
             min: Some(2.0),
             max: Some(3.0),
         };
         let wide = scan_from_foxglove(&m, narrow, 0.0);
-        assert_eq!((wide.range_min, wide.range_max), (1.0, 4.0));
+        assert_eq!((wide.range_min, wide.range_max), (1.0, 3.9f64.next_up()));
     }
 
     #[test]

@@ -159,12 +159,13 @@ impl LogFeed {
 /// meets the chord between their points (exact on a straight surface, so a sensor finer than
 /// the log sees no staircase of repeated readings); across a wider depth step, or beside a
 /// beam without a return, it takes the beam nearest in angle. Steps outside the
-/// log's scan, and beams that are no return (NaN, beyond the log's `range_max`), read 0 (no
-/// echo); error codes kept as ranges below `range_min` (URG logs keep 1..19 mm) are sent as
-/// they are.
+/// log's scan, and beams that are no return (NaN, at or beyond the log's `range_max`: beyond
+/// the top of its window, [`Scan::range_window`]), read 0 (no echo); error codes kept as
+/// ranges below `range_min` (URG logs keep 1..19 mm) are sent as they are.
 #[must_use]
 pub fn resample(scan: &Scan, model: &Model) -> Vec<u32> {
     let inc = scan.angle_increment;
+    let hi = scan.range_window(None).max;
     (model.amin..=model.amax)
         .map(|step| {
             if scan.ranges.is_empty() || inc == 0.0 || !inc.is_finite() {
@@ -175,8 +176,8 @@ pub fn resample(scan: &Scan, model: &Model) -> Vec<u32> {
             if k < 0.0 || k >= scan.ranges.len() as f64 {
                 return 0;
             }
-            let r = between(scan, t).unwrap_or(scan.ranges[k as usize]);
-            if r > scan.range_max {
+            let r = between(scan, hi, t).unwrap_or(scan.ranges[k as usize]);
+            if r > hi {
                 return 0;
             }
             to_mm(r, model)
@@ -190,12 +191,13 @@ pub fn resample(scan: &Scan, model: &Model) -> Vec<u32> {
 const SURFACE_SLOPE: f64 = 5.67;
 
 /// The range at the fractional beam `t` of `scan` on the chord between the points of the
-/// beams either side of it, when both returned (within the range limits) and their ranges
+/// beams either side of it, when both returned (within the scan's window) and their ranges
 /// differ by at most what one surface gives ([`SURFACE_SLOPE`] times the nearer range times
 /// the angle between them, plus 2 cm: 9 cm at 2 m between a URG-04LX's beams, so that a
 /// smaller step, a post just in front of a wall, is bridged as one surface would be);
-/// `None` otherwise, on a beam exactly, and for beams more than 0.1 rad apart.
-fn between(scan: &Scan, t: f64) -> Option<f64> {
+/// `None` otherwise, on a beam exactly, and for beams more than 0.1 rad apart. `hi` is the
+/// top of the scan's window.
+fn between(scan: &Scan, hi: f64, t: f64) -> Option<f64> {
     let dphi = scan.angle_increment;
     if dphi.abs() > 0.1 {
         return None;
@@ -207,7 +209,7 @@ fn between(scan: &Scan, t: f64) -> Option<f64> {
     }
     let k0 = k0 as usize;
     let (&r0, &r1) = (scan.ranges.get(k0)?, scan.ranges.get(k0 + 1)?);
-    let valid = |r: f64| r >= scan.range_min && r <= scan.range_max;
+    let valid = |r: f64| r >= scan.range_min && r <= hi;
     if !(valid(r0) && valid(r1)) || (r1 - r0).abs() > SURFACE_SLOPE * r0.min(r1) * dphi.abs() + 0.02
     {
         return None;

@@ -107,7 +107,7 @@ fn readings_of_the_range_limit_are_no_return_for_every_extractor() {
 
 #[test]
 fn a_reading_just_below_the_limit_is_still_a_point() {
-    // The window keeps every reading below the limit: a wall 5.59 m away, 10 cm short of a
+    // The window keeps every reading below the limit: a wall 5.59 m away, 1 cm short of a
     // URG-04LX's limit, is one line.
     let (beams, inc) = (682, (360.0f64 / 1024.0).to_radians());
     let angle_min = -0.5 * (beams - 1) as f64 * inc;

@@ -2,8 +2,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 #![allow(dead_code)]
 
+use laserlines::Scan;
 use laserlines::math::{Isometry2, Point2, Vector2};
-use laserlines::{RangeWindow, Scan};
 use laserlines_sim::{LaserModel, Rng, World, simulate};
 use laserlines_slam::Se2;
 use laserlines_slam::cloud::{PointCloud, SurfacePoint, scan_surface};
@@ -47,7 +47,7 @@ pub fn scan_at(world: &World, pose: Se2, model: &LaserModel, rng: &mut Rng) -> S
 
 /// The scan's points that have normals (sensor frame).
 pub fn surface(scan: &Scan) -> Vec<SurfacePoint> {
-    scan_surface(scan, RangeWindow::new(scan.range_min, scan.range_max), 3)
+    scan_surface(scan, scan.range_window(None), 3)
 }
 
 /// A cloud of the scan's surface points seen from `pose`.

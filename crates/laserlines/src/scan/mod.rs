@@ -181,7 +181,8 @@ impl Scan {
         self.view().full_turn()
     }
 
-    /// The window of valid ranges for this scan: its own limits, narrowed by `extra`.
+    /// The window of valid ranges for this scan: its own limits, narrowed by `extra`
+    /// ([`ScanView::range_window`]: a reading of `range_max` itself is no return).
     #[must_use]
     pub fn range_window(&self, extra: Option<RangeWindow>) -> RangeWindow {
         self.view().range_window(extra)
