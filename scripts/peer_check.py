@@ -382,7 +382,8 @@ def foxglove_expected(s):
         "angle_min": s["start_angle"],
         "angle_increment": (s["end_angle"] - s["start_angle"]) / (n - 1),
         "range_min": 0.0,
-        "range_max": max(finite),
+        # Just above the largest range: a reading of the limit itself is no return.
+        "range_max": math.nextafter(max(finite), math.inf),
         "ranges": [num(r) for r in s["ranges"]],
         "intensities": s["intensities"] or None,
     }
@@ -706,7 +707,8 @@ def check_writer(bin_, fails, tmp):
             fails.eq(f"{w} end_angle", m.end_angle, rec["angle_min"] + (n - 1) * rec["angle_increment"])
             fails.eq(f"{w} beams", len(m.ranges), n)
             for i, (a, b) in enumerate(zip(m.ranges, rec["ranges"])):
-                valid = b is not None and b > 0 and rec["range_min"] <= b <= rec["range_max"]
+                # Below the limit: a reading of the limit itself is no return.
+                valid = b is not None and b > 0 and rec["range_min"] <= b < rec["range_max"]
                 fails.eq(f"{w} ranges[{i}]", a, b if valid else float("nan"))
             fails.eq(f"{w} intensities", list(m.intensities), rec.get("intensities", []))
             if k == 0:
