@@ -48,11 +48,8 @@ pub fn clamped(ranges: &[f64], range_min: f64, range_max: f64) -> bool {
     if at_limit < CLAMPED_READINGS {
         return false;
     }
-    let lo = range_min.max(f64::from_bits(1));
-    let within = ranges
-        .iter()
-        .filter(|&&r| (r >= lo) & (r <= range_max))
-        .count();
+    let limits = RangeWindow::new(range_min, range_max);
+    let within = ranges.iter().filter(|&&r| limits.contains(r)).count();
     at_limit * CLAMPED_SHARE >= within
 }
 
