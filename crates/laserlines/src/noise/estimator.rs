@@ -1,6 +1,7 @@
 //! The estimate of [`NoiseModel::Auto`](super::NoiseModel::Auto) (see the module docs of
 //! [`crate::noise`]).
 
+use super::chords::Chords;
 use super::envelope::{FarEnd, fit_lower_envelope, median_sigma, quartile_sigma};
 use super::tails::{QUARTERS, Tails};
 use super::{RangeNoise, SPARSE_DROPOUT, lag_for};
@@ -49,6 +50,8 @@ pub struct NoiseEstimator {
     tails: Tails,
     /// The far ends of the last scan.
     far: Vec<FarEnd>,
+    /// The factors of a sparse scan's triples, for the last increment.
+    chords: Chords,
 }
 
 /// The finest range resolution looked for, m: no 2D scanner reports ranges finer than 0.1 mm,
@@ -249,8 +252,8 @@ impl NoiseEstimator {
         let valid = valid_in(window);
         let r = scan.ranges;
         let lag = lag_for(scan.angle_increment);
-        let inc = scan.angle_increment.abs();
         let max_gap = 3 * lag;
+        self.chords.prepare(scan.angle_increment.abs(), max_gap);
         let mut prev: [Option<usize>; 2] = [None, None];
         for (i, &ri) in r.iter().enumerate() {
             if !valid(ri) {
@@ -261,13 +264,10 @@ impl NoiseEstimator {
                 && i - i1 <= max_gap
             {
                 let (r0, r1, r2) = (r[i0], r[i1], ri);
-                let (a, b) = ((i1 - i0) as f64 * inc, (i - i1) as f64 * inc);
-                let ab = a + b;
-                let predicted = r0 * r2 * ab.sin() / (r0 * a.sin() + r2 * b.sin());
-                let spread = 6.0 * ab + 0.1;
-                let scale = (1.5 / (1.0 + (a * a + b * b) / (ab * ab))).sqrt();
-                let e = (r1 - predicted).abs() * scale;
-                if (r2 - r0).abs() <= spread * r1 && e <= 0.25 * r1 {
+                let p = self.chords.pair(i1 - i0, i - i1);
+                let predicted = r0 * r2 * p.sin_ab / (r0 * p.sin_a + r2 * p.sin_b);
+                let e = (r1 - predicted).abs() * p.scale;
+                if (r2 - r0).abs() <= p.spread * r1 && e <= 0.25 * r1 {
                     self.push(r1, e, (r2 - r0).abs());
                 }
             }

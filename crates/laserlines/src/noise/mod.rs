@@ -30,6 +30,7 @@
 //! `r0 r2 sin(a + b) / (r0 sin a + r2 sin b)` for the angles `a` and `b` between the beams, and
 //! the residual scaled to the variance of an even triple's.
 
+mod chords;
 mod envelope;
 mod estimator;
 mod tails;
