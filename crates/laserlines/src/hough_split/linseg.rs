@@ -110,11 +110,19 @@ pub(crate) fn split_is_significant(
     noise: &RangeNoise,
 ) -> bool {
     let whole = sums(pre, a, b + 1);
-    let two = sums(pre, a, m + 1).sse() + sums(pre, m, b + 1).sse();
-    // Both lines hold the shared point: n + 1 residuals, four parameters.
-    let dof = (b - a + 1).saturating_sub(3);
+    let shared = sums(pre, a, m + 1).sse() + sums(pre, m, b + 1).sse();
+    let model = variance_across(&whole, noise, p.noise_along_beams);
+    // Both lines hold the shared point: n + 1 residuals, four parameters (n apart).
+    let (two, dof) = match step_apart(pre, (a, m, b), model, p.split_significance) {
+        // Only where the shared point bends the other line by more than the noise allows
+        // (a lone outlier at the split point bends it less).
+        Some(apart) if shared - apart > p.split_significance * model => {
+            (apart, (b - a + 1).saturating_sub(4))
+        }
+        _ => (shared, (b - a + 1).saturating_sub(3)),
+    };
     let residual = if dof > 0 { two / dof as f64 } else { 0.0 };
-    let variance = variance_across(&whole, noise, p.noise_along_beams).max(residual);
+    let variance = model.max(residual);
     let sse = whole.sse();
     let drop = sse - two;
     // The drop is about the squared departure of the two lines from the one, summed over
@@ -131,6 +139,31 @@ pub(crate) fn split_is_significant(
                 p,
                 noise,
             ))
+}
+
+/// At a step (a door set back from its wall) the split point `m` lies on one side only, and
+/// the other side's line, bent through it, hides the step. The least sum of squared
+/// residuals of two lines over `seg[a..=b]` with `m` on one side alone, when the points on
+/// the two sides without it are significantly better explained by two lines than by one
+/// (else a lone outlier that a short line bends to reach would pass for a step); `None`
+/// otherwise.
+fn step_apart(
+    pre: &[FitSums],
+    (a, m, b): (usize, usize, usize),
+    model: f64,
+    significance: f64,
+) -> Option<f64> {
+    let (before, after) = (sums(pre, a, m), sums(pre, m + 1, b + 1));
+    let (sse_before, sse_after) = (before.sse(), after.sse());
+    let two = sse_before + sse_after;
+    // `n - 1` points, four parameters.
+    let dof = (b - a).saturating_sub(4);
+    let residual = if dof > 0 { two / dof as f64 } else { 0.0 };
+    if before.join(&after).sse() - two <= significance * model.max(residual) {
+        return None;
+    }
+    let with_before = sums(pre, a, m + 1).sse() + sse_after;
+    Some(with_before.min(sse_before + sums(pre, m, b + 1).sse()))
 }
 
 /// The largest angle between two lines that a bow can make, rad: 5 deg. A scanner's slowly
@@ -410,140 +443,5 @@ pub(crate) fn linseg(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn run(xy: &[(f64, f64)], p: &HoughSplitParams) -> Vec<u32> {
-        let points = crate::hough_split::points::points_at(xy);
-        let seg = Seg(&points);
-        let mut scratch = SplitScratch::default();
-        prefix_sums(seg, &mut scratch.prefix);
-        let noise = RangeNoise::new(0.002, 0.0);
-        linseg(seg, p, &noise, 8, &mut scratch);
-        scratch.breaks
-    }
-
-    #[test]
-    fn linseg_splits_an_l_at_its_corner() {
-        // An L: wall x = 1 from y = -1 up to the corner (1, 0), then wall y = 0 towards x = 0.5.
-        let mut xy = Vec::new();
-        for i in 0..=10 {
-            xy.push((1.0, -1.0 + 0.1 * f64::from(i)));
-        }
-        for i in 1..=10 {
-            xy.push((1.0 - 0.05 * f64::from(i), 0.0));
-        }
-        assert_eq!(run(&xy, &HoughSplitParams::default()), vec![0, 10, 20]);
-        assert_eq!(run(&xy, &HoughSplitParams::paper()), vec![0, 10, 20]);
-    }
-
-    #[test]
-    fn linseg_keeps_a_straight_run_whole() {
-        let xy: Vec<(f64, f64)> = (0..50).map(|i| (2.0, -1.0 + 0.04 * f64::from(i))).collect();
-        assert_eq!(run(&xy, &HoughSplitParams::default()), vec![0, 49]);
-    }
-
-    /// A wall at x = 2 of 61 points 4 cm apart, the points `off` 0.25 m nearer.
-    fn wall_with(off: std::ops::Range<usize>) -> Vec<(f64, f64)> {
-        (0..61)
-            .map(|i| {
-                let x = if off.contains(&i) { 1.75 } else { 2.0 };
-                (x, -1.2 + 0.04 * i as f64)
-            })
-            .collect()
-    }
-
-    #[test]
-    fn a_leg_in_front_of_a_wall_is_cut_out_between_its_neighbours() {
-        // Two points of a leg: a split at either leaves the other in both pieces and is
-        // not significant; the points just before and after it become break points.
-        let p = HoughSplitParams::default();
-        assert_eq!(run(&wall_with(30..32), &p), vec![0, 29, 32, 60]);
-        let uncut = HoughSplitParams {
-            cut_excursions: false,
-            ..HoughSplitParams::default()
-        };
-        assert_eq!(run(&wall_with(30..32), &uncut), vec![0, 60]);
-        // Without the significance test, the paper's split isolates it too.
-        let paper = run(&wall_with(30..32), &HoughSplitParams::paper());
-        assert!(paper.contains(&29) && paper.contains(&32), "{paper:?}");
-        // A run as long as a line's fewest points (8) is a surface of its own, never cut
-        // out as an excursion: the split goes as without the cut.
-        assert_eq!(run(&wall_with(26..34), &p), run(&wall_with(26..34), &uncut));
-    }
-
-    #[test]
-    fn an_outlier_beyond_the_distance_criterion_alone_does_not_split() {
-        // A straight wall with one point 1 cm off (5 sigma of the test's 2 mm): the paper's
-        // distance criterion splits there, the significance test does not.
-        let xy: Vec<(f64, f64)> = (0..60)
-            .map(|i| {
-                (
-                    2.0 + if i == 20 { 0.01 } else { 0.0 },
-                    -1.2 + 0.04 * f64::from(i),
-                )
-            })
-            .collect();
-        assert_eq!(run(&xy, &HoughSplitParams::default()), vec![0, 59]);
-        let paper = HoughSplitParams {
-            noise: crate::NoiseModel::Auto,
-            split_sigmas: 3.0,
-            ..HoughSplitParams::paper()
-        };
-        assert!(run(&xy, &paper).len() > 2);
-    }
-
-    /// A wall along x = 2 of 81 points 2 cm apart (the noise of the test, 2 mm, left out):
-    /// `shape(y)` moves each point in x.
-    fn wall_shaped(shape: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
-        (0..81)
-            .map(|i| {
-                let y = -0.8 + 0.02 * f64::from(i);
-                (2.0 + shape(y), y)
-            })
-            .collect()
-    }
-
-    #[test]
-    fn a_bow_within_min_bend_stays_one_line_but_a_step_or_a_bend_splits() {
-        let p = HoughSplitParams::default();
-        let tilted = HoughSplitParams {
-            min_bend: 0.0,
-            ..HoughSplitParams::default()
-        };
-        // A bow of 12 mm from crest to trough, 3 sigma of the test's noise either way.
-        let bow = wall_shaped(|y| 0.006 * (std::f64::consts::PI * y / 0.8).cos());
-        assert_eq!(run(&bow, &p), vec![0, 80]);
-        assert!(run(&bow, &tilted).len() > 2, "{:?}", run(&bow, &tilted));
-        // A step of 3 cm halfway (each line departs from the joint one by half of it, the
-        // two lie 3 cm apart), and a bend of 6 deg there (8 cm over the second half): more
-        // than a bow.
-        let step = wall_shaped(|y| if y > 0.0 { 0.03 } else { 0.0 });
-        assert!(run(&step, &p).len() > 2, "{:?}", run(&step, &p));
-        let bend = wall_shaped(|y| 0.105 * y.max(0.0));
-        assert_eq!(run(&bend, &p), vec![0, 40, 80]);
-    }
-
-    #[test]
-    fn two_short_sides_meeting_at_more_than_a_bow_s_angle_bend() {
-        // A box's corner 1 cm deep: two sides of 6 points 1 cm apart, at 10 deg from their
-        // joint line each, depart by less than `min_bend` but meet at 20 deg.
-        let xy: Vec<(f64, f64)> = (0..11)
-            .map(|i| {
-                let y = 0.01 * f64::from(i) - 0.05;
-                (1.0 + 0.176 * (0.05 - y.abs()), y)
-            })
-            .collect();
-        let points = crate::hough_split::points::points_at(&xy);
-        let seg = Seg(&points);
-        let mut pre = Vec::new();
-        prefix_sums(seg, &mut pre);
-        assert!(bends(seg, &pre, (0, 5, 10), 0.015));
-        // Seen as one plane with a bow of the same depth, it does not.
-        let flat = wall_shaped(|y| 0.004 * (1.0 - (y / 0.8).powi(2)));
-        let points = crate::hough_split::points::points_at(&flat);
-        let seg = Seg(&points);
-        prefix_sums(seg, &mut pre);
-        assert!(!bends(seg, &pre, (0, 40, 80), 0.015));
-    }
-}
+#[path = "linseg_tests.rs"]
+mod tests;
