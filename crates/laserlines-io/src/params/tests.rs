@@ -204,7 +204,7 @@ fn errors_name_the_file_the_table_and_the_key() {
          `sector_step`, `window`, `weight`, `criterion`, `group_gap`, `noise`, \
          `noise_floor`, `bridge_beams`, `bridge_incidence`, `bridge_sigmas`, \
          `bridge_max_gap`, `local_bridge`, `min_segment_points`, `split_sigmas`, \
-         `split_significance`, `min_bend`, \
+         `split_significance`, `min_bend`, `split_steps`, \
          `noise_along_beams`, `merge_collinear`, `cut_excursions`, `keep_split_bounds`, \
          `share_fits`, \
          `refine_ends`, \

@@ -93,7 +93,8 @@ pub(crate) fn variance_at(s: &FitSums, noise: &RangeNoise) -> f64 {
     (growth * r2).max(floor)
 }
 
-/// True when two lines, `seg[a..=m]` and `seg[m..=b]`, explain the points `seg[a..=b]`
+/// True when two lines, `seg[a..=m]` and `seg[m..=b]` (or, at a step, with `m` on one side
+/// alone: [`step_apart`], with `split_steps`), explain the points `seg[a..=b]`
 /// significantly better than one: the drop of the sum of squared residuals exceeds
 /// `split_significance` times the noise variance, the larger of the model's noise across the
 /// joint line ([`variance_across`]) and the two lines' own residual variance (so that noise
@@ -110,20 +111,25 @@ pub(crate) fn split_is_significant(
     noise: &RangeNoise,
 ) -> bool {
     let whole = sums(pre, a, b + 1);
+    let sse = whole.sse();
     let shared = sums(pre, a, m + 1).sse() + sums(pre, m, b + 1).sse();
     let model = variance_across(&whole, noise, p.noise_along_beams);
-    // Both lines hold the shared point: n + 1 residuals, four parameters (n apart).
-    let (two, dof) = match step_apart(pre, (a, m, b), model, p.split_significance) {
-        // Only where the shared point bends the other line by more than the noise allows
-        // (a lone outlier at the split point bends it less).
-        Some(apart) if shared - apart > p.split_significance * model => {
-            (apart, (b - a + 1).saturating_sub(4))
-        }
-        _ => (shared, (b - a + 1).saturating_sub(3)),
+    let n = b - a + 1;
+    let variance_of = |two: f64, dof: usize| {
+        let residual = if dof > 0 { two / dof as f64 } else { 0.0 };
+        model.max(residual)
     };
-    let residual = if dof > 0 { two / dof as f64 } else { 0.0 };
-    let variance = model.max(residual);
-    let sse = whole.sse();
+    // Both lines hold the shared point: n + 1 residuals, four parameters (n apart).
+    let (mut two, mut variance) = (shared, variance_of(shared, n.saturating_sub(3)));
+    // Where the shared point hides the split: only where it bends the other line by more
+    // than the noise allows (a lone outlier at the split point bends it less).
+    if p.split_steps
+        && sse - shared <= p.split_significance * variance
+        && let Some(apart) = step_apart(pre, (a, m, b), model, p.split_significance)
+        && shared - apart > p.split_significance * model
+    {
+        (two, variance) = (apart, variance_of(apart, n.saturating_sub(4)));
+    }
     let drop = sse - two;
     // The drop is about the squared departure of the two lines from the one, summed over
     // the points: a mean above `min_bend^2` departs by more at its ends or split point (a

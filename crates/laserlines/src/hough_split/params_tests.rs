@@ -40,6 +40,9 @@ fn scan_matching_caps_the_limit_on_r() {
     assert_eq!(HoughSplitParams::paper().min_bend, 0.0);
     assert_eq!(HoughSplitParams::navigation().min_bend, 0.0);
     assert!(HoughSplitParams::default().min_bend > 0.0);
+    assert!(HoughSplitParams::default().split_steps && HoughSplitParams::complete().split_steps);
+    assert!(!m.split_steps && !HoughSplitParams::navigation().split_steps);
+    assert!(!HoughSplitParams::paper().split_steps);
     assert!(!m.keep_split_bounds && !HoughSplitParams::paper().keep_split_bounds);
     assert!(!HoughSplitParams::navigation().keep_split_bounds);
     assert!(HoughSplitParams::default().keep_split_bounds);
