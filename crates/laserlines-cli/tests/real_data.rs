@@ -2,7 +2,7 @@
 //! the `complete` preset, lines from nearly every scan (a few sparse scans, with a few dozen
 //! valid beams in short runs, hold no surface of 0.15 m), a plausible number per scan; with
 //! the defaults, whose gates keep only lines known to 6 cm and 3 deg, a few more scans hold
-//! no such line (exp1: 9 of 756, exp2: 20 of 641, where the robot sees short pieces of wall
+//! no such line (exp1: 7 of 756, exp2: 17 of 641, where the robot sees short pieces of wall
 //! at glancing angles).
 //! Skips with a notice when the shared data folder is absent.
 

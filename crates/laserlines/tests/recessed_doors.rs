@@ -136,8 +136,9 @@ fn no_line_runs_across_a_recessed_door_and_the_plain_wall_stays_whole() {
 }
 
 /// A room: a wall `y = -d` from `x = -0.5` to `x = 4` with a door 0.8 m wide from `x = x0`,
-/// set back 12 cm, the wall `x = 4` and the wall `y = 1.5`, seen by a SICK LMS-like scanner at the origin (180 deg in 1 deg steps, 12 mm of
-/// noise, millimetres): the scan, the door's back and the beams that meet it.
+/// set back 12 cm, the wall `x = 4` and the wall `y = 1.5`, seen by a SICK LMS-like scanner
+/// at the origin (180 deg in 1 deg steps, 12 mm of noise, millimetres): the scan, the
+/// door's back and the beams that meet it.
 fn door_scan(d: f64, x0: f64, rng: &mut Rng) -> (Scan, (Point2, Point2), usize) {
     let p = Point2::new;
     let back = (p(x0, -d - 0.12), p(x0 + 0.8, -d - 0.12));
@@ -207,6 +208,7 @@ fn a_door_set_back_from_its_wall_seen_from_in_front_is_a_line_of_its_own() {
     }
     // Noise still tilts a door's line now and then, or a split lands inside the door and
     // leaves its last beams on no line (a door 1.5-2 m along the wall shows 8-10 beams).
+    assert_eq!(seen, 182, "the scenes changed");
     assert!(tilted.len() <= 3, "lines across wall and door: {tilted:?}");
     assert!(found * 100 >= seen * 83, "doors found: {found} of {seen}");
 }

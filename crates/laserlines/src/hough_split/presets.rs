@@ -55,8 +55,9 @@ impl HoughSplitParams {
     /// through noise larger than the beam spacing is still in the robot's way; so are the
     /// chords of a barrel (`arc_significance = 0`). Every split stands as it did (`min_bend
     /// = 0`, `split_steps = false`, `keep_split_bounds = false`): the simulator's noise has
-    /// no bows, and each change of a line moves the explorer's runs (with both, maze 17 of the acceptance runs covered
-    /// 0.777 of its floor against 1.000).
+    /// no bows, and each change of a line moves the explorer's runs (with `min_bend` and
+    /// `keep_split_bounds`, maze 17 of the acceptance runs covered 0.777 of its floor against
+    /// 1.000).
     /// The explorer of `laserlines simulate` uses it; with shared fits it covered less of the
     /// bundled big arena (8 seeds of the fence test: mean 0.897, worst 0.639, against 0.970
     /// and 0.919), and with the noise taken along the beams too (mean 0.913, worst 0.655).
