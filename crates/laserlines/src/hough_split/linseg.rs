@@ -112,29 +112,26 @@ pub(crate) fn split_is_significant(
 ) -> bool {
     let whole = sums(pre, a, b + 1);
     let sse = whole.sse();
-    let shared = sums(pre, a, m + 1).sse() + sums(pre, m, b + 1).sse();
+    let sides = (sums(pre, a, m + 1).sse(), sums(pre, m, b + 1).sse());
+    let shared = sides.0 + sides.1;
     let model = variance_across(&whole, noise, p.noise_along_beams);
     let n = b - a + 1;
-    let variance_of = |two: f64, dof: usize| {
-        let residual = if dof > 0 { two / dof as f64 } else { 0.0 };
-        model.max(residual)
-    };
     // Both lines hold the shared point: n + 1 residuals, four parameters (n apart).
-    let (mut two, mut variance) = (shared, variance_of(shared, n.saturating_sub(3)));
+    let (mut two, mut variance) = (shared, noise_variance(model, shared, n.saturating_sub(3)));
     // Where the shared point hides the split: only where it bends the other line by more
     // than the noise allows (a lone outlier at the split point bends it less).
     if p.split_steps
         && sse - shared <= p.split_significance * variance
-        && let Some(apart) = step_apart(pre, (a, m, b), model, p.split_significance)
+        && let Some(apart) = step_apart(pre, (a, m, b), sides, model, p.split_significance)
         && shared - apart > p.split_significance * model
     {
-        (two, variance) = (apart, variance_of(apart, n.saturating_sub(4)));
+        (two, variance) = (apart, noise_variance(model, apart, n.saturating_sub(4)));
     }
     let drop = sse - two;
     // The drop is about the squared departure of the two lines from the one, summed over
     // the points: a mean above `min_bend^2` departs by more at its ends or split point (a
     // corner, most often), and needs no fits of its own.
-    let (bend, n) = (p.min_bend, (b - a + 1) as f64);
+    let (bend, n) = (p.min_bend, n as f64);
     drop > p.split_significance * variance
         && (bend <= 0.0
             || drop > n * bend * bend
@@ -147,15 +144,24 @@ pub(crate) fn split_is_significant(
             ))
 }
 
+/// The variance a drop of squared residuals is measured in: the model's noise `model`, or
+/// the two lines' own residual variance (`two` over `dof`) when larger, so that noise larger
+/// than the model never makes a split significant.
+fn noise_variance(model: f64, two: f64, dof: usize) -> f64 {
+    let residual = if dof > 0 { two / dof as f64 } else { 0.0 };
+    model.max(residual)
+}
+
 /// At a step (a door set back from its wall) the split point `m` lies on one side only, and
 /// the other side's line, bent through it, hides the step. The least sum of squared
 /// residuals of two lines over `seg[a..=b]` with `m` on one side alone, when the points on
 /// the two sides without it are significantly better explained by two lines than by one
 /// (else a lone outlier that a short line bends to reach would pass for a step); `None`
-/// otherwise.
+/// otherwise. `sides` are the sums of squared residuals of `seg[a..=m]` and `seg[m..=b]`.
 fn step_apart(
     pre: &[FitSums],
     (a, m, b): (usize, usize, usize),
+    sides: (f64, f64),
     model: f64,
     significance: f64,
 ) -> Option<f64> {
@@ -163,13 +169,11 @@ fn step_apart(
     let (sse_before, sse_after) = (before.sse(), after.sse());
     let two = sse_before + sse_after;
     // `n - 1` points, four parameters.
-    let dof = (b - a).saturating_sub(4);
-    let residual = if dof > 0 { two / dof as f64 } else { 0.0 };
-    if before.join(&after).sse() - two <= significance * model.max(residual) {
+    let variance = noise_variance(model, two, (b - a).saturating_sub(4));
+    if before.join(&after).sse() - two <= significance * variance {
         return None;
     }
-    let with_before = sums(pre, a, m + 1).sse() + sse_after;
-    Some(with_before.min(sse_before + sums(pre, m, b + 1).sse()))
+    Some((sides.0 + sse_after).min(sse_before + sides.1))
 }
 
 /// The largest angle between two lines that a bow can make, rad: 5 deg. A scanner's slowly
