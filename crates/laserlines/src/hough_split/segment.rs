@@ -382,71 +382,119 @@ struct RunInput<'a> {
     min: usize,
 }
 
+/// Where the run loop of [`cut_segments`] stands: the points kept so far (`kept[..m]`), the
+/// component of the open run (`NONE` before the first) and where it starts, and the last
+/// kept point.
+struct RunState {
+    m: usize,
+    run_root: u32,
+    run_start: usize,
+    last: Pt,
+}
+
 /// The run loop of [`cut_segments`]: writes the surviving points to `kept` (as long as
 /// `points`) and their runs to `runs`; returns the number of surviving points.
+///
+/// The usual point (the next beam, in the open run's component, within `D` of the last
+/// kept point) goes on the run at once; every other point takes [`run_step`].
 fn runs_of<const BRIDGE: bool>(
     input: &RunInput<'_>,
     kept: &mut [Pt],
     runs: &mut Vec<SegmentRun>,
 ) -> usize {
     let RunInput {
-        ranges,
         points,
         cell_of,
         root_of,
         bp,
         min,
+        ..
     } = *input;
-    let mut m = 0usize;
-    let mut run_root = NONE;
-    let mut run_start = 0usize;
-    // The last kept point.
-    let mut last = Pt::default();
+    let mut st = RunState {
+        m: 0,
+        run_root: NONE,
+        run_start: 0,
+        last: Pt::default(),
+    };
+    // Without a factor for neighbouring beams, every step goes through `run_step`.
+    let quick = bp.reach() >= 1;
     for (i, (&pt, &cell)) in points.iter().zip(cell_of).enumerate() {
         let root = root_of[cell as usize];
         if root == NONE {
             continue;
         }
-        let mut gap = pt.idx - last.idx;
-        let mut far = BRIDGE && run_root != NONE && !bp.joins_across(ranges, &last, &pt, gap);
-        if far
-            && root == run_root
-            && m >= run_start + 2
-            && lone(bp, &kept[m - 2], &last, &pt)
-            && next_in(input, i, root, &kept[m - 2])
-                .is_some_and(|d| bp.joins(&kept[m - 2], (d.x, d.y), 1))
-        {
-            // The last point was the jump: it goes, and the point before it, which `pt`
-            // and the point after `pt` join, is the last.
-            m -= 1;
-            last = kept[m - 1];
-            gap = pt.idx - last.idx;
-            far = false;
-        } else if far && next_in(input, i, run_root, &last).is_some_and(|c| lone(bp, &last, &pt, c))
-        {
+        let joined = root == st.run_root
+            && pt.idx == st.last.idx + 1
+            && (!BRIDGE || (quick && bp.joins(&st.last, (pt.x, pt.y), 1)));
+        if !joined {
+            run_step::<BRIDGE>(input, i, root, kept, runs, &mut st);
             continue;
         }
-        let cut = BRIDGE
-            && (far
-                || (gap > 1
-                    && run_root != NONE
-                    && !bp.joins(&last, (pt.x, pt.y), 1)
-                    && bp.sees_through(ranges, &last, &pt)));
-        if root != run_root || cut {
-            if run_root != NONE {
-                m = close_run(runs, m, run_start, min);
-            }
-            run_root = root;
-            run_start = m;
+        kept[st.m] = pt;
+        st.m += 1;
+        st.last = pt;
+    }
+    if st.run_root != NONE {
+        st.m = close_run(runs, st.m, st.run_start, min);
+    }
+    st.m
+}
+
+/// One point of [`runs_of`], `points[i]` of the kept component `root`, in general: a jump
+/// beyond `D`, a gap, another component.
+#[inline(never)]
+fn run_step<const BRIDGE: bool>(
+    input: &RunInput<'_>,
+    i: usize,
+    root: u32,
+    kept: &mut [Pt],
+    runs: &mut Vec<SegmentRun>,
+    st: &mut RunState,
+) {
+    let RunInput {
+        ranges,
+        points,
+        bp,
+        min,
+        ..
+    } = *input;
+    let pt = points[i];
+    let mut gap = pt.idx - st.last.idx;
+    let mut far = BRIDGE && st.run_root != NONE && !bp.joins_across(ranges, &st.last, &pt, gap);
+    if far
+        && root == st.run_root
+        && st.m >= st.run_start + 2
+        && lone(bp, &kept[st.m - 2], &st.last, &pt)
+        && next_in(input, i, root, &kept[st.m - 2])
+            .is_some_and(|d| bp.joins(&kept[st.m - 2], (d.x, d.y), 1))
+    {
+        // The last point was the jump: it goes, and the point before it, which `pt`
+        // and the point after `pt` join, is the last.
+        st.m -= 1;
+        st.last = kept[st.m - 1];
+        gap = pt.idx - st.last.idx;
+        far = false;
+    } else if far
+        && next_in(input, i, st.run_root, &st.last).is_some_and(|c| lone(bp, &st.last, &pt, c))
+    {
+        return;
+    }
+    let cut = BRIDGE
+        && (far
+            || (gap > 1
+                && st.run_root != NONE
+                && !bp.joins(&st.last, (pt.x, pt.y), 1)
+                && bp.sees_through(ranges, &st.last, &pt)));
+    if root != st.run_root || cut {
+        if st.run_root != NONE {
+            st.m = close_run(runs, st.m, st.run_start, min);
         }
-        kept[m] = pt;
-        m += 1;
-        last = pt;
+        st.run_root = root;
+        st.run_start = st.m;
     }
-    if run_root != NONE {
-        m = close_run(runs, m, run_start, min);
-    }
-    m
+    kept[st.m] = pt;
+    st.m += 1;
+    st.last = pt;
 }
 
 /// How far, in sigma of the range noise, a dropped lone jump may lie from the range between
