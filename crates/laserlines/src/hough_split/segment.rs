@@ -427,7 +427,7 @@ fn runs_of<const BRIDGE: bool>(
             && pt.idx == st.last.idx + 1
             && (!BRIDGE || (quick && bp.joins(&st.last, (pt.x, pt.y), 1)));
         if !joined {
-            run_step::<BRIDGE>(input, i, root, kept, runs, &mut st);
+            st = run_step::<BRIDGE>(input, (i, root), kept, runs, st);
             continue;
         }
         kept[st.m] = pt;
@@ -445,12 +445,11 @@ fn runs_of<const BRIDGE: bool>(
 #[inline(never)]
 fn run_step<const BRIDGE: bool>(
     input: &RunInput<'_>,
-    i: usize,
-    root: u32,
+    (i, root): (usize, u32),
     kept: &mut [Pt],
     runs: &mut Vec<SegmentRun>,
-    st: &mut RunState,
-) {
+    mut st: RunState,
+) -> RunState {
     let RunInput {
         ranges,
         points,
@@ -477,7 +476,7 @@ fn run_step<const BRIDGE: bool>(
     } else if far
         && next_in(input, i, st.run_root, &st.last).is_some_and(|c| lone(bp, &st.last, &pt, c))
     {
-        return;
+        return st;
     }
     let cut = BRIDGE
         && (far
@@ -495,6 +494,7 @@ fn run_step<const BRIDGE: bool>(
     kept[st.m] = pt;
     st.m += 1;
     st.last = pt;
+    st
 }
 
 /// How far, in sigma of the range noise, a dropped lone jump may lie from the range between
