@@ -156,3 +156,26 @@ fn bad_parquet_is_a_clear_error() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("cannot read topic `/scan`"), "{err}");
 }
+
+/// A Parquet table is a file (its footer, written last, says where everything is): `convert
+/// LOG - --to parquet` is refused, as MCAP is, and writes no file named `-`.
+#[test]
+fn parquet_to_standard_output_is_refused() {
+    let dir = tmp("parquet-stdout");
+    std::fs::create_dir_all(&dir).unwrap();
+    let o = bin()
+        .current_dir(&dir)
+        .arg("convert")
+        .arg(excerpt())
+        .args(["-", "--to", "parquet"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("Parquet output must be a file, not standard output"),
+        "{err}"
+    );
+    assert!(o.stdout.is_empty());
+    assert!(!dir.join("-").exists());
+}

@@ -78,7 +78,8 @@ fn open_parquet(path: &Path, options: &ReadOptions) -> Result<ScanReader, ReadEr
 }
 
 /// `path` when it names a Parquet file to write: `.parquet`, not `.parquet.gz` (Parquet
-/// compresses its pages itself; a gzipped table is no Parquet file).
+/// compresses its pages itself; a gzipped table is no Parquet file), and not `-` (standard
+/// output).
 fn parquet_name(path: &Path) -> Result<&Path, WriteError> {
     let gz = path
         .extension()
@@ -88,6 +89,13 @@ fn parquet_name(path: &Path) -> Result<&Path, WriteError> {
             file: path.display().to_string(),
             expected: "a Parquet file named .parquet (Parquet compresses its pages itself; \
                        .parquet.gz is not written)",
+        });
+    }
+    if path == Path::new("-") {
+        // Its footer, written last, says where every column is: a file, not a stream.
+        return Err(WriteError::Io {
+            file: "-".to_owned(),
+            source: std::io::Error::other("Parquet output must be a file, not standard output"),
         });
     }
     Ok(path)

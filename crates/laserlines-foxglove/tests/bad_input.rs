@@ -171,6 +171,43 @@ fn a_corrupt_chunk_is_a_counted_error_and_the_next_chunks_still_read() {
     }
 }
 
+/// A file of one chunk whose chunk is damaged lost its channels' definitions with it: the
+/// summary's `Channel` records stand in for them, so the scans it held are counted from the
+/// statistics, and no "topic not found" error is added to the chunk's own.
+#[test]
+fn a_corrupt_only_chunk_counts_its_scans_from_the_summary() {
+    for c in [None, Some(mcap::Compression::Zstd)] {
+        let options = mcap::WriteOptions::new()
+            .compression(c)
+            .chunk_size(Some(1 << 20));
+        let mut w = McapSceneWriter::with_options(Cursor::new(Vec::new()), "t", options).unwrap();
+        for r in records(5) {
+            w.write_scan(&r).unwrap();
+        }
+        let data = w.finish().unwrap().into_inner();
+        let chunks: Vec<(usize, usize)> = top_records(&data)
+            .into_iter()
+            .filter(|(op, _, _)| *op == mcap::records::op::CHUNK)
+            .map(|(_, at, end)| (at, end))
+            .collect();
+        assert_eq!(chunks.len(), 1, "{c:?}");
+        let (at, end) = chunks[0];
+        let mut bad = data.clone();
+        for b in &mut bad[end - 12..end - 4] {
+            *b ^= 0x5a;
+        }
+        let mut reader =
+            read::from_reader("one.mcap", Cursor::new(bad), &McapReadOptions::default()).unwrap();
+        let items: Vec<_> = reader.by_ref().collect();
+        let errors: Vec<_> = items.iter().filter_map(|r| r.as_ref().err()).collect();
+        assert_eq!(errors.len(), 1, "{c:?}: {errors:?}");
+        let e = byte_of(errors[0]);
+        assert!(e >= at as u64 && e < end as u64, "{c:?}: {}", errors[0]);
+        assert!(items.iter().all(Result::is_err), "{c:?}");
+        assert_eq!(reader.skipped().get(read::SKIP_LOST_SCAN), 5, "{c:?}");
+    }
+}
+
 #[test]
 fn a_huge_record_length_ends_the_reader_without_allocating_it() {
     let mut data = mcap_bytes(2, None);

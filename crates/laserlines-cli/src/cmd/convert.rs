@@ -18,14 +18,16 @@ pub struct ConvertArgs {
     #[command(flatten)]
     input: InputArgs,
     /// Output file: .mcap (Foxglove: /scan, and /tf when the input has poses), .parquet (one
-    /// row per scan), .json, .jsonl or .csv (one scan per file; optionally .gz, but not
-    /// .mcap.gz or .parquet.gz); `-` for stdout with --to.
+    /// row per scan), .json (one scan, or an array of them), .jsonl or .csv (one scan per
+    /// file); .json, .jsonl and .csv optionally .gz; `-` for stdout with --to (not for MCAP or
+    /// Parquet, which are files).
     output: PathBuf,
     /// Output format, overriding the extension (json, jsonl, csv, mcap, parquet).
     #[arg(long)]
     to: Option<String>,
     /// Convert only scan K (0-based, counting the scans read, as `render --scan` does): one
-    /// scan of a log for a format that holds one (.json, .csv).
+    /// scan of a log for a format that holds one (.csv), or a single object rather than an
+    /// array (.json).
     #[arg(long, value_name = "K")]
     scan: Option<usize>,
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.
@@ -104,7 +106,7 @@ fn one_scan_hint(e: anyhow::Error) -> anyhow::Error {
     });
     if one_per_file {
         anyhow!(
-            "{} (--scan K converts one scan of the log; .jsonl, .mcap and .parquet hold them all)",
+            "{} (--scan K converts one scan of the log; .json, .jsonl, .mcap and .parquet hold them all)",
             laserlines_io::error_chain(e.as_ref())
         )
     } else {

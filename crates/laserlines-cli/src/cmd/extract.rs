@@ -168,7 +168,17 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
             return Err(e);
         }
     };
-    closed?;
+    if let Err(e) = closed {
+        // Every write went into the buffers and the output failed as they were flushed (a
+        // full disk under a short run): the same summary as a failed write.
+        errln!(
+            "{name}: {} with {} extracted before the output failed, in {:.2} s",
+            super::count(totals.scans, "scan"),
+            super::count(totals.lines, "line"),
+            start.elapsed().as_secs_f64()
+        );
+        return Err(e);
+    }
     anyhow::ensure!(
         waiting.is_empty(),
         "internal error: {} batches were extracted but never written",

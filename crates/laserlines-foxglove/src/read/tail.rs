@@ -1,9 +1,11 @@
 //! The end of an MCAP file after its `DataEnd` record: the summary section, the `Footer`
 //! record and the closing magic. They are skimmed, not trusted: when they are cut short, the
 //! messages were all read, and the cut is counted as a skip ([`SKIP_CUT_SUMMARY`]) instead of
-//! passing unnoticed. Of the summary only the `Statistics` record is read: its message count
-//! per channel tells how many scans of the topic read were in records or chunks that could
-//! not be read ([`SKIP_LOST_SCAN`]), so that a skipped chunk reports the scans it held.
+//! passing unnoticed. Of the summary only the `Statistics` record is read, and the `Schema`
+//! and `Channel` records of channels the data section never defined: the message count per
+//! channel tells how many scans of the topic read were in records or chunks that could not be
+//! read ([`SKIP_LOST_SCAN`]), so that a skipped chunk reports the scans it held, even when it
+//! held the channel's own definition (a file of one chunk).
 
 use std::io::Read;
 
@@ -11,7 +13,7 @@ use laserlines_io::SkipCounts;
 use mcap::records::op;
 
 use super::channels::Role;
-use super::records::Body;
+use super::records::{Body, Loc};
 use super::{MAGIC, McapScanSource};
 
 /// The skip reason of a file whose summary section, footer or closing magic is cut short.
@@ -62,9 +64,33 @@ impl McapScanSource {
         if !whole {
             skipped.add(SKIP_CUT_SUMMARY);
         }
+        self.learn_channels(&summary, self.pos);
         skipped.add_n(SKIP_LOST_SCAN, self.scans_never_met(&summary));
         self.pos += total;
         self.finish_input(self.pos);
+    }
+
+    /// Takes the `Schema` and `Channel` records of the summary (which starts at byte `start`)
+    /// for the schemas and channels the data section did not define: their definitions were in
+    /// a record or chunk that could not be read. A summary record that does not parse is passed
+    /// over; the summary is not trusted.
+    fn learn_channels(&mut self, summary: &[u8], start: u64) {
+        let mut at = 0usize;
+        while let Some((opcode, body)) = record_at(summary, at) {
+            let known = |id: Option<u16>, ids: &dyn Fn(u16) -> bool| id.is_none_or(ids);
+            let id = body.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]]));
+            match opcode {
+                op::SCHEMA if !known(id, &|i| self.schemas.contains_key(&i)) => {
+                    let _ = self.handle_schema(body);
+                }
+                op::CHANNEL if !known(id, &|i| self.channels.contains_key(&i)) => {
+                    let _ = self.handle_channel(body, Loc::File(start + at as u64));
+                }
+                op::FOOTER => return,
+                _ => {}
+            }
+            at += 9 + body.len();
+        }
     }
 
     /// The scans of the topic read that the summary's `Statistics` record counts beyond those
@@ -86,13 +112,18 @@ impl McapScanSource {
     }
 }
 
+/// The record at byte `at` of `summary`: its opcode and body, when it is there whole.
+fn record_at(summary: &[u8], at: usize) -> Option<(u8, &[u8])> {
+    let head = summary.get(at..at.checked_add(9)?)?;
+    let len = usize::try_from(u64::from_le_bytes(head[1..9].try_into().ok()?)).ok()?;
+    let body = summary.get(at + 9..(at + 9).checked_add(len)?)?;
+    Some((head[0], body))
+}
+
 /// The channel message counts of the first `Statistics` record among the summary's records.
 fn statistics(summary: &[u8]) -> Option<Vec<(u16, u64)>> {
     let mut at = 0usize;
-    while summary.len().saturating_sub(at) >= 9 {
-        let opcode = summary[at];
-        let len = u64::from_le_bytes(summary[at + 1..at + 9].try_into().ok()?);
-        let body = summary.get(at + 9..(at + 9).checked_add(usize::try_from(len).ok()?)?)?;
+    while let Some((opcode, body)) = record_at(summary, at) {
         if opcode == op::STATISTICS {
             return channel_counts(body).ok();
         }
