@@ -130,6 +130,24 @@ fn a_truncated_file_gives_its_scans_then_an_error_at_the_cut() {
     }
 }
 
+/// The chunks among the top-level records: (offset, end).
+fn chunks_of(data: &[u8]) -> Vec<(usize, usize)> {
+    top_records(data)
+        .into_iter()
+        .filter(|(op, _, _)| *op == mcap::records::op::CHUNK)
+        .map(|(_, at, end)| (at, end))
+        .collect()
+}
+
+/// `data` with the last bytes of the records of the chunk ending at `end` damaged.
+fn damaged(data: &[u8], end: usize) -> Vec<u8> {
+    let mut bad = data.to_vec();
+    for b in &mut bad[end - 12..end - 4] {
+        *b ^= 0x5a;
+    }
+    bad
+}
+
 #[test]
 fn a_corrupt_chunk_is_a_counted_error_and_the_next_chunks_still_read() {
     for c in [
@@ -138,18 +156,11 @@ fn a_corrupt_chunk_is_a_counted_error_and_the_next_chunks_still_read() {
         Some(mcap::Compression::Lz4),
     ] {
         let data = mcap_bytes(6, c);
-        let chunks: Vec<(usize, usize)> = top_records(&data)
-            .into_iter()
-            .filter(|(op, _, _)| *op == mcap::records::op::CHUNK)
-            .map(|(_, at, end)| (at, end))
-            .collect();
+        let chunks = chunks_of(&data);
         assert!(chunks.len() >= 3, "{c:?}: {} chunks", chunks.len());
         // Damage the last bytes of the second chunk's records.
         let (second, next) = chunks[1];
-        let mut bad = data.clone();
-        for b in &mut bad[next - 12..next - 4] {
-            *b ^= 0x5a;
-        }
+        let bad = damaged(&data, next);
         let mut reader =
             read::from_reader("bad.mcap", Cursor::new(bad), &McapReadOptions::default()).unwrap();
         let items: Vec<_> = reader.by_ref().collect();
@@ -185,17 +196,10 @@ fn a_corrupt_only_chunk_counts_its_scans_from_the_summary() {
             w.write_scan(&r).unwrap();
         }
         let data = w.finish().unwrap().into_inner();
-        let chunks: Vec<(usize, usize)> = top_records(&data)
-            .into_iter()
-            .filter(|(op, _, _)| *op == mcap::records::op::CHUNK)
-            .map(|(_, at, end)| (at, end))
-            .collect();
+        let chunks = chunks_of(&data);
         assert_eq!(chunks.len(), 1, "{c:?}");
         let (at, end) = chunks[0];
-        let mut bad = data.clone();
-        for b in &mut bad[end - 12..end - 4] {
-            *b ^= 0x5a;
-        }
+        let bad = damaged(&data, end);
         let mut reader =
             read::from_reader("one.mcap", Cursor::new(bad), &McapReadOptions::default()).unwrap();
         let items: Vec<_> = reader.by_ref().collect();

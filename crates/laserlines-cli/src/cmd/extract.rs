@@ -148,35 +148,32 @@ pub fn run(args: &ExtractArgs) -> Result<()> {
         );
         return Ok(());
     }
+    // What was written before an error, then the error itself (from `main`).
+    let stopped = |done: &str| {
+        errln!(
+            "{name}: {} with {} {done}, in {:.2} s",
+            super::count(totals.scans, "scan"),
+            super::count(totals.lines, "line"),
+            start.elapsed().as_secs_f64()
+        );
+    };
     let waiting = match written {
         Ok(waiting) => waiting,
         Err(e) => {
-            // What was written before the error, then the error itself (from `main`). A bad
-            // record leaves the scans before it in a closed output; an output that failed
-            // (a full disk) may hold none of them.
-            let done = if totals.input_stopped && closed.is_ok() {
+            // A bad record leaves the scans before it in a closed output; an output that
+            // failed (a full disk) may hold none of them.
+            stopped(if totals.input_stopped && closed.is_ok() {
                 "written before the error"
             } else {
                 "extracted before the output failed"
-            };
-            errln!(
-                "{name}: {} with {} {done}, in {:.2} s",
-                super::count(totals.scans, "scan"),
-                super::count(totals.lines, "line"),
-                start.elapsed().as_secs_f64()
-            );
+            });
             return Err(e);
         }
     };
     if let Err(e) = closed {
         // Every write went into the buffers and the output failed as they were flushed (a
-        // full disk under a short run): the same summary as a failed write.
-        errln!(
-            "{name}: {} with {} extracted before the output failed, in {:.2} s",
-            super::count(totals.scans, "scan"),
-            super::count(totals.lines, "line"),
-            start.elapsed().as_secs_f64()
-        );
+        // full disk under a short run).
+        stopped("extracted before the output failed");
         return Err(e);
     }
     anyhow::ensure!(
