@@ -18,7 +18,7 @@ pub struct ConvertArgs {
     #[command(flatten)]
     input: InputArgs,
     /// Output file: .mcap (Foxglove: /scan, and /tf when the input has poses), .parquet (one
-    /// row per scan), .json (one scan, or an array of them), .jsonl or .csv (one scan per
+    /// row per scan), .json (one scan, or an array of them), .jsonl, or .csv (one scan per
     /// file); .json, .jsonl and .csv optionally .gz; `-` for stdout with --to (not for MCAP or
     /// Parquet, which are files).
     output: PathBuf,

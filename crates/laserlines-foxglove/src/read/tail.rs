@@ -77,16 +77,16 @@ impl McapScanSource {
     fn learn_channels(&mut self, summary: &[u8], start: u64) {
         let mut at = 0usize;
         while let Some((opcode, body)) = record_at(summary, at) {
-            let known = |id: Option<u16>, ids: &dyn Fn(u16) -> bool| id.is_none_or(ids);
+            // Both records start with their id.
             let id = body.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]]));
-            match opcode {
-                op::SCHEMA if !known(id, &|i| self.schemas.contains_key(&i)) => {
+            match (opcode, id) {
+                (op::SCHEMA, Some(id)) if !self.schemas.contains_key(&id) => {
                     let _ = self.handle_schema(body);
                 }
-                op::CHANNEL if !known(id, &|i| self.channels.contains_key(&i)) => {
+                (op::CHANNEL, Some(id)) if !self.channels.contains_key(&id) => {
                     let _ = self.handle_channel(body, Loc::File(start + at as u64));
                 }
-                op::FOOTER => return,
+                (op::FOOTER, _) => return,
                 _ => {}
             }
             at += 9 + body.len();
