@@ -86,6 +86,12 @@ pub fn run(args: &MapArgs) -> Result<()> {
         map_outputs::prepare_dir(&args.output)?;
         return map_log(args, &name, reader, None, start)?.map_or(Ok(()), Err);
     };
+    let params = args.params.file_path();
+    let inputs: Vec<&std::path::Path> = [Some(args.input.input.as_path()), params]
+        .into_iter()
+        .flatten()
+        .collect();
+    super::refuse_recording_over(path, &inputs, &args.output, &map_outputs::OUTPUT_FILES)?;
     // The MCAP too, first; removed when the mapping fails, so that no empty or partial file
     // is left where a run was expected.
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -115,9 +121,22 @@ struct Mapped {
     log_odometry: Vec<Option<laserlines_io::Pose2>>,
     /// Each scan with its lines, for the MCAP (empty without `--mcap`).
     kept: Vec<(ScanRecord, Vec<laserlines::Line>)>,
-    /// The bad record (or read error) that ended the reading, without `--skip-bad`.
-    stopped: Option<laserlines_io::ReadError>,
+    /// What ended the reading, without `--skip-bad`.
+    stopped: Option<Stop>,
+    /// Scans skipped with `--skip-bad` for want of odometry under `--odometry on`.
+    without_odometry: u64,
 }
+
+/// What ended the reading of a log before its end.
+enum Stop {
+    /// A bad record, or a read error.
+    Read(laserlines_io::ReadError),
+    /// A scan without odometry under `--odometry on` (the error names it).
+    NoOdometry(anyhow::Error),
+}
+
+/// The reason `--skip-bad` counts a scan without odometry under.
+const NO_ODOMETRY: &str = "scan without odometry (--odometry on)";
 
 /// Maps the scans of `reader` and writes the outputs (and the MCAP to `mcap`, when given).
 /// A bad record without `--skip-bad` ends the reading: the scans before it are mapped and
@@ -139,7 +158,8 @@ fn map_log(
     let run = read_and_map(args, name, &mut reader, &mut mapper, &progress)?;
     if run.stamps.is_empty() {
         return Err(match run.stopped {
-            Some(e) => e.into(),
+            Some(Stop::Read(e)) => e.into(),
+            Some(Stop::NoOdometry(e)) => e,
             None => super::no_scans(name, reader.skipped()),
         });
     }
@@ -175,7 +195,12 @@ fn map_log(
     );
     // What the reader left out by design (other messages of a log, readings sharing a beam)
     // is said too, not only the bad records of --skip-bad.
-    let skipped = skipped_besides(reader.skipped(), run.stopped.as_ref());
+    let stopped_read = match &run.stopped {
+        Some(Stop::Read(e)) => Some(e),
+        _ => None,
+    };
+    let mut skipped = skipped_besides(reader.skipped(), stopped_read);
+    skipped.add_n(NO_ODOMETRY, run.without_odometry);
     if args.skip_bad || !skipped.is_empty() {
         errln!("{name}: skipped: {skipped}");
     }
@@ -232,7 +257,7 @@ fn read_and_map(
                 continue;
             }
             Err(e) => {
-                run.stopped = Some(e);
+                run.stopped = Some(Stop::Read(e));
                 break;
             }
         };
@@ -247,7 +272,20 @@ fn read_and_map(
                 OnOff::Off
             }
         });
-        let odometry = odometry_of(&record, on_off, name, k)?;
+        // The scan's index in the log, counting those skipped for want of odometry.
+        let index = k + run.without_odometry as usize;
+        let odometry = match odometry_of(&record, on_off, name, index) {
+            Ok(o) => o,
+            Err(e) if args.skip_bad => {
+                progress.suspend(|| errln!("laserlines: skipped: {e:#}"));
+                run.without_odometry += 1;
+                continue;
+            }
+            Err(e) => {
+                run.stopped = Some(Stop::NoOdometry(e));
+                break;
+            }
+        };
         extractor.extract_into(&record.scan, &mut lines);
         mapper
             .add_scan(&record.scan, &lines, odometry)
@@ -263,15 +301,19 @@ fn read_and_map(
     Ok(run)
 }
 
-/// The error that ends a run stopped by `e` after `mapped` scans, saying what was written.
-fn stopped_error(
-    e: laserlines_io::ReadError,
-    name: &str,
-    mapped: usize,
-    args: &MapArgs,
-) -> anyhow::Error {
+/// The error that ends a run stopped by `stop` after `mapped` scans, saying what was written.
+fn stopped_error(stop: Stop, name: &str, mapped: usize, args: &MapArgs) -> anyhow::Error {
     let mapped = super::count(mapped as u64, "scan");
     let dir = args.output.display();
+    let e = match stop {
+        Stop::Read(e) => e,
+        Stop::NoOdometry(e) => {
+            return e.context(format!(
+                "{name}: stopped at a scan without odometry; the map of the {mapped} before \
+                 it is written ({dir}; --skip-bad skips such scans)"
+            ));
+        }
+    };
     if e.is_bad_record() {
         anyhow::Error::from(e).context(format!(
             "{name}: stopped at a bad record; the map of the {mapped} before it is written \

@@ -127,6 +127,18 @@ pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
     Ok(files)
 }
 
+/// Every file `map` writes in its output folder.
+pub const OUTPUT_FILES: [&str; 8] = [
+    "trajectory.tum",
+    "log-poses.tum",
+    "odometry.tum",
+    "lines.json",
+    "map.pgm",
+    "map.yaml",
+    "map.png",
+    "map.svg",
+];
+
 /// The files of the occupancy grid.
 const MAP_FILES: [&str; 4] = ["map.pgm", "map.yaml", "map.png", "map.svg"];
 

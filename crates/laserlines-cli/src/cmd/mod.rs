@@ -16,7 +16,7 @@ pub mod view;
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, anyhow};
+use anyhow::{Context, Result, anyhow, bail};
 use laserlines::HoughSplit;
 use laserlines::registry::{self, BoxedExtractor};
 use laserlines_io::params::ParamsFile;
@@ -47,6 +47,63 @@ pub fn refuse_same_file(input: &Path, output: &Path) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// Refuses a recording (`--mcap`) that would overwrite a file the command reads (`inputs`,
+/// the same file by any name) or one of the files `names` it writes in its output folder
+/// `dir`: the recording is written first or last, and either way one of the two is lost.
+pub fn refuse_recording_over(
+    mcap: &Path,
+    inputs: &[&Path],
+    dir: &Path,
+    names: &[&str],
+) -> Result<()> {
+    for input in inputs {
+        refuse_same_file(input, mcap).context("--mcap")?;
+    }
+    let name = mcap.file_name().and_then(|n| n.to_str());
+    let folder = mcap.parent().unwrap_or(Path::new(""));
+    if name.is_some_and(|n| names.contains(&n)) && same_folder(folder, dir) {
+        bail!(
+            "{}: --mcap names a file this command writes in its output folder {}; give the \
+             recording another name",
+            mcap.display(),
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
+/// True when folders `a` and `b` are one: the same folder once both are resolved, or, where
+/// either does not exist yet, the same path once `.` and `name/..` are taken out (`""` is
+/// `.`; links are then not followed).
+pub fn same_folder(a: &Path, b: &Path) -> bool {
+    use std::path::Component;
+    let dot = |p: &Path| {
+        if p.as_os_str().is_empty() {
+            Path::new(".").to_path_buf()
+        } else {
+            p.to_path_buf()
+        }
+    };
+    let (a, b) = (dot(a), dot(b));
+    if let (Ok(x), Ok(y)) = (std::fs::canonicalize(&a), std::fs::canonicalize(&b)) {
+        return x == y;
+    }
+    fn parts(p: &Path) -> Vec<Component<'_>> {
+        let mut out: Vec<Component<'_>> = Vec::new();
+        for c in p.components() {
+            match c {
+                Component::CurDir => {}
+                Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
+                    out.pop();
+                }
+                c => out.push(c),
+            }
+        }
+        out
+    }
+    parts(&a) == parts(&b)
 }
 
 /// Removes the output file of a run that failed or wrote nothing, when it is a regular file:

@@ -157,10 +157,19 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     }
     // The recording's folder first (unless it is the output folder, made below): a failed
     // run leaves no empty output folder behind.
-    if let Some(path) = &args.mcap
-        && !path.parent().is_some_and(|p| same_folder(p, &args.output))
-    {
-        super::output_folder_exists(path)?;
+    if let Some(path) = &args.mcap {
+        let arena = args.arena.as_deref().map(Path::new).filter(|a| a.is_file());
+        let inputs: Vec<&Path> = [arena, args.params.as_deref()]
+            .into_iter()
+            .flatten()
+            .collect();
+        super::refuse_recording_over(path, &inputs, &args.output, &OUTPUT_FILES)?;
+        if !path
+            .parent()
+            .is_some_and(|p| super::same_folder(p, &args.output))
+        {
+            super::output_folder_exists(path)?;
+        }
     }
     super::create_output_dir(&args.output)?;
     let (record, mcap_scans) = explore(args, &setup)?;
@@ -293,6 +302,9 @@ struct Written {
     sectors: Option<PathBuf>,
 }
 
+/// Every file `simulate` writes in its output folder.
+const OUTPUT_FILES: [&str; 3] = ["metrics.json", "map.svg", "sectors.svg"];
+
 /// Writes `metrics.json`, `map.svg` (Fig. 8) and `sectors.svg` (Fig. 7).
 fn write_outputs(args: &SimulateArgs, setup: &Setup, record: &RunRecord) -> Result<Written> {
     let write = |path: &PathBuf, text: String| {
@@ -380,18 +392,6 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
     if m.left_arena && setup.config.explorer.fence.is_none() {
         outln!("  the robot left the arena: --fence keeps it inside the arena's bounds");
     }
-}
-
-/// True when `a` and `b` name one folder as written, `.` components aside (`out`,
-/// `./out/`); links and `..` are not followed.
-fn same_folder(a: &Path, b: &Path) -> bool {
-    use std::path::Component;
-    let parts = |p| {
-        Path::components(p)
-            .filter(|c| !matches!(c, Component::CurDir))
-            .collect::<Vec<_>>()
-    };
-    parts(a) == parts(b)
 }
 
 /// Checks the tables of a params file that `simulate` reads (`[robot]`, `[simulator]`,

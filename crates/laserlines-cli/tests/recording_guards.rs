@@ -1,0 +1,174 @@
+//! What `map` and `simulate` refuse to overwrite with their `--mcap` recording (their input,
+//! their params file, the files of their output folder), and what `map` keeps when a scan
+//! has no odometry under `--odometry on`.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::{Path, PathBuf};
+
+mod common;
+use common::{assert_clean_error, bin, excerpt, repo, run, text, tmp, tum_rows};
+
+/// The bundled excerpt as JSONL (40 scans with odometry), in the test's folder.
+fn excerpt_jsonl(name: &str) -> PathBuf {
+    let path = tmp(name);
+    let o = run(bin()
+        .arg("convert")
+        .arg(excerpt())
+        .arg(&path)
+        .args(["--to", "jsonl"]));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    path
+}
+
+/// `path`'s JSONL with the odometry of the scans `without` taken out.
+fn drop_odometry(path: &Path, without: &[usize]) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut out = String::new();
+    for (k, line) in text.lines().enumerate() {
+        let mut v: serde_json::Value = serde_json::from_str(line).unwrap();
+        if without.contains(&k) {
+            assert!(v.as_object_mut().unwrap().remove("odometry").is_some());
+        }
+        out.push_str(&v.to_string());
+        out.push('\n');
+    }
+    std::fs::write(path, out).unwrap();
+}
+
+#[test]
+fn map_refuses_a_recording_over_its_input_or_its_outputs() {
+    let log = tmp("own.dat.gz");
+    std::fs::copy(excerpt(), &log).unwrap();
+    let before = std::fs::read(&log).unwrap();
+    let out = tmp("own-map");
+    let _ = std::fs::remove_dir_all(&out);
+    // The log itself: refused before anything is written, the log as it was.
+    let o = run(bin()
+        .arg("map")
+        .arg(&log)
+        .arg("-o")
+        .arg(&out)
+        .arg("--mcap")
+        .arg(&log));
+    assert_clean_error(&o, "own.dat.gz", "the output is the input");
+    assert_eq!(std::fs::read(&log).unwrap(), before);
+    assert!(!out.exists(), "the output folder was made");
+    // The params file too.
+    let params = tmp("own.toml");
+    std::fs::write(&params, "[hough-split]\n").unwrap();
+    let o = run(bin()
+        .arg("map")
+        .arg(&log)
+        .arg("-o")
+        .arg(&out)
+        .arg("--params")
+        .arg(&params)
+        .arg("--mcap")
+        .arg(&params));
+    assert_clean_error(&o, "own.toml", "the output is the input");
+    assert_eq!(std::fs::read_to_string(&params).unwrap(), "[hough-split]\n");
+    // A file the command writes in its output folder, also by a roundabout path to a
+    // folder that does not exist yet.
+    for mcap in [out.join("map.svg"), out.join("../own-map/./lines.json")] {
+        let o = run(bin()
+            .arg("map")
+            .arg(&log)
+            .arg("-o")
+            .arg(&out)
+            .arg("--mcap")
+            .arg(&mcap));
+        assert_clean_error(
+            &o,
+            "own-map",
+            "a file this command writes in its output folder",
+        );
+        assert!(!out.exists(), "the output folder was made");
+    }
+    // Another name in the same folder is a recording like any other.
+    let o = run(bin()
+        .arg("map")
+        .arg(&log)
+        .arg("-o")
+        .arg(&out)
+        .arg("--mcap")
+        .arg(out.join("run.mcap")));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        std::fs::read(out.join("run.mcap"))
+            .unwrap()
+            .starts_with(b"\x89MCAP0\r\n")
+    );
+    assert!(
+        std::fs::read_to_string(out.join("map.svg"))
+            .unwrap()
+            .contains("<svg")
+    );
+}
+
+#[test]
+fn simulate_refuses_a_recording_over_its_arena_or_its_outputs() {
+    let arena = tmp("own.raf");
+    std::fs::copy(repo("data/arenas/inner_explore_test.raf"), &arena).unwrap();
+    let before = std::fs::read(&arena).unwrap();
+    let out = tmp("own-run");
+    let simulate = |mcap: &Path| {
+        run(bin()
+            .arg("simulate")
+            .arg("--arena")
+            .arg(&arena)
+            .args(["--duration", "2", "-o"])
+            .arg(&out)
+            .arg("--mcap")
+            .arg(mcap))
+    };
+    let o = simulate(&arena);
+    assert_clean_error(&o, "own.raf", "the output is the input");
+    assert_eq!(std::fs::read(&arena).unwrap(), before);
+    for name in ["map.svg", "metrics.json", "sectors.svg"] {
+        let o = simulate(&out.join(name));
+        assert_clean_error(&o, name, "a file this command writes in its output folder");
+    }
+    assert!(!out.exists(), "the output folder was made");
+}
+
+#[test]
+fn a_scan_without_odometry_keeps_the_map_of_the_scans_before_it() {
+    // The last of 40 scans without odometry: the 39 before it mapped and written.
+    let log = excerpt_jsonl("no-odometry-last.jsonl");
+    drop_odometry(&log, &[39]);
+    let out = tmp("no-odometry-last");
+    let _ = std::fs::remove_dir_all(&out);
+    let o = run(bin().arg("map").arg(&log).arg("-o").arg(&out));
+    assert_clean_error(
+        &o,
+        "scan 39 (line 40)",
+        "stopped at a scan without odometry",
+    );
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("the map of the 39 scans before it is written"),
+        "{err}"
+    );
+    assert_eq!(tum_rows(&out.join("trajectory.tum")).len(), 39);
+    // With --skip-bad, a scan in the middle is skipped, counted and named by its index in
+    // the log; the scans after it are mapped.
+    let log = excerpt_jsonl("no-odometry-middle.jsonl");
+    drop_odometry(&log, &[20, 39]);
+    let out = tmp("no-odometry-middle");
+    let o = run(bin()
+        .arg("map")
+        .arg(&log)
+        .arg("--skip-bad")
+        .arg("-o")
+        .arg(&out));
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("scan 20 (line 21): no odometry"), "{err}");
+    assert!(err.contains("scan 39 (line 40): no odometry"), "{err}");
+    assert!(
+        err.contains("2 × scan without odometry (--odometry on)"),
+        "{err}"
+    );
+    assert_eq!(tum_rows(&out.join("trajectory.tum")).len(), 38);
+}
