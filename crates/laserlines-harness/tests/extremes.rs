@@ -1,5 +1,6 @@
-//! Extreme but representable inputs to the coverage grid: huge and infinite ranges. Each
-//! call returns (no overflow panic in a debug build) with a sensible answer.
+//! Extreme but representable inputs to the coverage grid: huge and infinite ranges (each
+//! call returns, with no overflow panic in a debug build, a sensible answer), and a world
+//! larger than the grid holds (refused).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -29,4 +30,41 @@ fn huge_ranges_do_not_overflow_the_coverage_grid() {
     );
     let c = coverage.coverage();
     assert!(c > 0.0 && c <= 1.0, "{c}");
+}
+
+#[test]
+fn a_world_larger_than_the_coverage_grid_is_refused() {
+    use laserlines_harness::{RunConfig, RunError, run};
+    // Square rooms of 190 m (with the grid's margin of 1 m: 192 m, within 200) and 210 m.
+    let room = |side: f64| {
+        let h = side / 2.0;
+        let mut world = World::new();
+        world.add_polygon(&[
+            Point2::new(-h, -h),
+            Point2::new(h, -h),
+            Point2::new(h, h),
+            Point2::new(-h, h),
+        ]);
+        world
+    };
+    let index = WorldIndex::new(&room(190.0), 0.5);
+    assert_eq!(CoverageGrid::too_large(&index, Point2::origin()), None);
+    let index = WorldIndex::new(&room(210.0), 0.5);
+    let (w, h) = CoverageGrid::too_large(&index, Point2::origin()).unwrap();
+    assert!(
+        (w - 212.0).abs() < 0.11 && (h - 212.0).abs() < 0.11,
+        "{w} x {h}"
+    );
+    // A run there is refused before it starts, naming the size and the limit.
+    let config = RunConfig {
+        duration_s: 1.0,
+        ..RunConfig::default()
+    };
+    let err = run(&room(210.0), Isometry2::identity(), &config).unwrap_err();
+    assert!(matches!(err, RunError::TooLarge { .. }), "{err:?}");
+    let text = err.to_string();
+    assert!(
+        text.contains("212.0 m x 212.0 m") && text.contains("at most 200 m"),
+        "{text}"
+    );
 }

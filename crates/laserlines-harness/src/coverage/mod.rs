@@ -35,6 +35,26 @@ pub const COVERAGE_CELL: f64 = 0.1;
 /// Margin of the grid around the world's bounding box, m.
 const GRID_MARGIN: f64 = 1.0;
 
+/// The most cells of the grid on a side (200 m): a run in a larger world is refused
+/// ([`CoverageGrid::too_large`]).
+pub const MAX_COVERAGE_CELLS: usize = 2000;
+
+/// The grid's lower-left corner and its columns and rows (not clamped) for `index`'s world
+/// and a start at `start`.
+fn grid_size(index: &WorldIndex, start: Point2) -> (Point2, f64, f64) {
+    let world = index.world();
+    let obstacles = world
+        .walls
+        .iter()
+        .flat_map(|w| [w.a, w.b])
+        .chain(world.discs.iter().map(|d| d.centre));
+    let (lo, hi) = extent(obstacles.chain([start])).unwrap_or((Point2::origin(), Point2::origin()));
+    let origin = Point2::new(lo.x - GRID_MARGIN, lo.y - GRID_MARGIN);
+    let cols = ((hi.x - origin.x + GRID_MARGIN) / COVERAGE_CELL).ceil();
+    let rows = ((hi.y - origin.y + GRID_MARGIN) / COVERAGE_CELL).ceil();
+    (origin, cols, rows)
+}
+
 /// What coverage is taken over (see the [module docs](self)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -85,25 +105,26 @@ pub struct CoverageGrid {
 }
 
 impl CoverageGrid {
+    /// The width and height (m, with the start and the grid's margins) of `index`'s world
+    /// when the grid cannot hold it ([`MAX_COVERAGE_CELLS`] on a side); `None` when it can.
+    #[must_use]
+    pub fn too_large(index: &WorldIndex, start: Point2) -> Option<(f64, f64)> {
+        let (_, cols, rows) = grid_size(index, start);
+        let most = MAX_COVERAGE_CELLS as f64;
+        // NaN (an absurd world) is too large as well.
+        (!(cols <= most && rows <= most)).then_some((cols * COVERAGE_CELL, rows * COVERAGE_CELL))
+    }
+
     /// The grid of `index`'s world for a robot of circumradius `radius` (m) starting at
     /// `start`. When the start cell itself is not free (nearer an obstacle than `radius`),
     /// what is reachable is counted from the nearest free cell within `radius` of it.
     #[must_use]
     pub fn new(index: &WorldIndex, start: Point2, radius: f64) -> Self {
-        let world = index.world();
-        let obstacles = world
-            .walls
-            .iter()
-            .flat_map(|w| [w.a, w.b])
-            .chain(world.discs.iter().map(|d| d.centre));
-        let (lo, hi) =
-            extent(obstacles.chain([start])).unwrap_or((Point2::origin(), Point2::origin()));
-        let origin = Point2::new(lo.x - GRID_MARGIN, lo.y - GRID_MARGIN);
-        // At most 2000 x 2000 cells (200 m): larger worlds are clipped.
-        let cols =
-            (((hi.x - origin.x + GRID_MARGIN) / COVERAGE_CELL).ceil() as usize).clamp(1, 2000);
-        let rows =
-            (((hi.y - origin.y + GRID_MARGIN) / COVERAGE_CELL).ceil() as usize).clamp(1, 2000);
+        // At most `MAX_COVERAGE_CELLS` on a side: a larger world (which `too_large` tells,
+        // and a run refuses) is clipped.
+        let (origin, cols, rows) = grid_size(index, start);
+        let cols = (cols as usize).clamp(1, MAX_COVERAGE_CELLS);
+        let rows = (rows as usize).clamp(1, MAX_COVERAGE_CELLS);
         let n = cols * rows;
         let mut grid = Self {
             origin,

@@ -54,6 +54,18 @@ pub enum RunError {
     /// The run's own settings are invalid.
     #[error("run settings: {0}")]
     Setting(ParamsError),
+    /// The world is larger than the coverage grid holds.
+    #[error(
+        "the world spans {width_m:.1} m x {height_m:.1} m with its start; coverage is measured \
+         on a grid of at most {most_m} m on a side (a rescue arena spans tens of metres)",
+        most_m = crate::coverage::MAX_COVERAGE_CELLS as f64 * crate::coverage::COVERAGE_CELL
+    )]
+    TooLarge {
+        /// Width of the world, m.
+        width_m: f64,
+        /// Height of the world, m.
+        height_m: f64,
+    },
     /// The laser, as mounted, does not see the robot's front sector, where the explorer
     /// looks before it drives.
     #[error(
@@ -234,9 +246,13 @@ impl Loop {
         let robot = RobotSim::new(world, start, config.robot, config.seed)?;
         check_front_seen(&config.robot)?;
         let extractor = HoughSplit::new(config.extractor.clone()).map_err(RunError::Extractor)?;
+        let origin = laserlines::math::Point2::from(start.translation.vector);
+        if let Some((width_m, height_m)) = CoverageGrid::too_large(robot.index(), origin) {
+            return Err(RunError::TooLarge { width_m, height_m });
+        }
         let coverage = CoverageGrid::new(
             robot.index(),
-            laserlines::math::Point2::from(start.translation.vector),
+            origin,
             config.robot.robot.footprint.circumradius(),
         );
         let recorder = Recorder::new(
