@@ -534,3 +534,31 @@ fn relations_move_a_reference_of_the_base_to_the_laser_by_its_mount() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn keys_that_scan_matching_sets_its_own_way_are_named() {
+    let params = tmp("mapping-overrides.toml");
+    std::fs::write(
+        &params,
+        "[hough-split]\nmax_r_sd = 1.0\nshare_fits = true\nmin_line_length = 0.1\n",
+    )
+    .unwrap();
+    let out = tmp("mapping-overrides");
+    let o = run(bin()
+        .arg("map")
+        .arg(repo("data/urg04lx-exp1-excerpt.dat.gz"))
+        .arg("--params")
+        .arg(&params)
+        .arg("-o")
+        .arg(&out));
+    let err = text(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    // min_line_length is taken as given; the other two are not.
+    assert!(
+        err.contains(
+            "mapping-overrides.toml: map takes [hough-split] max_r_sd = 0.05, share_fits = \
+             false for scan matching, not the file's values"
+        ),
+        "{err}"
+    );
+}

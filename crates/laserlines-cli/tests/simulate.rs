@@ -256,6 +256,33 @@ fn simulate_warns_of_a_start_within_the_turning_radius() {
     let metrics = std::fs::read_to_string(out.join("metrics.json")).unwrap();
     let m: serde_json::Value = serde_json::from_str(&metrics).unwrap();
     assert!(m["reachable_area_m2"].as_f64().unwrap() > 50.0, "{metrics}");
+    // In inner_explore_test the same start leaves the planner no way out: the run ends
+    // "explored" where it began, and the summary says why.
+    let o = bin()
+        .args([
+            "simulate",
+            "--arena",
+            "inner_explore_test",
+            "--start",
+            "0.3,0.3,0",
+            "-o",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let (text, err) = (
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr),
+    );
+    assert!(o.status.success(), "{err}");
+    let metrics = std::fs::read_to_string(out.join("metrics.json")).unwrap();
+    let m: serde_json::Value = serde_json::from_str(&metrics).unwrap();
+    assert!(m["path_length_m"].as_f64().unwrap() < 0.05, "{metrics}");
+    assert_eq!(m["stop"], "explored", "{metrics}");
+    assert!(
+        text.contains("the robot did not move from its start"),
+        "{text}"
+    );
 }
 
 #[test]

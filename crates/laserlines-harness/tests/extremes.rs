@@ -68,3 +68,33 @@ fn a_world_larger_than_the_coverage_grid_is_refused() {
         "{text}"
     );
 }
+
+#[test]
+fn a_followed_wall_beyond_the_lasers_reach_is_refused() {
+    use laserlines_harness::{RunConfig, run};
+    let mut world = World::new();
+    world.add_polygon(&[
+        Point2::new(-2.0, -2.0),
+        Point2::new(2.0, -2.0),
+        Point2::new(2.0, 2.0),
+        Point2::new(-2.0, 2.0),
+    ]);
+    let mut config = RunConfig {
+        duration_s: 1.0,
+        ..RunConfig::default()
+    };
+    config.explorer.follow.distance = 100.0;
+    let err = run(&world, Isometry2::identity(), &config)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("follow.distance must be at most 5.6 (the laser's range_max), got 100"),
+        "{err}"
+    );
+    config.explorer.follow.distance = 0.6;
+    config.explorer.follow.range = 6.0;
+    let err = run(&world, Isometry2::identity(), &config)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("follow.range must be at most 5.6"), "{err}");
+}

@@ -262,6 +262,15 @@ impl ParamsFile {
         Ok(self)
     }
 
+    /// The keys the file gives in table `table`, in the file's order (none without it).
+    pub fn keys(&self, table: &str) -> impl Iterator<Item = &str> {
+        let given = match self.tables.get(table) {
+            Some(toml::Value::Table(t)) => Some(t),
+            _ => None,
+        };
+        given.into_iter().flat_map(|t| t.keys().map(String::as_str))
+    }
+
     /// The table `table` laid over `preset` (see the [module docs](self)); `preset` itself
     /// when the file has no such table. Not validated: see [`ParamsFile::invalid`].
     ///

@@ -457,10 +457,18 @@ impl RobotSim {
     }
 }
 
+/// The longest scan period the simulator takes, s: a scanner of at least 1 Hz.
+pub const MAX_SCAN_PERIOD_S: f64 = 1.0;
+
+/// The farthest the robot moves in one physics step, m.
+pub const MAX_STEP_M: f64 = 0.05;
+
 impl RobotParams {
     /// Checks the robot's description ([`RobotDescription::validate`]), that the rates are
-    /// positive and finite with the physics step no longer than the scan period, and that
-    /// the odometry noise is finite and not negative.
+    /// positive and finite with the physics step no longer than the scan period and the scan
+    /// period at most [`MAX_SCAN_PERIOD_S`], that the robot's top speed moves it at most
+    /// [`MAX_STEP_M`] per physics step, and that the odometry noise is finite and not
+    /// negative.
     ///
     /// # Errors
     /// [`RobotError::Params`] naming the first field out of range.
@@ -469,8 +477,9 @@ impl RobotParams {
         Ok(self.validate_simulation()?)
     }
 
-    /// The checks of [`RobotParams::validate`] but the robot's description's: the rates and
-    /// the odometry noise (the fields of the `[simulator]` table).
+    /// The checks of [`RobotParams::validate`] but the robot's description's: the rates, the
+    /// top speed against the physics step, and the odometry noise (the fields of the
+    /// `[simulator]` table).
     ///
     /// # Errors
     /// A [`ParamsError`] naming the first field out of range.
@@ -487,100 +496,29 @@ impl RobotParams {
                 limit: self.scan_period_s,
             });
         }
+        if self.scan_period_s > MAX_SCAN_PERIOD_S {
+            return Err(ParamsError::AboveField {
+                field: "scan_period_s",
+                value: self.scan_period_s,
+                limit_field: "a scan a second at least",
+                limit: MAX_SCAN_PERIOD_S,
+            });
+        }
+        // A step of the physics moves the footprint by at most this much, so that it meets
+        // a wall rather than jumps it.
+        let fastest = MAX_STEP_M / self.physics_dt_s;
+        if self.robot.limits.max_speed > fastest {
+            return Err(ParamsError::AboveField {
+                field: "limits.max_speed",
+                value: self.robot.limits.max_speed,
+                limit_field: "5 cm per physics step of physics_dt_s",
+                limit: fastest,
+            });
+        }
         Ok(())
     }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn p(x: f64, y: f64) -> Point2 {
-        Point2::new(x, y)
-    }
-
-    #[test]
-    fn the_robot_stops_at_a_wall_and_counts_one_contact() {
-        let mut world = World::new();
-        world.add_segment(p(1.0, -2.0), p(1.0, 2.0));
-        let params = RobotParams {
-            odometry: OdometryNoise { wheel_sigma: 0.0 },
-            ..RobotParams::default()
-        };
-        let mut robot = RobotSim::new(&world, Isometry2::identity(), params, 1).unwrap();
-        let mut blocked = 0;
-        for _ in 0..300 {
-            if robot.step(VelocityCommand::new(0.5, 0.0)).blocked {
-                blocked += 1;
-            }
-        }
-        assert!(blocked > 100);
-        assert_eq!(robot.collisions(), 1);
-        let x = robot.world_from_robot().translation.vector.x;
-        assert!(x < 0.75 && x > 0.7, "{x}");
-        assert_eq!(robot.min_clearance(), 0.0);
-        // Perfect odometry follows the truth.
-        assert!((robot.odom_from_robot().translation.vector.x - x).abs() < 1e-12);
-    }
-
-    #[test]
-    fn limits_hold_and_runs_repeat() {
-        let world = World::new();
-        let run = |seed| {
-            let mut r =
-                RobotSim::new(&world, Isometry2::identity(), RobotParams::default(), seed).unwrap();
-            let mut max_v: f64 = 0.0;
-            for k in 0..500 {
-                let w = if k % 100 < 50 { 3.0 } else { -3.0 };
-                r.step(VelocityCommand::new(2.0, w));
-                max_v = max_v.max(r.velocity().linear_m_s);
-                assert!(r.velocity().angular_rad_s.abs() <= 1.5 + 1e-12);
-            }
-            assert!(max_v <= 0.6 + 1e-12);
-            (r.world_from_robot(), r.odom_from_robot())
-        };
-        let (a_true, a_odom) = run(5);
-        let (b_true, b_odom) = run(5);
-        let (_, c_odom) = run(6);
-        assert_eq!(a_true, b_true);
-        assert_eq!(a_odom, b_odom);
-        assert_ne!(a_odom, c_odom);
-        // Noisy odometry drifts, but not wildly over 10 s.
-        let err = (a_true.translation.vector - a_odom.translation.vector).norm();
-        assert!(err > 0.0 && err < 0.5, "{err}");
-    }
-
-    #[test]
-    fn bad_parameters_and_starts_are_errors() {
-        let world = World::new();
-        let bad = RobotParams {
-            physics_dt_s: 0.0,
-            ..RobotParams::default()
-        };
-        assert!(matches!(
-            RobotSim::new(&world, Isometry2::identity(), bad, 1),
-            Err(RobotError::Params(ParamsError::NotPositive {
-                field: "physics_dt_s",
-                ..
-            }))
-        ));
-        let slow = RobotParams {
-            physics_dt_s: 0.2,
-            ..RobotParams::default()
-        };
-        let e = RobotSim::new(&world, Isometry2::identity(), slow, 1).unwrap_err();
-        assert!(
-            e.to_string().contains("physics_dt_s must be at most 0.1"),
-            "{e}"
-        );
-        let nan = Isometry2::new(Vector2::new(f64::NAN, 0.0), 0.0);
-        assert_eq!(
-            RobotSim::new(&world, nan, RobotParams::default(), 1).unwrap_err(),
-            RobotError::BadStart
-        );
-        let mut w = World::new();
-        w.add_disc(p(0.3, 0.0), 0.1);
-        let e = RobotSim::new(&w, Isometry2::identity(), RobotParams::default(), 1).unwrap_err();
-        assert!(e.to_string().contains("disc 0"), "{e}");
-    }
-}
+#[path = "robot_tests.rs"]
+mod tests;

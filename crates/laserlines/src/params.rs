@@ -58,7 +58,7 @@ pub enum ParamsError {
         min: f64,
     },
     /// A field above the value of another field.
-    #[error("{field} must be at most {limit} ({limit_field}), got {}", Short(*value))]
+    #[error("{field} must be at most {} ({limit_field}), got {}", Trimmed(*limit), Short(*value))]
     AboveField {
         /// field name
         field: &'static str,
@@ -203,9 +203,46 @@ pub fn range_limits(limits: Option<RangeWindow>) -> Result<(), ParamsError> {
     }
 }
 
+/// A limit computed from other values, to four decimals without trailing zeros (0.5702 for
+/// 0.5701562118716424, 100 for 100.0).
+struct Trimmed(f64);
+
+impl std::fmt::Display for Trimmed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if !self.0.is_finite() || self.0.abs() >= 1e16 {
+            return write!(f, "{}", self.0);
+        }
+        let text = format!("{:.4}", self.0);
+        let text = text.trim_end_matches('0').trim_end_matches('.');
+        f.write_str(if text == "-0" { "0" } else { text })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_computed_limit_is_printed_to_four_decimals() {
+        let e = ParamsError::AboveField {
+            field: "laser.x",
+            value: 0.6,
+            limit_field: "the footprint's circumradius + 0.25 m",
+            limit: 0.570_156_211_871_642_4,
+        };
+        assert_eq!(
+            e.to_string(),
+            "laser.x must be at most 0.5702 (the footprint's circumradius + 0.25 m), got 0.6"
+        );
+        for (v, text) in [
+            (100.0, "100"),
+            (0.25, "0.25"),
+            (-0.00001, "0"),
+            (1e20, "100000000000000000000"),
+        ] {
+            assert_eq!(Trimmed(v).to_string(), text, "{v}");
+        }
+    }
 
     #[test]
     fn checks_name_the_field_and_the_value() {

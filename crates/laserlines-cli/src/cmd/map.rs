@@ -149,6 +149,7 @@ fn map_log(
     start: Instant,
 ) -> Result<Option<anyhow::Error>> {
     super::note_unused_tables(args.params.file_path(), &["hough-split"], "map")?;
+    note_mapping_overrides(args)?;
     let mut params = MapperParams::default();
     if args.loop_closure == OnOff::Off {
         params.loops.every_scans = 0;
@@ -206,6 +207,31 @@ fn map_log(
     }
     let mapped = run.stamps.len();
     Ok(run.stopped.map(|e| stopped_error(e, name, mapped, args)))
+}
+
+/// Says on standard error which keys the params file's `[hough-split]` gives that scan
+/// matching sets its own way ([`laserlines::HoughSplitParams::for_mapping`]).
+fn note_mapping_overrides(args: &MapArgs) -> Result<()> {
+    let file = args.params.file(laserlines::registry::HOUGH_SPLIT.name)?;
+    let given = file.algorithm_params(&laserlines::registry::HOUGH_SPLIT)?;
+    let (given, used) = (
+        serde_json::to_value(&given)?,
+        serde_json::to_value(given.for_mapping())?,
+    );
+    let overridden: Vec<String> = file
+        .keys("hough-split")
+        .filter(|k| given.get(k) != used.get(k))
+        .map(|k| format!("{k} = {}", used[k]))
+        .collect();
+    if !overridden.is_empty() {
+        errln!(
+            "laserlines: {}: map takes [hough-split] {} for scan matching, not the file's \
+             values (see `map` in the README)",
+            file.name(),
+            overridden.join(", ")
+        );
+    }
+    Ok(())
 }
 
 /// What the reader skipped, less the bad record that stopped the reading: the reader counts

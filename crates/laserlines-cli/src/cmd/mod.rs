@@ -445,7 +445,13 @@ pub fn xy_yaw_deg(flag: &str, s: &str) -> Result<[f64; 3]> {
         .collect::<Result<_, _>>()
         .with_context(|| format!("{flag} {s:?}: expected x,y,yaw_deg"))?;
     match v.as_slice() {
-        [x, y, yaw] if v.iter().all(|a| a.is_finite()) => Ok([*x, *y, yaw.to_radians()]),
+        [x, y, yaw] if v.iter().all(|a| a.is_finite()) && yaw.abs() <= 360.0 => {
+            Ok([*x, *y, yaw.to_radians()])
+        }
+        [_, _, yaw] if v.iter().all(|a| a.is_finite()) => Err(anyhow!(
+            "{flag} {s:?}: yaw_deg must lie from -360 to 360, got {}",
+            compact(*yaw)
+        )),
         _ => Err(anyhow!(
             "{flag} {s:?}: expected three finite numbers x,y,yaw_deg"
         )),
@@ -490,7 +496,22 @@ pub(crate) fn create_output_dir(dir: &std::path::Path) -> Result<()> {
 
 #[cfg(test)]
 mod tests {
-    use super::{whole, whole_in};
+    use super::{whole, whole_in, xy_yaw_deg};
+
+    #[test]
+    fn poses_take_a_yaw_of_at_most_a_turn() {
+        let [x, y, yaw] = xy_yaw_deg("--start", "1,-2,90").unwrap();
+        assert_eq!((x, y), (1.0, -2.0));
+        assert!((yaw - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+        assert!(xy_yaw_deg("--start", "0,0,-360").is_ok());
+        let e = xy_yaw_deg("--start", "0,0,1e30").unwrap_err().to_string();
+        assert!(
+            e.contains("yaw_deg must lie from -360 to 360, got 1e30"),
+            "{e}"
+        );
+        let e = xy_yaw_deg("--start", "0,nan,0").unwrap_err().to_string();
+        assert!(e.contains("expected three finite numbers"), "{e}");
+    }
 
     #[test]
     fn whole_numbers_state_their_range() {

@@ -12,17 +12,18 @@ use laserlines::math::{Isometry2, Point2};
 use laserlines::robot::RobotDescription;
 use laserlines::{HoughSplitParams, registry};
 use laserlines_foxglove::{NavFrame, NavRecorder};
-use laserlines_harness::{RunConfig, RunObserver, RunRecord, ScanFrame, arenas, run_observed};
+use laserlines_harness::{
+    RunConfig, RunObserver, RunRecord, ScanFrame, StopReason, arenas, run_observed,
+};
 use laserlines_io::params::ParamsFile;
 use laserlines_nav::ExplorerParams;
 use laserlines_render::{ExplorationMap, exploration_map_svg, sectors_svg};
 use laserlines_sim::World;
-use laserlines_sim::arena::{ArenaOptions, ArenaReport, WallLength, interior_start};
-use laserlines_sim::maze::{MazeParams, generate};
+use laserlines_sim::arena::ArenaReport;
 use laserlines_sim::robot::RobotParams;
 
 use super::simulate_world::{
-    check_floor, check_start_inside, parse_start, report_skipped, warn_if_cramped,
+    check_start_inside, parse_start, warn_if_cramped, warn_of_fence, world_of,
 };
 
 /// Arguments of `laserlines simulate`.
@@ -32,13 +33,13 @@ pub struct SimulateArgs {
     /// (maze_10m_x_14m, inner_explore_test, go2011_arena, rc_2015_arena_big). Default:
     /// maze_10m_x_14m.
     #[arg(long, conflicts_with = "maze")]
-    arena: Option<String>,
+    pub(super) arena: Option<String>,
     /// A seeded procedural maze on the 1.2 m grid instead of an arena.
     #[arg(long, value_name = "SEED", value_parser = super::whole::<u64>, allow_negative_numbers = true)]
-    maze: Option<u64>,
+    pub(super) maze: Option<u64>,
     /// Give the maze islands (wall groups not connected to the outer wall).
     #[arg(long, requires = "maze")]
-    islands: bool,
+    pub(super) islands: bool,
     /// Cut the corners of this many of the maze's turning cells by 45-degree walls (more
     /// than the maze has is refused, naming its number).
     #[arg(
@@ -48,7 +49,7 @@ pub struct SimulateArgs {
         value_parser = super::whole::<usize>,
         allow_negative_numbers = true
     )]
-    diagonals: Option<usize>,
+    pub(super) diagonals: Option<usize>,
     /// Simulated time limit, s, more than 0 up to 1e9.
     #[arg(long, default_value_t = 900.0, allow_negative_numbers = true)]
     duration: f64,
@@ -63,7 +64,7 @@ pub struct SimulateArgs {
     start: Option<String>,
     /// Arena walls 1.0 m long (the plate's mesh) instead of the whole 1.2 m cell edge.
     #[arg(long)]
-    mesh_walls: bool,
+    pub(super) mesh_walls: bool,
     /// Simulated time of the sector picture, s, within the run (default: 20 s, or half the
     /// duration when that is shorter).
     #[arg(long, allow_negative_numbers = true)]
@@ -227,6 +228,8 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
         config.explorer.fence = Some(arenas::fence_of(&world, &start).with_context(|| {
             format!("--fence: {name} has no walls that bound an area to take as the fence")
         })?);
+    } else if let Some(fence) = &config.explorer.fence {
+        warn_of_fence(fence, config.robot.robot.footprint.circumradius());
     }
     Ok(Setup {
         name,
@@ -334,15 +337,16 @@ fn write_outputs(args: &SimulateArgs, setup: &Setup, record: &RunRecord) -> Resu
             let stale = args.output.join("sectors.svg");
             let removed = stale.exists() && std::fs::remove_file(&stale).is_ok();
             errln!(
-                "laserlines: sectors.svg not written{}: the run ended at {:.3} s, before the \
-                 snapshot at {:.3} s (--snapshot)",
+                "laserlines: sectors.svg not written{}: no scan came at or after the snapshot \
+                 at {:.3} s (--snapshot) before the run ended at {:.3} s (a scan every {} s)",
                 if removed {
                     " (an earlier run's removed)"
                 } else {
                     ""
                 },
+                snapshot_time(args),
                 record.metrics.sim_time_s,
-                snapshot_time(args)
+                super::compact(setup.config.robot.scan_period_s)
             );
             None
         }
@@ -389,6 +393,13 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
             .as_ref()
             .map_or_else(String::new, |p| format!(", {}", p.display()))
     );
+    if m.path_length_m < 0.05 && m.stop != StopReason::TimeLimit {
+        outln!(
+            "  the robot did not move from its start: its planner found no way from there to \
+             any frontier of its map (a start this near an obstacle can leave it none), so \
+             the run ended with what the start shows"
+        );
+    }
     if m.left_arena && setup.config.explorer.fence.is_none() {
         outln!("  the robot left the arena: --fence keeps it inside the arena's bounds");
     }
@@ -420,54 +431,6 @@ fn robot_of(file: &ParamsFile) -> Result<RobotParams> {
         RobotParams::validate_simulation,
     )?;
     Ok(RobotParams { robot, ..simulated })
-}
-
-/// The world to explore, its name, the default start (`None` in an arena with no room for
-/// the robot) and, for an arena, the loader's report.
-fn world_of(
-    args: &SimulateArgs,
-    robot: &RobotParams,
-) -> Result<(String, World, Option<Isometry2>, Option<ArenaReport>)> {
-    if let Some(seed) = args.maze {
-        let params = MazeParams {
-            islands: if args.islands { 3 } else { 0 },
-            diagonals: args.diagonals.unwrap_or(0),
-            ..MazeParams::default()
-        };
-        let maze = generate(&params, seed);
-        if maze.diagonals < params.diagonals {
-            bail!(
-                "--diagonals {}: maze {seed} has {} turning cells whose corner can be cut, so \
-                 --diagonals must be from 0 to {} for it",
-                params.diagonals,
-                maze.diagonals,
-                maze.diagonals
-            );
-        }
-        let mut name = format!("maze {seed}");
-        if args.islands {
-            name.push_str(&format!(" with {} islands", maze.islands));
-        }
-        if maze.diagonals > 0 {
-            name.push_str(&format!(", {} corners cut at 45 degrees", maze.diagonals));
-        }
-        return Ok((name, maze.world, Some(maze.start), None));
-    }
-    let options = ArenaOptions {
-        wall_length: if args.mesh_walls {
-            WallLength::Mesh
-        } else {
-            WallLength::Full
-        },
-        laser_height: robot.laser_height_m,
-    };
-    let which = args.arena.as_deref().unwrap_or("maze_10m_x_14m");
-    let arena = arenas::load(which, &options)?;
-    report_skipped(&arena.name, &arena.report);
-    let radius = robot.robot.footprint.circumradius();
-    check_floor(&arena.name, &arena.world, radius)?;
-    let start = interior_start(&arena.world, radius);
-    Ok((arena.name.clone(), arena.world, start, Some(arena.report)))
 }
 
 /// The simulated time of the sector picture: `--snapshot`, or 20 s, or half the run when

@@ -1,10 +1,14 @@
-//! `laserlines simulate`: the checks and notes of its world and start pose.
+//! `laserlines simulate`: its world, and the checks and notes of the world, the start pose
+//! and the fence.
 
 use anyhow::{Result, bail};
 use laserlines::math::{Isometry2, Point2, Vector2};
+use laserlines_harness::arenas;
 use laserlines_sim::World;
-use laserlines_sim::arena::{ArenaOutline, ArenaReport};
+use laserlines_sim::arena::{ArenaOptions, ArenaOutline, ArenaReport, WallLength, interior_start};
 use laserlines_sim::cells::extent;
+use laserlines_sim::maze::{MazeParams, generate};
+use laserlines_sim::robot::RobotParams;
 
 /// Says on standard error which elements the arena loader skipped, by type and count.
 pub fn report_skipped(name: &str, report: &ArenaReport) {
@@ -91,4 +95,74 @@ pub fn warn_if_cramped(world: &World, start: Isometry2, radius: f64) {
 pub fn parse_start(s: &str) -> Result<Isometry2> {
     let [x, y, yaw] = super::xy_yaw_deg("--start", s)?;
     Ok(Isometry2::new(Vector2::new(x, y), yaw))
+}
+
+/// The world to explore, its name, the default start (`None` in an arena with no room for
+/// the robot) and, for an arena, the loader's report.
+pub fn world_of(
+    args: &super::simulate::SimulateArgs,
+    robot: &RobotParams,
+) -> Result<(String, World, Option<Isometry2>, Option<ArenaReport>)> {
+    if let Some(seed) = args.maze {
+        let params = MazeParams {
+            islands: if args.islands { 3 } else { 0 },
+            diagonals: args.diagonals.unwrap_or(0),
+            ..MazeParams::default()
+        };
+        let maze = generate(&params, seed);
+        if maze.diagonals < params.diagonals {
+            bail!(
+                "--diagonals {}: maze {seed} has {} turning cells whose corner can be cut, so \
+                 --diagonals must be from 0 to {} for it",
+                params.diagonals,
+                maze.diagonals,
+                maze.diagonals
+            );
+        }
+        let mut name = format!("maze {seed}");
+        if args.islands {
+            name.push_str(&format!(" with {} islands", maze.islands));
+        }
+        if maze.diagonals > 0 {
+            name.push_str(&format!(", {} corners cut at 45 degrees", maze.diagonals));
+        }
+        return Ok((name, maze.world, Some(maze.start), None));
+    }
+    let options = ArenaOptions {
+        wall_length: if args.mesh_walls {
+            WallLength::Mesh
+        } else {
+            WallLength::Full
+        },
+        laser_height: robot.laser_height_m,
+    };
+    let which = args.arena.as_deref().unwrap_or("maze_10m_x_14m");
+    let arena = arenas::load(which, &options)?;
+    report_skipped(&arena.name, &arena.report);
+    let radius = robot.robot.footprint.circumradius();
+    check_floor(&arena.name, &arena.world, radius)?;
+    let start = interior_start(&arena.world, radius);
+    Ok((arena.name.clone(), arena.world, start, Some(arena.report)))
+}
+
+/// Warns of an `[explorer.fence]` that does not hold the start (the origin of the explorer's
+/// map frame: it then acts only once the robot is inside it) or that leaves a robot of
+/// circumradius `radius` (m) less than its own width to move in.
+pub fn warn_of_fence(fence: &laserlines_nav::Fence, radius: f64) {
+    if !fence.contains(Point2::origin()) {
+        errln!(
+            "laserlines: warning: [explorer.fence] does not hold the start (the origin of the \
+             explorer's map frame): it keeps the robot in only once the robot is inside it"
+        );
+    }
+    let [a, b] = fence.half_extent;
+    if a.min(b) < 2.0 * radius {
+        errln!(
+            "laserlines: warning: [explorer.fence] is {:.2} m x {:.2} m: a robot {:.2} m \
+             across has less than its own width to move in it",
+            2.0 * a,
+            2.0 * b,
+            2.0 * radius
+        );
+    }
 }

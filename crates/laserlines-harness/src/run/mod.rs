@@ -108,6 +108,26 @@ fn check_front_seen(robot: &RobotParams) -> Result<(), RunError> {
     })
 }
 
+/// Checks that the wall the explorer follows lies within the laser's reach.
+fn check_follow_seen(config: &RunConfig) -> Result<(), RunError> {
+    let reach = config.robot.laser_model.range_max;
+    let follow = &config.explorer.follow;
+    for (field, value) in [
+        ("follow.distance", follow.distance),
+        ("follow.range", follow.range),
+    ] {
+        if value > reach {
+            return Err(RunError::Explorer(ParamsError::AboveField {
+                field,
+                value,
+                limit_field: "the laser's range_max",
+                limit: reach,
+            }));
+        }
+    }
+    Ok(())
+}
+
 /// Settings of one run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunConfig {
@@ -245,6 +265,7 @@ impl Loop {
         config.explorer.validate().map_err(RunError::Explorer)?;
         let robot = RobotSim::new(world, start, config.robot, config.seed)?;
         check_front_seen(&config.robot)?;
+        check_follow_seen(config)?;
         let extractor = HoughSplit::new(config.extractor.clone()).map_err(RunError::Extractor)?;
         let origin = laserlines::math::Point2::from(start.translation.vector);
         if let Some((width_m, height_m)) = CoverageGrid::too_large(robot.index(), origin) {

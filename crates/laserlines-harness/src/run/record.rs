@@ -18,7 +18,8 @@ pub enum StopReason {
     TimeLimit,
     /// The explorer saw nothing new for its idle timeout.
     NothingNew,
-    /// The explorer found no frontier left on its map: it has seen all it can reach.
+    /// The explorer found no way to a frontier of its map: it has seen all it can reach
+    /// (from a start that leaves the planner no way out, nothing beyond the start).
     Explored,
 }
 
