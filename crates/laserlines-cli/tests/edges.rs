@@ -10,7 +10,7 @@ use std::path::Path;
 use std::process::Output;
 
 mod common;
-use common::{bin, excerpt, repo, run, stderr, tmp};
+use common::{bin, excerpt, extract_with_params, repo, run, stderr, tmp};
 
 /// Exit code 2, `needle` in the message, no panic.
 fn fails_with(o: &Output, needle: &str) {
@@ -91,6 +91,11 @@ fn outputs_are_what_their_names_say() {
     let o = run(bin().arg("render").arg(excerpt()).arg("-o").arg(&png));
     fails_with(&o, "render writes SVG");
     assert!(!png.exists());
+    // A folder is named as one.
+    let folder = tmp("figures");
+    std::fs::create_dir_all(&folder).unwrap();
+    let o = run(bin().arg("render").arg(excerpt()).arg("-o").arg(&folder));
+    fails_with(&o, "is a folder; render writes one SVG file: name it");
     let o = run(bin().arg("render").arg(excerpt()).args(["-o", "-"]));
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(o.stdout.starts_with(b"<?xml"));
@@ -413,65 +418,6 @@ fn help_lists_the_algorithms_and_summaries_count_in_the_singular() {
     assert!(out.contains("(median of 1 pass, one thread)"), "{out}");
 }
 
-/// `extract` of the bundled excerpt to standard output with a params file `name` holding
-/// `toml`.
-fn extract_with_params(name: &str, toml: &str) -> Output {
-    let params = tmp(name);
-    std::fs::write(&params, toml).unwrap();
-    run(bin()
-        .arg("extract")
-        .arg(excerpt())
-        .arg("--params")
-        .arg(&params)
-        .args(["-o", "-"]))
-}
-
-#[test]
-fn params_tables_the_command_does_not_read_are_named() {
-    let o = extract_with_params(
-        "other.toml",
-        "[ransac]\nseed = 3\n[robot]\nwheel_base = 0.3\n",
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
-    let err = stderr(&o);
-    assert!(
-        err.contains("[ransac] is not used by extract (the algorithm is hough-split)"),
-        "{err}"
-    );
-    assert!(
-        err.contains("[robot] is not used by extract (read by simulate)"),
-        "{err}"
-    );
-}
-
-/// A shared params file: a typo in the table of an algorithm the run does not use is an
-/// error all the same.
-#[test]
-fn a_bad_table_the_command_does_not_read_is_an_error() {
-    for (name, toml, needle) in [
-        ("bogus.toml", "[iepf]\nbogus = 1\n", "bogus"),
-        ("type.toml", "[iepf]\nbreakpoints.noise = \"x\"\n", "noise"),
-    ] {
-        let o = extract_with_params(name, toml);
-        // The file first, as every error of a params file begins.
-        fails_with(&o, &format!("{name}: [iepf]"));
-        fails_with(&o, "(a table extract does not use, checked all the same)");
-        fails_with(&o, needle);
-        // `simulate` checks the tables it does not read the same way.
-        let o = run(bin()
-            .args(["simulate", "--maze", "2", "--duration", "1", "--params"])
-            .arg(tmp(name))
-            .arg("-o")
-            .arg(tmp("sim-params")));
-        fails_with(&o, &format!("{name}: [iepf]"));
-        fails_with(&o, "(a table simulate does not use, checked all the same)");
-    }
-    // And the tables only `simulate` reads are checked by the other commands.
-    let o = extract_with_params("robot.toml", "[robot]\nwheel_base = -1\n");
-    fails_with(&o, "robot.toml: [robot]");
-    fails_with(&o, "(a table extract does not use, checked all the same)");
-}
-
 #[test]
 fn old_ros_bags_and_ros2_sqlite_bags_extract() {
     let v12 = repo("crates/laserlines-io/tests/fixtures/bags/laserscans_v12.bag");
@@ -483,60 +429,6 @@ fn old_ros_bags_and_ros2_sqlite_bags_extract() {
         let o = run(bin().arg("extract").arg(&db3).args(["--topic", topic]));
         assert!(o.status.success(), "{}", stderr(&o));
         assert_eq!(String::from_utf8_lossy(&o.stdout).lines().count(), 3);
-    }
-}
-
-/// The options a subcommand's `--help` lists (but `--help`): each as its names (`-o`,
-/// `--output`).
-fn options_of(command: &str) -> Vec<Vec<String>> {
-    let o = run(bin().args([command, "--help"]));
-    let help = String::from_utf8_lossy(&o.stdout).into_owned();
-    help.lines()
-        .filter_map(|l| {
-            let l = l.trim_start();
-            if !l.starts_with('-') {
-                return None;
-            }
-            let names: Vec<String> = l
-                .split_whitespace()
-                .take_while(|w| w.starts_with('-'))
-                .map(|w| w.trim_end_matches(',').to_owned())
-                .collect();
-            (!names.iter().any(|n| n == "--help")).then_some(names)
-        })
-        .collect()
-}
-
-#[test]
-fn the_readme_synopses_name_every_option_of_the_help() {
-    let readme = std::fs::read_to_string(repo("README.md")).unwrap();
-    let section = readme
-        .split("## Command line")
-        .nth(1)
-        .and_then(|s| s.split("```sh").nth(1))
-        .and_then(|s| s.split("```").next())
-        .unwrap();
-    for command in [
-        "extract", "render", "demo", "bench", "convert", "view", "simulate",
-    ] {
-        let synopsis: String = section
-            .lines()
-            .filter(|l| l.starts_with(&format!("laserlines {command} ")))
-            .collect();
-        assert!(!synopsis.is_empty(), "no synopsis of {command}");
-        let options = options_of(command);
-        assert!(options.len() >= 3, "{command}: {options:?}");
-        for names in options {
-            let named = names.iter().any(|option| {
-                [" ", "]", "|"]
-                    .iter()
-                    .any(|end| synopsis.contains(&format!("{option}{end}")))
-            });
-            assert!(
-                named,
-                "README's synopsis of {command} lacks {names:?}: {synopsis}"
-            );
-        }
     }
 }
 

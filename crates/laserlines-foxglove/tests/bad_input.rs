@@ -82,6 +82,31 @@ fn a_good_file_reads_back_every_scan() {
 }
 
 #[test]
+fn a_recording_cut_off_in_an_open_chunk_says_so() {
+    // What a recorder stopped in the middle of a chunk leaves: the chunk's length still the
+    // placeholder of all ones, and the file ending inside the chunk.
+    let data = mcap_bytes(6, None);
+    let chunks: Vec<_> = top_records(&data)
+        .into_iter()
+        .filter(|(op, _, _)| *op == mcap::records::op::CHUNK)
+        .collect();
+    let (_, at, end) = *chunks.last().unwrap();
+    let mut cut = data[..(at + end) / 2].to_vec();
+    cut[at + 1..at + 9].copy_from_slice(&u64::MAX.to_le_bytes());
+    let items = read_all("cut.mcap", cut);
+    let (good, bad): (Vec<_>, Vec<_>) = items.into_iter().partition(Result::is_ok);
+    assert!(!good.is_empty() && good.len() < 6, "{} scans", good.len());
+    let e = bad.last().unwrap().as_ref().unwrap_err();
+    assert_eq!(byte_of(e), at as u64);
+    let text = e.to_string();
+    assert!(
+        text.contains("whose length was never written")
+            && text.contains("the recording was cut off while it was being written"),
+        "{text}"
+    );
+}
+
+#[test]
 fn a_truncated_file_gives_its_scans_then_an_error_at_the_cut() {
     for c in [None, Some(mcap::Compression::Zstd)] {
         let data = mcap_bytes(6, c);

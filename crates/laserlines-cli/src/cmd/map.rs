@@ -57,7 +57,7 @@ pub struct MapArgs {
     pub mcap: Option<PathBuf>,
     #[command(flatten)]
     pub params: super::ParamsArgs,
-    /// Side of an occupancy grid cell, m.
+    /// Side of an occupancy grid cell, m (0.005 to 10).
     #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
     pub resolution: f64,
     /// Count and skip bad records (reported in the summary) instead of stopping at the first.

@@ -151,6 +151,13 @@ fn check_output(path: &Path) -> Result<()> {
     if path == Path::new("-") || is_svg {
         return Ok(());
     }
+    if path.is_dir() {
+        anyhow::bail!(
+            "{}: is a folder; render writes one SVG file: name it, as {}",
+            path.display(),
+            path.join("scan.svg").display()
+        );
+    }
     anyhow::bail!(
         "{}: render writes SVG; name the output .svg (or - for standard output) and convert it \
          to another format with an SVG tool (rsvg-convert, inkscape, a browser)",

@@ -129,3 +129,16 @@ pub fn tum_rows(path: &Path) -> Vec<Vec<f64>> {
         .map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect())
         .collect()
 }
+
+/// `extract` of the bundled excerpt to standard output with a params file `name` holding
+/// `toml`.
+pub fn extract_with_params(name: &str, toml: &str) -> Output {
+    let params = tmp(name);
+    std::fs::write(&params, toml).unwrap();
+    run(bin()
+        .arg("extract")
+        .arg(excerpt())
+        .arg("--params")
+        .arg(&params)
+        .args(["-o", "-"]))
+}

@@ -273,10 +273,20 @@ impl McapScanSource {
                     "a record of at most {} bytes",
                     self.options.max_record_bytes
                 ),
-                format!(
-                    "a {} record (opcode 0x{opcode:02x}) of {len} bytes",
-                    opcode_name(opcode)
-                ),
+                if len == u64::MAX {
+                    // What a writer leaves in the header of a chunk it has not closed.
+                    format!(
+                        "a {} record (opcode 0x{opcode:02x}) whose length was never written \
+                         (0xffffffffffffffff): the recording was cut off while it was being \
+                         written, before it was finished",
+                        opcode_name(opcode)
+                    )
+                } else {
+                    format!(
+                        "a {} record (opcode 0x{opcode:02x}) of {len} bytes",
+                        opcode_name(opcode)
+                    )
+                },
             );
             return self.fail(e);
         }
