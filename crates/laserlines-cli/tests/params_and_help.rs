@@ -4,21 +4,8 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::process::Output;
-
 mod common;
-use common::{bin, extract_with_params, repo, run, stderr, tmp};
-
-/// Exit code 2, `needle` in the message, no panic.
-fn fails_with(o: &Output, needle: &str) {
-    let err = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "exit code; stderr: {err}");
-    assert!(
-        err.contains(needle),
-        "stderr does not say {needle:?}: {err}"
-    );
-    assert!(!err.contains("panicked"), "{err}");
-}
+use common::{bin, extract_with_params, fails_with, repo, run, stderr, tmp};
 
 #[test]
 fn params_tables_the_command_does_not_read_are_named() {
@@ -48,22 +35,31 @@ fn a_bad_table_the_command_does_not_read_is_an_error() {
     ] {
         let o = extract_with_params(name, toml);
         // The file first, as every error of a params file begins.
-        fails_with(&o, &format!("{name}: [iepf]"));
-        fails_with(&o, "(a table extract does not use, checked all the same)");
-        fails_with(&o, needle);
+        fails_with(&o, &[&format!("{name}: [iepf]")]);
+        fails_with(
+            &o,
+            &["(a table extract does not use, checked all the same)"],
+        );
+        fails_with(&o, &[needle]);
         // `simulate` checks the tables it does not read the same way.
         let o = run(bin()
             .args(["simulate", "--maze", "2", "--duration", "1", "--params"])
             .arg(tmp(name))
             .arg("-o")
             .arg(tmp("sim-params")));
-        fails_with(&o, &format!("{name}: [iepf]"));
-        fails_with(&o, "(a table simulate does not use, checked all the same)");
+        fails_with(&o, &[&format!("{name}: [iepf]")]);
+        fails_with(
+            &o,
+            &["(a table simulate does not use, checked all the same)"],
+        );
     }
     // And the tables only `simulate` reads are checked by the other commands.
     let o = extract_with_params("robot.toml", "[robot]\nwheel_base = -1\n");
-    fails_with(&o, "robot.toml: [robot]");
-    fails_with(&o, "(a table extract does not use, checked all the same)");
+    fails_with(&o, &["robot.toml: [robot]"]);
+    fails_with(
+        &o,
+        &["(a table extract does not use, checked all the same)"],
+    );
 }
 
 /// The options a subcommand's `--help` lists (but `--help`): each as its names (`-o`,

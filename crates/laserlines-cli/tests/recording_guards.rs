@@ -43,41 +43,30 @@ fn map_refuses_a_recording_over_its_input_or_its_outputs() {
     let before = std::fs::read(&log).unwrap();
     let out = tmp("own-map");
     let _ = std::fs::remove_dir_all(&out);
+    // `map LOG -o OUT`, then `extra`.
+    let map = |extra: &[&std::ffi::OsStr]| {
+        run(bin().arg("map").arg(&log).arg("-o").arg(&out).args(extra))
+    };
     // The log itself: refused before anything is written, the log as it was.
-    let o = run(bin()
-        .arg("map")
-        .arg(&log)
-        .arg("-o")
-        .arg(&out)
-        .arg("--mcap")
-        .arg(&log));
+    let o = map(&["--mcap".as_ref(), log.as_os_str()]);
     assert_clean_error(&o, "own.dat.gz", "the output is the input");
     assert_eq!(std::fs::read(&log).unwrap(), before);
     assert!(!out.exists(), "the output folder was made");
     // The params file too.
     let params = tmp("own.toml");
     std::fs::write(&params, "[hough-split]\n").unwrap();
-    let o = run(bin()
-        .arg("map")
-        .arg(&log)
-        .arg("-o")
-        .arg(&out)
-        .arg("--params")
-        .arg(&params)
-        .arg("--mcap")
-        .arg(&params));
+    let o = map(&[
+        "--params".as_ref(),
+        params.as_os_str(),
+        "--mcap".as_ref(),
+        params.as_os_str(),
+    ]);
     assert_clean_error(&o, "own.toml", "the output is the input");
     assert_eq!(std::fs::read_to_string(&params).unwrap(), "[hough-split]\n");
     // A file the command writes in its output folder, also by a roundabout path to a
     // folder that does not exist yet.
     for mcap in [out.join("map.svg"), out.join("../own-map/./lines.json")] {
-        let o = run(bin()
-            .arg("map")
-            .arg(&log)
-            .arg("-o")
-            .arg(&out)
-            .arg("--mcap")
-            .arg(&mcap));
+        let o = map(&["--mcap".as_ref(), mcap.as_os_str()]);
         assert_clean_error(
             &o,
             "own-map",
@@ -86,13 +75,7 @@ fn map_refuses_a_recording_over_its_input_or_its_outputs() {
         assert!(!out.exists(), "the output folder was made");
     }
     // Another name in the same folder is a recording like any other.
-    let o = run(bin()
-        .arg("map")
-        .arg(&log)
-        .arg("-o")
-        .arg(&out)
-        .arg("--mcap")
-        .arg(out.join("run.mcap")));
+    let o = map(&["--mcap".as_ref(), out.join("run.mcap").as_os_str()]);
     assert!(o.status.success(), "{}", text(&o.stderr));
     assert!(
         std::fs::read(out.join("run.mcap"))

@@ -9,16 +9,22 @@ use laserlines_harness::CoverageGrid;
 use laserlines_sim::World;
 use laserlines_sim::index::WorldIndex;
 
-#[test]
-fn huge_ranges_do_not_overflow_the_coverage_grid() {
+/// A square room of side `side` (m) around the origin.
+fn square_room(side: f64) -> World {
+    let h = side / 2.0;
     let mut world = World::new();
     world.add_polygon(&[
-        Point2::new(-2.0, -2.0),
-        Point2::new(2.0, -2.0),
-        Point2::new(2.0, 2.0),
-        Point2::new(-2.0, 2.0),
+        Point2::new(-h, -h),
+        Point2::new(h, -h),
+        Point2::new(h, h),
+        Point2::new(-h, h),
     ]);
-    let index = WorldIndex::new(&world, 0.5);
+    world
+}
+
+#[test]
+fn huge_ranges_do_not_overflow_the_coverage_grid() {
+    let index = WorldIndex::new(&square_room(4.0), 0.5);
     let mut coverage = CoverageGrid::new(&index, Point2::origin(), 0.3);
     coverage.mark_scan(&Isometry2::identity(), -1.0, 0.01, &[1e300; 201], 1e300);
     coverage.mark_scan(
@@ -36,20 +42,9 @@ fn huge_ranges_do_not_overflow_the_coverage_grid() {
 fn a_world_larger_than_the_coverage_grid_is_refused() {
     use laserlines_harness::{RunConfig, RunError, run};
     // Square rooms of 190 m (with the grid's margin of 1 m: 192 m, within 200) and 210 m.
-    let room = |side: f64| {
-        let h = side / 2.0;
-        let mut world = World::new();
-        world.add_polygon(&[
-            Point2::new(-h, -h),
-            Point2::new(h, -h),
-            Point2::new(h, h),
-            Point2::new(-h, h),
-        ]);
-        world
-    };
-    let index = WorldIndex::new(&room(190.0), 0.5);
+    let index = WorldIndex::new(&square_room(190.0), 0.5);
     assert_eq!(CoverageGrid::too_large(&index, Point2::origin()), None);
-    let index = WorldIndex::new(&room(210.0), 0.5);
+    let index = WorldIndex::new(&square_room(210.0), 0.5);
     let (w, h) = CoverageGrid::too_large(&index, Point2::origin()).unwrap();
     assert!(
         (w - 212.0).abs() < 0.11 && (h - 212.0).abs() < 0.11,
@@ -60,7 +55,7 @@ fn a_world_larger_than_the_coverage_grid_is_refused() {
         duration_s: 1.0,
         ..RunConfig::default()
     };
-    let err = run(&room(210.0), Isometry2::identity(), &config).unwrap_err();
+    let err = run(&square_room(210.0), Isometry2::identity(), &config).unwrap_err();
     assert!(matches!(err, RunError::TooLarge { .. }), "{err:?}");
     let text = err.to_string();
     assert!(
@@ -72,13 +67,7 @@ fn a_world_larger_than_the_coverage_grid_is_refused() {
 #[test]
 fn a_followed_wall_beyond_the_lasers_reach_is_refused() {
     use laserlines_harness::{RunConfig, run};
-    let mut world = World::new();
-    world.add_polygon(&[
-        Point2::new(-2.0, -2.0),
-        Point2::new(2.0, -2.0),
-        Point2::new(2.0, 2.0),
-        Point2::new(-2.0, 2.0),
-    ]);
+    let world = square_room(4.0);
     let mut config = RunConfig {
         duration_s: 1.0,
         ..RunConfig::default()
