@@ -1,6 +1,7 @@
 //! What `map` and `simulate` refuse to overwrite with their `--mcap` recording (their input,
-//! their params file, the files of their output folder), and what `map` keeps when a scan
-//! has no odometry under `--odometry on`.
+//! their params file, the files of their output folder), what `map` keeps when a scan has
+//! no odometry under `--odometry on`, and a run refused for its settings before it makes any
+//! file.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -74,6 +75,35 @@ fn map_refuses_a_recording_over_its_input_or_its_outputs() {
         );
         assert!(!out.exists(), "the output folder was made");
     }
+    // The same place by an absolute name, the output folder not made yet.
+    let absolute = std::env::current_dir()
+        .unwrap()
+        .join(&out)
+        .join("trajectory.tum");
+    let o = map(&["--mcap".as_ref(), absolute.as_os_str()]);
+    assert_clean_error(
+        &o,
+        "own-map",
+        "a file this command writes in its output folder",
+    );
+    assert!(!out.exists(), "the output folder was made");
+    // A recording inside an input that is a folder (a ROS 2 bag).
+    let bag = tmp("own-bag");
+    std::fs::create_dir_all(&bag).unwrap();
+    let fixture = repo("crates/laserlines-foxglove/tests/fixtures/ros2_laserscan_sqlite3");
+    for entry in std::fs::read_dir(&fixture).unwrap() {
+        let entry = entry.unwrap();
+        std::fs::copy(entry.path(), bag.join(entry.file_name())).unwrap();
+    }
+    let o = run(bin()
+        .arg("map")
+        .arg(&bag)
+        .arg("-o")
+        .arg(tmp("own-bag-map"))
+        .arg("--mcap")
+        .arg(bag.join("run.mcap")));
+    assert_clean_error(&o, "own-bag", "--mcap lies inside the input folder");
+    assert!(!bag.join("run.mcap").exists());
     // Another name in the same folder is a recording like any other.
     let o = map(&["--mcap".as_ref(), out.join("run.mcap").as_os_str()]);
     assert!(o.status.success(), "{}", text(&o.stderr));
@@ -154,4 +184,71 @@ fn a_scan_without_odometry_keeps_the_map_of_the_scans_before_it() {
         "{err}"
     );
     assert_eq!(tum_rows(&out.join("trajectory.tum")).len(), 38);
+}
+
+#[test]
+fn a_log_without_any_odometry_skipped_whole_says_so() {
+    let log = excerpt_jsonl("no-odometry-at-all.jsonl");
+    drop_odometry(&log, &(0..40).collect::<Vec<_>>());
+    let o = run(bin()
+        .arg("map")
+        .arg(&log)
+        .args(["--odometry", "on", "--skip-bad", "-o"])
+        .arg(tmp("no-odometry-at-all")));
+    assert_clean_error(
+        &o,
+        "no-odometry-at-all.jsonl",
+        "40 × scan without odometry (--odometry on)",
+    );
+}
+
+#[test]
+fn a_run_refused_for_its_settings_makes_no_files() {
+    // A followed wall beyond the laser's 5.6 m, and a top speed the physics step cannot
+    // follow: refused before the output folder or the recording is made.
+    for (name, toml, needle) in [
+        (
+            "far-wall",
+            "[explorer]\nfollow.distance = 100\n",
+            "follow.distance must be at most 5.6 (the laser's range_max), got 100",
+        ),
+        (
+            "fast",
+            "[robot]\nlimits.max_speed = 3\n",
+            "[robot] limits.max_speed must be at most 2.5 (5 cm per physics step",
+        ),
+        (
+            "reverse",
+            "[robot]\nlimits.max_reverse = 50\n",
+            "[robot] limits.max_reverse must be at most 2.5",
+        ),
+    ] {
+        let params = tmp(&format!("{name}.toml"));
+        std::fs::write(&params, toml).unwrap();
+        let out = tmp(&format!("{name}-run"));
+        let o = run(bin()
+            .arg("simulate")
+            .args(["--duration", "2", "--params"])
+            .arg(&params)
+            .arg("-o")
+            .arg(&out)
+            .arg("--mcap")
+            .arg(out.join("run.mcap")));
+        assert_clean_error(&o, &format!("{name}.toml"), needle);
+        assert!(!out.exists(), "{name}: the output folder was made");
+    }
+    // A slower robot may take a coarser physics step: 0.3 m/s at 0.1 s is 3 cm a step.
+    let params = tmp("slow.toml");
+    std::fs::write(
+        &params,
+        "[robot]\nlimits.max_speed = 0.3\nlimits.max_reverse = 0.2\n\n[simulator]\nphysics_dt_s = 0.1\n",
+    )
+    .unwrap();
+    let o = run(bin()
+        .arg("simulate")
+        .args(["--duration", "2", "--params"])
+        .arg(&params)
+        .arg("-o")
+        .arg(tmp("slow-run")));
+    assert!(o.status.success(), "{}", text(&o.stderr));
 }

@@ -236,7 +236,7 @@ fn an_arena_without_a_floor_or_room_for_the_robot_is_refused() {
 }
 
 #[test]
-fn simulate_warns_of_a_start_within_the_turning_radius() {
+fn a_start_within_the_turning_radius_is_warned_of_and_a_robot_that_never_moved_named() {
     // 0.30 m from the nearest wall of the default arena: the robot needs 0.32 m to turn.
     let out = std::env::temp_dir().join(format!("laserlines-cramped-{}", std::process::id()));
     let o = bin()

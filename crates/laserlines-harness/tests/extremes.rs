@@ -1,6 +1,6 @@
-//! Extreme but representable inputs to the coverage grid: huge and infinite ranges (each
-//! call returns, with no overflow panic in a debug build, a sensible answer), and a world
-//! larger than the grid holds (refused).
+//! Extreme but representable inputs to a run: huge and infinite ranges on the coverage grid
+//! (each call returns, with no overflow panic in a debug build, a sensible answer), a world
+//! larger than the grid holds and a followed wall beyond the laser's reach (refused).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -42,10 +42,11 @@ fn huge_ranges_do_not_overflow_the_coverage_grid() {
 fn a_world_larger_than_the_coverage_grid_is_refused() {
     use laserlines_harness::{RunConfig, RunError, run};
     // Square rooms of 190 m (with the grid's margin of 1 m: 192 m, within 200) and 210 m.
-    let index = WorldIndex::new(&square_room(190.0), 0.5);
-    assert_eq!(CoverageGrid::too_large(&index, Point2::origin()), None);
-    let index = WorldIndex::new(&square_room(210.0), 0.5);
-    let (w, h) = CoverageGrid::too_large(&index, Point2::origin()).unwrap();
+    assert_eq!(
+        CoverageGrid::too_large(&square_room(190.0), Point2::origin()),
+        None
+    );
+    let (w, h) = CoverageGrid::too_large(&square_room(210.0), Point2::origin()).unwrap();
     assert!(
         (w - 212.0).abs() < 0.11 && (h - 212.0).abs() < 0.11,
         "{w} x {h}"

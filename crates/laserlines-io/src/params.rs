@@ -262,7 +262,8 @@ impl ParamsFile {
         Ok(self)
     }
 
-    /// The keys the file gives in table `table`, in the file's order (none without it).
+    /// The keys the file gives in table `table`, in the order of their names (none without
+    /// it).
     pub fn keys(&self, table: &str) -> impl Iterator<Item = &str> {
         let given = match self.tables.get(table) {
             Some(toml::Value::Table(t)) => Some(t),

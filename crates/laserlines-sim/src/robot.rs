@@ -474,12 +474,12 @@ impl RobotParams {
     /// [`RobotError::Params`] naming the first field out of range.
     pub fn validate(&self) -> Result<(), RobotError> {
         self.robot.validate()?;
-        Ok(self.validate_simulation()?)
+        self.validate_simulation()?;
+        Ok(self.validate_motion()?)
     }
 
-    /// The checks of [`RobotParams::validate`] but the robot's description's: the rates, the
-    /// top speed against the physics step, and the odometry noise (the fields of the
-    /// `[simulator]` table).
+    /// The checks of [`RobotParams::validate`] of the `[simulator]` table's fields alone:
+    /// the rates and the odometry noise.
     ///
     /// # Errors
     /// A [`ParamsError`] naming the first field out of range.
@@ -504,16 +504,30 @@ impl RobotParams {
                 limit: MAX_SCAN_PERIOD_S,
             });
         }
-        // A step of the physics moves the footprint by at most this much, so that it meets
-        // a wall rather than jumps it.
+        Ok(())
+    }
+
+    /// Checks that the robot's top speeds, forward and in reverse, move it at most
+    /// [`MAX_STEP_M`] per physics step, so that it meets a wall rather than jumps it (the
+    /// description's limits against the simulator's step).
+    ///
+    /// # Errors
+    /// A [`ParamsError`] naming the speed.
+    pub fn validate_motion(&self) -> Result<(), ParamsError> {
         let fastest = MAX_STEP_M / self.physics_dt_s;
-        if self.robot.limits.max_speed > fastest {
-            return Err(ParamsError::AboveField {
-                field: "limits.max_speed",
-                value: self.robot.limits.max_speed,
-                limit_field: "5 cm per physics step of physics_dt_s",
-                limit: fastest,
-            });
+        let limits = &self.robot.limits;
+        for (field, value) in [
+            ("limits.max_speed", limits.max_speed),
+            ("limits.max_reverse", limits.max_reverse),
+        ] {
+            if value > fastest {
+                return Err(ParamsError::AboveField {
+                    field,
+                    value,
+                    limit_field: "5 cm per physics step of physics_dt_s",
+                    limit: fastest,
+                });
+            }
         }
         Ok(())
     }

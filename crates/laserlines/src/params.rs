@@ -203,18 +203,21 @@ pub fn range_limits(limits: Option<RangeWindow>) -> Result<(), ParamsError> {
     }
 }
 
-/// A limit computed from other values, to four decimals without trailing zeros (0.5702 for
-/// 0.5701562118716424, 100 for 100.0).
+/// An upper limit computed from other values, rounded down to four decimals without trailing
+/// zeros (0.5701 for 0.5701562118716424, 100 for 100.0), so that a value printed at the limit
+/// meets it; as [`Short`] writes it where four decimals would change it by more than a
+/// thousandth (0.00002, 1e20).
 struct Trimmed(f64);
 
 impl std::fmt::Display for Trimmed {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        if !self.0.is_finite() || self.0.abs() >= 1e16 {
-            return write!(f, "{}", self.0);
+        let v = self.0;
+        let down = (v * 1e4).floor() / 1e4;
+        if !(v.abs() < 1e16 && (down - v).abs() <= 1e-3 * v.abs()) {
+            return write!(f, "{}", Short(v));
         }
-        let text = format!("{:.4}", self.0);
-        let text = text.trim_end_matches('0').trim_end_matches('.');
-        f.write_str(if text == "-0" { "0" } else { text })
+        let text = format!("{down:.4}");
+        f.write_str(text.trim_end_matches('0').trim_end_matches('.'))
     }
 }
 
@@ -223,7 +226,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_computed_limit_is_printed_to_four_decimals() {
+    fn a_computed_limit_is_printed_rounded_down_to_four_decimals() {
         let e = ParamsError::AboveField {
             field: "laser.x",
             value: 0.6,
@@ -232,13 +235,16 @@ mod tests {
         };
         assert_eq!(
             e.to_string(),
-            "laser.x must be at most 0.5702 (the footprint's circumradius + 0.25 m), got 0.6"
+            "laser.x must be at most 0.5701 (the footprint's circumradius + 0.25 m), got 0.6"
         );
         for (v, text) in [
             (100.0, "100"),
             (0.25, "0.25"),
-            (-0.00001, "0"),
-            (1e20, "100000000000000000000"),
+            (1.666_666_7, "1.6666"),
+            (-0.5, "-0.5"),
+            (2e-5, "0.00002"),
+            (1e20, "1e20"),
+            (0.0, "0"),
         ] {
             assert_eq!(Trimmed(v).to_string(), text, "{v}");
         }

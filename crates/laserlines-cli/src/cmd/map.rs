@@ -161,7 +161,11 @@ fn map_log(
         return Err(match run.stopped {
             Some(Stop::Read(e)) => e.into(),
             Some(Stop::NoOdometry(e)) => e,
-            None => super::no_scans(name, reader.skipped()),
+            None => {
+                let mut skipped = reader.skipped().clone();
+                skipped.add_n(NO_ODOMETRY, run.without_odometry);
+                super::no_scans(name, &skipped)
+            }
         });
     }
     if let Some(note) = stamp_note(&run.stamps) {
@@ -287,7 +291,9 @@ fn read_and_map(
                 break;
             }
         };
-        let k = run.stamps.len();
+        // The scan's index among the scans read, counting those skipped for want of
+        // odometry.
+        let k = run.stamps.len() + run.without_odometry as usize;
         let on_off = *mode.get_or_insert_with(|| {
             if record.odometry.is_some() {
                 OnOff::On
@@ -298,9 +304,7 @@ fn read_and_map(
                 OnOff::Off
             }
         });
-        // The scan's index in the log, counting those skipped for want of odometry.
-        let index = k + run.without_odometry as usize;
-        let odometry = match odometry_of(&record, on_off, name, index) {
+        let odometry = match odometry_of(&record, on_off, name, k) {
             Ok(o) => o,
             Err(e) if args.skip_bad => {
                 progress.suspend(|| errln!("laserlines: skipped: {e:#}"));

@@ -92,7 +92,7 @@ pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
             ..OccupancyParams::default()
         })
         .map_err(|e| {
-            remove_stale(o.dir, &MAP_FILES);
+            remove_stale(o.dir, MAP_FILES);
             anyhow::anyhow!(
                 "{}: occupancy grid: {e} (cells of {} m would fit; the trajectory and \
                  lines.json are written in {})",
@@ -127,7 +127,7 @@ pub fn write_all(o: &Outputs<'_>) -> Result<Vec<PathBuf>> {
     Ok(files)
 }
 
-/// Every file `map` writes in its output folder.
+/// Every file `map` writes in its output folder, the occupancy grid's last.
 pub const OUTPUT_FILES: [&str; 8] = [
     "trajectory.tum",
     "log-poses.tum",
@@ -140,7 +140,7 @@ pub const OUTPUT_FILES: [&str; 8] = [
 ];
 
 /// The files of the occupancy grid.
-const MAP_FILES: [&str; 4] = ["map.pgm", "map.yaml", "map.png", "map.svg"];
+const MAP_FILES: &[&str] = OUTPUT_FILES.split_at(4).1;
 
 /// Removes the files `names` of `dir` that an earlier run wrote and this one does not, so
 /// that none passes for this run's (a `log-poses.tum` of another log beside this

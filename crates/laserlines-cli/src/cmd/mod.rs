@@ -50,20 +50,30 @@ pub fn refuse_same_file(input: &Path, output: &Path) -> Result<()> {
 }
 
 /// Refuses a recording (`--mcap`) that would overwrite a file the command reads (`inputs`,
-/// the same file by any name) or one of the files `names` it writes in its output folder
-/// `dir`: the recording is written first or last, and either way one of the two is lost.
+/// the same file by any name, or a file inside an input that is a folder, such as a ROS 2
+/// bag) or one of the files `names` it writes in its output folder `dir`: the recording is
+/// written first or last, and either way one of the two is lost.
 pub fn refuse_recording_over(
     mcap: &Path,
     inputs: &[&Path],
     dir: &Path,
     names: &[&str],
 ) -> Result<()> {
+    let place = resolve(mcap);
     for input in inputs {
         refuse_same_file(input, mcap).context("--mcap")?;
+        if input.is_dir() && place.starts_with(resolve(input)) {
+            bail!(
+                "{}: --mcap lies inside the input folder {}: writing it would change the \
+                 input; give the recording a place outside it",
+                mcap.display(),
+                input.display()
+            );
+        }
     }
-    let name = mcap.file_name().and_then(|n| n.to_str());
-    let folder = mcap.parent().unwrap_or(Path::new(""));
-    if name.is_some_and(|n| names.contains(&n)) && same_folder(folder, dir) {
+    let name = place.file_name().and_then(|n| n.to_str()).unwrap_or("");
+    let folder = place.parent().unwrap_or(Path::new(""));
+    if names.iter().any(|n| same_name(n, name)) && same_place(folder, &resolve(dir)) {
         bail!(
             "{}: --mcap names a file this command writes in its output folder {}; give the \
              recording another name",
@@ -74,36 +84,62 @@ pub fn refuse_recording_over(
     Ok(())
 }
 
-/// True when folders `a` and `b` are one: the same folder once both are resolved, or, where
-/// either does not exist yet, the same path once `.` and `name/..` are taken out (`""` is
-/// `.`; links are then not followed).
+/// True when folders `a` and `b` are one, whether or not they exist yet ([`resolve`]).
 pub fn same_folder(a: &Path, b: &Path) -> bool {
+    same_place(&resolve(a), &resolve(b))
+}
+
+/// `p` as an absolute path (`""` is `.`), `.` and `name/..` taken out, its longest part that
+/// exists resolved (links followed) and the rest appended: two names of one place give one
+/// path whether or not the place exists yet.
+fn resolve(p: &Path) -> PathBuf {
     use std::path::Component;
-    let dot = |p: &Path| {
-        if p.as_os_str().is_empty() {
-            Path::new(".").to_path_buf()
-        } else {
-            p.to_path_buf()
-        }
+    let p = if p.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        p
     };
-    let (a, b) = (dot(a), dot(b));
-    if let (Ok(x), Ok(y)) = (std::fs::canonicalize(&a), std::fs::canonicalize(&b)) {
-        return x == y;
-    }
-    fn parts(p: &Path) -> Vec<Component<'_>> {
-        let mut out: Vec<Component<'_>> = Vec::new();
-        for c in p.components() {
-            match c {
-                Component::CurDir => {}
-                Component::ParentDir if matches!(out.last(), Some(Component::Normal(_))) => {
-                    out.pop();
-                }
-                c => out.push(c),
+    let abs = std::env::current_dir().map_or_else(|_| p.to_path_buf(), |d| d.join(p));
+    let mut plain = PathBuf::new();
+    for c in abs.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                plain.pop();
             }
+            c => plain.push(c),
         }
-        out
     }
-    parts(&a) == parts(&b)
+    let mut rest = Vec::new();
+    let mut head = plain.as_path();
+    loop {
+        if let Ok(mut out) = std::fs::canonicalize(head) {
+            out.extend(rest.iter().rev());
+            return out;
+        }
+        match (head.parent(), head.file_name()) {
+            (Some(parent), Some(name)) => {
+                rest.push(name.to_owned());
+                head = parent;
+            }
+            _ => return plain,
+        }
+    }
+}
+
+/// Two resolved paths name one place: the same path, letter case aside where the file
+/// systems ignore it by default (Windows, macOS).
+fn same_place(a: &Path, b: &Path) -> bool {
+    if cfg!(any(windows, target_os = "macos")) {
+        a.to_string_lossy().to_lowercase() == b.to_string_lossy().to_lowercase()
+    } else {
+        a == b
+    }
+}
+
+/// Two file names name one file, as [`same_place`] compares them.
+fn same_name(a: &str, b: &str) -> bool {
+    same_place(Path::new(a), Path::new(b))
 }
 
 /// Removes the output file of a run that failed or wrote nothing, when it is a regular file:

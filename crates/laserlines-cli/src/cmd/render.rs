@@ -148,15 +148,15 @@ fn check_output(path: &Path) -> Result<()> {
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
-    if path == Path::new("-") || is_svg {
-        return Ok(());
-    }
     if path.is_dir() {
         anyhow::bail!(
             "{}: is a folder; render writes one SVG file: name it, as {}",
             path.display(),
             path.join("scan.svg").display()
         );
+    }
+    if path == Path::new("-") || is_svg {
+        return Ok(());
     }
     anyhow::bail!(
         "{}: render writes SVG; name the output .svg (or - for standard output) and convert it \

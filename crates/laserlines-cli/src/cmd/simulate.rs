@@ -146,6 +146,17 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         );
     }
     let setup = setup(args)?;
+    // What would end the run at once ends it before any file is made.
+    setup
+        .config
+        .check(&setup.world, setup.start)
+        .with_context(|| {
+            let with = args
+                .params
+                .as_deref()
+                .map_or_else(String::new, |p| format!(" with {}", p.display()));
+            format!("cannot run in {}{with}", setup.name)
+        })?;
     // The snapshot is of a scan: at most the last one's time.
     let last_scan = setup.config.last_scan_s();
     if let Some(t) = args.snapshot
@@ -393,7 +404,7 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
             .as_ref()
             .map_or_else(String::new, |p| format!(", {}", p.display()))
     );
-    if m.path_length_m < 0.05 && m.stop != StopReason::TimeLimit {
+    if m.path_length_m < 0.05 && m.stop == StopReason::Explored && m.reachable_coverage < 0.9 {
         outln!(
             "  the robot did not move from its start: its planner found no way from there to \
              any frontier of its map (a start this near an obstacle can leave it none), so \
@@ -430,7 +441,10 @@ fn robot_of(file: &ParamsFile) -> Result<RobotParams> {
         RobotParams::default(),
         RobotParams::validate_simulation,
     )?;
-    Ok(RobotParams { robot, ..simulated })
+    let both = RobotParams { robot, ..simulated };
+    both.validate_motion()
+        .map_err(|e| file.invalid("robot", e))?;
+    Ok(both)
 }
 
 /// The simulated time of the sector picture: `--snapshot`, or 20 s, or half the run when

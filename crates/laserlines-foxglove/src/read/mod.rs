@@ -273,7 +273,7 @@ impl McapScanSource {
                     "a record of at most {} bytes",
                     self.options.max_record_bytes
                 ),
-                if len == u64::MAX {
+                if opcode == op::CHUNK && len == u64::MAX {
                     // What a writer leaves in the header of a chunk it has not closed.
                     format!(
                         "a {} record (opcode 0x{opcode:02x}) whose length was never written \

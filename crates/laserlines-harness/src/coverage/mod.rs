@@ -23,6 +23,7 @@
 //! This is the evaluation's ground truth: the explorer never reads it.
 
 use laserlines::math::{Isometry2, Point2, Vector2};
+use laserlines_sim::World;
 use laserlines_sim::arena::ArenaOutline;
 use laserlines_sim::cells::{clear_of, extent, flood4};
 use laserlines_sim::index::WorldIndex;
@@ -41,8 +42,7 @@ pub const MAX_COVERAGE_CELLS: usize = 2000;
 
 /// The grid's lower-left corner and its columns and rows (not clamped) for `index`'s world
 /// and a start at `start`.
-fn grid_size(index: &WorldIndex, start: Point2) -> (Point2, f64, f64) {
-    let world = index.world();
+fn grid_size(world: &World, start: Point2) -> (Point2, f64, f64) {
     let obstacles = world
         .walls
         .iter()
@@ -105,11 +105,11 @@ pub struct CoverageGrid {
 }
 
 impl CoverageGrid {
-    /// The width and height (m, with the start and the grid's margins) of `index`'s world
-    /// when the grid cannot hold it ([`MAX_COVERAGE_CELLS`] on a side); `None` when it can.
+    /// The width and height (m, with the start and the grid's margins) of `world` when the
+    /// grid cannot hold it ([`MAX_COVERAGE_CELLS`] on a side); `None` when it can.
     #[must_use]
-    pub fn too_large(index: &WorldIndex, start: Point2) -> Option<(f64, f64)> {
-        let (_, cols, rows) = grid_size(index, start);
+    pub fn too_large(world: &World, start: Point2) -> Option<(f64, f64)> {
+        let (_, cols, rows) = grid_size(world, start);
         let most = MAX_COVERAGE_CELLS as f64;
         // NaN (an absurd world) is too large as well.
         (!(cols <= most && rows <= most)).then_some((cols * COVERAGE_CELL, rows * COVERAGE_CELL))
@@ -122,7 +122,7 @@ impl CoverageGrid {
     pub fn new(index: &WorldIndex, start: Point2, radius: f64) -> Self {
         // At most `MAX_COVERAGE_CELLS` on a side: a larger world (which `too_large` tells,
         // and a run refuses) is clipped.
-        let (origin, cols, rows) = grid_size(index, start);
+        let (origin, cols, rows) = grid_size(index.world(), start);
         let cols = (cols as usize).clamp(1, MAX_COVERAGE_CELLS);
         let rows = (rows as usize).clamp(1, MAX_COVERAGE_CELLS);
         let n = cols * rows;

@@ -154,6 +154,29 @@ pub struct RunConfig {
     pub extraction_thread: bool,
 }
 
+impl RunConfig {
+    /// The checks a run makes before it starts that need no obstacle index: the run's
+    /// duration, the explorer's and the robot's parameters, the laser's view of the front
+    /// sector and of the followed wall, and the world's size against the coverage grid
+    /// (placing the robot at `start` is checked when the run starts). A caller that writes
+    /// files for a run can call it before it makes them.
+    ///
+    /// # Errors
+    /// The [`RunError`] the run would end with at once.
+    pub fn check(&self, world: &World, start: Isometry2) -> Result<(), RunError> {
+        laserlines::params::positive("duration_s", self.duration_s).map_err(RunError::Setting)?;
+        self.explorer.validate().map_err(RunError::Explorer)?;
+        self.robot.validate()?;
+        check_front_seen(&self.robot)?;
+        check_follow_seen(self)?;
+        let origin = laserlines::math::Point2::from(start.translation.vector);
+        if let Some((width_m, height_m)) = CoverageGrid::too_large(world, origin) {
+            return Err(RunError::TooLarge { width_m, height_m });
+        }
+        Ok(())
+    }
+}
+
 impl Default for RunConfig {
     fn default() -> Self {
         Self {
@@ -261,16 +284,10 @@ impl Loop {
         start: Isometry2,
         config: &RunConfig,
     ) -> Result<(Self, HoughSplit), RunError> {
-        laserlines::params::positive("duration_s", config.duration_s).map_err(RunError::Setting)?;
-        config.explorer.validate().map_err(RunError::Explorer)?;
+        config.check(world, start)?;
         let robot = RobotSim::new(world, start, config.robot, config.seed)?;
-        check_front_seen(&config.robot)?;
-        check_follow_seen(config)?;
         let extractor = HoughSplit::new(config.extractor.clone()).map_err(RunError::Extractor)?;
         let origin = laserlines::math::Point2::from(start.translation.vector);
-        if let Some((width_m, height_m)) = CoverageGrid::too_large(robot.index(), origin) {
-            return Err(RunError::TooLarge { width_m, height_m });
-        }
         let coverage = CoverageGrid::new(
             robot.index(),
             origin,

@@ -125,7 +125,7 @@ fn grids_that_would_exhaust_memory_and_empty_range_limits_are_refused() {
     let e = with(|p| p.bridge_incidence = 1e300).unwrap_err();
     assert_eq!(
         e,
-        "bridge_incidence must be at most 1.5708 (90 deg), got 1e300"
+        "bridge_incidence must be at most 1.5707 (90 deg), got 1e300"
     );
     let e = with(|p| p.sector_step = 10.0).unwrap_err();
     assert!(e.starts_with("sector_step must lie in (0, 6.28"), "{e}");
