@@ -149,7 +149,6 @@ fn map_log(
     start: Instant,
 ) -> Result<Option<anyhow::Error>> {
     super::note_unused_tables(args.params.file_path(), &["hough-split"], "map")?;
-    note_mapping_overrides(args)?;
     let mut params = MapperParams::default();
     if args.loop_closure == OnOff::Off {
         params.loops.every_scans = 0;
@@ -157,15 +156,19 @@ fn map_log(
     let mut mapper = Mapper::new(params);
     let progress = super::scan_spinner(" mapped");
     let run = read_and_map(args, name, &mut reader, &mut mapper, &progress)?;
+    // What the reader left out by design (other messages of a log, readings sharing a beam)
+    // is said too, not only the bad records of --skip-bad.
+    let stopped_read = match &run.stopped {
+        Some(Stop::Read(e)) => Some(e),
+        _ => None,
+    };
+    let mut skipped = skipped_besides(reader.skipped(), stopped_read);
+    skipped.add_n(NO_ODOMETRY, run.without_odometry);
     if run.stamps.is_empty() {
         return Err(match run.stopped {
             Some(Stop::Read(e)) => e.into(),
             Some(Stop::NoOdometry(e)) => e,
-            None => {
-                let mut skipped = reader.skipped().clone();
-                skipped.add_n(NO_ODOMETRY, run.without_odometry);
-                super::no_scans(name, &skipped)
-            }
+            None => super::no_scans(name, &skipped),
         });
     }
     if let Some(note) = stamp_note(&run.stamps) {
@@ -198,14 +201,6 @@ fn map_log(
         start.elapsed().as_secs_f64(),
         &files,
     );
-    // What the reader left out by design (other messages of a log, readings sharing a beam)
-    // is said too, not only the bad records of --skip-bad.
-    let stopped_read = match &run.stopped {
-        Some(Stop::Read(e)) => Some(e),
-        _ => None,
-    };
-    let mut skipped = skipped_besides(reader.skipped(), stopped_read);
-    skipped.add_n(NO_ODOMETRY, run.without_odometry);
     if args.skip_bad || !skipped.is_empty() {
         errln!("{name}: skipped: {skipped}");
     }
@@ -213,19 +208,20 @@ fn map_log(
     Ok(run.stopped.map(|e| stopped_error(e, name, mapped, args)))
 }
 
-/// Says on standard error which keys the params file's `[hough-split]` gives that scan
-/// matching sets its own way ([`laserlines::HoughSplitParams::for_mapping`]).
-fn note_mapping_overrides(args: &MapArgs) -> Result<()> {
-    let file = args.params.file(laserlines::registry::HOUGH_SPLIT.name)?;
-    let given = file.algorithm_params(&laserlines::registry::HOUGH_SPLIT)?;
-    let (given, used) = (
-        serde_json::to_value(&given)?,
-        serde_json::to_value(given.for_mapping())?,
-    );
+/// The extractor of scan matching: the params file's `[hough-split]` as
+/// [`laserlines::HoughSplitParams::for_mapping`] sets it, with a note on standard error of
+/// the keys the file gives that it sets its own way.
+fn mapping_extractor(args: &MapArgs) -> Result<laserlines::HoughSplit> {
+    let hough_split = &laserlines::registry::HOUGH_SPLIT;
+    let file = args.params.file(hough_split.name)?;
+    let given = file.algorithm_params(hough_split)?;
+    let shown = serde_json::to_value(&given)?;
+    let used = given.for_mapping();
+    let taken = serde_json::to_value(&used)?;
     let overridden: Vec<String> = file
-        .keys("hough-split")
-        .filter(|k| given.get(k) != used.get(k))
-        .map(|k| format!("{k} = {}", used[k]))
+        .keys(hough_split.name)
+        .filter(|k| shown.get(k) != taken.get(k))
+        .map(|k| format!("{k} = {}", taken[k]))
         .collect();
     if !overridden.is_empty() {
         errln!(
@@ -235,7 +231,7 @@ fn note_mapping_overrides(args: &MapArgs) -> Result<()> {
             overridden.join(", ")
         );
     }
-    Ok(())
+    laserlines::HoughSplit::new(used).context("hough-split parameters")
 }
 
 /// What the reader skipped, less the bad record that stopped the reading: the reader counts
@@ -269,7 +265,7 @@ fn read_and_map(
     mapper: &mut Mapper,
     progress: &ProgressBar,
 ) -> Result<Mapped> {
-    let mut extractor = super::make_mapping_hough_split(&args.params)?;
+    let mut extractor = mapping_extractor(args)?;
     let mut lines = Vec::new();
     let mut run = Mapped::default();
     // `auto` is resolved at the first scan.

@@ -249,24 +249,9 @@ pub fn make_extractor(algorithm: &str, params: &ParamsArgs) -> Result<BoxedExtra
 
 /// A HoughSplit extractor with its parameters from `params` ([`ParamsArgs::file`]).
 pub fn make_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
-    make_hough_split_with(params, |p| p)
-}
-
-/// [`make_hough_split`] for scan matching: without shared fits, with `sigma(r)` across every
-/// line, without the advance test of glancing lines and with `max_r_sd` at most 5 cm
-/// ([`laserlines::HoughSplitParams::for_mapping`]), whatever `params` say of them.
-pub fn make_mapping_hough_split(params: &ParamsArgs) -> Result<HoughSplit> {
-    make_hough_split_with(params, laserlines::HoughSplitParams::for_mapping)
-}
-
-/// A HoughSplit extractor with its parameters from `params`, then changed by `adjust`.
-fn make_hough_split_with(
-    params: &ParamsArgs,
-    adjust: impl FnOnce(laserlines::HoughSplitParams) -> laserlines::HoughSplitParams,
-) -> Result<HoughSplit> {
     let file = params.file(registry::HOUGH_SPLIT.name)?;
     let p = file.algorithm_params(&registry::HOUGH_SPLIT)?;
-    HoughSplit::new(adjust(p)).context("hough-split parameters")
+    HoughSplit::new(p).context("hough-split parameters")
 }
 
 /// `n` and the noun, in the singular for one (`1 scan`, `2 scans`, `3 passes`).

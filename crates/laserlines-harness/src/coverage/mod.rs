@@ -40,8 +40,8 @@ const GRID_MARGIN: f64 = 1.0;
 /// ([`CoverageGrid::too_large`]).
 pub const MAX_COVERAGE_CELLS: usize = 2000;
 
-/// The grid's lower-left corner and its columns and rows (not clamped) for `index`'s world
-/// and a start at `start`.
+/// The grid's lower-left corner and its columns and rows (not clamped) for `world` and a
+/// start at `start`.
 fn grid_size(world: &World, start: Point2) -> (Point2, f64, f64) {
     let obstacles = world
         .walls
