@@ -1,5 +1,5 @@
 //! `laserlines map` and `laserlines relations` end to end: the files on the bundled
-//! URG-04LX excerpt, the benchmark's bound on the MIT CSAIL log (release builds, with
+//! URG-04LX excerpt, the benchmark's bound on the MIT CSAIL log (with
 //! `../shared`), and bad input ending in a clear error.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -401,10 +401,6 @@ fn a_truncated_log_keeps_the_map_of_the_scans_before_it() {
 }
 
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "maps 1988 scans: needs optimisations, cargo test --release (.ci/run does)"
-)]
 fn mit_csail_meets_the_benchmark_bound() {
     let Some((log, rel)) = mit_csail() else {
         return;
@@ -437,10 +433,6 @@ fn mit_csail_meets_the_benchmark_bound() {
 /// off its 0.2 km campus, and its grid would not fit in a map. Scored against its own poses,
 /// relations every 5 scans (a consistency check, as in the README's table).
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "maps 2008 scans: needs optimisations, cargo test --release (.ci/run does)"
-)]
 fn the_freiburg_campus_maps_without_odometry_and_stays_on_the_campus() {
     let real = shared_data::path("real");
     let Some(log) = shared_data::available(

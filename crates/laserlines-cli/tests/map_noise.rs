@@ -85,10 +85,6 @@ fn median(mut v: [f64; 3]) -> f64 {
 }
 
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "maps 1988 scans six times: needs optimisations, cargo test --release (.ci/run does)"
-)]
 fn mit_csail_maps_under_a_cheap_scanners_noise() {
     let Some((log, relations)) = mit_csail() else {
         return;

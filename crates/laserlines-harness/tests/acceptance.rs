@@ -1,7 +1,7 @@
 //! The acceptance runs: seeded explorations of the bundled arenas, the arenas of
 //! `../shared` when it is there, and seeded mazes with islands or with corners cut at 45
-//! degrees, with the rows of the README's table. They need optimisations (`cargo test
-//! --release -p laserlines-harness`); CI runs them.
+//! degrees, with the rows of the README's table. `cargo test --workspace` runs them (the simulation, the
+//! explorer and the extractor are optimised in debug builds too).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -88,13 +88,8 @@ fn runs(name: &str, world: &World, start: Isometry2, seeds: std::ops::Range<u64>
 /// The acceptance runs of the bundled arenas that enclose their start (the two mazes and
 /// `go2011_arena`, with its diagonal walls and corners): 20 seeded runs of (at most) 15
 /// simulated minutes each, zero collisions, the robot never out of the arena, and coverage
-/// at least 0.90 in every run. Run with optimisations (`cargo test --release -p
-/// laserlines-harness`); CI does.
+/// at least 0.90 in every run.
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "slow without optimisations: run with --release"
-)]
 fn acceptance_bundled_arenas() {
     let opts = ArenaOptions::default();
     for name in ["inner_explore_test", "maze_10m_x_14m", "go2011_arena"] {
@@ -121,10 +116,6 @@ fn acceptance_bundled_arenas() {
 /// 45 degrees; their coverage, and the runs that left the arena (failures), are printed
 /// for the README's table. In the mazes, which are closed, leaving fails the test.
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "slow without optimisations: run with --release"
-)]
 fn acceptance_no_collisions_elsewhere() {
     let big = arenas::bundled("rc_2015_arena_big", &ArenaOptions::default())
         .unwrap()

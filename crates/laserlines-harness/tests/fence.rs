@@ -31,10 +31,6 @@ fn explore(world: &World, start: Isometry2, fence: bool, seed: u64) -> RunRecord
 }
 
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "slow without optimisations: run with --release"
-)]
 fn a_fence_keeps_the_robot_in_the_small_open_arena() {
     let Some(path) = common::shared_arena("rc_2015_arena_small.raf") else {
         return;
@@ -56,10 +52,6 @@ fn a_fence_keeps_the_robot_in_the_small_open_arena() {
 }
 
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "slow without optimisations: run with --release"
-)]
 fn a_fence_keeps_the_robot_within_the_big_arenas_bounds() {
     const SEEDS: u64 = 16;
     let world = arenas::bundled("rc_2015_arena_big", &ArenaOptions::default())

@@ -47,10 +47,6 @@ fn start_with_post() -> World {
 }
 
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "slow without optimisations: run with --release"
-)]
 fn the_robot_passes_a_post_at_a_turn_on_its_way_out() {
     let world = start_with_post();
     let start = Isometry2::new(Vector2::new(0.6, 0.6), 0.0);

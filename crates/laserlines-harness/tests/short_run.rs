@@ -1,5 +1,5 @@
-//! A short exploration that runs in every build, debug included (the acceptance runs of
-//! `nav.rs` need optimisations): the bundled `inner_explore_test` arena, seed 0, 80 s of
+//! A short exploration, the quick check of the explorer (`acceptance.rs` and `nav.rs` run
+//! the long ones): the bundled `inner_explore_test` arena, seed 0, 80 s of
 //! simulated time. The robot covers 90 % of the reachable area within those 80 s (the README
 //! gives 60-77 s over 20 seeds), without a collision, its own pose estimate within 0.2 m of
 //! the truth. Measured: coverage 0.961, 90 % at 74 s, 30.9 m driven.

@@ -67,10 +67,6 @@ fn walls_and_barrels(text: &str) -> World {
 }
 
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "slow without optimisations: run with --release"
-)]
 fn the_run_ends_once_the_closed_region_is_seen() {
     let mut world = walls_and_barrels(arenas::RC_2015_ARENA_BIG);
     // The outer edge of cell (0, 0), where the arena's half ramps stand, and the gap in the

@@ -34,10 +34,6 @@ fn pocket_with_post() -> World {
 }
 
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "slow without optimisations: run with --release"
-)]
 fn the_robot_beside_a_post_moves_to_where_it_can_turn() {
     let world = pocket_with_post();
     let start = Isometry2::new(Vector2::new(0.6, 0.6), 0.0);

@@ -16,10 +16,6 @@ use laserlines_harness::{RunConfig, run};
 use laserlines_sim::maze::{MazeParams, generate};
 
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "slow without optimisations: run with --release"
-)]
 fn with_a_turning_margin_a_robot_beside_a_wall_turns_where_it_stands() {
     let params = MazeParams {
         islands: 3,

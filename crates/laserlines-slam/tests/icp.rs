@@ -123,7 +123,6 @@ proptest! {
 /// cases: 4 (the worst 3.0 cm off; a refinement with a tighter pairing gate would take
 /// such a match to the truth). Release builds only (16 s there).
 #[test]
-#[cfg_attr(debug_assertions, ignore = "30 000 matches: run with --release")]
 fn nearly_every_offset_within_the_basin_is_recovered_within_2_cm() {
     let mut rng = Rng::new(777);
     let (mut cases, mut failed, mut beyond, mut worst) = (0, 0, 0, 0.0f64);

@@ -166,10 +166,6 @@ fn around_the_ring(_: &Scan, pose: &Se2) -> VelocityCommand {
 }
 
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "whole simulated runs need optimisations: cargo test --release (.ci/run does)"
-)]
 fn closing_the_loop_corrects_the_odometry_drift() {
     let world = ring();
     let start = Isometry2::new(Vector2::new(-3.0, -3.5), 0.0);
@@ -194,10 +190,6 @@ fn closing_the_loop_corrects_the_odometry_drift() {
 }
 
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "whole simulated runs need optimisations: cargo test --release (.ci/run does)"
-)]
 fn a_cheap_scanners_noise_still_maps_with_line_normals() {
     // The ring with ranges noisy to 2 % of the range (at least 10 mm), as a YDLIDAR X4 or an
     // RPLIDAR reads: few neighbourhoods of 7 beams are flat enough for a normal, and the
@@ -258,10 +250,6 @@ fn a_cheap_scanners_noise_still_maps_with_line_normals() {
 }
 
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "whole simulated runs need optimisations: cargo test --release (.ci/run does)"
-)]
 fn a_run_in_a_bundled_arena_stays_near_the_truth() {
     let (world, start) = common::inner_explore_test();
     let mut bounce = common::Bounce::default();

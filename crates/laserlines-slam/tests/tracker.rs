@@ -150,10 +150,6 @@ fn the_first_scan_is_placed_by_its_odometry_and_bad_odometry_is_refused() {
 }
 
 #[test]
-#[cfg_attr(
-    debug_assertions,
-    ignore = "whole simulated runs need optimisations: cargo test --release (.ci/run does)"
-)]
 fn a_run_in_a_bundled_arena_stays_near_the_truth() {
     let (world, start) = common::inner_explore_test();
     let params = RobotParams {
