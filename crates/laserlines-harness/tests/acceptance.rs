@@ -1,7 +1,7 @@
 //! The acceptance runs: seeded explorations of the bundled arenas, the arenas of
 //! `../shared` when it is there, and seeded mazes with islands or with corners cut at 45
-//! degrees, with the rows of the README's table. `cargo test --workspace` runs them (the simulation, the
-//! explorer and the extractor are optimised in debug builds too).
+//! degrees, with the rows of the README's table. `cargo test --workspace` runs them (the
+//! simulation, the explorer and the extractor are optimised in debug builds too).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
