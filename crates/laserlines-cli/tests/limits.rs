@@ -358,6 +358,44 @@ fn render_reports_the_bad_record_that_ends_the_log_before_the_scan() {
 }
 
 #[test]
+fn render_skip_bad_numbers_the_scans_as_extract_skip_bad_does() {
+    // Ranges of the three records differ: 1.0, a bad one, 1.3 m.
+    let good = "FLASER 3 1.0 1.0 1.0 0 0 0 0 0 0 1.0 h 1.0\n";
+    let last = "FLASER 3 1.3 1.3 1.3 0 0 0 0 0 0 1.2 h 1.2\n";
+    let bad = "FLASER 3 1.1 1.1 0 0 0 0 0 0 1.1 h 1.1\n";
+    let (with_bad, without) = (tmp("skip-render-bad.clf"), tmp("skip-render-good.clf"));
+    std::fs::write(&with_bad, format!("{good}{bad}{last}")).unwrap();
+    std::fs::write(&without, format!("{good}{last}")).unwrap();
+    let draw = |log: &std::path::Path, svg: &str, skip: bool| {
+        let mut cmd = bin();
+        cmd.arg("render").arg(log).args(["--scan", "1", "-o"]);
+        cmd.arg(tmp(svg));
+        if skip {
+            cmd.arg("--skip-bad");
+        }
+        run(&mut cmd)
+    };
+    // Without --skip-bad the bad record ends the run, named.
+    let o = draw(&with_bad, "skip-render-stop.svg", false);
+    fails_with(
+        &o,
+        &["skip-render-bad.clf:2: expected 14 tokens for FLASER"],
+    );
+    let o = draw(&with_bad, "skip-render-skip.svg", true);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("skipped: ") && stderr(&o).contains("skip-render-bad.clf:2"),
+        "{}",
+        stderr(&o)
+    );
+    let o = draw(&without, "skip-render-ref.svg", false);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let read = |name: &str| std::fs::read_to_string(tmp(name)).unwrap();
+    // Scan 1 is the record after the bad one, drawn as from a log without it.
+    assert_eq!(read("skip-render-skip.svg"), read("skip-render-ref.svg"));
+}
+
+#[test]
 fn the_readme_sectors_example_prints_what_the_readme_shows() {
     let readme = std::fs::read_to_string(repo("README.md")).unwrap();
     let mut lines = readme.lines().map(str::trim);

@@ -210,4 +210,21 @@ mod tests {
         let d435 = sigma("realsense-d435", 4.0).unwrap_or_default();
         assert!((d435 - 0.0576).abs() < 1e-12, "{d435}");
     }
+
+    #[test]
+    fn a_sensor_answers_to_every_spelling_of_its_name() {
+        use crate::workload::sensor;
+        for (spelt, name) in [
+            ("UTM-30LX", "utm30lx"),
+            ("urg-04lx-full", "urg04lx-full"),
+            ("URG04LX_1.5x", "urg04lx-1.5x"),
+            ("rplidar_a1", "rplidar-a1"),
+        ] {
+            assert!(sensor(name).is_some(), "{name}");
+            assert_eq!(sensor(spelt), sensor(name), "{spelt}");
+        }
+        // Field levels differ in their noise, so the match is not loose.
+        assert_ne!(sensor("urg04lx-full"), sensor("urg04lx-1.5x"));
+        assert!(sensor("urg-04").is_none());
+    }
 }

@@ -127,7 +127,8 @@ impl Sensor {
     }
 }
 
-/// The sensor called `name` (one of [`SENSORS`]):
+/// The sensor called `name` (one of [`SENSORS`], matched as
+/// [`laserlines::noise::sensor_names_match`] matches names):
 /// - `urg04lx`: [`LaserModel::urg04lx`], the paper's sensor with its data-sheet band read as
 ///   two standard deviations, 1 mm rounding, as the round-trip tests use it;
 /// - `urg04lx-artefacts`: the same with mixed pixels at half of the depth edges and 1 % of
@@ -141,6 +142,10 @@ impl Sensor {
 ///   as scans, in the field conditions ([`crate::scanners`]).
 #[must_use]
 pub fn sensor(name: &str) -> Option<Sensor> {
+    // Spelt any way a model name is (`urg-04lx-full`, `UTM30LX`): one of SENSORS.
+    let name = *SENSORS
+        .iter()
+        .find(|s| laserlines::noise::sensor_names_match(s, name))?;
     if let Some((_, level)) = FIELD_LEVELS.iter().find(|(n, _)| *n == name) {
         return Some(Sensor::field(*level));
     }

@@ -39,6 +39,12 @@ pub struct RenderArgs {
     /// width and angle are also printed, one line per sector.
     #[arg(long)]
     sectors: bool,
+    /// Skip bad records (each named on standard error) instead of stopping at the first, so
+    /// that `--scan` counts the scans as `extract --skip-bad` numbers them. A failed read of
+    /// the input itself (an I/O error, a corrupt gzip stream) still ends the run with an
+    /// error.
+    #[arg(long)]
+    skip_bad: bool,
 }
 
 /// Runs the command.
@@ -53,7 +59,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "render")?;
     let to_stdout = args.output == Path::new("-");
-    let record = nth_scan(&args.input, args.scan)?;
+    let record = nth_scan(&args.input, args.scan, args.skip_bad)?;
     let opts = RenderOptions {
         width: args.width,
         ..RenderOptions::default()
@@ -123,12 +129,20 @@ pub fn run(args: &RenderArgs) -> Result<()> {
 }
 
 /// Scan `index` of the input, counting scans from 0; a bad record before it is the error
-/// (as `extract` gives it), not a shortage of scans.
-fn nth_scan(input: &InputArgs, index: usize) -> Result<laserlines_io::ScanRecord> {
+/// (as `extract` gives it), not a shortage of scans, unless `skip_bad` skips it (it then
+/// takes no number).
+fn nth_scan(input: &InputArgs, index: usize, skip_bad: bool) -> Result<laserlines_io::ScanRecord> {
     let mut reader = super::open_input(input)?;
     let mut seen = 0usize;
     for item in reader.by_ref() {
-        let record = item?;
+        let record = match item {
+            Ok(r) => r,
+            Err(e) if super::skips(skip_bad, &e) => {
+                errln!("laserlines: skipped: {e}");
+                continue;
+            }
+            Err(e) => return Err(super::read_error(e, skip_bad)),
+        };
         if seen == index {
             return Ok(record);
         }

@@ -40,6 +40,20 @@ pub use estimator::{
     BandEstimate, MIN_BAND_SAMPLES, MIN_POOLED_SAMPLES, NOISE_BANDS, NoiseEstimator,
 };
 
+/// True when `a` and `b` name the same sensor: they are equal but for ASCII case, hyphens
+/// and underscores (`urg-04lx`, `urg04lx`, `URG_04LX`), as data sheets and drivers spell
+/// model names every way.
+#[must_use]
+pub fn sensor_names_match(a: &str, b: &str) -> bool {
+    let key = |s: &str| {
+        s.bytes()
+            .filter(|c| !matches!(c, b'-' | b'_'))
+            .map(|c| c.to_ascii_lowercase())
+            .collect::<Vec<u8>>()
+    };
+    key(a) == key(b)
+}
+
 /// A range-noise model `sigma(r) = max(sigma_min, fraction * r)`, metres.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(
@@ -122,10 +136,14 @@ impl RangeNoise {
         }
     }
 
-    /// The preset called `name` (see [`PRESETS`]).
+    /// The preset called `name` (see [`PRESETS`]; the name is matched by
+    /// [`sensor_names_match`]: `urg04lx` and `URG-04LX` name `urg-04lx`).
     #[must_use]
     pub fn preset(name: &str) -> Option<Self> {
-        PRESETS.iter().find(|p| p.name == name).map(|p| p.noise)
+        PRESETS
+            .iter()
+            .find(|p| sensor_names_match(p.name, name))
+            .map(|p| p.noise)
     }
 
     /// Standard deviation at range `r`, m.
@@ -284,6 +302,12 @@ mod tests {
             assert_eq!(RangeNoise::preset(p.name), Some(p.noise));
         }
         assert!(RangeNoise::preset("nonsense").is_none());
+        // Spellings of a model name.
+        for name in ["urg04lx", "URG-04LX", "urg_04lx"] {
+            assert_eq!(RangeNoise::preset(name), RangeNoise::preset("urg-04lx"));
+        }
+        assert_eq!(RangeNoise::preset("lms-1xx"), Some(PRESETS[3].noise));
+        assert!(RangeNoise::preset("urg-04").is_none());
         let urg = RangeNoise::preset("urg-04lx").unwrap();
         assert!((urg.sigma(0.5) - 0.01).abs() < 1e-15);
         assert!((urg.sigma(3.0) - 0.03).abs() < 1e-15);
