@@ -150,6 +150,80 @@ fn a_message_that_does_not_decode_names_its_id_and_reading_goes_on() {
 }
 
 #[test]
+fn a_row_of_the_wrong_type_loses_no_other_message_and_orphans_are_counted() {
+    let dir = temp_dir("bad-rows");
+    let path = dir.join("bag_0.db3");
+    std::fs::copy(db3(), &path).unwrap();
+    let db = rusqlite::Connection::open(&path).unwrap();
+    // 200 /scan messages, more than three pages: copies of the first, each stamped apart.
+    db.execute_batch(
+        "CREATE TEMP TABLE first AS SELECT messages.topic_id AS t, data AS d FROM messages \
+         JOIN topics ON topics.id = topic_id WHERE name = '/scan' ORDER BY messages.id LIMIT 1; \
+         DELETE FROM messages WHERE topic_id = (SELECT t FROM first); \
+         WITH RECURSIVE c(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM c WHERE x < 200) \
+         INSERT INTO messages(topic_id, timestamp, data) \
+         SELECT (SELECT t FROM first), 1700000000000000000 + x, (SELECT d FROM first) FROM c;",
+    )
+    .unwrap();
+    let nth = |k: i64| -> i64 {
+        db.query_row(
+            "SELECT messages.id FROM messages JOIN topics ON topics.id = topic_id \
+             WHERE name = '/scan' ORDER BY messages.id LIMIT 1 OFFSET ?1",
+            [k],
+            |row| row.get(0),
+        )
+        .unwrap()
+    };
+    let (text, noon, orphan) = (nth(100), nth(150), nth(3));
+    db.execute(
+        "UPDATE messages SET data = CAST(data AS TEXT) WHERE id = ?1",
+        [text],
+    )
+    .unwrap();
+    // The column is NOT NULL, and text that is no number stays text in it.
+    db.execute(
+        "UPDATE messages SET timestamp = 'noon' WHERE id = ?1",
+        [noon],
+    )
+    .unwrap();
+    db.execute("UPDATE messages SET topic_id = 99 WHERE id = ?1", [orphan])
+        .unwrap();
+    drop(db);
+    let mut reader = read::open(&path, &McapReadOptions::default()).unwrap();
+    let items: Vec<_> = reader.by_ref().collect();
+    // Every message but the orphan comes out, the two bad rows as errors in their place.
+    assert_eq!(items.len(), 199);
+    let errors: Vec<(usize, String)> = items
+        .iter()
+        .enumerate()
+        .filter_map(|(k, r)| r.as_ref().err().map(|e| (k, e.to_string())))
+        .collect();
+    let at = |id: i64| format!("{}: message {id}: /scan message's ", path.display());
+    assert_eq!(errors.len(), 2, "{errors:?}");
+    assert_eq!(errors[0].0, 99);
+    assert!(errors[0].1.starts_with(&at(text)), "{}", errors[0].1);
+    assert!(
+        errors[0]
+            .1
+            .ends_with("data: expected a BLOB (the CDR message), found TEXT")
+    );
+    assert_eq!(errors[1].0, 149);
+    assert!(errors[1].1.starts_with(&at(noon)), "{}", errors[1].1);
+    assert!(
+        errors[1]
+            .1
+            .ends_with("timestamp: expected an integer (nanoseconds), found TEXT")
+    );
+    assert!(
+        errors
+            .iter()
+            .all(|(_, e)| !e.contains("-9223372036854775808"))
+    );
+    assert_eq!(reader.skipped().get(read::db3::SKIP_UNDECLARED_TOPIC), 1);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn a_file_that_is_no_database_is_an_error_at_byte_zero() {
     let dir = temp_dir("not-sqlite");
     std::fs::write(dir.join("bag_0.db3"), b"not a database at all").unwrap();

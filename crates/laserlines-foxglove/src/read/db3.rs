@@ -10,8 +10,11 @@
 //! asked for (with or without its leading `/`), or else the first LaserScan topic of the
 //! file; the other LaserScan topics' messages are counted as skipped. The stamp is the
 //! header's, or the message's `timestamp` (receive time) when the header stamp is zero. A
-//! message that does not decode is an error naming the file and the message id, and reading
-//! goes on.
+//! message that does not decode (or whose row holds no integer `timestamp` or no BLOB
+//! `data`) is an error naming the file and the message id, and reading goes on. Messages on
+//! a `topic_id` that no topic declares are counted as skipped. A database SQLite cannot read
+//! further (a corrupt page) ends the reading after the messages read before it, as a failed
+//! read, not a bad record.
 
 use std::collections::VecDeque;
 use std::io::Read;
@@ -73,8 +76,39 @@ struct Db3File {
     kind: ScanMsgType,
     /// The id of the last message read.
     after: i64,
-    page: VecDeque<(i64, i64, Vec<u8>)>,
+    /// Messages read and not yet returned: id, and timestamp and data (or what the row
+    /// holds instead).
+    page: VecDeque<(i64, RowValues)>,
     done: bool,
+    /// The error that ended the reading, returned once the page before it is.
+    failed: Option<rusqlite::Error>,
+}
+
+/// Skip reason for messages whose `topic_id` no topic of the bag declares.
+pub const SKIP_UNDECLARED_TOPIC: &str = "message on an undeclared topic";
+
+/// A `messages` row's column that does not hold what it must: its name, what it must hold
+/// and what it holds.
+type BadRow = (&'static str, &'static str, &'static str);
+
+/// A `messages` row's `timestamp` and `data`, or the column that does not hold them.
+type RowValues = Result<(i64, Vec<u8>), BadRow>;
+
+/// A `messages` row's `timestamp` and `data`, or the column that holds no integer or no BLOB.
+fn row_values(row: &rusqlite::Row<'_>) -> rusqlite::Result<RowValues> {
+    use rusqlite::types::ValueRef;
+    let kind = |v: ValueRef<'_>| match v {
+        ValueRef::Null => "NULL",
+        ValueRef::Integer(_) => "an integer",
+        ValueRef::Real(_) => "a real",
+        ValueRef::Text(_) => "TEXT",
+        ValueRef::Blob(_) => "a BLOB",
+    };
+    Ok(match (row.get_ref(1)?, row.get_ref(2)?) {
+        (ValueRef::Integer(t), ValueRef::Blob(d)) => Ok((t, d.to_vec())),
+        (ValueRef::Integer(_), d) => Err(("data", "a BLOB (the CDR message)", kind(d))),
+        (t, _) => Err(("timestamp", "an integer (nanoseconds)", kind(t))),
+    })
 }
 
 fn db_error(name: &str, e: &rusqlite::Error) -> ReadError {
@@ -137,6 +171,14 @@ impl Db3File {
                 .map_err(|e| db_error(&name, &e))?;
             skipped.add_n(SKIP_OTHER_TOPIC, u64::try_from(n).unwrap_or(0));
         }
+        let orphans: i64 = db
+            .query_row(
+                "SELECT COUNT(*) FROM messages WHERE topic_id NOT IN (SELECT id FROM topics)",
+                [],
+                |row| row.get(0),
+            )
+            .map_err(|e| db_error(&name, &e))?;
+        skipped.add_n(SKIP_UNDECLARED_TOPIC, u64::try_from(orphans).unwrap_or(0));
         Ok(Self {
             topic_id: chosen.id,
             topic: chosen.name.clone(),
@@ -146,25 +188,28 @@ impl Db3File {
             after: i64::MIN,
             page: VecDeque::new(),
             done: false,
+            failed: None,
         })
     }
 
-    /// Reads the next page of messages of the topic.
+    /// Reads the next page of messages of the topic; the rows read before an error stay in
+    /// the page.
     fn fetch(&mut self) -> Result<(), rusqlite::Error> {
         let mut stmt = self.db.prepare(
             "SELECT id, timestamp, data FROM messages WHERE topic_id = ?1 AND id > ?2 \
              ORDER BY id LIMIT ?3",
         )?;
         let rows = stmt.query_map(params![self.topic_id, self.after, PAGE], |row| {
-            Ok((row.get(0)?, row.get(1)?, row.get(2)?))
+            Ok((row.get::<_, i64>(0)?, row_values(row)?))
         })?;
+        let mut read = 0;
         for row in rows {
-            self.page.push_back(row?);
+            let (id, values) = row?;
+            self.after = id;
+            self.page.push_back((id, values));
+            read += 1;
         }
-        if let Some((id, _, _)) = self.page.back() {
-            self.after = *id;
-        }
-        if self.page.len() < PAGE as usize {
+        if read < PAGE {
             self.done = true;
         }
         Ok(())
@@ -177,15 +222,37 @@ impl Db3File {
             && let Err(e) = self.fetch()
         {
             self.done = true;
-            self.page.clear();
-            return Some(Err(ReadError::Syntax {
-                pos: SourcePos::message(&self.name, self.after),
-                expected: "the next messages of the bag".to_owned(),
-                found: format!("a database error ({e})"),
-            }));
+            self.failed = Some(e);
         }
-        let (id, timestamp, data) = self.page.pop_front()?;
-        Some(self.decode(id, timestamp, &data))
+        let Some((id, values)) = self.page.pop_front() else {
+            return self.failed.take().map(|e| Err(self.read_failed(&e)));
+        };
+        Some(match values {
+            Ok((timestamp, data)) => self.decode(id, timestamp, &data),
+            Err((column, expected, found)) => Err(ReadError::Field {
+                pos: SourcePos::message(&self.name, id),
+                field: format!("{} message's {column}", self.topic),
+                expected: expected.to_owned(),
+                found: found.to_owned(),
+            }),
+        })
+    }
+
+    /// The error of a database SQLite cannot read past the last message read: not a bad
+    /// record, as nothing after it can be read.
+    fn read_failed(&self, e: &rusqlite::Error) -> ReadError {
+        let (pos, what) = if self.after == i64::MIN {
+            (SourcePos::byte(&self.name, 0), "the bag's messages")
+        } else {
+            (
+                SourcePos::message(&self.name, self.after),
+                "the messages after this one",
+            )
+        };
+        ReadError::Io {
+            pos,
+            source: std::io::Error::other(format!("SQLite cannot read {what} ({e})")),
+        }
     }
 
     fn decode(

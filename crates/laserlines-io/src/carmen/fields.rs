@@ -112,7 +112,9 @@ impl<'a> Fields<'a> {
             .ok_or_else(|| self.field_error(what(), "a number", token))
     }
 
-    /// `n` ranges in metres, "no return" markers turned into `+inf`.
+    /// `n` ranges in metres, "no return" markers turned into `+inf`. A range must be a
+    /// finite number of at least 0: a NaN, an infinite, an overflowing (`1e400`) or a
+    /// negative reading is no distance any logger writes, and an error naming it.
     pub(super) fn ranges(&mut self, n: usize) -> Result<Vec<f64>, ReadError> {
         // `n` comes from the line: never reserve more than its tokens can fill.
         let mut ranges = Vec::with_capacity(n.min(self.text_len / 2 + 1));
@@ -120,7 +122,10 @@ impl<'a> Fields<'a> {
             let token = self.tokens.next();
             let r = token
                 .and_then(parse_number)
-                .ok_or_else(|| self.field_error(format!("range {i}"), "a number (m)", token))?;
+                .filter(|r| r.is_finite() && *r >= 0.0)
+                .ok_or_else(|| {
+                    self.field_error(format!("range {i}"), "a finite number >= 0 (m)", token)
+                })?;
             ranges.push(if is_no_return(r) { f64::INFINITY } else { r });
         }
         Ok(ranges)

@@ -299,9 +299,18 @@ fn wrong_field_counts_are_errors_and_reading_goes_on() {
         .clone()
         .unwrap_err();
     assert!(
-        e.contains("FLASER range 1: expected a number (m), found `x`"),
+        e.contains("FLASER range 1: expected a finite number >= 0 (m), found `x`"),
         "{e}"
     );
+    // No distance is NaN, infinite, beyond a double or negative; 0 is read (as no return).
+    for bad in ["nan", "inf", "-inf", "1e400", "-1.5", "-0.001"] {
+        let e = read(&format!("FLASER 2 1 {bad} 0 0 0 0 0 0 0 h 0\n"), None).0[0]
+            .clone()
+            .unwrap_err();
+        let want = format!("FLASER range 1: expected a finite number >= 0 (m), found `{bad}`");
+        assert!(e.contains(&want), "{bad}: {e}");
+    }
+    assert!(read("FLASER 2 1 0 0 0 0 0 0 0 0 h 0\n", None).0[0].is_ok());
     let e = read("FLASER 1 1 0 nan 0 0 0 0 0 h 0\n", None).0[0]
         .clone()
         .unwrap_err();
