@@ -233,6 +233,21 @@ impl ReadError {
         self.pos().and_then(|p| p.at.line())
     }
 
+    /// A record at `pos` whose length field is corrupt (`expected` what the format allows,
+    /// `found` what it holds): the records after it cannot be found, so the rest of the input
+    /// is not read. A failed read ([`ReadError::Io`]), not a bad record: a skip would end the
+    /// reading there with the rest of the input unread and uncounted.
+    #[must_use]
+    pub fn corrupt_length(pos: SourcePos, expected: &str, found: &str) -> Self {
+        Self::Io {
+            pos,
+            source: std::io::Error::other(format!(
+                "expected {expected}, found {found}; the records after it cannot be found, so \
+                 the rest of the input is not read"
+            )),
+        }
+    }
+
     /// True for a bad record, which a caller may skip (counted in [`crate::SkipCounts`]
     /// under [`ReadError::reason`]) and read on; false for a failed read of the input itself
     /// ([`ReadError::Io`]: an I/O error, a corrupt or truncated gzip stream, a line or JSON

@@ -267,27 +267,33 @@ impl McapScanSource {
         len_bytes.copy_from_slice(&head[1..]);
         let len = u64::from_le_bytes(len_bytes);
         if len > self.options.max_record_bytes {
-            let e = self.syntax(
-                at,
+            let unfinished = opcode == op::CHUNK && len == u64::MAX;
+            let expected = format!(
+                "a record of at most {} bytes",
+                self.options.max_record_bytes
+            );
+            let found = if unfinished {
+                // What a writer leaves in the header of a chunk it has not closed.
                 format!(
-                    "a record of at most {} bytes",
-                    self.options.max_record_bytes
-                ),
-                if opcode == op::CHUNK && len == u64::MAX {
-                    // What a writer leaves in the header of a chunk it has not closed.
-                    format!(
-                        "a {} record (opcode 0x{opcode:02x}) whose length was never written \
+                    "a {} record (opcode 0x{opcode:02x}) whose length was never written \
                          (0xffffffffffffffff): the recording was cut off while it was being \
                          written, before it was finished",
-                        opcode_name(opcode)
-                    )
-                } else {
-                    format!(
-                        "a {} record (opcode 0x{opcode:02x}) of {len} bytes",
-                        opcode_name(opcode)
-                    )
-                },
-            );
+                    opcode_name(opcode)
+                )
+            } else {
+                format!(
+                    "a {} record (opcode 0x{opcode:02x}) of {len} bytes",
+                    opcode_name(opcode)
+                )
+            };
+            // A corrupt length hides where the next record starts: the rest of the file
+            // cannot be read, which no skip may pass over in silence. An unfinished chunk
+            // ends a recording that was cut off: nothing follows it.
+            let e = if unfinished {
+                self.syntax(at, expected, found)
+            } else {
+                ReadError::corrupt_length(self.at(at), &expected, &found)
+            };
             return self.fail(e);
         }
         let mut body = std::mem::take(&mut self.body);

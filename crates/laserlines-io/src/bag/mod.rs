@@ -301,11 +301,11 @@ impl BagSource {
         }
         let header_len = u64::from(u32::from_le_bytes(len));
         if header_len > MAX_HEADER_BYTES {
-            return Err(ReadError::Syntax {
-                pos: SourcePos::byte(&self.name, start),
-                expected: format!("a record header of at most {MAX_HEADER_BYTES} bytes"),
-                found: format!("a header length of {header_len} bytes (a corrupt record)"),
-            });
+            return Err(ReadError::corrupt_length(
+                SourcePos::byte(&self.name, start),
+                &format!("a record header of at most {MAX_HEADER_BYTES} bytes"),
+                &format!("a header length of {header_len} bytes (a corrupt record)"),
+            ));
         }
         let mut header = std::mem::take(&mut self.header);
         let got = self
