@@ -87,6 +87,14 @@ pub fn decode_scan_counted(
         ScanEncoding::Ros1MultiEcho => ros_scan(ros::decode_ros1_as(data, MultiEcho))?,
         ScanEncoding::FoxgloveProtobuf => {
             let msg = LaserScan::decode(data).map_err(|e| MessageError::Protobuf(e.to_string()))?;
+            // Protobuf reads an empty payload, or one cut between two fields, as a message
+            // whose missing fields are zero: a scan without ranges is such a message.
+            if msg.ranges.is_empty() {
+                return Err(MessageError::Protobuf(format!(
+                    "no ranges in {} bytes: an empty or cut message",
+                    data.len()
+                )));
+            }
             (proto::scan_from_foxglove(&msg, limits, log_seconds), 0)
         }
         ScanEncoding::FoxgloveJson => (
@@ -98,4 +106,42 @@ pub fn decode_scan_counted(
         scan.stamp = Some(log_seconds);
     }
     Ok((scan, left_out))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_protobuf_scan_without_ranges_is_an_empty_or_cut_message() {
+        let msg = LaserScan {
+            start_angle: -1.0,
+            end_angle: 1.0,
+            ranges: vec![1.0, 2.0, 3.0],
+            ..LaserScan::default()
+        };
+        let whole = msg.encode_to_vec();
+        let scan = decode_scan(
+            ScanEncoding::FoxgloveProtobuf,
+            RangeLimits::default(),
+            &whole,
+            5.0,
+        )
+        .unwrap();
+        assert_eq!(scan.ranges, [1.0, 2.0, 3.0]);
+        assert!((scan.angle_increment - 1.0).abs() < 1e-12);
+        // An empty payload, and one cut before its ranges (the two angles' 18 bytes).
+        for data in [&[][..], &whole[..18]] {
+            let e = decode_scan(
+                ScanEncoding::FoxgloveProtobuf,
+                RangeLimits::default(),
+                data,
+                5.0,
+            )
+            .unwrap_err()
+            .to_string();
+            let want = format!("no ranges in {} bytes: an empty or cut message", data.len());
+            assert!(e.contains(&want), "{e}");
+        }
+    }
 }
