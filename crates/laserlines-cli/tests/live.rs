@@ -134,9 +134,25 @@ fn the_duration_ends_a_run_whose_sensor_went_away() {
     let mut stderr = String::new();
     std::io::Read::read_to_string(&mut live.0.stderr.take().unwrap(), &mut stderr).unwrap();
     assert!(status.success(), "{stderr}");
+    // The summary's rate is the run's average: the scans over the run's seconds, however
+    // fast the sensor served before it went away.
+    let summary = stderr
+        .lines()
+        .find(|l| l.contains(" lines in ") && l.contains(" on average; at the end: "))
+        .unwrap_or_else(|| panic!("no summary: {stderr}"));
+    let number_before = |text: &str, unit: &str| -> f64 {
+        let head = &text[..text.find(unit).unwrap()];
+        head.rsplit([' ', ',']).next().unwrap().parse().unwrap()
+    };
+    let (scans, secs) = (
+        number_before(summary, " scans, "),
+        number_before(summary, " s, "),
+    );
+    let average = number_before(summary, " scans/s on average");
+    assert!(scans > 0.0 && secs >= 6.5, "{summary}");
     assert!(
-        stderr.contains(" scans, ") && stderr.contains("lines in"),
-        "{stderr}"
+        (average * secs - scans).abs() <= 0.05 * secs + 0.5,
+        "{summary}"
     );
     // Lost at about 1 s; still away 5 s later.
     assert!(

@@ -228,6 +228,7 @@ fn a_log_converted_to_parquet_maps_by_its_odometry_as_the_log_does() {
 fn bad_input_ends_in_a_clear_error() {
     // A scan without a pose, mapped with odometry.
     let csv = repo("crates/laserlines-io/tests/fixtures/scan.csv");
+    let _ = std::fs::remove_dir_all(tmp("csv"));
     let o = run(bin()
         .arg("map")
         .arg(&csv)
@@ -239,6 +240,8 @@ fn bad_input_ends_in_a_clear_error() {
         "scan.csv",
         "scan 0 (line 6): no odometry (the log gives none for this scan); map it with --odometry off",
     );
+    // The folder made for the run's outputs is not left behind empty.
+    assert!(!tmp("csv").exists());
     let o = run(bin()
         .arg("map")
         .arg(&csv)

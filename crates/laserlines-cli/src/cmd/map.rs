@@ -81,10 +81,23 @@ pub fn run(args: &MapArgs) -> Result<()> {
     }
     let reader = super::open_input(&args.input)?;
     // The output directory is made and tried before the mapping: a run of minutes must not
-    // end in "cannot create".
+    // end in "cannot create". One made here is removed again, if still empty, when the
+    // mapping fails before writing anything.
+    let made = !args.output.exists();
+    let unmake = || {
+        if made {
+            let _ = std::fs::remove_dir(&args.output);
+        }
+    };
     let Some(path) = &args.mcap else {
         map_outputs::prepare_dir(&args.output)?;
-        return map_log(args, &name, reader, None, start)?.map_or(Ok(()), Err);
+        return match map_log(args, &name, reader, None, start) {
+            Ok(stopped) => stopped.map_or(Ok(()), Err),
+            Err(e) => {
+                unmake();
+                Err(e)
+            }
+        };
     };
     let params = args.params.file_path();
     let inputs: Vec<&std::path::Path> = [Some(args.input.input.as_path()), params]
@@ -108,6 +121,7 @@ pub fn run(args: &MapArgs) -> Result<()> {
         Ok(Some(stopped)) => Err(stopped),
         Err(e) => {
             super::remove_own_output(path);
+            unmake();
             Err(e)
         }
     }

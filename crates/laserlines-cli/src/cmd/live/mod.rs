@@ -203,11 +203,18 @@ pub fn run(args: &LiveArgs) -> Result<()> {
     tally.close_window(Instant::now());
     let quit = scanner.close();
     outputs.close()?;
+    // The run's average rate, then the status line, whose rate is its last window's (an
+    // outage or a reconnection shows in the average only).
+    let secs = start.elapsed().as_secs_f64();
     errln!(
-        "laserlines: {} scans, {} lines in {:.1} s; {}",
+        "laserlines: {} scans, {} lines in {secs:.1} s, {:.1} scans/s on average; at the end: {}",
         tally.scans,
         tally.lines,
-        start.elapsed().as_secs_f64(),
+        if secs > 0.0 {
+            tally.scans as f64 / secs
+        } else {
+            0.0
+        },
         tally.status_line(&stats)
     );
     result?;
