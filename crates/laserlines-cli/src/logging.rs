@@ -47,7 +47,9 @@ where
         event: &Event<'_>,
     ) -> std::fmt::Result {
         let level = match *event.metadata().level() {
-            Level::ERROR => "error",
+            // A library's error (a viewer's client that failed its handshake) never ends a
+            // run: `laserlines: error:` alone is what a failed run ends with.
+            Level::ERROR => "error (the run goes on)",
             Level::WARN => "warning",
             Level::INFO => "info",
             Level::DEBUG => "debug",

@@ -213,6 +213,44 @@ fn read_ws(ws: &mut WebSocket<TcpStream>) -> Option<Message> {
 }
 
 #[test]
+fn a_client_that_fails_its_handshake_is_no_failed_run() {
+    let mut child = Child(
+        bin()
+            .arg("view")
+            .arg(excerpt())
+            .args(["--port", "0", "--no-wait", "--rate", "2"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap(),
+    );
+    let mut stderr = BufReader::new(child.0.stderr.take().unwrap());
+    let mut first = String::new();
+    stderr.read_line(&mut first).unwrap();
+    let port: u16 = first
+        .split("ws://127.0.0.1:")
+        .nth(1)
+        .and_then(|s| s.split_whitespace().next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no port in {first:?}"));
+    // A plain HTTP request, no WebSocket upgrade: the server drops the client.
+    let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
+    std::io::Write::write_all(&mut stream, b"GET / HTTP/1.1\r\nHost: x\r\n\r\n").unwrap();
+    drop(stream);
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut stderr, &mut rest).unwrap();
+    let status = child.0.wait().unwrap();
+    assert!(status.success(), "{rest}");
+    // Said, but not as the error a failed run ends with.
+    assert!(
+        rest.contains("laserlines: error (the run goes on): "),
+        "{rest}"
+    );
+    assert!(!rest.contains("laserlines: error: "), "{rest}");
+    assert!(rest.contains("40 scans"), "{rest}");
+}
+
+#[test]
 fn view_serves_scans_and_lines_to_a_foxglove_client() {
     let start = Instant::now();
     let mut child = Child(

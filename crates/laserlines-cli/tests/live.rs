@@ -423,3 +423,33 @@ fn live_serves_the_sector_objects_to_a_foxglove_viewer() {
         "the sectors of the scan the lines came from"
     );
 }
+
+#[test]
+fn names_it_cannot_write_and_a_bare_host_are_refused_before_any_sensor() {
+    // Port 1 has no sensor: each error comes before the run would try to reach one.
+    for (args, want) in [
+        (
+            &["127.0.0.1:1", "-o", "lines.txt"][..],
+            "lines.txt: cannot write this name; expected lines JSONL",
+        ),
+        (
+            &["127.0.0.1:1", "--record", "run.bin"],
+            "run.bin: cannot write this name; expected an MCAP file named .mcap",
+        ),
+        (
+            &["127.0.0.1:1", "--record", "run.mcap.gz"],
+            "so .mcap.gz is read but not written",
+        ),
+        (
+            &["localhost"],
+            "localhost: no such serial device; a sensor on the network is HOST:PORT (e.g. \
+             localhost:10940",
+        ),
+    ] {
+        let o = bin().arg("live").args(args).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(want), "{args:?}: {err}");
+        assert!(!err.contains("Connection refused"), "{args:?}: {err}");
+    }
+}

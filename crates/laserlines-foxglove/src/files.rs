@@ -77,6 +77,24 @@ fn open_parquet(path: &Path, options: &ReadOptions) -> Result<ScanReader, ReadEr
     laserlines_parquet::read::from_bytes(&name, bytes)
 }
 
+/// `path` when it names an MCAP file to write: `.mcap`, not `.mcap.gz` (as
+/// [`McapSceneWriter::create`] refuses it).
+pub fn mcap_name(path: &Path) -> Result<&Path, WriteError> {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if ext.eq_ignore_ascii_case("mcap") {
+        return Ok(path);
+    }
+    Err(WriteError::Name {
+        file: path.display().to_string(),
+        expected: if ext.eq_ignore_ascii_case("gz") {
+            "a name ending in .mcap: MCAP compresses its own chunks (zstd), so .mcap.gz is read \
+             but not written"
+        } else {
+            "an MCAP file named .mcap"
+        },
+    })
+}
+
 /// `path` when it names a Parquet file to write: `.parquet`, not `.parquet.gz` (Parquet
 /// compresses its pages itself; a gzipped table is no Parquet file), and not `-` (standard
 /// output).
@@ -136,12 +154,29 @@ impl LinesOutput {
         if path == Path::new("-") || is_stream(path) {
             return Ok(Self::Jsonl(Box::new(LinesWriter::create(path)?)));
         }
+        Self::check_name(path)?;
         match Format::from_path(path) {
             Some(Format::Mcap) => Ok(Self::Mcap(Box::new(McapSceneWriter::create(path)?))),
             Some(Format::Parquet) => Ok(Self::Parquet(Box::new(LinesParquetWriter::create(
                 parquet_name(path)?,
             )?))),
-            Some(Format::Jsonl) => Ok(Self::Jsonl(Box::new(LinesWriter::create(path)?))),
+            _ => Ok(Self::Jsonl(Box::new(LinesWriter::create(path)?))),
+        }
+    }
+
+    /// The [`WriteError::Name`] that [`LinesOutput::create`] gives `path`, without creating
+    /// anything: for a command to refuse a name before it starts its work (opens a sensor).
+    ///
+    /// # Errors
+    /// As [`LinesOutput::create`]'s name errors.
+    pub fn check_name(path: &Path) -> Result<(), WriteError> {
+        if path == Path::new("-") || is_stream(path) {
+            return Ok(());
+        }
+        match Format::from_path(path) {
+            Some(Format::Mcap) => mcap_name(path).map(|_| ()),
+            Some(Format::Parquet) => parquet_name(path).map(|_| ()),
+            Some(Format::Jsonl) => Ok(()),
             _ => Err(WriteError::Name {
                 file: path.display().to_string(),
                 expected: "lines JSONL (.jsonl, .jsonl.gz, or - for standard output), MCAP \

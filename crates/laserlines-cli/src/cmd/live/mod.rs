@@ -10,7 +10,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, Result, anyhow};
+use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use laserlines::Line;
 use laserlines::registry::BoxedExtractor;
@@ -40,10 +40,11 @@ pub struct LiveArgs {
     /// Port of the live view (0 picks a free one).
     #[arg(long, default_value_t = 8765, value_parser = super::whole::<u16>, allow_negative_numbers = true)]
     port: u16,
-    /// Record scans and lines to this MCAP file.
+    /// Record scans and lines to this MCAP file (`.mcap`).
     #[arg(long)]
     record: Option<PathBuf>,
-    /// Write the lines of every scan to this JSONL file (`-` for stdout).
+    /// Write the lines of every scan to this file: lines JSONL (`.jsonl`, `.jsonl.gz`, `-`
+    /// for stdout), MCAP (`.mcap`) or Parquet (`.parquet`), as `extract -o` writes them.
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// The three sector objects (left, front, right) of every scan: printed, and on
@@ -153,6 +154,17 @@ pub fn run(args: &LiveArgs) -> Result<()> {
     if let (Endpoint::Serial { baud, .. }, Some(b)) = (&mut endpoint, args.baud) {
         *baud = Some(b);
     }
+    // A bare host name reads as a serial device: say what a network sensor looks like.
+    if let Endpoint::Serial { path, .. } = &endpoint
+        && !path.contains(['/', '\\'])
+        && !path.to_ascii_uppercase().starts_with("COM")
+        && !std::path::Path::new(path).exists()
+    {
+        bail!(
+            "{path}: no such serial device; a sensor on the network is HOST:PORT (e.g. \
+             {path}:10940, 192.168.0.10:10940)"
+        );
+    }
     let silence = args
         .silence
         .map(|s| super::seconds("--silence", s, false))
@@ -162,7 +174,14 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         .map(|s| super::seconds("--duration", s, false))
         .transpose()?;
     super::note_unused_tables(args.params.file_path(), &[&args.algorithm], "live")?;
-    // An output in a folder that does not exist is named before the sensor is opened.
+    // An output of a name it cannot have, or in a folder that does not exist, is named
+    // before the sensor is opened.
+    if let Some(path) = &args.output {
+        laserlines_foxglove::files::LinesOutput::check_name(path)?;
+    }
+    if let Some(path) = &args.record {
+        laserlines_foxglove::files::mcap_name(path)?;
+    }
     for path in [args.output.as_deref(), args.record.as_deref()]
         .into_iter()
         .flatten()
