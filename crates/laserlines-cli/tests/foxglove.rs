@@ -18,7 +18,7 @@ use tungstenite::client::IntoClientRequest;
 use tungstenite::{Message, WebSocket};
 
 mod common;
-use common::{bin, excerpt, tmp};
+use common::{bin, excerpt, served_port, tmp};
 
 const EXCERPT_SCANS: usize = 40;
 
@@ -212,27 +212,31 @@ fn read_ws(ws: &mut WebSocket<TcpStream>) -> Option<Message> {
     }
 }
 
-#[test]
-fn a_client_that_fails_its_handshake_is_no_failed_run() {
+/// `view` of the bundled excerpt with `args`, its stderr after the first status line, and
+/// the port that line names.
+fn spawn_view(args: &[&str]) -> (Child, BufReader<std::process::ChildStderr>, u16) {
     let mut child = Child(
         bin()
             .arg("view")
             .arg(excerpt())
-            .args(["--port", "0", "--no-wait", "--rate", "2"])
+            .args(["--port", "0"])
+            .args(args)
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
             .spawn()
             .unwrap(),
     );
+    // The status lines are on stderr: the first says where it serves.
     let mut stderr = BufReader::new(child.0.stderr.take().unwrap());
     let mut first = String::new();
     stderr.read_line(&mut first).unwrap();
-    let port: u16 = first
-        .split("ws://127.0.0.1:")
-        .nth(1)
-        .and_then(|s| s.split_whitespace().next())
-        .and_then(|s| s.parse().ok())
-        .unwrap_or_else(|| panic!("no port in {first:?}"));
+    let port = served_port(&first);
+    (child, stderr, port)
+}
+
+#[test]
+fn a_client_that_fails_its_handshake_is_no_failed_run() {
+    let (mut child, mut stderr, port) = spawn_view(&["--no-wait", "--rate", "2"]);
     // A plain HTTP request, no WebSocket upgrade: the server drops the client.
     let mut stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
     std::io::Write::write_all(&mut stream, b"GET / HTTP/1.1\r\nHost: x\r\n\r\n").unwrap();
@@ -253,28 +257,9 @@ fn a_client_that_fails_its_handshake_is_no_failed_run() {
 #[test]
 fn view_serves_scans_and_lines_to_a_foxglove_client() {
     let start = Instant::now();
-    let mut child = Child(
-        bin()
-            .arg("view")
-            .arg(excerpt())
-            .args(["--port", "0", "--rate", "20"])
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap(),
-    );
-    // The status lines are on stderr: the first says where it serves.
-    let mut stderr = BufReader::new(child.0.stderr.take().unwrap());
-    let mut first = String::new();
-    stderr.read_line(&mut first).unwrap();
+    let (mut child, mut stderr, port) = spawn_view(&["--rate", "20"]);
     // The rest must be read, or the child blocks on a full pipe.
     std::thread::spawn(move || std::io::copy(&mut stderr, &mut std::io::sink()));
-    let port: u16 = first
-        .split("ws://127.0.0.1:")
-        .nth(1)
-        .and_then(|s| s.split_whitespace().next())
-        .and_then(|s| s.parse().ok())
-        .unwrap_or_else(|| panic!("no port in {first:?}"));
 
     let stream = TcpStream::connect(("127.0.0.1", port)).unwrap();
     stream

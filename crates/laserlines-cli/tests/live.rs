@@ -21,7 +21,7 @@ use tungstenite::Message;
 use tungstenite::client::IntoClientRequest;
 
 mod common;
-use common::bin;
+use common::{bin, served_port};
 
 const DEADLINE: Duration = Duration::from_secs(60);
 
@@ -409,12 +409,7 @@ fn live_serves_the_sector_objects_to_a_foxglove_viewer() {
     // Keep reading what it prints (the sector lines), so that it never writes to a closed
     // pipe.
     std::thread::spawn(move || std::io::copy(&mut out, &mut std::io::sink()));
-    let port: u16 = first
-        .split("ws://127.0.0.1:")
-        .nth(1)
-        .and_then(|s| s.split_whitespace().next())
-        .and_then(|s| s.parse().ok())
-        .unwrap_or_else(|| panic!("no port in {first:?}"));
+    let port = served_port(&first);
     let (schema, sectors, lines) = watch_sectors(port, start);
     assert_eq!(schema, "foxglove.SceneUpdate");
     assert_scene_holds(&sectors, &objects_of(&lines));

@@ -142,3 +142,14 @@ pub fn extract_with_params(name: &str, toml: &str) -> Output {
         .arg(&params)
         .args(["-o", "-"]))
 }
+
+/// The port of the first status line of `view` or `live --view`
+/// (`... serving ws://127.0.0.1:PORT ...`).
+pub fn served_port(first: &str) -> u16 {
+    first
+        .split("ws://127.0.0.1:")
+        .nth(1)
+        .and_then(|s| s.split_whitespace().next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no port in {first:?}"))
+}
