@@ -154,17 +154,6 @@ pub fn run(args: &LiveArgs) -> Result<()> {
     if let (Endpoint::Serial { baud, .. }, Some(b)) = (&mut endpoint, args.baud) {
         *baud = Some(b);
     }
-    // A bare host name reads as a serial device: say what a network sensor looks like.
-    if let Endpoint::Serial { path, .. } = &endpoint
-        && !path.contains(['/', '\\'])
-        && !path.to_ascii_uppercase().starts_with("COM")
-        && !std::path::Path::new(path).exists()
-    {
-        bail!(
-            "{path}: no such serial device; a sensor on the network is HOST:PORT (e.g. \
-             {path}:10940, 192.168.0.10:10940)"
-        );
-    }
     let silence = args
         .silence
         .map(|s| super::seconds("--silence", s, false))
@@ -202,6 +191,17 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         });
     }
 
+    // A bare host name reads as a serial device: say what a network sensor looks like.
+    if let Endpoint::Serial { path, .. } = &endpoint
+        && !path.contains(['/', '\\'])
+        && !path.to_ascii_uppercase().starts_with("COM")
+        && !std::path::Path::new(path).exists()
+    {
+        bail!(
+            "{path}: no such serial device; a sensor on the network is HOST:PORT (e.g. \
+             {path}:10940, 192.168.0.10:10940)"
+        );
+    }
     let mut scanner = open_sensor(args, &endpoint, silence)?;
     let mut outputs = Outputs::open(args)?;
     let start = Instant::now();
