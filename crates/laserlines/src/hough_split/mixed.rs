@@ -2,8 +2,35 @@
 //! point on neither. Left in, it halves the jump and can join the near object to the far
 //! wall. Not in the paper.
 
-use crate::noise::RangeNoise;
-use crate::scan::RangeWindow;
+use crate::noise::{NoiseEstimator, RangeNoise, lag_for};
+use crate::scan::{RangeWindow, ScanView};
+
+/// The noise the mixed-pixel test holds neighbouring beams to, given the scan's `noise` and
+/// whether it was estimated: a given noise as it is; an estimate read an even number of beams
+/// apart (two at 0.5 deg), the larger of it and the estimate one beam apart (by `adjacent`,
+/// its own working memory). A scanner that
+/// fills its 0.5 deg steps with two interleaved 1 deg sweeps (a SICK LMS) offsets neighbouring
+/// beams by a centimetre or two, which the estimate within one sweep does not see: every
+/// other beam of a wall then lies off both its neighbours' lines, and the test took whole
+/// stretches of wall for mixed pixels.
+pub(crate) fn between_neighbours(
+    adjacent: &mut NoiseEstimator,
+    scan: ScanView<'_>,
+    (window, floor): (RangeWindow, f64),
+    (noise, estimated): (RangeNoise, bool),
+) -> RangeNoise {
+    if !estimated || lag_for(scan.angle_increment) % 2 == 1 {
+        return noise;
+    }
+    adjacent
+        .estimate_at(scan, window, floor, 1)
+        .map_or(noise, |n| {
+            RangeNoise::new(
+                noise.sigma_min.max(n.sigma_min),
+                noise.fraction.max(n.fraction),
+            )
+        })
+}
 
 /// Standard deviations of an extrapolation's error beyond which a point is on neither side.
 const SIGMAS: f64 = 3.0;

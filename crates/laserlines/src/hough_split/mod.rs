@@ -59,6 +59,8 @@ pub struct HoughSplit {
     params: HoughSplitParams,
     table: BeamTable,
     estimator: NoiseEstimator,
+    /// The estimate one beam apart, for the mixed-pixel test on scans read two beams apart.
+    adjacent: NoiseEstimator,
     /// The noise of the last scan: the fixed model, or the estimate.
     noise: RangeNoise,
     /// True when the last scan's noise was estimated from it.
@@ -106,6 +108,7 @@ impl HoughSplit {
             params,
             table: BeamTable::default(),
             estimator: NoiseEstimator::default(),
+            adjacent: NoiseEstimator::default(),
             noise: FALLBACK_NOISE,
             estimated: false,
             dropout: 0.0,
@@ -267,7 +270,11 @@ impl HoughSplit {
         let valid = Valid {
             window: self.window,
             min_range: self.params.min_range,
-            mixed: self.params.remove_mixed_pixels.then_some(self.noise),
+            mixed: self.params.remove_mixed_pixels.then(|| {
+                let limits = (self.window, self.params.noise_floor);
+                let noise = (self.noise, self.estimated);
+                mixed::between_neighbours(&mut self.adjacent, scan, limits, noise)
+            }),
         };
         self.acc.build(
             scan,

@@ -102,10 +102,24 @@ impl NoiseEstimator {
         floor: f64,
     ) -> Option<RangeNoise> {
         let scan = scan.into();
+        self.estimate_at(scan, window, floor, lag_for(scan.angle_increment))
+    }
+
+    /// [`NoiseEstimator::estimate`] from triples `lag` beams apart (at least 1) instead of
+    /// [`lag_for`] the scan's increment.
+    pub fn estimate_at<'a>(
+        &mut self,
+        scan: impl Into<ScanView<'a>>,
+        window: RangeWindow,
+        floor: f64,
+        lag: usize,
+    ) -> Option<RangeNoise> {
+        let scan = scan.into();
+        let lag = lag.max(1);
         self.clear_samples();
         self.step = f64::INFINITY;
         self.quantum = None;
-        let triples = self.sample(scan, window);
+        let triples = self.sample(scan, window, lag);
         let taken: usize = self.abs.iter().map(Vec::len).sum();
         // A sparse scan (a triangulation scanner missing most of its beams) has few triples
         // of returning beams: its consecutive returns are taken instead, whatever lies
@@ -113,7 +127,7 @@ impl NoiseEstimator {
         // see nothing (open space), and the second, one pass over the ranges, stops them.
         if taken * 2 < triples && dropout_rate(scan.ranges, window) >= SPARSE_DROPOUT {
             self.clear_samples();
-            self.sample_sparse(scan, window);
+            self.sample_sparse(scan, window, lag);
         }
         for (b, out) in self.bands.iter_mut().enumerate() {
             let v = &mut self.abs[b];
@@ -189,13 +203,12 @@ impl NoiseEstimator {
 
     /// Collects the residuals `|e|` of `scan` (valid in `window`) per band (as the bits of
     /// the floats) and the sums of their ranges; returns the number of triples looked at.
-    fn sample(&mut self, scan: ScanView<'_>, window: RangeWindow) -> usize {
+    fn sample(&mut self, scan: ScanView<'_>, window: RangeWindow, lag: usize) -> usize {
         if window.min.is_nan() || window.max.is_nan() {
             return 0;
         }
         let valid = valid_in(window);
         let r = scan.ranges;
-        let lag = lag_for(scan.angle_increment);
         let dphi = lag as f64 * scan.angle_increment;
         let two_cos = 2.0 * dphi.cos();
         // Points of one smooth surface `lag` beams apart differ by `2 r dphi tan(incidence)`
@@ -248,10 +261,9 @@ impl NoiseEstimator {
     /// outer two, `r0 r2 sin(a + b) / (r0 sin a + r2 sin b)` for angles `a` and `b` between
     /// the beams, and the residual scaled to the variance of an evenly spaced triple's
     /// (`1 + (a^2 + b^2) / (a + b)^2` times the noise's, against 1.5).
-    fn sample_sparse(&mut self, scan: ScanView<'_>, window: RangeWindow) {
+    fn sample_sparse(&mut self, scan: ScanView<'_>, window: RangeWindow, lag: usize) {
         let valid = valid_in(window);
         let r = scan.ranges;
-        let lag = lag_for(scan.angle_increment);
         let max_gap = 3 * lag;
         self.chords.prepare(scan.angle_increment.abs(), max_gap);
         let mut prev: [Option<usize>; 2] = [None, None];
