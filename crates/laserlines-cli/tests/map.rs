@@ -233,14 +233,14 @@ fn bad_input_ends_in_a_clear_error() {
         .arg("map")
         .arg(&csv)
         .arg("-o")
-        .arg(tmp("csv"))
+        .arg(tmp("csv").join("a/b"))
         .args(["--odometry", "on"]));
     assert_clean_error(
         &o,
         "scan.csv",
         "scan 0 (line 6): no odometry (the log gives none for this scan); map it with --odometry off",
     );
-    // The folder made for the run's outputs is not left behind empty.
+    // The folders made for the run's outputs are not left behind empty.
     assert!(!tmp("csv").exists());
     let o = run(bin()
         .arg("map")

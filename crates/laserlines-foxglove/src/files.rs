@@ -78,15 +78,28 @@ fn open_parquet(path: &Path, options: &ReadOptions) -> Result<ScanReader, ReadEr
 }
 
 /// `path` when it names an MCAP file to write: `.mcap`, not `.mcap.gz` (as
-/// [`McapSceneWriter::create`] refuses it).
+/// [`McapSceneWriter::create`] refuses it), or an existing device or pipe.
+///
+/// # Errors
+/// [`WriteError::Name`] for any other name.
 pub fn mcap_name(path: &Path) -> Result<&Path, WriteError> {
-    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    if ext.eq_ignore_ascii_case("mcap") {
+    let ext = |p: &Path| {
+        p.extension()
+            .and_then(|e| e.to_str())
+            .unwrap_or("")
+            .to_ascii_lowercase()
+    };
+    // A device or a pipe (`/dev/null`) takes what it is given, whatever its name.
+    if ext(path) == "mcap" || is_stream(path) {
         return Ok(path);
     }
+    let gzipped_mcap = ext(path) == "gz"
+        && path
+            .file_stem()
+            .is_some_and(|s| ext(Path::new(s)) == "mcap");
     Err(WriteError::Name {
         file: path.display().to_string(),
-        expected: if ext.eq_ignore_ascii_case("gz") {
+        expected: if gzipped_mcap {
             "a name ending in .mcap: MCAP compresses its own chunks (zstd), so .mcap.gz is read \
              but not written"
         } else {

@@ -87,11 +87,15 @@ pub fn decode_scan_counted(
         ScanEncoding::Ros1MultiEcho => ros_scan(ros::decode_ros1_as(data, MultiEcho))?,
         ScanEncoding::FoxgloveProtobuf => {
             let msg = LaserScan::decode(data).map_err(|e| MessageError::Protobuf(e.to_string()))?;
-            // Protobuf reads an empty payload, or one cut between two fields, as a message
-            // whose missing fields are zero: a scan without ranges is such a message.
-            if msg.ranges.is_empty() {
+            // Protobuf reads an empty payload as a message whose fields are all zero: one
+            // without ranges, angles or time stamp is that, not a scan of no beams.
+            if msg.ranges.is_empty()
+                && msg.start_angle == 0.0
+                && msg.end_angle == 0.0
+                && msg.timestamp.is_none()
+            {
                 return Err(MessageError::Protobuf(format!(
-                    "no ranges in {} bytes: an empty or cut message",
+                    "no ranges, angles or time stamp in {} bytes: an empty message",
                     data.len()
                 )));
             }
@@ -113,35 +117,35 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_protobuf_scan_without_ranges_is_an_empty_or_cut_message() {
+    fn an_empty_protobuf_payload_is_no_scan_but_a_scan_of_no_beams_is() {
+        let decode = |data: &[u8]| {
+            decode_scan(
+                ScanEncoding::FoxgloveProtobuf,
+                RangeLimits::default(),
+                data,
+                5.0,
+            )
+        };
         let msg = LaserScan {
             start_angle: -1.0,
             end_angle: 1.0,
             ranges: vec![1.0, 2.0, 3.0],
             ..LaserScan::default()
         };
-        let whole = msg.encode_to_vec();
-        let scan = decode_scan(
-            ScanEncoding::FoxgloveProtobuf,
-            RangeLimits::default(),
-            &whole,
-            5.0,
-        )
-        .unwrap();
+        let scan = decode(&msg.encode_to_vec()).unwrap();
         assert_eq!(scan.ranges, [1.0, 2.0, 3.0]);
         assert!((scan.angle_increment - 1.0).abs() < 1e-12);
-        // An empty payload, and one cut before its ranges (the two angles' 18 bytes).
-        for data in [&[][..], &whole[..18]] {
-            let e = decode_scan(
-                ScanEncoding::FoxgloveProtobuf,
-                RangeLimits::default(),
-                data,
-                5.0,
-            )
-            .unwrap_err()
-            .to_string();
-            let want = format!("no ranges in {} bytes: an empty or cut message", data.len());
-            assert!(e.contains(&want), "{e}");
-        }
+        // An empty payload: a message of zeros.
+        let e = decode(&[]).unwrap_err().to_string();
+        assert!(
+            e.contains("no ranges, angles or time stamp in 0 bytes: an empty message"),
+            "{e}"
+        );
+        // A scan of no beams, as the MCAP writer writes one, reads back as one.
+        let empty = LaserScan {
+            ranges: Vec::new(),
+            ..msg
+        };
+        assert!(decode(&empty.encode_to_vec()).unwrap().ranges.is_empty());
     }
 }

@@ -238,6 +238,30 @@ fn a_corrupt_only_chunk_counts_its_scans_from_the_summary() {
 }
 
 #[test]
+fn a_record_over_the_size_limit_is_passed_over_and_counted() {
+    let mut data = mcap_bytes(4, None);
+    let records = top_records(&data);
+    let largest = records.iter().map(|r| r.2 - r.1 - 9).max().unwrap();
+    // An attachment (opcode 0x09) larger than any other record, after the first chunk, and a
+    // limit between the two: it is passed over unread, every scan read.
+    let len = largest + 100;
+    let mut attachment = vec![0x09];
+    attachment.extend_from_slice(&(len as u64).to_le_bytes());
+    attachment.resize(9 + len, 0);
+    let after_first = records[1].2;
+    data.splice(after_first..after_first, attachment);
+    let options = McapReadOptions {
+        max_record_bytes: (largest + 50) as u64,
+        ..McapReadOptions::default()
+    };
+    let mut reader = read::from_reader("big.mcap", Cursor::new(data), &options).unwrap();
+    let items: Vec<_> = reader.by_ref().collect();
+    assert_eq!(items.len(), 4, "{items:?}");
+    assert!(items.iter().all(Result::is_ok), "{items:?}");
+    assert_eq!(reader.skipped().get(read::SKIP_OVERSIZED), 1);
+}
+
+#[test]
 fn a_huge_record_length_ends_the_reader_without_allocating_it() {
     let mut data = mcap_bytes(2, None);
     let (_, at, _) = top_records(&data)[1];

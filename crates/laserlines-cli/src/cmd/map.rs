@@ -81,12 +81,16 @@ pub fn run(args: &MapArgs) -> Result<()> {
     }
     let reader = super::open_input(&args.input)?;
     // The output directory is made and tried before the mapping: a run of minutes must not
-    // end in "cannot create". One made here is removed again, if still empty, when the
-    // mapping fails before writing anything.
-    let made = !args.output.exists();
+    // end in "cannot create". The folders made here are removed again, if still empty, when
+    // the mapping fails before writing anything.
+    let made = first_missing(&args.output);
     let unmake = || {
-        if made {
-            let _ = std::fs::remove_dir(&args.output);
+        if let Some(top) = &made {
+            for dir in args.output.ancestors() {
+                if std::fs::remove_dir(dir).is_err() || dir == top {
+                    break;
+                }
+            }
         }
     };
     let Some(path) = &args.mcap else {
@@ -125,6 +129,15 @@ pub fn run(args: &MapArgs) -> Result<()> {
             Err(e)
         }
     }
+}
+
+/// The highest folder of `dir`'s path (`dir` itself included) that does not exist: the
+/// first that creating `dir` makes.
+fn first_missing(dir: &std::path::Path) -> Option<std::path::PathBuf> {
+    dir.ancestors()
+        .take_while(|a| !a.as_os_str().is_empty() && !a.exists())
+        .last()
+        .map(std::path::Path::to_path_buf)
 }
 
 /// What the reading of a log gave the mapper.

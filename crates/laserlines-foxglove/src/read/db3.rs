@@ -171,14 +171,6 @@ impl Db3File {
                 .map_err(|e| db_error(&name, &e))?;
             skipped.add_n(SKIP_OTHER_TOPIC, u64::try_from(n).unwrap_or(0));
         }
-        let orphans: i64 = db
-            .query_row(
-                "SELECT COUNT(*) FROM messages WHERE topic_id NOT IN (SELECT id FROM topics)",
-                [],
-                |row| row.get(0),
-            )
-            .map_err(|e| db_error(&name, &e))?;
-        skipped.add_n(SKIP_UNDECLARED_TOPIC, u64::try_from(orphans).unwrap_or(0));
         Ok(Self {
             topic_id: chosen.id,
             topic: chosen.name.clone(),
@@ -236,6 +228,19 @@ impl Db3File {
                 found: found.to_owned(),
             }),
         })
+    }
+
+    /// Counts the messages on a `topic_id` no topic declares, once the file is read through
+    /// (a database that failed part way is not asked again).
+    fn count_undeclared(&self, skipped: &mut SkipCounts) {
+        let n: rusqlite::Result<i64> = self.db.query_row(
+            "SELECT COUNT(*) FROM messages WHERE topic_id NOT IN (SELECT id FROM topics)",
+            [],
+            |row| row.get(0),
+        );
+        if let Ok(n) = n {
+            skipped.add_n(SKIP_UNDECLARED_TOPIC, u64::try_from(n).unwrap_or(0));
+        }
     }
 
     /// The error of a database SQLite cannot read past the last message read: not a bad
@@ -371,7 +376,12 @@ impl ScanSource for Db3FilesSource {
                         record
                     }));
                 }
-                None => self.current = None,
+                None => {
+                    if current.failed.is_none() {
+                        current.count_undeclared(skipped);
+                    }
+                    self.current = None;
+                }
             }
         }
     }

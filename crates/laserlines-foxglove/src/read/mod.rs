@@ -68,6 +68,9 @@ pub const SKIP_LATER_ECHOES: &str = laserlines_io::bag::SKIP_LATER_ECHOES;
 pub const SKIP_BAD_TRANSFORM: &str = "malformed FrameTransform";
 /// Skip reason for messages on a channel that was never declared.
 pub const SKIP_UNKNOWN_CHANNEL: &str = "message on an undeclared channel";
+/// Skip reason for a whole record longer than [`McapReadOptions::max_record_bytes`], passed
+/// over unread.
+pub const SKIP_OVERSIZED: &str = "record over the reader's size limit (passed over unread)";
 
 /// How to read an MCAP file.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -286,15 +289,12 @@ impl McapScanSource {
                     opcode_name(opcode)
                 )
             };
-            // A corrupt length hides where the next record starts: the rest of the file
-            // cannot be read, which no skip may pass over in silence. An unfinished chunk
-            // ends a recording that was cut off: nothing follows it.
-            let e = if unfinished {
-                self.syntax(at, expected, found)
-            } else {
-                ReadError::corrupt_length(self.at(at), &expected, &found)
-            };
-            return self.fail(e);
+            // An unfinished chunk ends a recording that was cut off: nothing follows it.
+            if unfinished {
+                let e = self.syntax(at, expected, found);
+                return self.fail(e);
+            }
+            return self.pass_over(at, len, (&expected, &found), skipped);
         }
         let mut body = std::mem::take(&mut self.body);
         body.clear();
@@ -332,6 +332,26 @@ impl McapScanSource {
             _ => self.handle_record(opcode, &body, Loc::File(at), skipped),
         }
         self.body = body;
+    }
+
+    /// A record at `at` longer than the reader takes (`what`: what it may be, what it is):
+    /// passed over unread and counted ([`SKIP_OVERSIZED`]) when the file holds it; when the
+    /// file ends first its length is corrupt, which hides where the next record starts: a
+    /// failed read, which no skip may pass over in silence.
+    fn pass_over(&mut self, at: u64, len: u64, what: (&str, &str), skipped: &mut SkipCounts) {
+        let mut rest = (&mut self.input).take(len);
+        match io::copy(&mut rest, &mut io::sink()) {
+            Err(e) => self.io_error(at, e),
+            Ok(n) if n < len => {
+                let found = format!("{}, and the file ends {n} bytes after its header", what.1);
+                let e = ReadError::corrupt_length(self.at(at), what.0, &found);
+                self.fail(e);
+            }
+            Ok(_) => {
+                skipped.add(SKIP_OVERSIZED);
+                self.pos = at + 9 + len;
+            }
+        }
     }
 
     /// Handles a schema, channel or message record (top-level or inside a chunk); other

@@ -113,8 +113,9 @@ impl<'a> Fields<'a> {
     }
 
     /// `n` ranges in metres, "no return" markers turned into `+inf`. A range must be a
-    /// finite number of at least 0: a NaN, an infinite, an overflowing (`1e400`) or a
-    /// negative reading is no distance any logger writes, and an error naming it.
+    /// number of at least 0, or `inf` (as logs converted from ROS write no return): a NaN,
+    /// `-inf`, a number beyond a double (`1e400`) or a negative reading is no distance any
+    /// logger writes, and an error naming it.
     pub(super) fn ranges(&mut self, n: usize) -> Result<Vec<f64>, ReadError> {
         // `n` comes from the line: never reserve more than its tokens can fill.
         let mut ranges = Vec::with_capacity(n.min(self.text_len / 2 + 1));
@@ -122,9 +123,16 @@ impl<'a> Fields<'a> {
             let token = self.tokens.next();
             let r = token
                 .and_then(parse_number)
-                .filter(|r| r.is_finite() && *r >= 0.0)
+                .filter(|r| {
+                    *r >= 0.0
+                        && (r.is_finite()
+                            || token.is_some_and(|t| {
+                                let t = t.strip_prefix('+').unwrap_or(t);
+                                t.eq_ignore_ascii_case("inf") || t.eq_ignore_ascii_case("infinity")
+                            }))
+                })
                 .ok_or_else(|| {
-                    self.field_error(format!("range {i}"), "a finite number >= 0 (m)", token)
+                    self.field_error(format!("range {i}"), "a number >= 0 (m) or inf", token)
                 })?;
             ranges.push(if is_no_return(r) { f64::INFINITY } else { r });
         }

@@ -299,18 +299,24 @@ fn wrong_field_counts_are_errors_and_reading_goes_on() {
         .clone()
         .unwrap_err();
     assert!(
-        e.contains("FLASER range 1: expected a finite number >= 0 (m), found `x`"),
+        e.contains("FLASER range 1: expected a number >= 0 (m) or inf, found `x`"),
         "{e}"
     );
-    // No distance is NaN, infinite, beyond a double or negative; 0 is read (as no return).
-    for bad in ["nan", "inf", "-inf", "1e400", "-1.5", "-0.001"] {
+    // No distance is NaN, -inf, beyond a double or negative; 0 is read (as no return), and
+    // so is inf, as logs converted from ROS write no return.
+    for bad in ["nan", "-inf", "1e400", "-1.5", "-0.001"] {
         let e = read(&format!("FLASER 2 1 {bad} 0 0 0 0 0 0 0 h 0\n"), None).0[0]
             .clone()
             .unwrap_err();
-        let want = format!("FLASER range 1: expected a finite number >= 0 (m), found `{bad}`");
+        let want = format!("FLASER range 1: expected a number >= 0 (m) or inf, found `{bad}`");
         assert!(e.contains(&want), "{bad}: {e}");
     }
     assert!(read("FLASER 2 1 0 0 0 0 0 0 0 0 h 0\n", None).0[0].is_ok());
+    for inf in ["inf", "+inf", "Infinity"] {
+        let (items, _) = read(&format!("FLASER 2 1 {inf} 0 0 0 0 0 0 0 h 0\n"), None);
+        let scan = &items[0].as_ref().unwrap().scan;
+        assert_eq!(scan.ranges[1], f64::INFINITY, "{inf}");
+    }
     let e = read("FLASER 1 1 0 nan 0 0 0 0 0 h 0\n", None).0[0]
         .clone()
         .unwrap_err();

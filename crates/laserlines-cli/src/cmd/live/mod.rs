@@ -191,10 +191,11 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         });
     }
 
-    // A bare host name reads as a serial device: say what a network sensor looks like.
+    // A bare host name reads as a serial device: say what a network sensor looks like (not
+    // on Windows, where a bare name is how serial ports are named: COM3, CNCA0).
     if let Endpoint::Serial { path, .. } = &endpoint
-        && !path.contains(['/', '\\'])
-        && !path.to_ascii_uppercase().starts_with("COM")
+        && !cfg!(windows)
+        && !path.contains('/')
         && !std::path::Path::new(path).exists()
     {
         bail!(
