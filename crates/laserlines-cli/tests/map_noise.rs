@@ -107,8 +107,8 @@ fn mit_csail_maps_under_a_cheap_scanners_noise() {
         );
     }
     // 2 %: 0.080, 0.095 and 0.066 m, 1.2-1.8 deg (136-162 scans not matched; before the
-    // mixed-pixel test allowed for interleaved sweeps the first draw bent by 1.43 m). At this noise a
-    // wrong match now and then bends part of the map (README, Mapping): the middle draw is
+    // mixed-pixel test allowed for interleaved sweeps the first draw bent by 1.43 m). At this
+    // noise a wrong match now and then bends part of the map (README, Mapping): the middle draw is
     // bounded, far below the log's odometry (1.68 m) and the neighbourhood normals alone
     // (1.62 m on one draw).
     let e = three_draws(&log, &relations, (0.02, 0.02));

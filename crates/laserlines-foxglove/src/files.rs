@@ -16,7 +16,7 @@ use laserlines_io::{
 use laserlines_parquet::{LinesParquetWriter, ScansParquetWriter};
 
 use crate::McapReadOptions;
-use crate::write::McapSceneWriter;
+use crate::write::{McapSceneWriter, NOT_GZIPPED};
 
 /// Opens the scans of `path` (`-` for standard input, with a format): an MCAP file, a ROS 2
 /// bag directory or a `.db3` file with [`crate::read`], a Parquet table of scans with
@@ -100,8 +100,7 @@ pub fn mcap_name(path: &Path) -> Result<&Path, WriteError> {
     Err(WriteError::Name {
         file: path.display().to_string(),
         expected: if gzipped_mcap {
-            "a name ending in .mcap: MCAP compresses its own chunks (zstd), so .mcap.gz is read \
-             but not written"
+            NOT_GZIPPED
         } else {
             "an MCAP file named .mcap"
         },

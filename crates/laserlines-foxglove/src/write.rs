@@ -64,6 +64,10 @@ fn mcap_error(name: &str, e: mcap::McapError) -> WriteError {
     }
 }
 
+/// What an MCAP output must be named instead of `.mcap.gz`.
+pub(crate) const NOT_GZIPPED: &str = "a name ending in .mcap: MCAP compresses its own chunks (zstd), so .mcap.gz is read but not \
+     written";
+
 impl McapSceneWriter<BufWriter<File>> {
     /// Creates an MCAP file at `path` (replacing any file there). A name ending in `.gz` is
     /// refused: MCAP compresses its own chunks (zstd), and a gzipped MCAP (`.mcap.gz`, which
@@ -81,8 +85,7 @@ impl McapSceneWriter<BufWriter<File>> {
         if gz {
             return Err(WriteError::Name {
                 file: name,
-                expected: "a name ending in .mcap: MCAP compresses its own chunks (zstd), so \
-                           .mcap.gz is read but not written",
+                expected: NOT_GZIPPED,
             });
         }
         if path == Path::new("-") {

@@ -40,10 +40,10 @@ fn truth() -> Vec<f64> {
         .collect()
 }
 
-/// The corridor read with the odd beams `offset` m long, 3 mm of noise and 1 cm steps (as
-/// CARMEN logs print them).
-fn scan(offset: f64, rng: &mut Rng) -> Scan {
-    let ranges = truth()
+/// The corridor of true ranges `truth` read with the odd beams `offset` m long, 3 mm of
+/// noise and 1 cm steps (as CARMEN logs print them).
+fn scan(truth: &[f64], offset: f64, rng: &mut Rng) -> Scan {
+    let ranges = truth
         .iter()
         .enumerate()
         .map(|(i, &r)| {
@@ -58,10 +58,11 @@ fn scan(offset: f64, rng: &mut Rng) -> Scan {
 fn walls_of_two_interleaved_sweeps_keep_their_points() {
     let mut rng = Rng(5);
     let mut hs = HoughSplit::new(HoughSplitParams::default()).unwrap();
-    let near: Vec<usize> = (0..BEAMS).filter(|&i| truth()[i] < 3.0).collect();
+    let truth = truth();
+    let near: Vec<usize> = (0..BEAMS).filter(|&i| truth[i] < 3.0).collect();
     for offset in [0.0, 0.01, 0.015, 0.02] {
         for _ in 0..20 {
-            let s = scan(offset, &mut rng);
+            let s = scan(&truth, offset, &mut rng);
             let lines = hs.extract(&s);
             // The side walls' far ends are read at a glancing angle: only the beams that see
             // a wall within 3 m are counted.

@@ -8,11 +8,10 @@ use crate::scan::{RangeWindow, ScanView};
 /// The noise the mixed-pixel test holds neighbouring beams to, given the scan's `noise` and
 /// whether it was estimated: a given noise as it is; an estimate read an even number of beams
 /// apart (two at 0.5 deg), the larger of it and the estimate one beam apart (by `adjacent`,
-/// its own working memory). A scanner that
-/// fills its 0.5 deg steps with two interleaved 1 deg sweeps (a SICK LMS) offsets neighbouring
-/// beams by a centimetre or two, which the estimate within one sweep does not see: every
-/// other beam of a wall then lies off both its neighbours' lines, and the test took whole
-/// stretches of wall for mixed pixels.
+/// its own working memory). A scanner that fills its 0.5 deg steps with two interleaved 1 deg
+/// sweeps (a SICK LMS) offsets neighbouring beams by a centimetre or two, which the estimate
+/// within one sweep does not see: every other beam of a wall then lies off both its
+/// neighbours' lines, and the test took whole stretches of wall for mixed pixels.
 pub(crate) fn between_neighbours(
     adjacent: &mut NoiseEstimator,
     scan: ScanView<'_>,

@@ -45,13 +45,12 @@ pub use estimator::{
 /// model names every way.
 #[must_use]
 pub fn sensor_names_match(a: &str, b: &str) -> bool {
-    let key = |s: &str| {
+    fn key(s: &str) -> impl Iterator<Item = u8> + '_ {
         s.bytes()
             .filter(|c| !matches!(c, b'-' | b'_'))
             .map(|c| c.to_ascii_lowercase())
-            .collect::<Vec<u8>>()
-    };
-    key(a) == key(b)
+    }
+    key(a).eq(key(b))
 }
 
 /// A range-noise model `sigma(r) = max(sigma_min, fraction * r)`, metres.
