@@ -135,15 +135,18 @@ fn check_bounds(scan: &Scan, hs: &HoughSplit, lines: &[Line]) {
             .collect();
         support.sort_by_key(|q| (q.index + n - l.first) % n);
         // A lone spike between two pieces of one surface that step 7 joined is kept, but is
-        // not the line's: far off it, with the line's points on both sides. A spike inside
-        // one piece is the line's (its RMS gate judged it), so the line holds the support
-        // with or without the spikes.
+        // not the line's: off it by more than the split's distance (`split_sigmas` times the
+        // noise, the least by which the split cuts a point out), with the line's points on
+        // both sides. A spike inside one piece is the line's (its RMS gate judged it), so
+        // the line holds the support with or without the spikes; a line that holds all of
+        // it has none to leave out.
         let all = support.len();
         let off = |q: &laserlines::ScanPoint| {
             (q.point.x * l.alpha.cos() + q.point.y * l.alpha.sin() - l.r).abs()
-                > 10.0 * noise.sigma(q.range).max(l.rms)
+                > p.split_sigmas * noise.sigma(q.range).max(l.rms)
         };
         let spikes: Vec<usize> = (1..support.len().saturating_sub(1))
+            .filter(|_| l.points < all)
             .filter(|&k| off(support[k]) && !off(support[k - 1]) && !off(support[k + 1]))
             .collect();
         for &k in spikes.iter().rev() {
