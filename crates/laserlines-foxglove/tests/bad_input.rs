@@ -237,6 +237,62 @@ fn a_corrupt_only_chunk_counts_its_scans_from_the_summary() {
     }
 }
 
+/// A file on disk whose first chunk (where the channels are defined) is damaged: the
+/// summary's definitions stand in for the lost ones, so every scan of the later chunks is
+/// read, and only the damaged chunk's scans are counted lost. From a stream (no end to read
+/// first) the later chunks' scans are on an undeclared channel, as documented.
+#[test]
+fn a_corrupt_first_chunk_on_disk_loses_only_its_own_scans() {
+    let dir = std::env::temp_dir().join(format!("laserlines-first-chunk-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for c in [None, Some(mcap::Compression::Zstd)] {
+        let data = mcap_bytes(8, c);
+        let chunks = chunks_of(&data);
+        assert!(chunks.len() >= 3, "{c:?}: {} chunks", chunks.len());
+        let (first, end) = chunks[0];
+        let bad = damaged(&data, end);
+        let good = read_all("good.mcap", data.clone());
+        let path = dir.join("first.mcap");
+        std::fs::write(&path, &bad).unwrap();
+        let mut reader = read::open(&path, &McapReadOptions::default()).unwrap();
+        let items: Vec<_> = reader.by_ref().collect();
+        let errors: Vec<_> = items.iter().filter_map(|r| r.as_ref().err()).collect();
+        assert_eq!(errors.len(), 1, "{c:?}: {errors:?}");
+        let at = byte_of(errors[0]);
+        assert!(
+            at >= first as u64 && at < end as u64,
+            "{c:?}: {}",
+            errors[0]
+        );
+        let scans: Vec<_> = items.iter().filter_map(|r| r.as_ref().ok()).collect();
+        let lost = reader.skipped().get(read::SKIP_LOST_SCAN);
+        // The first chunk holds the definitions and at most a scan or two.
+        assert!(scans.len() >= 6, "{c:?}: {} scans", scans.len());
+        assert_eq!(
+            scans.len() as u64 + lost,
+            8,
+            "{c:?}: {:?}",
+            reader.skipped()
+        );
+        assert_eq!(reader.skipped().get(read::SKIP_UNKNOWN_CHANNEL), 0, "{c:?}");
+        // The scans read are the good file's last ones, as they were.
+        let tail = &good[8 - scans.len()..];
+        for (got, want) in scans.iter().zip(tail) {
+            assert_eq!(*got, want.as_ref().unwrap(), "{c:?}");
+        }
+        // From a stream, the later chunks' messages are on an undeclared channel.
+        let mut stream =
+            read::from_reader("first.mcap", Cursor::new(bad), &McapReadOptions::default()).unwrap();
+        let streamed = stream.by_ref().filter(Result::is_ok).count();
+        assert_eq!(streamed, 0, "{c:?}");
+        assert!(
+            stream.skipped().get(read::SKIP_UNKNOWN_CHANNEL) > 0,
+            "{c:?}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 #[test]
 fn a_record_over_the_size_limit_is_passed_over_and_counted() {
     let mut data = mcap_bytes(4, None);
@@ -407,4 +463,41 @@ fn random_damage_never_panics_and_errors_always_name_file_and_byte() {
             }
         }
     }
+}
+
+/// Damage after `DataEnd` (the summary the reader of a file on disk reads first) never
+/// panics and never changes a scan: the data section is whole, so every scan reads as in the
+/// undamaged file.
+#[test]
+fn random_damage_to_the_summary_of_a_file_on_disk_changes_no_scan() {
+    let dir = std::env::temp_dir().join(format!("laserlines-summary-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("summary.mcap");
+    let mut rng = Lcg(11);
+    let data = mcap_bytes(4, Some(mcap::Compression::Zstd));
+    let good = format!("{:?}", read_all("good.mcap", data.clone()));
+    let data_end = top_records(&data)
+        .iter()
+        .find(|(op, _, _)| *op == mcap::records::op::DATA_END)
+        .map(|&(_, at, _)| at)
+        .unwrap();
+    // Past the DataEnd record (13 bytes with its CRC).
+    let from = data_end + 13;
+    for _ in 0..300 {
+        let mut bad = data.clone();
+        for _ in 0..1 + rng.next() % 4 {
+            let i = from + (rng.next() as usize) % (bad.len() - from);
+            bad[i] = rng.next() as u8;
+        }
+        std::fs::write(&path, &bad).unwrap();
+        let items: Vec<_> = read::open(&path, &McapReadOptions::default())
+            .unwrap()
+            .collect();
+        for e in items.iter().filter_map(|i| i.as_ref().err()) {
+            byte_of(e);
+        }
+        let scans: Vec<_> = items.into_iter().filter(Result::is_ok).collect();
+        assert_eq!(format!("{scans:?}"), good);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }

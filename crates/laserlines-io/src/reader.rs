@@ -269,7 +269,7 @@ pub fn open_with(path: &Path, options: &ReadOptions) -> Result<ScanReader, ReadE
         Box::new(BufReader::with_capacity(1 << 16, file)),
         has_gz_extension(path),
     )?;
-    reader_for(&name, input, format, options.topic.as_deref())
+    reader_for(&name, input, format, (options.topic.as_deref(), Some(path)))
 }
 
 /// Reads scans of `format` from any buffered reader (e.g. standard input); `name` is used in
@@ -298,14 +298,16 @@ pub fn from_reader_with(
     topic: Option<&str>,
 ) -> Result<ScanReader, ReadError> {
     let input = open_input(name, Box::new(reader), false)?;
-    reader_for(name, input, format, topic)
+    reader_for(name, input, format, (topic, None))
 }
 
+/// The reader of `input` in `format`, on `topic`; `path` is the file on disk, when the input
+/// is one (a bag's index section is read from it: [`crate::bag`]).
 fn reader_for(
     name: &str,
     input: Input,
     format: Format,
-    topic: Option<&str>,
+    (topic, path): (Option<&str>, Option<&Path>),
 ) -> Result<ScanReader, ReadError> {
     if let Some(topic) = topic
         && !format.has_topics()
@@ -325,7 +327,13 @@ fn reader_for(
         Format::Csv => Box::new(crate::csv::CsvSource::new(name, input)),
         Format::BreezyDat => Box::new(crate::breezy::DatSource::new(name, input)),
         Format::Carmen => Box::new(crate::carmen::CarmenSource::new(name, input, topic)?),
-        Format::Bag => Box::new(crate::bag::BagSource::new(name, input, topic)),
+        Format::Bag => {
+            let source = crate::bag::BagSource::new(name, input, topic);
+            Box::new(match path {
+                Some(path) => source.with_index(path),
+                None => source,
+            })
+        }
         Format::Mcap | Format::Db3 => Box::new(ReadElsewhere::new(name, "laserlines-foxglove")),
         Format::Parquet => Box::new(ReadElsewhere::new(name, "laserlines-parquet")),
     };

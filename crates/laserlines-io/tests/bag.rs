@@ -9,7 +9,7 @@
 use std::io::{Cursor, Write};
 use std::path::{Path, PathBuf};
 
-use laserlines_io::bag::{SKIP_OTHER_TOPIC, SKIP_OTHER_TYPE};
+use laserlines_io::bag::{SKIP_OTHER_TOPIC, SKIP_OTHER_TYPE, SKIP_UNKNOWN_CONNECTION};
 use laserlines_io::{Format, ReadError, ReadOptions, ScanRecord, from_reader_with, open_with};
 use serde_json::Value;
 
@@ -301,6 +301,89 @@ fn a_corrupt_compressed_chunk_is_an_error_and_reading_goes_on() {
         // The chunks after it are read: at least the last three /scan messages.
         assert!((3..6).contains(&scans), "{name}: {scans} scans, {errors:?}");
     }
+}
+
+/// A bag on disk whose first chunk (where the connections are first declared) is damaged:
+/// the index section's connection records stand in for the lost ones, so the scans of the
+/// later chunks are read. From a stream (no end to read first) they are on an undeclared
+/// connection, as documented.
+#[test]
+fn a_corrupt_first_chunk_on_disk_loses_only_its_own_scans() {
+    let dir = std::env::temp_dir().join(format!("laserlines-io-first-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut bytes = fixture("laserscans_bz2.bag");
+    let (good, _) = read_bytes(&bytes, None);
+    let good: Vec<_> = good.into_iter().map(Result::unwrap).collect();
+    let (first, data, len) = chunks(&bytes)[0];
+    // bz2 checks a CRC of its blocks: the chunk does not decompress.
+    for b in &mut bytes[data + len / 3..data + len / 3 + 40] {
+        *b ^= 0x5a;
+    }
+    let path = dir.join("first.bag");
+    std::fs::write(&path, &bytes).unwrap();
+    let mut reader = open_with(&path, &ReadOptions::default()).unwrap();
+    let items: Vec<_> = reader.by_ref().collect();
+    let (scans, errors) = scans_and_errors(&items);
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].contains(&format!("byte {first}")),
+        "{}",
+        errors[0]
+    );
+    // The first chunk held one of the six /scan messages; the other five are read as they
+    // were, the topic is /scan as in the whole bag, and no message is left on an undeclared
+    // connection.
+    assert_eq!(good.len(), 6);
+    assert_eq!(scans, 5, "{:?}", reader.skipped());
+    let read: Vec<_> = items.into_iter().filter_map(Result::ok).collect();
+    // (Compared as text: the scans hold NaN ranges.)
+    assert_eq!(format!("{read:?}"), format!("{:?}", &good[1..]));
+    assert_eq!(reader.skipped().get(SKIP_UNKNOWN_CONNECTION), 0);
+    let (streamed, _) = read_bytes(&bytes, None);
+    let (streamed, _) = scans_and_errors(&streamed);
+    assert_eq!(streamed, 0);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Damage to the index section (after the last chunk: what the reader of a bag on disk
+/// reads first) never panics and never changes a scan: every chunk is whole.
+#[test]
+fn random_damage_to_the_index_section_of_a_bag_on_disk_changes_no_scan() {
+    let dir = std::env::temp_dir().join(format!("laserlines-io-index-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("index.bag");
+    let bytes = fixture("laserscans_bz2.bag");
+    let (good, _) = read_bytes(&bytes, None);
+    let good = format!("{good:?}");
+    // The index section: from the first connection record after the last chunk.
+    let (last_chunk, _, _) = *chunks(&bytes).last().unwrap();
+    let from = records(&bytes)
+        .into_iter()
+        .find(|r| r.0 > last_chunk && r.1 == 0x07)
+        .unwrap()
+        .0;
+    let mut state = 13u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 33) as usize
+    };
+    for _ in 0..300 {
+        let mut bad = bytes.clone();
+        for _ in 0..1 + next() % 4 {
+            let i = from + next() % (bad.len() - from);
+            bad[i] = next() as u8;
+        }
+        std::fs::write(&path, &bad).unwrap();
+        let items: Vec<_> = open_with(&path, &ReadOptions::default()).unwrap().collect();
+        for e in items.iter().filter_map(|i| i.as_ref().err()) {
+            assert!(e.pos().is_some(), "{e}");
+        }
+        let scans: Vec<_> = items.into_iter().filter(Result::is_ok).collect();
+        assert_eq!(format!("{scans:?}"), good);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

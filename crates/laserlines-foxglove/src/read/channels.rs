@@ -164,6 +164,9 @@ impl McapScanSource {
         let _publish_time = b.u64("publish time")?;
         let data = b.rest();
         *self.seen.entry(channel_id).or_default() += 1;
+        if !self.channels.contains_key(&channel_id) {
+            self.define_from_summary(channel_id);
+        }
         let Some(channel) = self.channels.get(&channel_id) else {
             skipped.add(SKIP_UNKNOWN_CHANNEL);
             return Ok(());

@@ -8,11 +8,17 @@ use std::fs::File;
 use std::io::{self, BufReader};
 use std::path::{Path, PathBuf};
 
-use laserlines_io::{Input, ReadError, ScanRecord, ScanSource, SkipCounts};
+use laserlines_io::{ReadError, ScanRecord, ScanSource, SkipCounts};
 
+use super::definitions::SummaryDefinitions;
 use super::{McapReadOptions, McapScanSource};
 
-pub(super) fn open_file(path: &Path) -> Result<(String, Input), ReadError> {
+/// A source reading the MCAP file at `path` (gzipped or not), with its summary's
+/// definitions at hand ([`SummaryDefinitions`]).
+pub(super) fn open_file(
+    path: &Path,
+    options: &McapReadOptions,
+) -> Result<McapScanSource, ReadError> {
     let name = path.display().to_string();
     let file = File::open(path).map_err(|source| ReadError::Open {
         file: name.clone(),
@@ -24,7 +30,9 @@ pub(super) fn open_file(path: &Path) -> Result<(String, Input), ReadError> {
         .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     let input =
         laserlines_io::open_input(&name, Box::new(BufReader::with_capacity(1 << 16, file)), gz)?;
-    Ok((name, input))
+    let mut source = McapScanSource::new(&name, input, options.clone());
+    source.summary = SummaryDefinitions::read(path);
+    Ok(source)
 }
 
 /// The storage of a ROS 2 bag directory.
@@ -162,11 +170,8 @@ impl ScanSource for McapFilesSource {
         loop {
             if self.current.is_none() {
                 let path = self.files.pop_front()?;
-                match open_file(&path) {
-                    Ok((name, input)) => {
-                        self.current =
-                            Some(McapScanSource::new(&name, input, self.options.clone()));
-                    }
+                match open_file(&path, &self.options) {
+                    Ok(source) => self.current = Some(source),
                     Err(e) => return Some(Err(e)),
                 }
             }

@@ -2,9 +2,13 @@
 //!
 //! The reader walks the file's records front to back (magic, then `opcode: u8, length: u64,
 //! body` records), reading one record, or one chunk, at a time: memory is bounded by the
-//! largest chunk, not by the file. It does not trust the summary section or the indexes; it
+//! largest chunk, not by the file. It does not walk by the summary section or the indexes; it
 //! stops at the `DataEnd` record (or the footer), and reads of the summary only the
-//! `Statistics` record, to count the scans of a skipped chunk.
+//! `Statistics` record, to count the scans of a skipped chunk, and the `Schema` and `Channel`
+//! records: of a file on disk (not gzipped) first, for the channels whose own definition was
+//! in a chunk that could not be read (`definitions.rs`), so that a damaged first chunk loses
+//! its own messages, not every later chunk's; from a stream, at the end, to count what such a
+//! chunk held ([`SKIP_LOST_SCAN`]).
 //!
 //! Messages come out in file order. Six LaserScan encodings are read:
 //!
@@ -46,6 +50,7 @@ use mcap::records::op;
 mod channels;
 mod chunk;
 pub mod db3;
+mod definitions;
 mod dir;
 mod records;
 mod tail;
@@ -54,6 +59,7 @@ pub use tail::{SKIP_CUT_SUMMARY, SKIP_LOST_SCAN};
 
 use channels::ChannelInfo;
 use db3::Db3FilesSource;
+use definitions::SummaryDefinitions;
 use dir::{McapFilesSource, Storage, bag_files, open_file};
 use records::{Loc, hex, opcode_name, read_full};
 
@@ -147,6 +153,9 @@ pub struct McapScanSource {
     pending: VecDeque<Result<ScanRecord, ReadError>>,
     /// Messages met per channel id, to compare with the file's `Statistics` record.
     seen: HashMap<u16, u64>,
+    /// The summary's definitions, for channels whose own were in a chunk that could not be
+    /// read (a file on disk only).
+    summary: SummaryDefinitions,
     body: Vec<u8>,
     chunk: Vec<u8>,
 }
@@ -181,6 +190,7 @@ impl McapScanSource {
             world_from_odom: None,
             pending: VecDeque::new(),
             seen: HashMap::new(),
+            summary: SummaryDefinitions::default(),
             body: Vec::new(),
             chunk: Vec::new(),
         }
@@ -468,8 +478,12 @@ pub fn open(path: &Path, options: &McapReadOptions) -> Result<ScanReader, ReadEr
         })?;
         (Storage::Sqlite, vec![path.to_path_buf()])
     } else {
-        let (file_name, input) = open_file(path)?;
-        return Ok(reader_for(&file_name, input, options));
+        let source = open_file(path, options)?;
+        return Ok(ScanReader::from_source(
+            &name,
+            Format::Mcap,
+            Box::new(source),
+        ));
     };
     let (format, source): (Format, Box<dyn ScanSource>) = match storage {
         Storage::Mcap => (
@@ -508,108 +522,4 @@ fn reader_for(name: &str, input: Input, options: &McapReadOptions) -> ScanReader
 }
 
 #[cfg(test)]
-mod tests {
-    use std::io::Cursor;
-
-    use super::*;
-    use crate::ros::{LaserScanMsg, encode};
-
-    fn msg(k: u32) -> LaserScanMsg {
-        LaserScanMsg {
-            stamp_sec: 100 + i64::from(k),
-            stamp_nanosec: 5,
-            frame_id: "laser".to_owned(),
-            angle_min: -1.0,
-            angle_max: 1.0,
-            angle_increment: 0.5,
-            range_min: 0.1,
-            range_max: 10.0,
-            ranges: vec![1.0, 2.0, 3.0, 4.0, 5.0],
-            ..LaserScanMsg::default()
-        }
-    }
-
-    /// An unchunked MCAP of ROS 2 scans; returns the bytes and each message record's offset.
-    fn ros2_file(payloads: &[Vec<u8>]) -> (Vec<u8>, Vec<u64>) {
-        let options = mcap::WriteOptions::new().use_chunks(false);
-        let mut w = options.create(Cursor::new(Vec::new())).unwrap();
-        let s = w
-            .add_schema("sensor_msgs/msg/LaserScan", "ros2msg", b"")
-            .unwrap();
-        let c = w
-            .add_channel(s, "/scan", "cdr", &Default::default())
-            .unwrap();
-        for (i, p) in payloads.iter().enumerate() {
-            let header = mcap::records::MessageHeader {
-                channel_id: c,
-                sequence: i as u32,
-                log_time: 0,
-                publish_time: 0,
-            };
-            w.write_to_known_channel(&header, p).unwrap();
-        }
-        w.finish().unwrap();
-        let data = w.into_inner().into_inner();
-        let mut offsets = Vec::new();
-        let mut at = 8;
-        while at + 9 <= data.len() - 8 {
-            let len = u64::from_le_bytes(data[at + 1..at + 9].try_into().unwrap()) as usize;
-            if data[at] == op::MESSAGE {
-                offsets.push(at as u64);
-            }
-            at += 9 + len;
-        }
-        (data, offsets)
-    }
-
-    #[test]
-    fn a_corrupt_message_names_its_record_offset_and_field_and_reading_goes_on() {
-        let good = encode::cdr(&msg(0), false);
-        let mut bad = encode::cdr(&msg(1), false);
-        // The ranges count sits after the header (4 + 8 + 4 + 6 bytes, padded to 24) and the
-        // seven floats: byte 52 of the message.
-        bad[52..56].copy_from_slice(&1000u32.to_le_bytes());
-        let (data, offsets) = ros2_file(&[good.clone(), bad, good]);
-        let reader = from_reader("x.mcap", Cursor::new(data), &McapReadOptions::default()).unwrap();
-        let items: Vec<_> = reader.collect();
-        assert_eq!(items.len(), 3);
-        assert!(items[0].is_ok() && items[2].is_ok());
-        let e = items[1].as_ref().unwrap_err().to_string();
-        let want = format!(
-            "x.mcap: byte {}: /scan message: ranges (byte 52 of the message): expected 1000 \
-             float32 values (4000 bytes), found the message ends after",
-            offsets[1]
-        );
-        assert!(e.starts_with(&want), "{e}\n{want}");
-    }
-
-    #[test]
-    fn zero_header_stamps_fall_back_to_the_log_time() {
-        let mut m = msg(0);
-        m.stamp_sec = 0;
-        m.stamp_nanosec = 0;
-        let options = mcap::WriteOptions::new().use_chunks(false);
-        let mut w = options.create(Cursor::new(Vec::new())).unwrap();
-        let s = w
-            .add_schema("sensor_msgs/LaserScan", "ros1msg", b"")
-            .unwrap();
-        let c = w
-            .add_channel(s, "/scan", "ros1", &Default::default())
-            .unwrap();
-        let header = mcap::records::MessageHeader {
-            channel_id: c,
-            sequence: 0,
-            log_time: 42_500_000_000,
-            publish_time: 0,
-        };
-        w.write_to_known_channel(&header, &encode::ros1(&m))
-            .unwrap();
-        w.finish().unwrap();
-        let data = w.into_inner().into_inner();
-        let mut reader =
-            from_reader("y.mcap", Cursor::new(data), &McapReadOptions::default()).unwrap();
-        let r = reader.next().unwrap().unwrap();
-        assert_eq!(r.scan.stamp, Some(42.5));
-        assert!(reader.next().is_none());
-    }
-}
+mod tests;

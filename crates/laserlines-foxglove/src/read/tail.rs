@@ -26,7 +26,7 @@ pub const SKIP_LOST_SCAN: &str =
     "scan in a record or chunk that could not be read (counted by the file's statistics)";
 
 /// A `Footer` record (opcode, length 20, three numbers) and the closing magic.
-const FOOTER_AND_MAGIC: usize = 9 + 20 + 8;
+pub(super) const FOOTER_AND_MAGIC: usize = 9 + 20 + 8;
 
 /// The most summary bytes kept (its first ones) to look for the `Statistics` record.
 const MAX_SUMMARY_BYTES: usize = 64 << 20;

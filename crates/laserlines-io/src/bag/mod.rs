@@ -23,11 +23,15 @@
 //! **Streaming, without the index.** The reader walks the records front to back, one chunk in
 //! memory at a time (at most [`BagOptions::max_chunk_bytes`], by default [`MAX_CHUNK_BYTES`],
 //! compressed and decompressed), so memory stays
-//! flat on long bags, and it reads from any stream (standard input, gzip). It never uses the
-//! index section or the `index_pos` of the bag header, which are wrong in some real bags: the
-//! `demo.bag` of the CCNY `scan_tools` declares index data records of `20 * count` bytes while
-//! `12 * count` were written, so the reader skips an index data record by its `count`
-//! (12 bytes per entry), falling back to `data_len` when that is smaller.
+//! flat on long bags, and it reads from any stream (standard input, gzip). It does not walk by
+//! the index section or the `index_pos` of the bag header, which are wrong in some real bags:
+//! the `demo.bag` of the CCNY `scan_tools` declares index data records of `20 * count` bytes
+//! while `12 * count` were written, so the reader skips an index data record by its `count`
+//! (12 bytes per entry), falling back to `data_len` when that is smaller. Of the index
+//! section, a bag on disk (not gzipped) gives only its connection records, read first, for
+//! the connections whose own record was in a chunk that could not be read (`index.rs`): so a
+//! damaged first chunk loses its own messages, not every later chunk's. From a stream, the
+//! messages of such connections are counted ([`SKIP_UNKNOWN_CONNECTION`]).
 //!
 //! **Which topic.** Messages of every connection whose `type` is `sensor_msgs/LaserScan` or
 //! `sensor_msgs/MultiEchoLaserScan` on the chosen topic become records, in file order: the
@@ -61,6 +65,7 @@
 //! error, after every scan before them.
 
 mod chunk;
+mod index;
 mod records;
 mod state;
 mod v12;
@@ -177,6 +182,14 @@ impl BagSource {
         Self::with_options(name, input, &options)
     }
 
+    /// The source with the connection records of the index section of the bag at `path`
+    /// (the file `input` reads) at hand, for connections whose own record was in a chunk
+    /// that could not be read.
+    pub(crate) fn with_index(mut self, path: &std::path::Path) -> Self {
+        self.state.indexed = index::indexed_connections(path);
+        self
+    }
+
     fn with_options(name: &str, input: Input, options: &BagOptions) -> Self {
         Self {
             max_chunk_bytes: options.max_chunk_bytes,
@@ -188,6 +201,7 @@ impl BagSource {
                 connections: HashMap::new(),
                 requested: options.topic.clone(),
                 chosen: None,
+                indexed: HashMap::new(),
             },
             started: false,
             done: false,

@@ -10,6 +10,7 @@ use crate::record::ScanRecord;
 use crate::ros::{LaserScanMsg, ScanMsgType, decode_ros1_whole_as};
 use crate::skip::SkipCounts;
 
+use super::index::IndexedConnection;
 use super::records::{Bad, Loc, for_each_field};
 use super::{
     SKIP_BAD_INTENSITIES, SKIP_LATER_ECHOES, SKIP_OTHER_TOPIC, SKIP_OTHER_TYPE,
@@ -36,6 +37,9 @@ pub(super) struct State {
     pub(super) connections: HashMap<u32, Connection>,
     pub(super) requested: Option<String>,
     pub(super) chosen: Option<String>,
+    /// The index section's connection records ([`super::index`]), for connections whose own
+    /// record was in a chunk that could not be read.
+    pub(super) indexed: HashMap<u32, IndexedConnection>,
 }
 
 impl State {
@@ -91,15 +95,40 @@ impl State {
         self.connections.insert(conn, connection);
     }
 
+    /// Declares connection `conn`, which no record read so far declared, from the index
+    /// section, and before it the indexed connections numbered below it that are not
+    /// declared either, in order: bags number their connections in the order they declare
+    /// them, so those were declared before it, in the chunk that was lost, and the topic is
+    /// chosen as it would have been. A record that does not parse is passed over.
+    fn declare_from_index(&mut self, conn: u32) {
+        let mut earlier: Vec<u32> = self
+            .indexed
+            .keys()
+            .copied()
+            .filter(|&c| c <= conn)
+            .collect();
+        earlier.sort_unstable();
+        for c in earlier {
+            if let Some(indexed) = self.indexed.remove(&c)
+                && !self.connections.contains_key(&c)
+            {
+                let _ = self.connection(c, indexed.topic.as_deref(), &indexed.data);
+            }
+        }
+    }
+
     /// Handles a message record: a scan record, a counted skip (`None`), or an error.
     pub(super) fn message(
-        &self,
+        &mut self,
         conn: u32,
         time: Option<(u32, u32)>,
         data: &[u8],
         loc: Loc,
         skipped: &mut SkipCounts,
     ) -> Result<Option<ScanRecord>, ReadError> {
+        if !self.connections.contains_key(&conn) {
+            self.declare_from_index(conn);
+        }
         let Some(connection) = self.connections.get(&conn) else {
             skipped.add(SKIP_UNKNOWN_CONNECTION);
             return Ok(None);
