@@ -9,7 +9,7 @@
 use std::io::{Cursor, Write};
 use std::path::{Path, PathBuf};
 
-use laserlines_io::bag::{SKIP_OTHER_TOPIC, SKIP_OTHER_TYPE, SKIP_UNKNOWN_CONNECTION};
+use laserlines_io::bag::{MAGIC, SKIP_OTHER_TOPIC, SKIP_OTHER_TYPE, SKIP_UNKNOWN_CONNECTION};
 use laserlines_io::{Format, ReadError, ReadOptions, ScanRecord, from_reader_with, open_with};
 use serde_json::Value;
 
@@ -343,6 +343,161 @@ fn a_corrupt_first_chunk_on_disk_loses_only_its_own_scans() {
     let (streamed, _) = scans_and_errors(&streamed);
     assert_eq!(streamed, 0);
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A `len: u32, name=value` field of a bag record header.
+fn field(name: &str, value: &[u8]) -> Vec<u8> {
+    let mut out = ((name.len() + 1 + value.len()) as u32)
+        .to_le_bytes()
+        .to_vec();
+    out.extend_from_slice(name.as_bytes());
+    out.push(b'=');
+    out.extend_from_slice(value);
+    out
+}
+
+/// A bag record: its header of `fields` and its `data`.
+fn bag_record(fields: &[Vec<u8>], data: &[u8]) -> Vec<u8> {
+    let header = fields.concat();
+    let mut out = (header.len() as u32).to_le_bytes().to_vec();
+    out.extend_from_slice(&header);
+    out.extend_from_slice(&(data.len() as u32).to_le_bytes());
+    out.extend_from_slice(data);
+    out
+}
+
+/// A connection record of LaserScans on `topic`.
+fn connection_record(conn: u32, topic: &str) -> Vec<u8> {
+    let data = [
+        field("topic", topic.as_bytes()),
+        field("type", b"sensor_msgs/LaserScan"),
+        field("md5sum", b"90c7ef2dc6895d81024acba2ac42f369"),
+    ]
+    .concat();
+    let header = [
+        field("op", &[0x07]),
+        field("conn", &conn.to_le_bytes()),
+        field("topic", topic.as_bytes()),
+    ];
+    bag_record(&header, &data)
+}
+
+/// A message record of a LaserScan of three beams stamped `secs` on connection `conn`.
+fn scan_record(conn: u32, secs: u32) -> Vec<u8> {
+    let mut data = Vec::new();
+    for v in [0u32, secs, 0, 5] {
+        // seq, stamp, and the length of frame_id "laser"
+        data.extend_from_slice(&v.to_le_bytes());
+    }
+    data.extend_from_slice(b"laser");
+    for v in [-0.5f32, 0.5, 0.5, 0.0, 0.1, 0.02, 5.6] {
+        data.extend_from_slice(&v.to_le_bytes());
+    }
+    data.extend_from_slice(&3u32.to_le_bytes());
+    for v in [1.0f32, 2.0, 3.0] {
+        data.extend_from_slice(&v.to_le_bytes());
+    }
+    data.extend_from_slice(&0u32.to_le_bytes());
+    let mut time = secs.to_le_bytes().to_vec();
+    time.extend_from_slice(&0u32.to_le_bytes());
+    let header = [
+        field("op", &[0x02]),
+        field("conn", &conn.to_le_bytes()),
+        field("time", &time),
+    ];
+    bag_record(&header, &data)
+}
+
+/// An uncompressed chunk record of `records`.
+fn chunk_record(records: &[Vec<u8>]) -> Vec<u8> {
+    let inner = records.concat();
+    let header = [
+        field("op", &[0x05]),
+        field("compression", b"none"),
+        field("size", &(inner.len() as u32).to_le_bytes()),
+    ];
+    bag_record(&header, &inner)
+}
+
+/// Chunk 1 declares `/a` (connection 0) and holds a scan of it; chunk 2 declares `/b`
+/// (connection 1) before any later `/a` message. With chunk 1 damaged, the index section's
+/// `/a` comes before the chunk's `/b`, so the topic read is `/a`, as in the whole bag, and
+/// its later scans are read.
+#[test]
+fn a_lost_first_topic_is_chosen_before_one_a_later_chunk_declares() {
+    let chunks = [
+        chunk_record(&[connection_record(0, "/a"), scan_record(0, 10)]),
+        chunk_record(&[
+            connection_record(1, "/b"),
+            scan_record(1, 11),
+            scan_record(0, 12),
+        ]),
+        chunk_record(&[scan_record(0, 13)]),
+    ];
+    let index = [connection_record(0, "/a"), connection_record(1, "/b")].concat();
+    let bag_header = |index_pos: u64| {
+        let header = [
+            field("op", &[0x03]),
+            field("index_pos", &index_pos.to_le_bytes()),
+            field("conn_count", &2u32.to_le_bytes()),
+            field("chunk_count", &3u32.to_le_bytes()),
+        ];
+        bag_record(&header, &[b' '; 64])
+    };
+    let head = MAGIC.len() + bag_header(0).len();
+    let index_pos = (head + chunks.iter().map(Vec::len).sum::<usize>()) as u64;
+    let mut bytes = [
+        MAGIC.to_vec(),
+        bag_header(index_pos),
+        chunks.concat(),
+        index,
+    ]
+    .concat();
+    let read = |bytes: &[u8]| {
+        let dir = std::env::temp_dir().join(format!("laserlines-io-topics-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("topics.bag");
+        std::fs::write(&path, bytes).unwrap();
+        let mut reader = open_with(&path, &ReadOptions::default()).unwrap();
+        let items: Vec<_> = reader.by_ref().collect();
+        std::fs::remove_dir_all(&dir).unwrap();
+        let stamps: Vec<_> = items
+            .iter()
+            .filter_map(|i| i.as_ref().ok()?.scan.stamp)
+            .collect();
+        let errors = items.iter().filter(|i| i.is_err()).count();
+        (stamps, errors, reader.skipped().get(SKIP_OTHER_TOPIC))
+    };
+    assert_eq!(read(&bytes), (vec![10.0, 12.0, 13.0], 0, 1));
+    // The first record of chunk 1 claims a header of 2^31 bytes: the chunk's rest is lost.
+    let data = head + 4 + u32::from_le_bytes(chunks[0][..4].try_into().unwrap()) as usize + 4;
+    bytes[data..data + 4].copy_from_slice(&(1u32 << 31).to_le_bytes());
+    assert_eq!(read(&bytes), (vec![12.0, 13.0], 1, 1));
+}
+
+/// A bag read through a named pipe: the index section is not read first (that would take the
+/// reader's bytes), and every scan comes out as from the file.
+#[cfg(unix)]
+#[test]
+fn a_bag_through_a_named_pipe_reads_whole() {
+    let bytes = fixture("laserscans.bag");
+    let (good, _) = read_bytes(&bytes, None);
+    let dir = std::env::temp_dir().join(format!("laserlines-io-fifo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("scans.bag");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("note: mkfifo is not available; the named-pipe case is not run");
+        return;
+    }
+    let writer = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::write(fifo, bytes).unwrap())
+    };
+    let items: Vec<_> = open_with(&fifo, &ReadOptions::default()).unwrap().collect();
+    writer.join().unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(format!("{items:?}"), format!("{good:?}"));
 }
 
 /// Damage to the index section (after the last chunk: what the reader of a bag on disk

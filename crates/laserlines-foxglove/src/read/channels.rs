@@ -165,7 +165,11 @@ impl McapScanSource {
         let data = b.rest();
         *self.seen.entry(channel_id).or_default() += 1;
         if !self.channels.contains_key(&channel_id) {
-            self.define_from_summary(channel_id);
+            self.define_from_summary(channel_id, true);
+            if self.done {
+                // The summary's definition ended the reader (a topic that is not a scan's).
+                return Ok(());
+            }
         }
         let Some(channel) = self.channels.get(&channel_id) else {
             skipped.add(SKIP_UNKNOWN_CHANNEL);

@@ -4,11 +4,12 @@
 //! body` records), reading one record, or one chunk, at a time: memory is bounded by the
 //! largest chunk, not by the file. It does not walk by the summary section or the indexes; it
 //! stops at the `DataEnd` record (or the footer), and reads of the summary only the
-//! `Statistics` record, to count the scans of a skipped chunk, and the `Schema` and `Channel`
-//! records: of a file on disk (not gzipped) first, for the channels whose own definition was
-//! in a chunk that could not be read (`definitions.rs`), so that a damaged first chunk loses
-//! its own messages, not every later chunk's; from a stream, at the end, to count what such a
-//! chunk held ([`SKIP_LOST_SCAN`]).
+//! `Statistics` record, to count the scans of a skipped chunk ([`SKIP_LOST_SCAN`]), and the
+//! `Schema` and `Channel` records: at the end, for the channels the data section never
+//! defined, to count what a skipped chunk held; and of a regular file (not gzipped; not a
+//! pipe) also first, for the channels whose own definition was in a chunk that could not be
+//! read (`definitions.rs`), so that a damaged first chunk loses its own messages, not every
+//! later chunk's.
 //!
 //! Messages come out in file order. Six LaserScan encodings are read:
 //!
@@ -156,6 +157,9 @@ pub struct McapScanSource {
     /// The summary's definitions, for channels whose own were in a chunk that could not be
     /// read (a file on disk only).
     summary: SummaryDefinitions,
+    /// A record or chunk could not be read (an error was handed out): definitions may have
+    /// been lost.
+    lost: bool,
     body: Vec<u8>,
     chunk: Vec<u8>,
 }
@@ -191,6 +195,7 @@ impl McapScanSource {
             pending: VecDeque::new(),
             seen: HashMap::new(),
             summary: SummaryDefinitions::default(),
+            lost: false,
             body: Vec::new(),
             chunk: Vec::new(),
         }
@@ -369,7 +374,14 @@ impl McapScanSource {
     fn handle_record(&mut self, opcode: u8, body: &[u8], loc: Loc, skipped: &mut SkipCounts) {
         let result = match opcode {
             op::SCHEMA => self.handle_schema(body),
-            op::CHANNEL => self.handle_channel(body, loc),
+            op::CHANNEL => {
+                if self.lost
+                    && let Some(id) = body.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]]))
+                {
+                    self.define_from_summary(id, false);
+                }
+                self.handle_channel(body, loc)
+            }
             op::MESSAGE => self.handle_message(body, loc, skipped),
             _ => Ok(()),
         };
@@ -441,6 +453,7 @@ impl ScanSource for McapScanSource {
     fn next_record(&mut self, skipped: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
         loop {
             if let Some(item) = self.pending.pop_front() {
+                self.lost |= item.is_err();
                 return Some(item);
             }
             if self.done {

@@ -102,3 +102,64 @@ fn zero_header_stamps_fall_back_to_the_log_time() {
     assert_eq!(r.scan.stamp, Some(42.5));
     assert!(reader.next().is_none());
 }
+
+/// Chunk 1 defines `/a` (channel 1) and holds a scan of it; chunk 2 defines `/b` (channel 2)
+/// before any later `/a` message. With chunk 1 damaged, the summary's `/a` comes before the
+/// data's `/b`, so the topic read is `/a`, as in the whole file, and its later scans are read.
+#[test]
+fn a_lost_first_topic_is_chosen_before_one_a_later_chunk_defines() {
+    let mut w = mcap::WriteOptions::new()
+        .compression(None)
+        .create(Cursor::new(Vec::new()))
+        .unwrap();
+    let s = w
+        .add_schema("sensor_msgs/msg/LaserScan", "ros2msg", b"")
+        .unwrap();
+    let a = w.add_channel(s, "/a", "cdr", &Default::default()).unwrap();
+    let mut k = 0u32;
+    let mut write = |w: &mut mcap::Writer<Cursor<Vec<u8>>>, channel_id: u16| {
+        let header = mcap::records::MessageHeader {
+            channel_id,
+            sequence: k,
+            log_time: u64::from(k),
+            publish_time: u64::from(k),
+        };
+        w.write_to_known_channel(&header, &encode::cdr(&msg(k), false))
+            .unwrap();
+        k += 1;
+    };
+    write(&mut w, a);
+    w.flush().unwrap();
+    let b = w.add_channel(s, "/b", "cdr", &Default::default()).unwrap();
+    assert!(b > a);
+    write(&mut w, b);
+    write(&mut w, a);
+    w.flush().unwrap();
+    write(&mut w, a);
+    w.finish().unwrap();
+    let mut data = w.into_inner().into_inner();
+    // Damage the first chunk's records (its CRC fails).
+    let mut at = 8;
+    while data[at] != op::CHUNK {
+        at += 9 + u64::from_le_bytes(data[at + 1..at + 9].try_into().unwrap()) as usize;
+    }
+    let end = at + 9 + u64::from_le_bytes(data[at + 1..at + 9].try_into().unwrap()) as usize;
+    for byte in &mut data[end - 12..end - 4] {
+        *byte ^= 0x5a;
+    }
+    let dir = std::env::temp_dir().join(format!("laserlines-topics-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("topics.mcap");
+    std::fs::write(&path, &data).unwrap();
+    let mut reader = open(&path, &McapReadOptions::default()).unwrap();
+    let items: Vec<_> = reader.by_ref().collect();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(items.iter().filter(|i| i.is_err()).count(), 1, "{items:?}");
+    // The scans of /a after the damaged chunk: messages 2 and 3.
+    let stamps: Vec<_> = items
+        .iter()
+        .filter_map(|i| i.as_ref().ok()?.scan.stamp)
+        .collect();
+    assert_eq!(stamps, [102.000_000_005, 103.000_000_005]);
+    assert_eq!(reader.skipped().get(SKIP_OTHER_TOPIC), 1);
+}

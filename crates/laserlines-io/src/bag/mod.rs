@@ -28,10 +28,11 @@
 //! the `demo.bag` of the CCNY `scan_tools` declares index data records of `20 * count` bytes
 //! while `12 * count` were written, so the reader skips an index data record by its `count`
 //! (12 bytes per entry), falling back to `data_len` when that is smaller. Of the index
-//! section, a bag on disk (not gzipped) gives only its connection records, read first, for
-//! the connections whose own record was in a chunk that could not be read (`index.rs`): so a
-//! damaged first chunk loses its own messages, not every later chunk's. From a stream, the
-//! messages of such connections are counted ([`SKIP_UNKNOWN_CONNECTION`]).
+//! section, a bag that is a regular file (not gzipped; not a pipe) gives only its connection
+//! records, read first, for the connections whose own record was in a chunk that could not be
+//! read (`index.rs`): so a damaged first chunk loses its own messages, not every later
+//! chunk's. From a stream, the messages of such connections are counted
+//! ([`SKIP_UNKNOWN_CONNECTION`]).
 //!
 //! **Which topic.** Messages of every connection whose `type` is `sensor_msgs/LaserScan` or
 //! `sensor_msgs/MultiEchoLaserScan` on the chosen topic become records, in file order: the
@@ -70,7 +71,7 @@ mod records;
 mod state;
 mod v12;
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::io;
 
 use crate::error::{ReadError, SourcePos};
@@ -201,7 +202,8 @@ impl BagSource {
                 connections: HashMap::new(),
                 requested: options.topic.clone(),
                 chosen: None,
-                indexed: HashMap::new(),
+                indexed: BTreeMap::new(),
+                lost: false,
             },
             started: false,
             done: false,
@@ -541,6 +543,16 @@ impl BagSource {
 
 impl ScanSource for BagSource {
     fn next_record(&mut self, skipped: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
+        let item = self.next_item(skipped);
+        if let Some(Err(_)) = &item {
+            self.state.lost = true;
+        }
+        item
+    }
+}
+
+impl BagSource {
+    fn next_item(&mut self, skipped: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
         if !self.started {
             self.started = true;
             if let Err(e) = self.start() {

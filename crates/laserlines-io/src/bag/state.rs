@@ -1,7 +1,7 @@
 //! The connections of a bag, the choice of the LaserScan topic, and the decoding of its
 //! messages into scan records.
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 use laserlines::Scan;
 
@@ -39,17 +39,30 @@ pub(super) struct State {
     pub(super) chosen: Option<String>,
     /// The index section's connection records ([`super::index`]), for connections whose own
     /// record was in a chunk that could not be read.
-    pub(super) indexed: HashMap<u32, IndexedConnection>,
+    pub(super) indexed: BTreeMap<u32, IndexedConnection>,
+    /// A record or chunk could not be read (an error was handed out): connection records may
+    /// have been lost.
+    pub(super) lost: bool,
 }
 
 impl State {
-    /// Remembers a connection record (`data` is the connection header: `type`, ...).
+    /// Remembers a connection record of the bag's records (`data` is the connection header:
+    /// `type`, ...). Once records were lost, the index section's connections numbered below
+    /// it come first ([`State::declare_from_index`]).
     pub(super) fn connection(
         &mut self,
         conn: u32,
         topic: Option<&[u8]>,
         data: &[u8],
     ) -> Result<(), Bad> {
+        if self.lost {
+            self.declare_from_index(conn, false);
+        }
+        self.declare(conn, topic, data)
+    }
+
+    /// Remembers a connection record.
+    fn declare(&mut self, conn: u32, topic: Option<&[u8]>, data: &[u8]) -> Result<(), Bad> {
         let mut kind = None;
         let mut data_topic = None;
         for_each_field(data, |name, value| {
@@ -95,24 +108,23 @@ impl State {
         self.connections.insert(conn, connection);
     }
 
-    /// Declares connection `conn`, which no record read so far declared, from the index
-    /// section, and before it the indexed connections numbered below it that are not
-    /// declared either, in order: bags number their connections in the order they declare
-    /// them, so those were declared before it, in the chunk that was lost, and the topic is
-    /// chosen as it would have been. A record that does not parse is passed over.
-    fn declare_from_index(&mut self, conn: u32) {
-        let mut earlier: Vec<u32> = self
-            .indexed
-            .keys()
-            .copied()
-            .filter(|&c| c <= conn)
-            .collect();
-        earlier.sort_unstable();
+    /// Declares from the index section the connections numbered below `conn` (and `conn`
+    /// itself when `with_conn`) that no record read so far declared, in order: bags number
+    /// their connections in the order they declare them, so those were declared before it, in
+    /// a chunk that was lost, and the topic is chosen as in the whole bag. A record that does
+    /// not parse is passed over.
+    pub(super) fn declare_from_index(&mut self, conn: u32, with_conn: bool) {
+        let upto = if with_conn {
+            self.indexed.range(..=conn)
+        } else {
+            self.indexed.range(..conn)
+        };
+        let earlier: Vec<u32> = upto.map(|(&c, _)| c).collect();
         for c in earlier {
             if let Some(indexed) = self.indexed.remove(&c)
                 && !self.connections.contains_key(&c)
             {
-                let _ = self.connection(c, indexed.topic.as_deref(), &indexed.data);
+                let _ = self.declare(c, indexed.topic.as_deref(), &indexed.data);
             }
         }
     }
@@ -127,7 +139,7 @@ impl State {
         skipped: &mut SkipCounts,
     ) -> Result<Option<ScanRecord>, ReadError> {
         if !self.connections.contains_key(&conn) {
-            self.declare_from_index(conn);
+            self.declare_from_index(conn, true);
         }
         let Some(connection) = self.connections.get(&conn) else {
             skipped.add(SKIP_UNKNOWN_CONNECTION);
