@@ -55,6 +55,7 @@ pub mod csv;
 pub mod demo;
 pub mod error;
 pub mod format;
+pub mod gzip;
 pub mod json;
 pub mod lines;
 pub mod params;

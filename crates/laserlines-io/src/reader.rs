@@ -394,7 +394,7 @@ pub fn open_input(name: &str, mut input: Input, gz: bool) -> Result<Input, ReadE
     let is_gzip = got == head.len() && head == GZIP_MAGIC;
     let restored: Input = Box::new(Cursor::new(head[..got].to_vec()).chain(input));
     if is_gzip || (gz && got > 0) {
-        let decoder = flate2::bufread::MultiGzDecoder::new(restored);
+        let decoder = crate::gzip::Members::new(restored);
         Ok(Box::new(BufReader::with_capacity(1 << 16, decoder)))
     } else {
         Ok(restored)

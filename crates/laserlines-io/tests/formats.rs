@@ -271,8 +271,26 @@ fn gzip_is_transparent_by_name_and_by_magic() {
     std::fs::write(&unnamed, &gz).unwrap();
     assert_eq!(open(&unnamed, None).unwrap().count(), 3);
     // And so is gzip on a stream (standard input).
-    let reader = laserlines_io::from_reader("-", std::io::Cursor::new(gz), Format::Jsonl).unwrap();
+    let reader =
+        laserlines_io::from_reader("-", std::io::Cursor::new(gz.clone()), Format::Jsonl).unwrap();
     assert_eq!(reader.count(), 3);
+    // Two members (`cat a.gz b.gz`) read as one text; bytes after them that start no member
+    // end the reading after the scans, with an error that says so.
+    let two = [gz.clone(), gz].concat();
+    std::fs::write(&named, &two).unwrap();
+    assert!(open(&named, None).unwrap().all(|r| r.is_ok()));
+    assert_eq!(open(&named, None).unwrap().count(), 6);
+    std::fs::write(&named, [two, b"JUNK".to_vec()].concat()).unwrap();
+    let items: Vec<_> = open(&named, None).unwrap().collect();
+    assert_eq!(items.len(), 7);
+    assert!(items[..6].iter().all(Result::is_ok));
+    let e = items[6].as_ref().unwrap_err();
+    assert!(!e.is_bad_record(), "{e}");
+    assert!(
+        e.to_string()
+            .contains(laserlines_io::gzip::TRAILING_GARBAGE),
+        "{e}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
