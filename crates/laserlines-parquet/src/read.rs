@@ -2,13 +2,15 @@
 //! with its required columns) as a [`ScanReader`], like every other format: `laserlines
 //! extract scans.parquet` and `laserlines.read("scans.parquet")` read it.
 //!
-//! The file is read one batch of rows at a time, so memory stays bounded by a row group.
-//! A row that is not a valid scan (a null where a number is required, limits out of order)
-//! is an error naming the file, the row and the column; reading goes on with the next row.
-//! A file that is not Parquet, lacks a column or holds one of another type, or whose
-//! metadata places a column chunk outside the file, or one of whose dictionary pages claims
-//! more values than its bytes hold ([`crate::dictionary`]), is an error at opening; a page that
-//! cannot be decoded ends the reader with an error naming the first row of its batch.
+//! The file is read one row group after the other, one batch of rows at a time, so memory
+//! stays bounded by a row group. A row that is not a valid scan (a null where a number is
+//! required, limits out of order) is an error naming the file, the row and the column;
+//! reading goes on with the next row. A file that is not Parquet, lacks a column or holds one
+//! of another type, or whose metadata places a column chunk outside the file, or one of whose
+//! dictionary pages claims more values than its bytes hold ([`crate::dictionary`]), is an
+//! error at opening; a page that cannot be decoded is an error naming the first row of its
+//! batch, the rest of its row group is counted as lost ([`SKIP_LOST_ROWS`]), and reading goes
+//! on with the next row group.
 
 use std::fs::File;
 use std::panic::AssertUnwindSafe;
@@ -17,9 +19,12 @@ use std::sync::Arc;
 
 use bytes::Bytes;
 use laserlines_io::{Format, ReadError, ScanReader, ScanRecord, ScanSource, SkipCounts, SourcePos};
-use parquet::arrow::arrow_reader::{ParquetRecordBatchReader, ParquetRecordBatchReaderBuilder};
+use parquet::arrow::arrow_reader::{
+    ArrowReaderMetadata, ArrowReaderOptions, ParquetRecordBatchReader,
+    ParquetRecordBatchReaderBuilder,
+};
 use parquet::file::metadata::ParquetMetaData;
-use parquet::file::reader::ChunkReader;
+use parquet::file::reader::{ChunkReader, Length};
 
 use crate::columns::{ScanColumns, check_schema};
 use crate::dictionary::check_dictionaries;
@@ -80,30 +85,38 @@ fn from_chunks<T: ChunkReader + 'static>(
                 .to_owned(),
         });
     }
-    let builder = ParquetRecordBatchReaderBuilder::try_new(input).map_err(not_parquet)?;
-    check_chunks(builder.metadata(), file_len).map_err(|(offset, found)| ReadError::Syntax {
+    let input = Shared(Arc::new(input));
+    let meta =
+        ArrowReaderMetadata::load(&input, ArrowReaderOptions::default()).map_err(not_parquet)?;
+    check_chunks(meta.metadata(), file_len).map_err(|(offset, found)| ReadError::Syntax {
         pos: SourcePos::byte(name, offset),
         expected: "column chunks within the file (metadata)".to_owned(),
         found,
     })?;
-    check_dictionaries(builder.metadata(), again).map_err(|(offset, found)| ReadError::Syntax {
+    check_dictionaries(meta.metadata(), again).map_err(|(offset, found)| ReadError::Syntax {
         pos: SourcePos::byte(name, offset),
         expected: "dictionary pages whose values fit in their bytes".to_owned(),
         found,
     })?;
-    check_schema(builder.schema()).map_err(|e| ReadError::Field {
+    check_schema(meta.schema()).map_err(|e| ReadError::Field {
         pos: SourcePos::row(name, 0),
         field: e.column.to_owned(),
         expected: e.expected.to_owned(),
         found: e.found,
     })?;
-    let batches = builder
-        .with_batch_size(BATCH_ROWS)
-        .build()
-        .map_err(not_parquet)?;
+    // The first row of each row group, and the end of the last.
+    let mut group_rows = vec![0u64];
+    for group in meta.metadata().row_groups() {
+        let end = group_rows[group_rows.len() - 1];
+        group_rows.push(end.saturating_add(u64::try_from(group.num_rows()).unwrap_or(0)));
+    }
     let source = ParquetScanSource {
         name: name.to_owned(),
-        batches: Some(batches),
+        input,
+        meta,
+        group_rows,
+        group: 0,
+        batches: None,
         current: None,
         row_in_batch: 0,
         batch_rows: 0,
@@ -114,6 +127,33 @@ fn from_chunks<T: ChunkReader + 'static>(
         Format::Parquet,
         Box::new(source),
     ))
+}
+
+/// The input, shared by the readers of its row groups.
+struct Shared<T>(Arc<T>);
+
+impl<T> Clone for Shared<T> {
+    fn clone(&self) -> Self {
+        Self(Arc::clone(&self.0))
+    }
+}
+
+impl<T: ChunkReader> Length for Shared<T> {
+    fn len(&self) -> u64 {
+        self.0.len()
+    }
+}
+
+impl<T: ChunkReader> ChunkReader for Shared<T> {
+    type T = T::T;
+
+    fn get_read(&self, start: u64) -> parquet::errors::Result<Self::T> {
+        self.0.get_read(start)
+    }
+
+    fn get_bytes(&self, start: u64, length: usize) -> parquet::errors::Result<Bytes> {
+        self.0.get_bytes(start, length)
+    }
 }
 
 /// The message of a caught panic.
@@ -158,10 +198,21 @@ fn check_chunks(metadata: &ParquetMetaData, file_len: u64) -> Result<(), (u64, S
 /// What a batch that cannot be decoded was expected to be.
 const READABLE: &str = "a readable row group";
 
-/// The [`ScanSource`] of a Parquet table.
-struct ParquetScanSource {
+/// The skip reason of the rows of a row group after a batch that could not be decoded (the
+/// error names the batch's first row; the reader goes on with the next row group).
+pub const SKIP_LOST_ROWS: &str =
+    "scan in a row group that could not be decoded (from the row its error names)";
+
+/// The [`ScanSource`] of a Parquet table, read one row group after the other.
+struct ParquetScanSource<T: ChunkReader + 'static> {
     name: String,
-    /// `None` at the end or after an error that ends reading.
+    input: Shared<T>,
+    meta: ArrowReaderMetadata,
+    /// The first row of each row group, and the end of the last.
+    group_rows: Vec<u64>,
+    /// The next row group to read.
+    group: usize,
+    /// The batches of the row group being read; `None` between row groups and at the end.
     batches: Option<ParquetRecordBatchReader>,
     current: Option<ScanColumns>,
     row_in_batch: usize,
@@ -170,52 +221,95 @@ struct ParquetScanSource {
     row: u64,
 }
 
-impl ParquetScanSource {
-    /// Ends reading: the error of a batch that was not what was `expected`, at its first
-    /// row.
-    fn end_with(&mut self, expected: &str, found: String) -> ReadError {
+impl<T: ChunkReader + 'static> ParquetScanSource<T> {
+    /// The error of a batch that was not what was `expected`, at its first row. The rest of
+    /// its row group is counted as lost and reading goes on with the next one.
+    fn lost_group(&mut self, expected: &str, found: String, skipped: &mut SkipCounts) -> ReadError {
         self.batches = None;
-        ReadError::Syntax {
+        self.current = None;
+        let end = self.group_rows[self.group];
+        skipped.add_n(SKIP_LOST_ROWS, end.saturating_sub(self.row));
+        let e = ReadError::Syntax {
             pos: SourcePos::row(&self.name, self.row),
             expected: expected.to_owned(),
             found,
+        };
+        self.row = end;
+        e
+    }
+
+    /// The batches of the next row group; `None` after the last.
+    fn open_group(
+        &mut self,
+    ) -> Option<Result<ParquetRecordBatchReader, parquet::errors::ParquetError>> {
+        if self.group + 1 >= self.group_rows.len() {
+            return None;
         }
+        self.row = self.group_rows[self.group];
+        self.group += 1;
+        let builder = ParquetRecordBatchReaderBuilder::new_with_metadata(
+            self.input.clone(),
+            self.meta.clone(),
+        );
+        Some(
+            builder
+                .with_row_groups(vec![self.group - 1])
+                .with_batch_size(BATCH_ROWS)
+                .build(),
+        )
     }
 
     /// Decodes the next batch; `None` at the end, an error when it cannot be decoded.
-    fn next_batch(&mut self) -> Option<Result<(), ReadError>> {
-        let batches = self.batches.as_mut()?;
-        // The `parquet` crate's decoder panics on some malformed pages (a data page that
-        // refers to a dictionary the chunk lacks, levels past the page's end) where it
-        // should return an error: its panic is caught here and reported as one, and the
-        // reader (whose state the panic left undefined) is dropped.
-        let next = std::panic::catch_unwind(AssertUnwindSafe(|| batches.next()));
-        let batch = match next {
-            Ok(None) => return None,
-            Ok(Some(Ok(batch))) => batch,
-            Ok(Some(Err(e))) => return Some(Err(self.end_with(READABLE, e.to_string()))),
-            Err(panic) => {
-                let found = format!("the Parquet decoder failed: {}", panic_text(&*panic));
-                return Some(Err(self.end_with(READABLE, found)));
+    fn next_batch(&mut self, skipped: &mut SkipCounts) -> Option<Result<(), ReadError>> {
+        loop {
+            if self.batches.is_none() {
+                match self.open_group()? {
+                    Ok(batches) => self.batches = Some(batches),
+                    Err(e) => return Some(Err(self.lost_group(READABLE, e.to_string(), skipped))),
+                }
             }
-        };
-        self.row_in_batch = 0;
-        self.batch_rows = batch.num_rows();
-        self.current = ScanColumns::of(&batch);
-        if self.current.is_none() {
-            // The schema was checked at opening: a batch of another schema is a defect of
-            // the file or of the decoder, not of one row.
-            let found = "a batch of another schema".to_owned();
-            return Some(Err(self.end_with("rows of the file's schema", found)));
+            let batches = self.batches.as_mut()?;
+            // The `parquet` crate's decoder panics on some malformed pages (a data page that
+            // refers to a dictionary the chunk lacks, levels past the page's end) where it
+            // should return an error: its panic is caught here and reported as one, and the
+            // row group's reader (whose state the panic left undefined) is dropped.
+            let next = std::panic::catch_unwind(AssertUnwindSafe(|| batches.next()));
+            let batch = match next {
+                Ok(None) => {
+                    self.batches = None;
+                    continue;
+                }
+                Ok(Some(Ok(batch))) => batch,
+                Ok(Some(Err(e))) => {
+                    return Some(Err(self.lost_group(READABLE, e.to_string(), skipped)));
+                }
+                Err(panic) => {
+                    let found = format!("the Parquet decoder failed: {}", panic_text(&*panic));
+                    return Some(Err(self.lost_group(READABLE, found, skipped)));
+                }
+            };
+            self.row_in_batch = 0;
+            self.batch_rows = batch.num_rows();
+            self.current = ScanColumns::of(&batch);
+            if self.current.is_none() {
+                // The schema was checked at opening: a batch of another schema is a defect
+                // of the file or of the decoder, not of one row.
+                let found = "a batch of another schema".to_owned();
+                return Some(Err(self.lost_group(
+                    "rows of the file's schema",
+                    found,
+                    skipped,
+                )));
+            }
+            return Some(Ok(()));
         }
-        Some(Ok(()))
     }
 }
 
-impl ScanSource for ParquetScanSource {
-    fn next_record(&mut self, _: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
+impl<T: ChunkReader + 'static> ScanSource for ParquetScanSource<T> {
+    fn next_record(&mut self, skipped: &mut SkipCounts) -> Option<Result<ScanRecord, ReadError>> {
         while self.current.is_none() || self.row_in_batch >= self.batch_rows {
-            if let Err(e) = self.next_batch()? {
+            if let Err(e) = self.next_batch(skipped)? {
                 return Some(Err(e));
             }
         }

@@ -352,3 +352,60 @@ fn a_dictionary_claiming_more_values_than_its_bytes_is_an_error_at_opening() {
     let written = scans_bytes(&excerpt());
     assert_eq!(read::from_bytes("t.parquet", written).unwrap().count(), 40);
 }
+
+/// A table in row groups of 10 scans whose second row group has a damaged data page: the
+/// error names that group's first row, its scans are counted as lost, and the other row
+/// groups read as written.
+#[test]
+fn a_damaged_row_group_costs_its_own_scans_only() {
+    let records = excerpt();
+    assert_eq!(records.len(), 40);
+    let mut table =
+        TableWriter::new(Vec::new(), "mem", laserlines_parquet::scans_schema(), 10).unwrap();
+    let mut columns = laserlines_parquet::ScansColumns::new();
+    for (k, r) in records.iter().enumerate() {
+        columns.push(k as u64, r).unwrap();
+    }
+    table.write(&columns.take_batch().unwrap()).unwrap();
+    let mut bytes = table.finish().unwrap();
+    let meta = ParquetRecordBatchReaderBuilder::try_new(bytes::Bytes::from(bytes.clone()))
+        .unwrap()
+        .metadata()
+        .clone();
+    assert_eq!(meta.num_row_groups(), 4);
+    // The ranges' column chunk of the second row group: flip bytes in its middle.
+    let chunk = meta
+        .row_group(1)
+        .columns()
+        .iter()
+        .find(|c| c.column_path().string().starts_with("ranges"))
+        .unwrap();
+    let start = usize::try_from(chunk.data_page_offset()).unwrap();
+    let size = usize::try_from(chunk.compressed_size()).unwrap();
+    for b in &mut bytes[start + size / 2..start + size / 2 + 16] {
+        *b ^= 0x5a;
+    }
+    let mut reader = read::from_bytes("groups.parquet", bytes).unwrap();
+    let items: Vec<Result<ScanRecord, ReadError>> = reader.by_ref().collect();
+    let errors: Vec<String> = items
+        .iter()
+        .filter_map(|r| r.as_ref().err().map(ToString::to_string))
+        .collect();
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].starts_with("groups.parquet: row 10: "),
+        "{}",
+        errors[0]
+    );
+    assert_eq!(reader.skipped().get(read::SKIP_LOST_ROWS), 10);
+    let read: Vec<&ScanRecord> = items.iter().filter_map(|r| r.as_ref().ok()).collect();
+    let kept: Vec<&ScanRecord> = records[..10].iter().chain(&records[20..]).collect();
+    assert_eq!(read.len(), 30);
+    for (a, b) in read.iter().zip(&kept) {
+        assert_eq!(a.scan.stamp, b.scan.stamp);
+        assert_eq!(
+            format!("{:?}", a.scan.ranges),
+            format!("{:?}", b.scan.ranges)
+        );
+    }
+}
