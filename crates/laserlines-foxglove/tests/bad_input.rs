@@ -9,6 +9,10 @@ use laserlines::Scan;
 use laserlines_foxglove::{McapReadOptions, McapSceneWriter, read};
 use laserlines_io::{At, ReadError, ScanRecord};
 
+#[cfg(unix)]
+#[path = "../../../tests/named_pipe.rs"]
+mod named_pipe;
+
 fn records(n: usize) -> Vec<ScanRecord> {
     (0..n)
         .map(|k| {
@@ -300,23 +304,14 @@ fn a_corrupt_first_chunk_on_disk_loses_only_its_own_scans() {
 fn an_mcap_through_a_named_pipe_reads_whole() {
     let data = mcap_bytes(6, Some(mcap::Compression::Zstd));
     let good = format!("{:?}", read_all("good.mcap", data.clone()));
-    let dir = std::env::temp_dir().join(format!("laserlines-fifo-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let fifo = dir.join("scans.mcap");
-    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
-    if !made.is_ok_and(|s| s.success()) {
-        eprintln!("note: mkfifo is not available; the named-pipe case is not run");
-        return;
-    }
-    let writer = {
-        let fifo = fifo.clone();
-        std::thread::spawn(move || std::fs::write(fifo, data).unwrap())
+    let read = |fifo: &std::path::Path| -> Vec<_> {
+        read::open(fifo, &McapReadOptions::default())
+            .unwrap()
+            .collect()
     };
-    let items: Vec<_> = read::open(&fifo, &McapReadOptions::default())
-        .unwrap()
-        .collect();
-    writer.join().unwrap();
-    std::fs::remove_dir_all(&dir).unwrap();
+    let Some(items) = named_pipe::through_named_pipe("scans.mcap", data, read) else {
+        return;
+    };
     assert_eq!(format!("{items:?}"), good);
 }
 

@@ -18,6 +18,14 @@ use laserlines_parquet::schema::{LINE_BEAMS, LINE_FIT, LINE_GEOMETRY};
 use laserlines_parquet::{LinesParquetWriter, ScansParquetWriter, TableWriter, lines_schema, read};
 use parquet::arrow::arrow_reader::ParquetRecordBatchReaderBuilder;
 
+/// The errors among `items`, as text.
+fn error_texts(items: &[Result<ScanRecord, ReadError>]) -> Vec<String> {
+    items
+        .iter()
+        .filter_map(|r| r.as_ref().err().map(ToString::to_string))
+        .collect()
+}
+
 fn excerpt() -> Vec<ScanRecord> {
     demo::urg04lx_excerpt().unwrap()
 }
@@ -315,10 +323,7 @@ fn a_page_the_decoder_panics_on_is_an_error() {
         read::from_bytes("levels_past_the_page.parquet", bytes)
             .unwrap()
             .collect();
-    let errors: Vec<String> = items
-        .iter()
-        .filter_map(|r| r.as_ref().err().map(ToString::to_string))
-        .collect();
+    let errors = error_texts(&items);
     assert_eq!(errors.len(), 1, "{errors:?}");
     assert!(
         errors[0].starts_with("levels_past_the_page.parquet: row 0")
@@ -387,10 +392,7 @@ fn a_damaged_row_group_costs_its_own_scans_only() {
     }
     let mut reader = read::from_bytes("groups.parquet", bytes).unwrap();
     let items: Vec<Result<ScanRecord, ReadError>> = reader.by_ref().collect();
-    let errors: Vec<String> = items
-        .iter()
-        .filter_map(|r| r.as_ref().err().map(ToString::to_string))
-        .collect();
+    let errors = error_texts(&items);
     assert_eq!(errors.len(), 1, "{errors:?}");
     assert!(
         errors[0].starts_with("groups.parquet: row 10: "),
