@@ -418,6 +418,8 @@ pub(crate) struct Lines {
     done: bool,
     /// The last line read ended without `\n` (the input's end came first).
     unterminated: bool,
+    /// The error of garbage after gzip data that followed the last line: the next item.
+    failed: Option<ReadError>,
 }
 
 impl Lines {
@@ -429,6 +431,7 @@ impl Lines {
             line: 0,
             done: false,
             unterminated: false,
+            failed: None,
         }
     }
 
@@ -443,8 +446,13 @@ impl Lines {
         self.line
     }
 
-    /// The next line; `Err` is fatal (the reader is then done).
+    /// The next line; `Err` is fatal (the reader is then done). Garbage after the end of gzip
+    /// data, inside a line without its line end, gives that line first, then the error.
     pub(crate) fn next_line(&mut self) -> Option<Result<LineItem<'_>, ReadError>> {
+        if let Some(e) = self.failed.take() {
+            self.done = true;
+            return Some(Err(e));
+        }
         if self.done {
             return None;
         }
@@ -460,6 +468,17 @@ impl Lines {
             }
         };
         self.line += 1;
+        let read = match read {
+            // Garbage after whole gzip data: the part of a line read before it is whole.
+            Err(source) if !self.buf.is_empty() && crate::gzip::TrailingGarbage::is(&source) => {
+                self.failed = Some(ReadError::Io {
+                    pos: SourcePos::line(&self.name, self.line),
+                    source,
+                });
+                Ok(self.buf.len())
+            }
+            other => other,
+        };
         match read {
             Err(source) => {
                 self.done = true;

@@ -291,6 +291,20 @@ fn gzip_is_transparent_by_name_and_by_magic() {
             .contains(laserlines_io::gzip::TRAILING_GARBAGE),
         "{e}"
     );
+    // A last line without its line end, then garbage: the line is read, then the error.
+    let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    enc.write_all(text.trim_ascii_end()).unwrap();
+    let unended = [enc.finish().unwrap(), b"JUNK".to_vec()].concat();
+    std::fs::write(&named, unended).unwrap();
+    let items: Vec<_> = open(&named, None).unwrap().collect();
+    assert_eq!(items.len(), 4, "{items:?}");
+    assert!(items[..3].iter().all(Result::is_ok), "{items:?}");
+    let e = items[3].as_ref().unwrap_err();
+    assert!(
+        e.to_string()
+            .contains(laserlines_io::gzip::TRAILING_GARBAGE),
+        "{e}"
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

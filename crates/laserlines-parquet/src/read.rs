@@ -199,9 +199,10 @@ fn check_chunks(metadata: &ParquetMetaData, file_len: u64) -> Result<(), (u64, S
 const READABLE: &str = "a readable row group";
 
 /// The skip reason of the rows of a row group after a batch that could not be decoded (the
-/// error names the batch's first row; the reader goes on with the next row group).
+/// error names the batch's first row, and counts as that row's bad record; the reader goes on
+/// with the next row group), or that its metadata counts but the decoder did not give.
 pub const SKIP_LOST_ROWS: &str =
-    "scan in a row group that could not be decoded (from the row its error names)";
+    "scan in a row group that could not be decoded (after the row its error names)";
 
 /// The [`ScanSource`] of a Parquet table, read one row group after the other.
 struct ParquetScanSource<T: ChunkReader + 'static> {
@@ -228,7 +229,8 @@ impl<T: ChunkReader + 'static> ParquetScanSource<T> {
         self.batches = None;
         self.current = None;
         let end = self.group_rows[self.group];
-        skipped.add_n(SKIP_LOST_ROWS, end.saturating_sub(self.row));
+        // The row the error names is counted with the error (a bad record).
+        skipped.add_n(SKIP_LOST_ROWS, end.saturating_sub(self.row + 1));
         let e = ReadError::Syntax {
             pos: SourcePos::row(&self.name, self.row),
             expected: expected.to_owned(),
@@ -245,7 +247,8 @@ impl<T: ChunkReader + 'static> ParquetScanSource<T> {
         if self.group + 1 >= self.group_rows.len() {
             return None;
         }
-        self.row = self.group_rows[self.group];
+        // Rows past the end the metadata gives (a decoder that read more) keep their numbers.
+        self.row = self.row.max(self.group_rows[self.group]);
         self.group += 1;
         let builder = ParquetRecordBatchReaderBuilder::new_with_metadata(
             self.input.clone(),
@@ -276,6 +279,9 @@ impl<T: ChunkReader + 'static> ParquetScanSource<T> {
             let next = std::panic::catch_unwind(AssertUnwindSafe(|| batches.next()));
             let batch = match next {
                 Ok(None) => {
+                    // Rows the metadata gives that the decoder did not: counted as lost.
+                    let end = self.group_rows[self.group];
+                    skipped.add_n(SKIP_LOST_ROWS, end.saturating_sub(self.row));
                     self.batches = None;
                     continue;
                 }
