@@ -105,6 +105,11 @@ class ScanIterator(Iterator[Scan]):
     @property
     def skipped(self) -> int:
         """Records skipped so far (with ``skip_bad=True``)."""
+    @property
+    def skip_reasons(self) -> Dict[str, int]:
+        """What the reader left out so far, by reason, as the command line's summary lists
+        it: bad records skipped (``malformed record``), scans of other topics, readings
+        sharing a beam, scans of a chunk or row group that could not be read, ..."""
 
 @final
 class Extractor:

@@ -8,6 +8,7 @@ use laserlines_io::{Format, ReadOptions, ScanReader, ScanRecord};
 use numpy::{PyArray1, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
 use crate::errors::read_error;
 
@@ -210,6 +211,22 @@ impl ScanIterator {
             .skipped
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// What the reader left out so far, by reason, as the command line's summary lists it:
+    /// bad records skipped (`malformed record`), scans of other topics, readings sharing a
+    /// beam, scans of a chunk or row group that could not be read, ...
+    #[getter]
+    fn skip_reasons<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let reader = self
+            .reader
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        let reasons = PyDict::new(py);
+        for (reason, n) in reader.skipped().iter() {
+            reasons.set_item(reason, n)?;
+        }
+        Ok(reasons)
     }
 }
 
