@@ -9,10 +9,10 @@ use flate2::bufread::GzDecoder;
 
 use crate::reader::Input;
 
-/// The first byte of every gzip member.
-const GZIP_ID1: u8 = 0x1f;
-/// The second byte of every gzip member.
-const GZIP_ID2: u8 = 0x8b;
+/// The two bytes every gzip member starts with.
+pub(crate) const MAGIC: [u8; 2] = [0x1f, 0x8b];
+const ID1: u8 = MAGIC[0];
+const ID2: u8 = MAGIC[1];
 
 /// The error of bytes after the last member that are not another member (zero bytes up to the
 /// end are padding, not garbage).
@@ -100,18 +100,17 @@ fn after_member(rest: &mut Input) -> io::Result<After> {
     loop {
         let head = rest.fill_buf()?;
         let zeros = head.iter().take_while(|&&b| b == 0).count();
-        if head.is_empty() || zeros == 0 {
-            break;
+        if zeros == 0 {
+            return Ok(match head {
+                [] => After::End,
+                [ID1, ID2, ..] => After::Member,
+                // The second byte beyond the buffer: the member's header says the rest.
+                [ID1] => After::Member,
+                _ => After::Garbage,
+            });
         }
         rest.consume(zeros);
     }
-    Ok(match rest.fill_buf()? {
-        [] => After::End,
-        [GZIP_ID1, GZIP_ID2, ..] => After::Member,
-        // The second byte beyond the buffer: the member's header says the rest.
-        [GZIP_ID1] => After::Member,
-        _ => After::Garbage,
-    })
 }
 
 #[cfg(test)]

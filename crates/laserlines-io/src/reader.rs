@@ -16,9 +16,6 @@ pub type Input = Box<dyn BufRead + Send>;
 /// with an error instead of exhausting memory.
 pub const MAX_LINE_BYTES: usize = 64 * 1024 * 1024;
 
-/// The first two bytes of every gzip stream.
-const GZIP_MAGIC: [u8; 2] = [0x1f, 0x8b];
-
 /// A format's parser behind a [`ScanReader`]: yields records one at a time.
 ///
 /// Each format implements this on top of an [`Input`]. New formats (binary logs, other text
@@ -391,7 +388,7 @@ pub fn open_input(name: &str, mut input: Input, gz: bool) -> Result<Input, ReadE
             }
         }
     }
-    let is_gzip = got == head.len() && head == GZIP_MAGIC;
+    let is_gzip = got == head.len() && head == crate::gzip::MAGIC;
     let restored: Input = Box::new(Cursor::new(head[..got].to_vec()).chain(input));
     if is_gzip || (gz && got > 0) {
         let decoder = crate::gzip::Members::new(restored);

@@ -24,7 +24,7 @@ use mcap::records::op;
 
 use super::MAGIC;
 use super::McapScanSource;
-use super::records::Loc;
+use super::records::{Loc, u16_at};
 use super::tail::FOOTER_AND_MAGIC;
 
 /// The most bytes of `Schema` and `Channel` records kept from a summary (a ROS message
@@ -94,8 +94,7 @@ impl SummaryDefinitions {
 
     /// Keeps a `Schema` or `Channel` record (`opcode`) at byte `at`: the first one of its id.
     fn take(&mut self, opcode: u8, at: u64, body: Vec<u8>) {
-        // Both records start with their id.
-        let Some(id) = body.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]])) else {
+        let Some(id) = u16_at(&body, 0) else {
             return;
         };
         if opcode == op::SCHEMA {
@@ -125,8 +124,7 @@ impl McapScanSource {
             if self.channels.contains_key(&c) || self.done {
                 continue;
             }
-            let schema_id = body.get(2..4).map(|b| u16::from_le_bytes([b[0], b[1]]));
-            if let Some(schema_id) = schema_id
+            if let Some(schema_id) = u16_at(&body, 2)
                 && !self.schemas.contains_key(&schema_id)
                 && let Some(schema) = self.summary.schemas.remove(&schema_id)
             {

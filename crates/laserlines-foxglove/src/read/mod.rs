@@ -376,7 +376,7 @@ impl McapScanSource {
             op::SCHEMA => self.handle_schema(body),
             op::CHANNEL => {
                 if self.lost
-                    && let Some(id) = body.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]]))
+                    && let Some(id) = records::u16_at(body, 0)
                 {
                     self.define_from_summary(id, false);
                 }

@@ -99,6 +99,13 @@ impl<'a> Body<'a> {
     }
 }
 
+/// The little-endian `u16` at byte `at` of `bytes`: `Schema` and `Channel` records start
+/// with their id, and a `Channel` record's schema id follows it.
+pub(super) fn u16_at(bytes: &[u8], at: usize) -> Option<u16> {
+    let b = bytes.get(at..at.checked_add(2)?)?;
+    Some(u16::from_le_bytes([b[0], b[1]]))
+}
+
 pub(super) fn opcode_name(opcode: u8) -> &'static str {
     match opcode {
         op::HEADER => "Header",

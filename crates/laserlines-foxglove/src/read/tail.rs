@@ -13,7 +13,7 @@ use laserlines_io::SkipCounts;
 use mcap::records::op;
 
 use super::channels::Role;
-use super::records::{Body, Loc};
+use super::records::{Body, Loc, u16_at};
 use super::{MAGIC, McapScanSource};
 
 /// The skip reason of a file whose summary section, footer or closing magic is cut short.
@@ -77,9 +77,7 @@ impl McapScanSource {
     fn learn_channels(&mut self, summary: &[u8], start: u64) {
         let mut at = 0usize;
         while let Some((opcode, body)) = record_at(summary, at) {
-            // Both records start with their id.
-            let id = body.get(..2).map(|b| u16::from_le_bytes([b[0], b[1]]));
-            match (opcode, id) {
+            match (opcode, u16_at(body, 0)) {
                 (op::SCHEMA, Some(id)) if !self.schemas.contains_key(&id) => {
                     let _ = self.handle_schema(body);
                 }

@@ -18,10 +18,10 @@
 
 use std::collections::BTreeMap;
 use std::fs::File;
-use std::io::{BufReader, Read, Seek, SeekFrom};
+use std::io::{BufReader, Seek, SeekFrom};
 use std::path::Path;
 
-use super::records::{RecordHeader, for_each_field, op};
+use super::records::{Counted, RecordHeader, for_each_field, op};
 use super::{MAGIC, MAX_HEADER_BYTES};
 
 /// An index section's connection record: its `topic` header field and its data.
@@ -40,19 +40,12 @@ pub(super) fn indexed_connections(path: &Path) -> BTreeMap<u32, IndexedConnectio
 fn read(path: &Path) -> Option<BTreeMap<u32, IndexedConnection>> {
     // A pipe would give its bytes to this read instead of the reader's.
     let len = std::fs::metadata(path).ok().filter(|m| m.is_file())?.len();
-    if len <= MAGIC.len() as u64 {
-        return None;
-    }
-    let mut file = Bounded {
-        file: BufReader::new(File::open(path).ok()?),
-        left: len,
-    };
+    let mut file = counted_at(path, 0)?;
     let mut magic = [0u8; MAGIC.len()];
-    file.read(&mut magic)?;
-    if &magic != MAGIC {
+    if file.read_full(&mut magic).ok()? < magic.len() || &magic != MAGIC {
         return None;
     }
-    let header = file.block()?;
+    let header = block(&mut file)?;
     let h = RecordHeader::parse(&header).ok()?;
     if h.op != Some(op::BAG_HEADER) {
         return None;
@@ -62,16 +55,15 @@ fn read(path: &Path) -> Option<BTreeMap<u32, IndexedConnection>> {
     if index_pos <= MAGIC.len() as u64 || index_pos >= len {
         return None;
     }
-    file.file.seek(SeekFrom::Start(index_pos)).ok()?;
-    file.left = len - index_pos;
+    let mut file = counted_at(path, index_pos)?;
     let mut out = BTreeMap::new();
     let mut kept = 0u64;
     // Connection and chunk info records, up to the end or the first other record.
-    while let Some(header) = file.block() {
+    while let Some(header) = block(&mut file) {
         let h = RecordHeader::parse(&header).ok()?;
         match (h.op, h.conn) {
             (Some(op::CONNECTION), Some(conn)) => {
-                let data = file.block()?;
+                let data = block(&mut file)?;
                 kept += data.len() as u64;
                 if kept > MAX_HEADER_BYTES {
                     break;
@@ -81,13 +73,44 @@ fn read(path: &Path) -> Option<BTreeMap<u32, IndexedConnection>> {
             }
             (Some(op::CHUNK_INFO), _) => {
                 let mut data_len = [0u8; 4];
-                file.read(&mut data_len)?;
-                file.skip(u64::from(u32::from_le_bytes(data_len)))?;
+                if file.read_full(&mut data_len).ok()? < 4 {
+                    break;
+                }
+                let data_len = u64::from(u32::from_le_bytes(data_len));
+                if file.skip(data_len).ok()? < data_len {
+                    break;
+                }
             }
             _ => break,
         }
     }
     Some(out)
+}
+
+/// The file at `path` read from byte `at` on.
+fn counted_at(path: &Path, at: u64) -> Option<Counted> {
+    let mut file = File::open(path).ok()?;
+    file.seek(SeekFrom::Start(at)).ok()?;
+    Some(Counted {
+        input: Box::new(BufReader::new(file)),
+        pos: at,
+    })
+}
+
+/// A `len: u32` and `len` bytes, at most [`MAX_HEADER_BYTES`] of them; `None` when the input
+/// ends first (the bytes are kept as they arrive, so a length the file does not hold
+/// allocates no more than the file).
+fn block(file: &mut Counted) -> Option<Vec<u8>> {
+    let mut len = [0u8; 4];
+    if file.read_full(&mut len).ok()? < len.len() {
+        return None;
+    }
+    let len = u64::from(u32::from_le_bytes(len));
+    if len > MAX_HEADER_BYTES {
+        return None;
+    }
+    let mut out = Vec::new();
+    (file.read_vec(len, &mut out).ok()? == len).then_some(out)
 }
 
 /// The `index_pos` field of a bag header record's header.
@@ -101,41 +124,4 @@ fn index_pos(header: &[u8]) -> Option<u64> {
     })
     .ok()?;
     pos
-}
-
-/// A file and the bytes left in it: no length read from it allocates beyond its end.
-struct Bounded {
-    file: BufReader<File>,
-    left: u64,
-}
-
-impl Bounded {
-    fn read(&mut self, buf: &mut [u8]) -> Option<()> {
-        self.file.read_exact(buf).ok()?;
-        self.left = self.left.saturating_sub(buf.len() as u64);
-        Some(())
-    }
-
-    fn skip(&mut self, n: u64) -> Option<()> {
-        if n > self.left {
-            return None;
-        }
-        self.file.seek_relative(i64::try_from(n).ok()?).ok()?;
-        self.left -= n;
-        Some(())
-    }
-
-    /// A `len: u32` and `len` bytes, at most [`MAX_HEADER_BYTES`] of them and no more than
-    /// the file holds.
-    fn block(&mut self) -> Option<Vec<u8>> {
-        let mut len = [0u8; 4];
-        self.read(&mut len)?;
-        let len = u64::from(u32::from_le_bytes(len));
-        if len > MAX_HEADER_BYTES || len > self.left {
-            return None;
-        }
-        let mut out = vec![0u8; usize::try_from(len).ok()?];
-        self.read(&mut out)?;
-        Some(out)
-    }
 }

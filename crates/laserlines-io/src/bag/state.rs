@@ -113,7 +113,7 @@ impl State {
     /// their connections in the order they declare them, so those were declared before it, in
     /// a chunk that was lost, and the topic is chosen as in the whole bag. A record that does
     /// not parse is passed over.
-    pub(super) fn declare_from_index(&mut self, conn: u32, with_conn: bool) {
+    fn declare_from_index(&mut self, conn: u32, with_conn: bool) {
         let upto = if with_conn {
             self.indexed.range(..=conn)
         } else {
