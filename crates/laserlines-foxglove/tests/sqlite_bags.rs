@@ -149,22 +149,32 @@ fn a_message_that_does_not_decode_names_its_id_and_reading_goes_on() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+/// Copies the fixture to `path` with its `/scan` messages replaced by `n` copies of the
+/// first (ids after the fixture's, timestamps [`STAMP0`] plus 1 to `n`), and opens it.
+fn with_scans(path: &Path, n: u32) -> rusqlite::Connection {
+    std::fs::copy(db3(), path).unwrap();
+    let db = rusqlite::Connection::open(path).unwrap();
+    db.execute_batch(&format!(
+        "CREATE TEMP TABLE first AS SELECT messages.topic_id AS t, data AS d FROM messages \
+         JOIN topics ON topics.id = topic_id WHERE name = '/scan' ORDER BY messages.id LIMIT 1; \
+         DELETE FROM messages WHERE topic_id = (SELECT t FROM first); \
+         WITH RECURSIVE c(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM c WHERE x < {n}) \
+         INSERT INTO messages(topic_id, timestamp, data) \
+         SELECT (SELECT t FROM first), {STAMP0} + x, (SELECT d FROM first) FROM c;"
+    ))
+    .unwrap();
+    db
+}
+
+/// The timestamps of [`with_scans`] count from this, ns.
+const STAMP0: i64 = 1_700_000_000_000_000_000;
+
 #[test]
 fn a_row_of_the_wrong_type_loses_no_other_message_and_orphans_are_counted() {
     let dir = temp_dir("bad-rows");
     let path = dir.join("bag_0.db3");
     std::fs::copy(db3(), &path).unwrap();
-    let db = rusqlite::Connection::open(&path).unwrap();
-    // 200 /scan messages, more than three pages: copies of the first, each stamped apart.
-    db.execute_batch(
-        "CREATE TEMP TABLE first AS SELECT messages.topic_id AS t, data AS d FROM messages \
-         JOIN topics ON topics.id = topic_id WHERE name = '/scan' ORDER BY messages.id LIMIT 1; \
-         DELETE FROM messages WHERE topic_id = (SELECT t FROM first); \
-         WITH RECURSIVE c(x) AS (SELECT 1 UNION ALL SELECT x + 1 FROM c WHERE x < 200) \
-         INSERT INTO messages(topic_id, timestamp, data) \
-         SELECT (SELECT t FROM first), 1700000000000000000 + x, (SELECT d FROM first) FROM c;",
-    )
-    .unwrap();
+    let db = with_scans(&path, 200);
     let nth = |k: i64| -> i64 {
         db.query_row(
             "SELECT messages.id FROM messages JOIN topics ON topics.id = topic_id \
@@ -294,4 +304,229 @@ fn standard_input_is_refused_for_sqlite3_storage() {
             .contains("SQLite cannot read a database from standard input"),
         "{e}"
     );
+}
+
+/// Overwrites the type byte of the table leaf page (of `messages`) that holds the row whose
+/// timestamp is `stamp` (found by its 8 big-endian bytes in the record; the timestamp index
+/// holds them too, on an index page), so that SQLite cannot read that page. Returns the
+/// page's number (from 1).
+fn damage_page_of(path: &Path, stamp: i64) -> usize {
+    let mut bytes = std::fs::read(path).unwrap();
+    let page = usize::from(u16::from_be_bytes([bytes[16], bytes[17]]));
+    assert!(page >= 512, "page size {page}");
+    let key = stamp.to_be_bytes();
+    let mut found = None;
+    for at in 0..bytes.len() - 8 {
+        if bytes[at..at + 8] == key {
+            let n = at / page;
+            // The page header: after the file header on page 1; 0x0d is a table leaf.
+            let head = n * page + if n == 0 { 100 } else { 0 };
+            if bytes[head] == 0x0d {
+                found = Some(head);
+            }
+        }
+    }
+    let head = found.expect("the row's table leaf page");
+    bytes[head] = 0x42;
+    std::fs::write(path, bytes).unwrap();
+    head / page + 1
+}
+
+/// The id of the message of timestamp `stamp` in the database at `path` (read before it is
+/// damaged).
+fn db_id(path: &Path, stamp: i64) -> i64 {
+    let db = rusqlite::Connection::open(path).unwrap();
+    db.query_row(
+        "SELECT id FROM messages WHERE timestamp = ?1",
+        [stamp],
+        |row| row.get(0),
+    )
+    .unwrap()
+}
+
+/// The scans read from the bag at `path`, its errors with their place among the items, and
+/// the ids it passed over.
+fn read_damaged(path: &Path) -> (usize, Vec<(usize, laserlines_io::ReadError)>, u64) {
+    let mut reader = read::open(path, &McapReadOptions::default()).unwrap();
+    let (mut scans, mut errors) = (0, Vec::new());
+    for (k, item) in reader.by_ref().enumerate() {
+        match item {
+            Ok(_) => scans += 1,
+            Err(e) => errors.push((k, e)),
+        }
+    }
+    let passed = reader.skipped().get(read::db3::SKIP_UNREADABLE_IDS);
+    (scans, errors, passed)
+}
+
+/// The first and last id passed over, and the id the reading goes on at, as the error of a
+/// damaged page names them.
+fn passed_ids(e: &str) -> (i64, i64, i64) {
+    let ids = e.split("; message id").nth(1).expect(e);
+    let n: Vec<i64> = ids
+        .split(|c: char| !c.is_ascii_digit())
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    match n[..] {
+        [from, to, resume] => (from, to, resume),
+        [from, resume] => (from, from, resume),
+        _ => panic!("{e}"),
+    }
+}
+
+#[test]
+fn damaged_pages_lose_only_their_own_messages_and_name_the_last_one_read() {
+    let dir = temp_dir("damaged-page");
+    let path = dir.join("bag_0.db3");
+    // The /scan messages are the 1st to the 400th from id `first` on; others come before.
+    for damage in [&[200][..], &[1], &[100, 300]] {
+        drop(with_scans(&path, 400));
+        let first = db_id(&path, STAMP0 + 1);
+        for &k in damage {
+            damage_page_of(&path, STAMP0 + k);
+        }
+        let (scans, errors, passed) = read_damaged(&path);
+        assert_eq!(errors.len(), damage.len(), "{damage:?}: {errors:?}");
+        let (mut ids, mut lost) = (0, 0);
+        for (j, ((at, e), &k)) in errors.iter().zip(damage).enumerate() {
+            assert!(e.is_bad_record(), "{e}");
+            let (from, to, resume) = passed_ids(&e.to_string());
+            assert_eq!(resume, to + 1, "{e}");
+            // The damaged message was passed over, and the messages before the damage (and
+            // the errors before) came before the error.
+            assert!((from..=to).contains(&(first + k - 1)), "{damage:?}: {e}");
+            assert_eq!(
+                *at as i64,
+                (from - first).max(0) - lost + j as i64,
+                "{damage:?}: {e}"
+            );
+            let pos = if from <= 1 {
+                "byte 0".to_owned()
+            } else {
+                format!("message {}", from - 1)
+            };
+            assert_eq!(
+                e.to_string(),
+                format!(
+                    "{}: {pos}: expected the messages after it on pages SQLite can read, found \
+                     a damaged page (database disk image is malformed); message ids {from} to \
+                     {to} cannot be read, those from {resume} on can",
+                    path.display()
+                )
+            );
+            ids += to - from + 1;
+            lost += to + 1 - from.max(first);
+        }
+        assert_eq!(passed, ids as u64, "{damage:?}");
+        assert_eq!(scans as i64, 400 - lost, "{damage:?}");
+        assert!(lost < 40 * damage.len() as i64, "{damage:?}: {lost} lost");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn damage_to_the_last_page_ends_the_reading_after_the_messages_before_it() {
+    let dir = temp_dir("damaged-end");
+    let path = dir.join("bag_0.db3");
+    drop(with_scans(&path, 400));
+    let first = db_id(&path, STAMP0 + 1);
+    damage_page_of(&path, STAMP0 + 400);
+    let (scans, errors, passed) = read_damaged(&path);
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    let (at, e) = &errors[0];
+    assert!((360..400).contains(&scans), "{scans}");
+    assert_eq!((*at, passed), (scans, 0));
+    assert!(!e.is_bad_record(), "{e}");
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "{}: message {}: read failed: SQLite cannot read the messages after this one (database disk \
+             image is malformed)",
+            path.display(),
+            first + scans as i64 - 1
+        )
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_damaged_overflow_page_loses_only_its_message() {
+    let dir = temp_dir("damaged-overflow");
+    let path = dir.join("bag_0.db3");
+    let db = with_scans(&path, 100);
+    // The 50th message made 20 kB long: most of it on overflow pages, each starting with the
+    // number of the next (4 bytes), then `Q`s.
+    db.execute(
+        "UPDATE messages SET data = CAST(printf('%.*c', 20000, 'Q') AS BLOB) \
+         WHERE timestamp = ?1",
+        [STAMP0 + 50],
+    )
+    .unwrap();
+    drop(db);
+    let id = db_id(&path, STAMP0 + 50);
+    let mut bytes = std::fs::read(&path).unwrap();
+    let page = usize::from(u16::from_be_bytes([bytes[16], bytes[17]]));
+    let full = vec![b'Q'; page - 4];
+    let overflow = (0..bytes.len() / page)
+        .find(|&n| bytes[n * page + 4..(n + 1) * page] == full[..])
+        .expect("an overflow page of Qs");
+    // A next page far past the end of the file.
+    bytes[overflow * page..overflow * page + 4].copy_from_slice(&[0x7f, 0xff, 0xff, 0xff]);
+    std::fs::write(&path, bytes).unwrap();
+    let (scans, errors, passed) = read_damaged(&path);
+    assert_eq!((scans, passed, errors.len()), (99, 1, 1), "{errors:?}");
+    let (at, e) = &errors[0];
+    assert_eq!(*at, 49);
+    assert!(
+        e.to_string().ends_with(&format!(
+            "message {}: expected the messages after it on pages SQLite can read, found a \
+             damaged page (database disk image is malformed); message id {id} cannot be read, \
+             those from {} on can",
+            id - 1,
+            id + 1
+        )),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Random damage to a bag's pages (bytes overwritten anywhere past the file header):
+/// reading ends, every error names the file, and no more scans come out than the bag holds
+/// (a reading that went back over messages would give more).
+#[test]
+fn random_damage_ends_the_reading_and_gives_no_message_twice() {
+    let dir = temp_dir("random-damage");
+    let path = dir.join("bag_0.db3");
+    drop(with_scans(&path, 400));
+    let clean = std::fs::read(&path).unwrap();
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    for round in 0..60 {
+        let mut bytes = clean.clone();
+        for _ in 0..1 + next() % 8 {
+            let at = 100 + (next() as usize) % (bytes.len() - 100);
+            bytes[at] = next() as u8;
+        }
+        std::fs::write(&path, &bytes).unwrap();
+        let Ok(reader) = read::open(&path, &McapReadOptions::default()) else {
+            continue;
+        };
+        let mut scans = 0;
+        for item in reader.take(1000) {
+            match item {
+                Ok(r) => {
+                    assert!(r.scan.validate().is_ok());
+                    scans += 1;
+                }
+                Err(e) => assert_eq!(e.file(), path.display().to_string(), "{round}: {e}"),
+            }
+        }
+        assert!(scans <= 400, "round {round}: {scans} scans");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -5,16 +5,19 @@
 //! `serialization_format`; `messages`: `id`, `topic_id`, `timestamp`, `data`).
 //!
 //! The database is opened read-only through SQLite itself (the `rusqlite` crate with its
-//! bundled SQLite). Messages come out in the order they were written (their `id`), a page of
-//! [`PAGE`] messages at a time, so memory stays flat on long bags. The topic read is the one
-//! asked for (with or without its leading `/`), or else the first LaserScan topic of the
-//! file; the other LaserScan topics' messages are counted as skipped. The stamp is the
+//! bundled SQLite). Messages come out in the order they were written (their `id`), in one pass
+//! over the rows of every topic, [`PAGE`] at a time, so memory stays flat on long bags (the
+//! other topics' data is not read). The topic read is the one asked for (with or without its
+//! leading `/`), or else the first LaserScan topic of the file; the other LaserScan topics'
+//! messages are counted as skipped as the pass meets them. The stamp is the
 //! header's, or the message's `timestamp` (receive time) when the header stamp is zero. A
 //! message that does not decode (or whose row holds no integer `timestamp` or no BLOB
 //! `data`) is an error naming the file and the message id, and reading goes on. Messages on
-//! a `topic_id` that no topic declares are counted as skipped. A database SQLite cannot read
-//! further (a corrupt page) ends the reading after the messages read before it, as a failed
-//! read, not a bad record.
+//! a `topic_id` that no topic declares are counted as skipped. Where SQLite cannot read on
+//! (a corrupt page), the messages read before it come out, then a bad record naming the last
+//! message read, and the reading goes on at the first id past the damage ([`resume`]), the ids
+//! passed over counted under [`SKIP_UNREADABLE_IDS`]; when nothing past it reads (damage to
+//! the end of the file, or to the table's root), the reading ends there with a failed read.
 
 use std::collections::VecDeque;
 use std::io::Read;
@@ -25,6 +28,8 @@ use rusqlite::{Connection, OpenFlags, params};
 
 use super::{SKIP_LATER_ECHOES, SKIP_OTHER_TOPIC};
 use laserlines_io::ros::ScanMsgType;
+
+mod resume;
 
 /// The first 16 bytes of every SQLite 3 database.
 pub const SQLITE_MAGIC: &[u8; 16] = b"SQLite format 3\0";
@@ -74,7 +79,11 @@ struct Db3File {
     topic_id: i64,
     topic: String,
     kind: ScanMsgType,
-    /// The id of the last message read.
+    /// The ids of the other LaserScan topics, whose messages are counted as skipped.
+    other_scans: Vec<i64>,
+    /// The ids of every topic, for the messages on a `topic_id` no topic declares.
+    declared: Vec<i64>,
+    /// The id of the last message read (of any topic).
     after: i64,
     /// Messages read and not yet returned: id, and timestamp and data (or what the row
     /// holds instead).
@@ -82,10 +91,18 @@ struct Db3File {
     done: bool,
     /// The error that ended the reading, returned once the page before it is.
     failed: Option<rusqlite::Error>,
+    /// The error of damage the reading goes on past, and the id it goes on at, returned once
+    /// the page before it is.
+    passed: Option<(rusqlite::Error, i64)>,
 }
 
 /// Skip reason for messages whose `topic_id` no topic of the bag declares.
 pub const SKIP_UNDECLARED_TOPIC: &str = "message on an undeclared topic";
+
+/// Skip reason for the message ids passed over where SQLite cannot read (a damaged page):
+/// every id between the last message read and the first one read past the damage, of any
+/// topic (what they held cannot be read).
+pub const SKIP_UNREADABLE_IDS: &str = "message id passed over on a damaged page (any topic)";
 
 /// A `messages` row's column that does not hold what it must: its name, what it must hold
 /// and what it holds.
@@ -94,8 +111,19 @@ type BadRow = (&'static str, &'static str, &'static str);
 /// A `messages` row's `timestamp` and `data`, or the column that does not hold them.
 type RowValues = Result<(i64, Vec<u8>), BadRow>;
 
-/// A `messages` row's `timestamp` and `data`, or the column that holds no integer or no BLOB.
-fn row_values(row: &rusqlite::Row<'_>) -> rusqlite::Result<RowValues> {
+/// Every row of `messages` from id `?2` on, in id order, at most `?3`: its id and `topic_id`,
+/// and for topic `?1` its `timestamp` and `data` (read only for that topic, so that other
+/// topics' large messages stay unread).
+const ROWS: &str = "SELECT id, topic_id, CASE WHEN topic_id = ?1 THEN timestamp END, \
+                    CASE WHEN topic_id = ?1 THEN data END FROM messages WHERE id >= ?2 \
+                    ORDER BY id LIMIT ?3";
+
+/// A row of [`ROWS`]: its id, its `topic_id` (`None` when that is no integer), and for topic
+/// `topic_id` its timestamp and data or the column that holds no integer or no BLOB.
+type Row = (i64, Option<i64>, Option<RowValues>);
+
+/// Reads a row of [`ROWS`] for topic `topic_id`.
+fn read_row(row: &rusqlite::Row<'_>, topic_id: i64) -> rusqlite::Result<Row> {
     use rusqlite::types::ValueRef;
     let kind = |v: ValueRef<'_>| match v {
         ValueRef::Null => "NULL",
@@ -104,11 +132,20 @@ fn row_values(row: &rusqlite::Row<'_>) -> rusqlite::Result<RowValues> {
         ValueRef::Text(_) => "TEXT",
         ValueRef::Blob(_) => "a BLOB",
     };
-    Ok(match (row.get_ref(1)?, row.get_ref(2)?) {
+    let id = row.get::<_, i64>(0)?;
+    let topic = match row.get_ref(1)? {
+        ValueRef::Integer(t) => Some(t),
+        _ => None,
+    };
+    if topic != Some(topic_id) {
+        return Ok((id, topic, None));
+    }
+    let values = match (row.get_ref(2)?, row.get_ref(3)?) {
         (ValueRef::Integer(t), ValueRef::Blob(d)) => Ok((t, d.to_vec())),
         (ValueRef::Integer(_), d) => Err(("data", "a BLOB (the CDR message)", kind(d))),
         (t, _) => Err(("timestamp", "an integer (nanoseconds)", kind(t))),
-    })
+    };
+    Ok((id, topic, Some(values)))
 }
 
 fn db_error(name: &str, e: &rusqlite::Error) -> ReadError {
@@ -124,9 +161,8 @@ fn same_topic(given: &str, topic: &str) -> bool {
 }
 
 impl Db3File {
-    /// Opens a file and chooses its topic: `topic`, or the first LaserScan topic. Counts the
-    /// messages of the other LaserScan topics in `skipped`.
-    fn open(path: &Path, topic: Option<&str>, skipped: &mut SkipCounts) -> Result<Self, ReadError> {
+    /// Opens a file and chooses its topic: `topic`, or the first LaserScan topic.
+    fn open(path: &Path, topic: Option<&str>) -> Result<Self, ReadError> {
         let name = path.display().to_string();
         if let Some(found) = sqlite_head(path) {
             return Err(ReadError::Syntax {
@@ -156,50 +192,47 @@ impl Db3File {
                 found: format!("serialization format {:?}", chosen.format),
             });
         }
-        let others: Vec<i64> = topics
+        let other_scans = topics
             .iter()
             .filter(|t| ScanMsgType::ros2(&t.kind).is_some() && t.id != chosen.id)
             .map(|t| t.id)
             .collect();
-        for id in others {
-            let n: i64 = db
-                .query_row(
-                    "SELECT COUNT(*) FROM messages WHERE topic_id = ?1",
-                    params![id],
-                    |row| row.get(0),
-                )
-                .map_err(|e| db_error(&name, &e))?;
-            skipped.add_n(SKIP_OTHER_TOPIC, u64::try_from(n).unwrap_or(0));
-        }
         Ok(Self {
             topic_id: chosen.id,
             topic: chosen.name.clone(),
             kind,
+            other_scans,
+            declared: topics.iter().map(|t| t.id).collect(),
             name,
             db,
             after: i64::MIN,
             page: VecDeque::new(),
             done: false,
             failed: None,
+            passed: None,
         })
     }
 
-    /// Reads the next page of messages of the topic; the rows read before an error stay in
-    /// the page.
-    fn fetch(&mut self) -> Result<(), rusqlite::Error> {
-        let mut stmt = self.db.prepare(
-            "SELECT id, timestamp, data FROM messages WHERE topic_id = ?1 AND id > ?2 \
-             ORDER BY id LIMIT ?3",
-        )?;
-        let rows = stmt.query_map(params![self.topic_id, self.after, PAGE], |row| {
-            Ok((row.get::<_, i64>(0)?, row_values(row)?))
-        })?;
+    /// Reads the next [`PAGE`] messages: the topic's go to the page, the other LaserScan
+    /// topics' and those on an undeclared topic are counted in `skipped`. The rows read
+    /// before an error stay read.
+    fn fetch(&mut self, skipped: &mut SkipCounts) -> Result<(), rusqlite::Error> {
+        let mut stmt = self.db.prepare(ROWS)?;
+        let from = self.after.saturating_add(1);
+        let mut rows = stmt.query(params![self.topic_id, from, PAGE])?;
         let mut read = 0;
-        for row in rows {
-            let (id, values) = row?;
+        while let Some(row) = rows.next()? {
+            let (id, topic, values) = read_row(row, self.topic_id)?;
             self.after = id;
-            self.page.push_back((id, values));
             read += 1;
+            match (values, topic) {
+                (Some(values), _) => self.page.push_back((id, values)),
+                (None, Some(t)) if self.other_scans.contains(&t) => {
+                    skipped.add(SKIP_OTHER_TOPIC);
+                }
+                (None, Some(t)) if self.declared.contains(&t) => {}
+                (None, _) => skipped.add(SKIP_UNDECLARED_TOPIC),
+            }
         }
         if read < PAGE {
             self.done = true;
@@ -207,16 +240,27 @@ impl Db3File {
         Ok(())
     }
 
-    /// The next record and the echoes left out of it.
-    fn next(&mut self) -> Option<Result<(ScanRecord, usize), ReadError>> {
-        if self.page.is_empty()
-            && !self.done
-            && let Err(e) = self.fetch()
-        {
-            self.done = true;
-            self.failed = Some(e);
+    /// The next record and the echoes left out of it; the ids passed over past damage are
+    /// counted in `skipped`.
+    fn next(&mut self, skipped: &mut SkipCounts) -> Option<Result<(ScanRecord, usize), ReadError>> {
+        while self.page.is_empty() && !self.done && self.passed.is_none() {
+            if let Err(e) = self.fetch(skipped) {
+                match resume::resume_point(&self.db, self.topic_id, self.after) {
+                    Some(at) => self.passed = Some((e, at)),
+                    None => {
+                        self.done = true;
+                        self.failed = Some(e);
+                    }
+                }
+            }
         }
         let Some((id, values)) = self.page.pop_front() else {
+            if let Some((e, at)) = self.passed.take() {
+                skipped.add_n(SKIP_UNREADABLE_IDS, resume::passed_over(self.after, at));
+                let error = self.passed_over(&e, at);
+                self.after = at - 1;
+                return Some(Err(error));
+            }
             return self.failed.take().map(|e| Err(self.read_failed(&e)));
         };
         Some(match values {
@@ -230,16 +274,23 @@ impl Db3File {
         })
     }
 
-    /// Counts the messages on a `topic_id` no topic declares, once the file is read through
-    /// (a database that failed part way is not asked again).
-    fn count_undeclared(&self, skipped: &mut SkipCounts) {
-        let n: rusqlite::Result<i64> = self.db.query_row(
-            "SELECT COUNT(*) FROM messages WHERE topic_id NOT IN (SELECT id FROM topics)",
-            [],
-            |row| row.get(0),
-        );
-        if let Ok(n) = n {
-            skipped.add_n(SKIP_UNDECLARED_TOPIC, u64::try_from(n).unwrap_or(0));
+    /// The bad record of damage that the reading goes on past, at id `at`.
+    fn passed_over(&self, e: &rusqlite::Error, at: i64) -> ReadError {
+        let pos = if self.after == i64::MIN {
+            SourcePos::byte(&self.name, 0)
+        } else {
+            SourcePos::message(&self.name, self.after)
+        };
+        let from = self.after.saturating_add(1).max(1);
+        let ids = if at - 1 > from {
+            format!("message ids {from} to {} cannot be read", at - 1)
+        } else {
+            format!("message id {from} cannot be read")
+        };
+        ReadError::Syntax {
+            pos,
+            expected: "the messages after it on pages SQLite can read".to_owned(),
+            found: format!("a damaged page ({e}); {ids}, those from {at} on can"),
         }
     }
 
@@ -359,7 +410,7 @@ impl ScanSource for Db3FilesSource {
         loop {
             if self.current.is_none() {
                 let path = self.files.pop_front()?;
-                match Db3File::open(&path, self.topic.as_deref(), skipped) {
+                match Db3File::open(&path, self.topic.as_deref()) {
                     Ok(file) => {
                         // Later files read the topic this one settled.
                         self.topic = Some(file.topic.clone());
@@ -369,19 +420,14 @@ impl ScanSource for Db3FilesSource {
                 }
             }
             let current = self.current.as_mut()?;
-            match current.next() {
+            match current.next(skipped) {
                 Some(item) => {
                     return Some(item.map(|(record, left_out)| {
                         skipped.add_n(SKIP_LATER_ECHOES, left_out as u64);
                         record
                     }));
                 }
-                None => {
-                    if current.failed.is_none() {
-                        current.count_undeclared(skipped);
-                    }
-                    self.current = None;
-                }
+                None => self.current = None,
             }
         }
     }
