@@ -530,3 +530,19 @@ fn random_damage_ends_the_reading_and_gives_no_message_twice() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_message_at_the_largest_id_is_read_once() {
+    let dir = temp_dir("largest-id");
+    let path = dir.join("bag_0.db3");
+    let db = with_scans(&path, 5);
+    db.execute(
+        "UPDATE messages SET id = 9223372036854775807 WHERE timestamp = ?1",
+        [STAMP0 + 5],
+    )
+    .unwrap();
+    drop(db);
+    let (scans, errors, passed) = read_damaged(&path);
+    assert_eq!((scans, errors.len(), passed), (5, 0, 0), "{errors:?}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

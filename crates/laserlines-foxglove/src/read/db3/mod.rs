@@ -19,6 +19,7 @@
 //! passed over counted under [`SKIP_UNREADABLE_IDS`]; when nothing past it reads (damage to
 //! the end of the file, or to the table's root), the reading ends there with a failed read.
 
+use std::cmp::Ordering;
 use std::collections::VecDeque;
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -217,8 +218,12 @@ impl Db3File {
     /// topics' and those on an undeclared topic are counted in `skipped`. The rows read
     /// before an error stay read.
     fn fetch(&mut self, skipped: &mut SkipCounts) -> Result<(), rusqlite::Error> {
+        let Some(from) = self.after.checked_add(1) else {
+            // The last id there can be was read.
+            self.done = true;
+            return Ok(());
+        };
         let mut stmt = self.db.prepare(ROWS)?;
-        let from = self.after.saturating_add(1);
         let mut rows = stmt.query(params![self.topic_id, from, PAGE])?;
         let mut read = 0;
         while let Some(row) = rows.next()? {
@@ -282,10 +287,11 @@ impl Db3File {
             SourcePos::message(&self.name, self.after)
         };
         let from = self.after.saturating_add(1).max(1);
-        let ids = if at - 1 > from {
-            format!("message ids {from} to {} cannot be read", at - 1)
-        } else {
-            format!("message id {from} cannot be read")
+        let ids = match (at - 1).cmp(&from) {
+            Ordering::Greater => format!("message ids {from} to {} cannot be read", at - 1),
+            Ordering::Equal => format!("message id {from} cannot be read"),
+            // Damage to rows numbered below 1, which rosbag2 does not write.
+            Ordering::Less => format!("the message ids below {at} cannot be read"),
         };
         ReadError::Syntax {
             pos,
