@@ -315,9 +315,18 @@ fn bad_input_ends_in_a_clear_error() {
     let traj = tmp("t.tum");
     std::fs::write(&traj, "0 0 0 0 0 0 0 1\n0.1 0.1 0 0 0 0 0 1\n").unwrap();
     let rel = tmp("far.relations");
-    std::fs::write(&rel, "0 0.1 0.1 0 0 0 0 0\n1000 1000.1 0.1 0 0 0 0 0\n").unwrap();
+    std::fs::write(
+        &rel,
+        "# t1 t2 x y z roll pitch yaw\n0 0.1 0.1 0 0 0 0 0\n\n1000 1000.1 0.1 0 0 0 0 0\n",
+    )
+    .unwrap();
     let o = run(bin().arg("relations").arg(&traj).arg(&rel));
-    assert_clean_error(&o, "far.relations", "relation 2 (t = 1000): no pose of");
+    // Named by its line, as a malformed line is.
+    assert_clean_error(
+        &o,
+        "far.relations:4: relation (t = 1000): no pose of",
+        "t.tum",
+    );
     assert_clean_error(
         &o,
         "far.relations",
@@ -338,7 +347,32 @@ fn bad_input_ends_in_a_clear_error() {
     assert_clean_error(
         &o,
         "far.relations",
-        "none of its 1 relations lies within the times",
+        "none of its 1 relations pairs with poses of",
+    );
+    // Stamps that go back (0.1 to 0.05): the times 0.05..0.1 occur twice, and a relation
+    // there pairs with no single pose.
+    std::fs::write(
+        &traj,
+        "0 0 0 0 0 0 0 1\n0.1 0.1 0 0 0 0 0 1\n0.05 5 0 0 0 0 0 1\n0.2 5.1 0 0 0 0 0 1\n",
+    )
+    .unwrap();
+    std::fs::write(&rel, "0 0.1 0.1 0 0 0 0 0\n0 0.2 5.1 0 0 0 0 0\n").unwrap();
+    let o = run(bin().arg("relations").arg(&traj).arg(&rel));
+    assert_clean_error(
+        &o,
+        "far.relations:1: relation (t = 0.1): no single pose of",
+        "its stamps go back or stand still there (t = 0.05..0.1 occur more than once)",
+    );
+    let o = run(bin().arg("relations").arg(&traj).arg(&rel).arg("--covered"));
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert!(
+        out.contains("1 of 2 relations left out: the trajectory's stamps go back"),
+        "{out}"
+    );
+    assert!(
+        out.contains("translational error              0.000000"),
+        "{out}"
     );
     // A malformed trajectory line.
     std::fs::write(&traj, "0 0 0 0 0 0 0 1\n0.1 0.1 0\n").unwrap();

@@ -13,7 +13,7 @@ use std::io::{BufRead, Write};
 
 use laserlines::scan::Short;
 
-use crate::error::{ReadError, SourcePos};
+use crate::error::{ReadError, SourcePos, shown};
 use crate::record::Pose2;
 
 /// One pose of a trajectory with its time.
@@ -28,6 +28,8 @@ pub struct StampedPose {
 /// One relation of the benchmark: the pose at `t2` seen from the pose at `t1`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RelationRecord {
+    /// Its line in the file (from 1).
+    pub line: usize,
     /// First time, s.
     pub t1: f64,
     /// Second time, s.
@@ -110,6 +112,7 @@ pub fn read_relations(name: &str, input: impl BufRead) -> Result<Vec<RelationRec
                 });
             }
             out.push(RelationRecord {
+                line: pos.at.line().unwrap_or(0),
                 t1,
                 t2,
                 delta: Pose2::new(x, y, yaw),
@@ -149,7 +152,7 @@ fn for_each_row(
                         pos,
                         field: format!("value {}", n + 1),
                         expected: "a finite number".into(),
-                        found: format!("{tok:?}"),
+                        found: shown(tok),
                     });
                 }
                 (Some(_), None) => {}
@@ -277,14 +280,26 @@ mod tests {
         let e = read_relations("r", "1 2 0.1 0.2 0 0 0 nan\n".as_bytes()).unwrap_err();
         assert_eq!(
             e.to_string(),
-            "r:1: value 8: expected a finite number, found \"nan\""
+            "r:1: value 8: expected a finite number, found `nan`"
+        );
+        // A file of another kind on one line (JSON) is quoted cut short.
+        let json = format!("[{}]", vec!["{\"r\":1.5}"; 40_000].join(","));
+        let e = read_tum("l.json", json.as_bytes()).unwrap_err().to_string();
+        assert_eq!(
+            e,
+            "l.json:1: value 1: expected a finite number, found `[{\\\"r\\\":1.5},{\\\"r\\\":1.5},{\\\"r\\\":1.5},{\\\"r\\\":1.5}...`"
         );
         let e = read_relations("r", "1 2 0.1 0.2 0.5 0 0 0.3\n".as_bytes()).unwrap_err();
         assert!(e.to_string().contains("a planar relation"), "{e}");
-        let r = read_relations("r", "1 2 0.1 0.2 0.000000 0 0 0.3\n\n".as_bytes()).unwrap();
+        let r = read_relations(
+            "r",
+            "# t1 t2\n\n1 2 0.1 0.2 0.000000 0 0 0.3\n\n".as_bytes(),
+        )
+        .unwrap();
         assert_eq!(
             r,
             vec![RelationRecord {
+                line: 3,
                 t1: 1.0,
                 t2: 2.0,
                 delta: Pose2::new(0.1, 0.2, 0.3)

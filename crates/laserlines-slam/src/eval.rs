@@ -79,14 +79,58 @@ pub struct RelationsScore {
     pub errors: Vec<(f64, f64)>,
 }
 
-/// A relation whose time stamp matches no pose of the trajectory.
+/// Why a relation's time pairs with no pose.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Unpaired {
+    /// No pose lies within [`MAX_TIME_GAP_S`] of it.
+    NoPose,
+    /// The nearest pose's stamp lies where the trajectory's stamps go back or stand still,
+    /// from `lo` to `hi` (s): those times occur more than once along it, so that the time
+    /// cannot tell which of its poses is meant.
+    StampsRepeat {
+        /// The lowest stamp of the stretch, s.
+        lo: f64,
+        /// The highest, s.
+        hi: f64,
+    },
+}
+
+/// A relation whose time stamp pairs with no single pose of the trajectory.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
-#[error("relation {index} (0-based): no trajectory pose within {MAX_TIME_GAP_S} s of time {time}")]
+#[error("relation {index} (0-based): {}", match why {
+    Unpaired::NoPose => format!("no trajectory pose within {MAX_TIME_GAP_S} s of time {time}"),
+    Unpaired::StampsRepeat { lo, hi } => format!(
+        "time {time} pairs with no single pose: the trajectory's stamps go back or stand \
+         still there ({lo}..{hi} s occur more than once)"
+    ),
+})]
 pub struct UnmatchedTime {
     /// Index of the relation.
     pub index: usize,
     /// The time stamp without a pose, s.
     pub time: f64,
+    /// Why.
+    pub why: Unpaired,
+}
+
+/// The stretches of times that occur more than once along `trajectory` (in its order):
+/// wherever a stamp is not above the one before, the times from it to that one, merged
+/// where they overlap, in order.
+fn repeated_times(trajectory: &[(f64, Se2)]) -> Vec<(f64, f64)> {
+    let mut spans: Vec<(f64, f64)> = trajectory
+        .windows(2)
+        .filter(|w| w[0].0.is_finite() && w[1].0.is_finite() && w[1].0 <= w[0].0)
+        .map(|w| (w[1].0, w[0].0))
+        .collect();
+    spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut merged: Vec<(f64, f64)> = Vec::with_capacity(spans.len());
+    for (lo, hi) in spans {
+        match merged.last_mut() {
+            Some(last) if lo <= last.1 => last.1 = last.1.max(hi),
+            _ => merged.push((lo, hi)),
+        }
+    }
+    merged
 }
 
 /// The errors of one relation: translational (m) and rotational (rad, in `[0, pi]`).
@@ -97,10 +141,14 @@ pub fn relation_error(from: &Se2, to: &Se2, reference: &Se2) -> (f64, f64) {
     (e.translation().norm(), wrap_angle(e.theta).abs())
 }
 
-/// Scores a trajectory (`(stamp, pose)`, any order) against relations.
+/// Scores a trajectory (`(stamp, pose)` in the order the robot went) against relations.
+/// Each time pairs with the pose nearest in time, unless that pose's stamp is one the
+/// trajectory's stamps pass more than once (where they go back or stand still: broken stamps
+/// of some logs), as the time then cannot tell which pose is meant.
 ///
 /// # Errors
-/// [`UnmatchedTime`] for the first relation with a time stamp that matches no pose.
+/// [`UnmatchedTime`] for the first relation with a time stamp that pairs with no pose, or
+/// with no single one.
 pub fn score_relations(
     trajectory: &[(f64, Se2)],
     relations: &[Relation],
@@ -111,6 +159,7 @@ pub fn score_relations(
         .filter(|(t, _)| t.is_finite())
         .collect();
     sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let repeated = repeated_times(trajectory);
     let find = |t: f64, index: usize| -> Result<Se2, UnmatchedTime> {
         let i = sorted.partition_point(|(s, _)| *s < t);
         let best = [i.checked_sub(1), Some(i)]
@@ -118,9 +167,25 @@ pub fn score_relations(
             .flatten()
             .filter_map(|k| sorted.get(k))
             .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()));
-        match best {
-            Some((s, p)) if (s - t).abs() <= MAX_TIME_GAP_S => Ok(*p),
-            _ => Err(UnmatchedTime { index, time: t }),
+        let (s, p) = match best {
+            Some((s, p)) if (s - t).abs() <= MAX_TIME_GAP_S => (*s, *p),
+            _ => {
+                let why = Unpaired::NoPose;
+                return Err(UnmatchedTime {
+                    index,
+                    time: t,
+                    why,
+                });
+            }
+        };
+        let k = repeated.partition_point(|span| span.1 < s);
+        match repeated.get(k) {
+            Some(&(lo, hi)) if lo <= s => Err(UnmatchedTime {
+                index,
+                time: t,
+                why: Unpaired::StampsRepeat { lo, hi },
+            }),
+            _ => Ok(p),
         }
     };
     let mut errors = Vec::with_capacity(relations.len());
@@ -262,8 +327,49 @@ mod tests {
             score_relations(&trajectory(), &r),
             Err(UnmatchedTime {
                 index: 1,
-                time: 0.5
+                time: 0.5,
+                why: Unpaired::NoPose
             })
+        );
+    }
+
+    #[test]
+    fn a_time_where_the_stamps_go_back_or_stand_still_pairs_with_no_pose() {
+        let pose = |x: f64| Se2::new(x, 0.0, 0.0);
+        // The stamps go back from 3 to 2 (2..3 s occur twice) and stand still at 5.
+        let t: Vec<(f64, Se2)> = [0.0, 1.0, 2.0, 3.0, 2.0, 3.0, 4.0, 5.0, 5.0, 6.0]
+            .iter()
+            .enumerate()
+            .map(|(k, &s)| (s, pose(k as f64)))
+            .collect();
+        let at = |t1: f64, t2: f64| Relation {
+            t1,
+            t2,
+            delta: Se2::IDENTITY,
+        };
+        let why = |r: Relation| score_relations(&t, &[r]).map(|_| ()).map_err(|e| e.why);
+        assert_eq!(why(at(0.0, 1.0)), Ok(()));
+        assert_eq!(why(at(4.0, 6.0)), Ok(()));
+        // Near 1 s, the nearest pose's stamp is 1: a time passed once.
+        assert_eq!(why(at(1.04, 6.0)), Ok(()));
+        let back = Err(Unpaired::StampsRepeat { lo: 2.0, hi: 3.0 });
+        assert_eq!(why(at(2.5, 6.0)), Err(Unpaired::NoPose));
+        assert_eq!(why(at(0.0, 2.0)), back);
+        assert_eq!(why(at(2.95, 4.0)), back);
+        assert_eq!(
+            why(at(5.0, 6.0)),
+            Err(Unpaired::StampsRepeat { lo: 5.0, hi: 5.0 })
+        );
+        // A sorted copy pairs everywhere: the repeats are in the order of the poses.
+        let mut sorted = t.clone();
+        sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+        sorted.dedup_by(|a, b| a.0 == b.0);
+        assert!(score_relations(&sorted, &[at(2.0, 5.0)]).is_ok());
+        let e = score_relations(&t, &[at(0.0, 2.0)]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "relation 0 (0-based): time 2 pairs with no single pose: the trajectory's stamps \
+             go back or stand still there (2..3 s occur more than once)"
         );
     }
 

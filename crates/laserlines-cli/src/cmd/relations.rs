@@ -13,7 +13,8 @@ use clap::Args;
 use laserlines_io::trajectory::{StampedPose, read_relations, read_tum};
 use laserlines_slam::Se2;
 use laserlines_slam::eval::{
-    MAX_TIME_GAP_S, Relation, Summary, relations_from_trajectory, score_relations,
+    MAX_TIME_GAP_S, Relation, Summary, UnmatchedTime, Unpaired, relations_from_trajectory,
+    score_relations,
 };
 
 /// Arguments of `laserlines relations`.
@@ -61,24 +62,14 @@ pub fn run(args: &RelationsArgs) -> Result<()> {
     };
     let mut traj = read_trajectory(&args.trajectory)?;
     let rel_name = args.relations.display().to_string();
-    let relations = load_relations(args, &rel_name, &mut traj, offset)?;
+    let (relations, lines) = load_relations(args, &rel_name, &mut traj, offset)?;
     let relations = if args.covered {
         covered_only(args, &rel_name, &traj, relations)?
     } else {
         relations
     };
     let score = score_relations(&traj, &relations).map_err(|e| {
-        let span = match (traj.first(), traj.last()) {
-            (Some(a), Some(b)) => format!(", whose poses span t = {}..{}", a.0, b.0),
-            _ => String::new(),
-        };
-        let e = anyhow::anyhow!(
-            "{rel_name}: relation {} (t = {}): no pose of {}{span} within {MAX_TIME_GAP_S} s \
-             (--covered scores only the relations the trajectory covers)",
-            e.index + 1,
-            e.time,
-            args.trajectory.display()
-        );
+        let e = unpaired(args, &rel_name, &traj, lines.get(e.index).copied(), &e);
         if args.every.is_none() {
             not_a_trajectory(&args.relations, e)
         } else {
@@ -110,16 +101,60 @@ pub fn run(args: &RelationsArgs) -> Result<()> {
     Ok(())
 }
 
+/// The error of a relation that pairs with no pose (`line`: its line in the relations file).
+fn unpaired(
+    args: &RelationsArgs,
+    rel_name: &str,
+    traj: &[(f64, Se2)],
+    line: Option<usize>,
+    e: &UnmatchedTime,
+) -> anyhow::Error {
+    let at = match line {
+        Some(line) => format!("{rel_name}:{line}: relation"),
+        None => format!("{rel_name}: relation {}", e.index + 1),
+    };
+    let name = args.trajectory.display();
+    match e.why {
+        Unpaired::NoPose => {
+            let span = match (traj.first(), traj.last()) {
+                (Some(a), Some(b)) => format!(", whose poses span t = {}..{}", a.0, b.0),
+                _ => String::new(),
+            };
+            anyhow::anyhow!(
+                "{at} (t = {}): no pose of {name}{span} within {MAX_TIME_GAP_S} s (--covered \
+                 scores only the relations the trajectory covers)",
+                e.time
+            )
+        }
+        Unpaired::StampsRepeat { lo, hi } => {
+            let times = if lo == hi {
+                format!("t = {lo} occurs")
+            } else {
+                format!("t = {lo}..{hi} occur")
+            };
+            anyhow::anyhow!(
+                "{at} (t = {}): no single pose of {name} to pair with: its stamps go back or \
+                 stand still there ({times} more than once), as in logs with broken stamps; \
+                 two trajectories of one log with the same stamps pair pose by pose with \
+                 --every N, and --covered leaves such relations out",
+                e.time
+            )
+        }
+    }
+}
+
 /// The relations to score: read from the relations file, or with `--every N` made from the
 /// reference trajectory's poses `N` apart (each moved by `offset` first, when given; when the
 /// two trajectories have the same stamps, both are renumbered pose by pose in `traj` and the
-/// reference). Never empty.
+/// reference). Never empty. With them, the lines of the relations file they come from (none
+/// with `--every`).
 fn load_relations(
     args: &RelationsArgs,
     rel_name: &str,
     traj: &mut [(f64, Se2)],
     offset: Option<Se2>,
-) -> Result<Vec<Relation>> {
+) -> Result<(Vec<Relation>, Vec<usize>)> {
+    let mut lines = Vec::new();
     let relations: Vec<Relation> = match args.every {
         Some(n) => {
             let mut reference =
@@ -143,10 +178,13 @@ fn load_relations(
         None => read_relations(rel_name, open(&args.relations)?)
             .map_err(|e| not_a_trajectory(&args.relations, e.into()))?
             .into_iter()
-            .map(|r| Relation {
-                t1: r.t1,
-                t2: r.t2,
-                delta: Se2::new(r.delta.x, r.delta.y, r.delta.theta),
+            .map(|r| {
+                lines.push(r.line);
+                Relation {
+                    t1: r.t1,
+                    t2: r.t2,
+                    delta: Se2::new(r.delta.x, r.delta.y, r.delta.theta),
+                }
             })
             .collect(),
     };
@@ -159,11 +197,11 @@ fn load_relations(
             None => bail!("{rel_name}: no relations"),
         }
     }
-    Ok(relations)
+    Ok((relations, lines))
 }
 
-/// `--covered`: the relations whose two times `traj` covers, saying how many were left out;
-/// an error when none is.
+/// `--covered`: the relations whose two times `traj` covers (each pairing with a single
+/// pose), saying how many were left out and why; an error when none is.
 fn covered_only(
     args: &RelationsArgs,
     rel_name: &str,
@@ -171,20 +209,41 @@ fn covered_only(
     relations: Vec<Relation>,
 ) -> Result<Vec<Relation>> {
     let all = relations.len();
+    let (mut outside, mut repeated) = (0, 0);
     let covered: Vec<Relation> = relations
         .into_iter()
-        .filter(|r| score_relations(traj, std::slice::from_ref(r)).is_ok())
+        .filter(
+            |r| match score_relations(traj, std::slice::from_ref(r)).map_err(|e| e.why) {
+                Ok(_) => true,
+                Err(Unpaired::NoPose) => {
+                    outside += 1;
+                    false
+                }
+                Err(Unpaired::StampsRepeat { .. }) => {
+                    repeated += 1;
+                    false
+                }
+            },
+        )
         .collect();
+    let name = args.trajectory.display();
     if covered.is_empty() {
         bail!(
-            "{rel_name}: none of its {all} relations lies within the times of {} (within {MAX_TIME_GAP_S} s of a pose)",
-            args.trajectory.display()
+            "{rel_name}: none of its {all} relations pairs with poses of {name} ({outside} \
+             outside its times, within {MAX_TIME_GAP_S} s of a pose; {repeated} where its \
+             stamps go back or stand still)"
         );
     }
-    if covered.len() < all {
+    if outside > 0 {
         outln!(
-            "{rel_name}: {} of {all} relations left out: the trajectory does not cover their times",
-            all - covered.len()
+            "{rel_name}: {outside} of {all} relations left out: the trajectory does not cover \
+             their times"
+        );
+    }
+    if repeated > 0 {
+        outln!(
+            "{rel_name}: {repeated} of {all} relations left out: the trajectory's stamps go \
+             back or stand still at their times, so they pair with no single pose"
         );
     }
     Ok(covered)
