@@ -337,11 +337,23 @@ fn values_out_of_range_are_errors_not_clamped() {
         ),
         (
             &["simulate", "--duration", "10", "--snapshot", "10"][..],
-            "at or before its last scan (9.900 s), got 10",
+            "from 0 to its last scan at 9.900 s (--duration 10 s), got 10",
+        ),
+        (
+            &["simulate", "--duration", "10", "--snapshot", "10.01"][..],
+            "from 0 to its last scan at 9.900 s (--duration 10 s), got 10.01",
         ),
         (
             &["simulate", "--duration", "1.005", "--snapshot", "0.905"][..],
-            "at or before its last scan (0.900 s), got 0.905",
+            "from 0 to its last scan at 0.900 s (--duration 1.005 s), got 0.905",
+        ),
+        (
+            &["simulate", "--arena", "inner_explore_test", "--islands"][..],
+            "'--arena <ARENA>' cannot be used with '--islands'",
+        ),
+        (
+            &["simulate", "--maze", "3", "--mesh-walls"][..],
+            "'--maze <SEED>' cannot be used with '--mesh-walls'",
         ),
     ] {
         let mut c = bin();
@@ -380,6 +392,33 @@ fn simulate_refuses_a_start_outside_the_arena_and_a_short_run_still_draws_its_se
         .arg("-o")
         .arg(&dir));
     fails_with(&o, "--start (100, 100): outside inner_explore_test");
+    // On a wall: refused before any file or folder is made, with no warning before it.
+    let dir = tmp("sim-on-wall");
+    let o = run(bin()
+        .args([
+            "simulate",
+            "--arena",
+            "inner_explore_test",
+            "--start",
+            "0.6,0,0",
+        ])
+        .arg("-o")
+        .arg(&dir));
+    fails_with(&o, "puts the robot's footprint on wall 23");
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
+    assert!(!dir.exists());
+    // Text of another kind with a `<` in it is no arena, rather than one cut short.
+    let text = tmp("le.raf");
+    std::fs::write(&text, "x <= 3\n").unwrap();
+    let o = run(bin()
+        .args(["simulate", "--arena"])
+        .arg(&text)
+        .arg("-o")
+        .arg(tmp("sim-le")));
+    fails_with(
+        &o,
+        "le.raf:1: unclosed tag before any <elements> or <element> tag: not an arena layout",
+    );
     let dir = tmp("sim-short");
     let o = run(bin()
         .args([

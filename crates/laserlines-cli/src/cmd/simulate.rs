@@ -38,7 +38,7 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "SEED", value_parser = super::whole::<u64>, allow_negative_numbers = true)]
     pub(super) maze: Option<u64>,
     /// Give the maze islands (wall groups not connected to the outer wall).
-    #[arg(long, requires = "maze")]
+    #[arg(long, requires = "maze", conflicts_with = "arena")]
     pub(super) islands: bool,
     /// Cut the corners of this many of the maze's turning cells by 45-degree walls (more
     /// than the maze has is refused, naming its number).
@@ -46,6 +46,7 @@ pub struct SimulateArgs {
         long,
         value_name = "N",
         requires = "maze",
+        conflicts_with = "arena",
         value_parser = super::whole::<usize>,
         allow_negative_numbers = true
     )]
@@ -62,8 +63,9 @@ pub struct SimulateArgs {
     /// pocket or outside the arena), facing +x; for mazes: the maze's start.
     #[arg(long, value_name = "X,Y,YAW_DEG", allow_hyphen_values = true)]
     start: Option<String>,
-    /// Arena walls 1.0 m long (the plate's mesh) instead of the whole 1.2 m cell edge.
-    #[arg(long)]
+    /// Arena walls 1.0 m long (the plate's mesh) instead of the whole 1.2 m cell edge (arenas
+    /// only).
+    #[arg(long, conflicts_with = "maze")]
     pub(super) mesh_walls: bool,
     /// Simulated time of the sector picture, s, within the run (default: 20 s, or half the
     /// duration when that is shorter).
@@ -136,15 +138,6 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
     let mut used = vec!["hough-split"];
     used.extend_from_slice(laserlines_io::params::RUN_TABLES);
     super::note_unused_tables(args.params.as_deref(), &used, "simulate")?;
-    if let Some(t) = args.snapshot
-        && !(t.is_finite() && (0.0..=args.duration).contains(&t))
-    {
-        bail!(
-            "--snapshot must lie within the run, from 0 to --duration ({} s), got {}",
-            super::compact(args.duration),
-            super::compact(t)
-        );
-    }
     let setup = setup(args)?;
     // What would end the run at once ends it before any file is made.
     setup
@@ -157,14 +150,20 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
                 .map_or_else(String::new, |p| format!(" with {}", p.display()));
             format!("cannot run in {}{with}", setup.name)
         })?;
+    if args.start.is_some() {
+        let radius = setup.config.robot.robot.footprint.circumradius();
+        warn_if_cramped(&setup.world, setup.start, radius);
+    }
     // The snapshot is of a scan: at most the last one's time.
     let last_scan = setup.config.last_scan_s();
     if let Some(t) = args.snapshot
-        && t > last_scan
+        && !(t.is_finite() && (0.0..=last_scan).contains(&t))
     {
         bail!(
-            "--snapshot must lie within the run, at or before its last scan ({last_scan:.3} \
-             s), got {t}"
+            "--snapshot must lie within the run, from 0 to its last scan at {last_scan:.3} s \
+             (--duration {} s), got {}",
+            super::compact(args.duration),
+            super::compact(t)
         );
     }
     // The recording's folder first (unless it is the output folder, made below): a failed
@@ -208,7 +207,6 @@ fn setup(args: &SimulateArgs) -> Result<Setup> {
         Some(s) => {
             let start = parse_start(s)?;
             check_start_inside(&name, &world, start)?;
-            warn_if_cramped(&world, start, robot.robot.footprint.circumradius());
             start
         }
         None => default_start.with_context(|| {
@@ -404,7 +402,13 @@ fn print_summary(args: &SimulateArgs, setup: &Setup, record: &RunRecord, written
             .as_ref()
             .map_or_else(String::new, |p| format!(", {}", p.display()))
     );
-    if m.path_length_m < 0.05 && m.stop == StopReason::Explored && m.reachable_coverage < 0.9 {
+    if m.arena_area_m2 <= 0.0 {
+        outln!(
+            "  the region to cover has no free floor (0 m^2): there was nothing to cover, and \
+             the coverage figures say nothing"
+        );
+    } else if m.path_length_m < 0.05 && m.stop == StopReason::Explored && m.reachable_coverage < 0.9
+    {
         outln!(
             "  the robot did not move from its start: its planner found no way from there to \
              any frontier of its map (a start this near an obstacle can leave it none), so \

@@ -142,7 +142,13 @@ pub fn world_of(
     let radius = robot.robot.footprint.circumradius();
     check_floor(&arena.name, &arena.world, radius)?;
     let start = interior_start(&arena.world, radius);
-    Ok((arena.name.clone(), arena.world, start, Some(arena.report)))
+    // The run's name says which walls it had (metrics.json, the pictures' titles).
+    let name = if args.mesh_walls {
+        format!("{}, 1.0 m mesh walls", arena.name)
+    } else {
+        arena.name.clone()
+    };
+    Ok((name, arena.world, start, Some(arena.report)))
 }
 
 /// Warns of an `[explorer.fence]` that does not hold the start (the origin of the explorer's

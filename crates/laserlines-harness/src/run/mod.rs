@@ -157,8 +157,8 @@ pub struct RunConfig {
 impl RunConfig {
     /// The checks a run makes before it starts that need no obstacle index: the run's
     /// duration, the explorer's and the robot's parameters, the laser's view of the front
-    /// sector and of the followed wall, and the world's size against the coverage grid
-    /// (placing the robot at `start` is checked when the run starts). A caller that writes
+    /// sector and of the followed wall, the robot placed at `start` (not on a wall or a
+    /// disc), and the world's size against the coverage grid. A caller that writes
     /// files for a run can call it before it makes them.
     ///
     /// # Errors
@@ -169,6 +169,8 @@ impl RunConfig {
         self.robot.validate()?;
         check_front_seen(&self.robot)?;
         check_follow_seen(self)?;
+        // A start on a wall or a disc.
+        RobotSim::new(world, start, self.robot, self.seed)?;
         let origin = laserlines::math::Point2::from(start.translation.vector);
         if let Some((width_m, height_m)) = CoverageGrid::too_large(world, origin) {
             return Err(RunError::TooLarge { width_m, height_m });

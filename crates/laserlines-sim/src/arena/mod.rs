@@ -401,16 +401,25 @@ pub fn parse_raf(text: &str, name: &str, options: &ArenaOptions) -> Result<Arena
     })
 }
 
+/// What a file that is no arena is told.
+const NOT_AN_ARENA: &str = "not an arena layout (a .raf file is XML, <elements> holding \
+                            <element type=\"T\" rotation=\"R\" x=\"X\" y=\"Y\"/>)";
+
 /// The `<element>` tags of `text`; an error for an empty file, malformed markup, text with neither
 /// `<elements>` nor `<element>` tags, and for an `<elements>` the file ends without closing.
 fn read_elements(text: &str, name: &str) -> Result<Vec<Element>, ArenaError> {
     let mut elements = Vec::new();
+    // Whether an `<elements>` or `<element>` tag came yet: markup that fails before one is
+    // text of another kind (source code, a README) rather than an arena cut short.
+    let mut arena = false;
     for tag in Tags::new(text) {
         let tag = tag.map_err(|(line, message)| ArenaError::Xml {
             name: name.to_owned(),
             line,
-            // A tag without its `>` runs to the end of the file: a file cut short.
-            message: if message == "unclosed tag" {
+            message: if !arena {
+                format!("{message} before any <elements> or <element> tag: {NOT_AN_ARENA}")
+            } else if message == "unclosed tag" {
+                // A tag without its `>` runs to the end of the file: a file cut short.
                 format!(
                     "unclosed tag: the file ends inside it, after {} elements (cut short?)",
                     elements.len()
@@ -419,6 +428,7 @@ fn read_elements(text: &str, name: &str) -> Result<Vec<Element>, ArenaError> {
                 message
             },
         })?;
+        arena |= tag.name == "elements" || tag.name == "element";
         if tag.name == "element" {
             elements.push(Element::from_tag(&tag, name)?);
         }
@@ -427,19 +437,14 @@ fn read_elements(text: &str, name: &str) -> Result<Vec<Element>, ArenaError> {
         return Err(ArenaError::Xml {
             name: name.to_owned(),
             line: 1,
-            message: "an empty file: not an arena layout (a .raf file is XML, <elements> \
-                      holding <element type=\"T\" rotation=\"R\" x=\"X\" y=\"Y\"/>)"
-                .to_owned(),
+            message: format!("an empty file: {NOT_AN_ARENA}"),
         });
     }
     if elements.is_empty() && !text.contains("<elements") {
         return Err(ArenaError::Xml {
             name: name.to_owned(),
             line: 1,
-            message: "no <elements> and no <element> tag: not an arena layout (a .raf file \
-                      is XML, <elements> holding <element type=\"T\" rotation=\"R\" x=\"X\" \
-                      y=\"Y\"/>)"
-                .to_owned(),
+            message: format!("no <elements> and no <element> tag: {NOT_AN_ARENA}"),
         });
     }
     if let Some(line) = unclosed_root(text) {

@@ -212,6 +212,10 @@ fn bad_input_is_an_error_naming_the_line() {
         "hello world\n",
         "{\"a\": 1}",
         "<?xml version=\"1.0\"?>\n<world/>\n",
+        // Text with a `<` that opens no tag: source code, a README.
+        "x <= 3\n",
+        "if a < b:\n    pass\n",
+        "See <https://example.org>, where a <= b.\n",
     ] {
         let e = parse(other).unwrap_err();
         assert!(matches!(e, ArenaError::Xml { line: 1, .. }), "{e}");
