@@ -392,21 +392,6 @@ fn simulate_refuses_a_start_outside_the_arena_and_a_short_run_still_draws_its_se
         .arg("-o")
         .arg(&dir));
     fails_with(&o, "--start (100, 100): outside inner_explore_test");
-    // On a wall: refused before any file or folder is made, with no warning before it.
-    let dir = tmp("sim-on-wall");
-    let o = run(bin()
-        .args([
-            "simulate",
-            "--arena",
-            "inner_explore_test",
-            "--start",
-            "0.6,0,0",
-        ])
-        .arg("-o")
-        .arg(&dir));
-    fails_with(&o, "puts the robot's footprint on wall 23");
-    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
-    assert!(!dir.exists());
     // Text of another kind with a `<` in it is no arena, rather than one cut short.
     let text = tmp("le.raf");
     std::fs::write(&text, "x <= 3\n").unwrap();

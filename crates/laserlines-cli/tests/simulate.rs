@@ -140,6 +140,8 @@ fn simulate_reports_the_arena_and_a_robot_out_of_it() {
 
 #[test]
 fn simulate_rejects_bad_input() {
+    // A start on a wall: refused before any folder is made, with no warning before it.
+    let dir = std::env::temp_dir().join(format!("laserlines-on-wall-{}", std::process::id()));
     let o = bin()
         .args([
             "simulate",
@@ -149,15 +151,21 @@ fn simulate_rejects_bad_input() {
             "0.6,0,0",
             "--duration",
             "5",
+            "-o",
         ])
+        .arg(&dir)
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(
-        err.contains("start pose") && !err.contains("panicked"),
+        err.contains(
+            "start pose (x 0.600 m, y 0.000 m, yaw 0.0 deg) puts the robot's footprint on wall 23"
+        ) && !err.contains("warning")
+            && !err.contains("panicked"),
         "{err}"
     );
+    assert!(!dir.exists());
     let o = bin()
         .args(["simulate", "--arena", "no_such_arena.raf"])
         .output()
