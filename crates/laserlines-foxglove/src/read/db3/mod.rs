@@ -123,6 +123,15 @@ const ROWS: &str = "SELECT id, topic_id, CASE WHEN topic_id = ?1 THEN timestamp 
 /// `topic_id` its timestamp and data or the column that holds no integer or no BLOB.
 type Row = (i64, Option<i64>, Option<RowValues>);
 
+/// The error of a row whose id is not above the last one read: the pages SQLite found it
+/// by are damaged.
+fn out_of_order(id: i64) -> rusqlite::Error {
+    rusqlite::Error::SqliteFailure(
+        rusqlite::ffi::Error::new(rusqlite::ffi::SQLITE_CORRUPT),
+        Some(format!("message ids out of order: {id} after a later one")),
+    )
+}
+
 /// Reads a row of [`ROWS`] for topic `topic_id`.
 fn read_row(row: &rusqlite::Row<'_>, topic_id: i64) -> rusqlite::Result<Row> {
     use rusqlite::types::ValueRef;
@@ -228,6 +237,11 @@ impl Db3File {
         let mut read = 0;
         while let Some(row) = rows.next()? {
             let (id, topic, values) = read_row(row, self.topic_id)?;
+            // A damaged interior page can lead back to rows read before: damage, as the
+            // reading only goes forward.
+            if id < from || (read > 0 && id <= self.after) {
+                return Err(out_of_order(id));
+            }
             self.after = id;
             read += 1;
             match (values, topic) {
@@ -249,8 +263,11 @@ impl Db3File {
     /// counted in `skipped`.
     fn next(&mut self, skipped: &mut SkipCounts) -> Option<Result<(ScanRecord, usize), ReadError>> {
         while self.page.is_empty() && !self.done && self.passed.is_none() {
+            let before = self.after;
             if let Err(e) = self.fetch(skipped) {
-                match resume::resume_point(&self.db, self.topic_id, self.after) {
+                // Whether the failure came at the first row the reading asked for.
+                let at_once = self.after == before;
+                match resume::resume_point(&self.db, self.topic_id, self.after, at_once) {
                     Some(at) => self.passed = Some((e, at)),
                     None => {
                         self.done = true;
@@ -290,6 +307,10 @@ impl Db3File {
         let ids = match (at - 1).cmp(&from) {
             Ordering::Greater => format!("message ids {from} to {} cannot be read", at - 1),
             Ordering::Equal => format!("message id {from} cannot be read"),
+            // Found from `at` itself, which the scan through the pages did not reach.
+            Ordering::Less if at == self.after.saturating_add(1) => {
+                "no message id is passed over".to_owned()
+            }
             // Damage to rows numbered below 1, which rosbag2 does not write.
             Ordering::Less => format!("the message ids below {at} cannot be read"),
         };

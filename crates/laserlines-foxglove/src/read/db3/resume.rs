@@ -12,31 +12,39 @@ use super::{ROWS, read_row};
 /// topic, and for topic `topic_id` its timestamp and data), or when there is none; false
 /// when SQLite fails on the way.
 fn reads_from(db: &Connection, topic_id: i64, from: i64) -> bool {
-    let read = || -> rusqlite::Result<()> {
+    let read = || -> rusqlite::Result<bool> {
         let mut stmt = db.prepare(ROWS)?;
         let mut rows = stmt.query(params![topic_id, from, 1])?;
-        if let Some(row) = rows.next()? {
-            read_row(row, topic_id)?;
+        match rows.next()? {
+            // A row before `from`: the pages SQLite found it by are damaged.
+            Some(row) => Ok(read_row(row, topic_id)?.0 >= from),
+            None => Ok(true),
         }
-        Ok(())
     };
-    read().is_ok()
+    read().unwrap_or(false)
 }
 
 /// Where the reading (of topic `topic_id`) can go on when it failed after message `after`
-/// (`i64::MIN` before the first): the smallest id `s > after + 1` from which the next message
-/// reads (or from which none is left), found by steps doubling from `after + 1`
-/// and then by bisection between the last step that failed and the first that did not.
-/// `None` when nothing from `after + 1` on reads (the damage reaches the end of the file, or
-/// the table's root), and when reading from `after + 1` itself works again (nothing to pass
-/// over).
+/// (`i64::MIN` before the first). When the failure came further on than the first row asked
+/// for (`at_once` false: the scan through the pages met the damage on its way), `after + 1`
+/// itself when a read from there works (SQLite finds a row from the interior pages, which
+/// can lead past the damage). Else the smallest id `s > after + 1` from which the next
+/// message reads (or from which none is left), found by steps doubling from `after + 1` and
+/// then by bisection between the last step that failed and the first that did not. `None`
+/// when nothing from `after + 1` on reads (the damage reaches the end of the file, or the
+/// table's root). Each resumption goes past the id the reading failed at, so reading ends.
 ///
 /// A read from `s` fails or not by the page SQLite finds `s` on; between a damaged page and
 /// the next one, the bisection finds the first id past the damage.
-pub(super) fn resume_point(db: &Connection, topic_id: i64, after: i64) -> Option<i64> {
+pub(super) fn resume_point(
+    db: &Connection,
+    topic_id: i64,
+    after: i64,
+    at_once: bool,
+) -> Option<i64> {
     let first = after.checked_add(1)?;
-    if reads_from(db, topic_id, first) {
-        return None;
+    if !at_once && reads_from(db, topic_id, first) {
+        return Some(first);
     }
     // In i128, so that neither the steps nor the differences overflow.
     let (mut bad, mut step) = (i128::from(first), 1i128);
