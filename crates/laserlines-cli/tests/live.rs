@@ -174,6 +174,46 @@ fn the_duration_ends_a_run_whose_sensor_went_away() {
 }
 
 #[test]
+fn a_silence_shorter_than_two_scan_periods_is_refused() {
+    // The emulated UST-10LX scans every 25 ms: the link would seem lost between two scans.
+    // Said once the sensor has described itself.
+    let (_emulator, addr) = emulator_with(&[]);
+    let o = bin()
+        .args(["live", &addr, "--silence", "0.02", "--scans", "1"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains(
+            "--silence 0.02 s is shorter than two of this sensor's scan periods (2 x 0.025 s)"
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn live_refuses_one_file_for_the_lines_and_the_recording() {
+    let dir = std::env::temp_dir().join(format!("laserlines-live-one-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Refused before the sensor (none at this address) is opened.
+    let o = bin()
+        .args(["live", "127.0.0.1:9", "-o"])
+        .arg(dir.join("s.mcap"))
+        .arg("--record")
+        .arg(dir.join(".").join("s.mcap"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("s.mcap: -o and --record name one file"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn live_tells_when_the_sensor_leaves_and_comes_back() {
     // The sensor drops the link after 20 scans (half a second) and is unreachable for 1 s.
     let (_emulator, addr) = emulator_with(&["--drop-after", "20", "--down-for", "1"]);

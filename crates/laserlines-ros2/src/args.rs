@@ -64,8 +64,8 @@ pub struct Ros2Args {
     /// Node namespace.
     #[arg(long, default_value = "/")]
     pub namespace: String,
-    /// DDS domain (default: `ROS_DOMAIN_ID`, else 0).
-    #[arg(long)]
+    /// DDS domain, 0..=232 (default: `ROS_DOMAIN_ID`, else 0).
+    #[arg(long, allow_negative_numbers = true, value_parser = clap::value_parser!(u16).range(0..=232))]
     pub domain_id: Option<u16>,
     /// Talk to this host only (loopback); also set by `ROS_LOCALHOST_ONLY=1` or
     /// `ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST`.
@@ -74,28 +74,39 @@ pub struct Ros2Args {
     /// Use only the network interface with this address (repeatable).
     #[arg(long = "interface", value_name = "ADDR")]
     pub interfaces: Vec<IpAddr>,
-    /// Scans kept while the node is busy (subscription history depth, sensor data: 5).
-    #[arg(long, default_value_t = 5)]
+    /// Scans kept while the node is busy (subscription history depth, sensor data: 5), at
+    /// least 1.
+    #[arg(long, default_value_t = 5, allow_negative_numbers = true)]
     pub scan_depth: usize,
-    /// Stop after this many scans.
-    #[arg(long)]
+    /// Stop after this many scans (at least 1).
+    #[arg(long, allow_negative_numbers = true, value_parser = clap::value_parser!(u64).range(1..))]
     pub scans: Option<u64>,
-    /// Stop after this many seconds.
-    #[arg(long)]
+    /// Stop after this many seconds (more than 0).
+    #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// Log the counts (scans, lines per scan, extraction us) every this many seconds
     /// (0: only at the end).
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
     pub status_every: f64,
 }
 
 /// The largest DDS domain whose ports fit in UDP's (7400 + 250 * domain + ...).
 pub const MAX_DOMAIN_ID: u16 = 232;
 
-/// True when an environment variable asks ROS 2 nodes to stay on this host.
-fn env_localhost_only() -> bool {
+/// True when an environment variable asks ROS 2 nodes to stay on this host; an error for
+/// `ROS_AUTOMATIC_DISCOVERY_RANGE=OFF`, which turns discovery off: the node would hear no
+/// publisher.
+fn env_localhost_only() -> Result<bool> {
     let var = |k: &str| std::env::var(k).unwrap_or_default();
-    var("ROS_LOCALHOST_ONLY") == "1" || var("ROS_AUTOMATIC_DISCOVERY_RANGE") == "LOCALHOST"
+    let range = var("ROS_AUTOMATIC_DISCOVERY_RANGE");
+    if range == "OFF" {
+        bail!(
+            "ROS_AUTOMATIC_DISCOVERY_RANGE=OFF turns discovery off, and this node finds its \
+             publishers and subscribers by discovery only (no static peers): unset it, or \
+             set it to LOCALHOST or SUBNET"
+        );
+    }
+    Ok(var("ROS_LOCALHOST_ONLY") == "1" || range == "LOCALHOST")
 }
 
 fn seconds(name: &str, s: f64) -> Result<Duration> {
@@ -219,7 +230,7 @@ impl Ros2Args {
     /// The networks the node talks on: loopback alone (`--localhost-only` or
     /// `ROS_LOCALHOST_ONLY`), the `--interface` addresses, or every one (`None`).
     fn networks(&self) -> Result<Option<Vec<IpAddr>>> {
-        let localhost = self.localhost_only || env_localhost_only();
+        let localhost = self.localhost_only || env_localhost_only()?;
         if localhost && !self.interfaces.is_empty() {
             bail!("--interface and localhost-only (flag or environment) exclude each other");
         }
@@ -278,7 +289,12 @@ impl Ros2Args {
             scans: self.scans,
             duration: self
                 .duration
-                .map(|s| seconds("--duration", s))
+                .map(|s| match seconds("--duration", s) {
+                    Ok(d) if !d.is_zero() => Ok(d),
+                    _ => {
+                        bail!("--duration must be a finite number of seconds more than 0, got {s}")
+                    }
+                })
                 .transpose()?,
             status_every: Some(seconds("--status-every", self.status_every)?)
                 .filter(|d| !d.is_zero()),
@@ -455,19 +471,46 @@ mod tests {
 
     #[test]
     fn times_that_are_no_seconds_say_what_they_got() {
-        for (value, shown) in [("inf", "inf"), ("-1", "-1"), ("NaN", "NaN")] {
-            let arg = format!("--duration={value}");
-            let argv = ["laserlines-ros2", arg.as_str()];
-            let e = Ros2Args::try_parse_from(argv)
-                .unwrap()
-                .limits()
-                .err()
-                .unwrap()
-                .to_string();
+        let limits = |args: &[&str]| {
+            let argv = std::iter::once("laserlines-ros2").chain(args.iter().copied());
+            Ros2Args::try_parse_from(argv).unwrap().limits()
+        };
+        for (value, shown) in [("inf", "inf"), ("-1", "-1"), ("NaN", "NaN"), ("0", "0")] {
+            let e = limits(&["--duration", value]).err().unwrap().to_string();
             assert_eq!(
                 e,
-                format!("--duration must be a finite number of seconds >= 0, got {shown}")
+                format!("--duration must be a finite number of seconds more than 0, got {shown}")
             );
         }
+        let e = limits(&["--status-every", "-1"]).err().unwrap().to_string();
+        assert_eq!(
+            e,
+            "--status-every must be a finite number of seconds >= 0, got -1"
+        );
+        assert!(
+            limits(&["--status-every", "0"])
+                .unwrap()
+                .status_every
+                .is_none()
+        );
+    }
+
+    #[test]
+    fn counts_out_of_range_name_their_option_and_range() {
+        let refused = |args: &[&str]| {
+            let argv = std::iter::once("laserlines-ros2").chain(args.iter().copied());
+            Ros2Args::try_parse_from(argv).err().unwrap().to_string()
+        };
+        let e = refused(&["--domain-id", "-1"]);
+        assert!(
+            e.contains("'--domain-id <DOMAIN_ID>': -1 is not in 0..=232"),
+            "{e}"
+        );
+        let e = refused(&["--domain-id", "233"]);
+        assert!(e.contains("233 is not in 0..=232"), "{e}");
+        let e = refused(&["--scans", "0"]);
+        assert!(e.contains("'--scans <SCANS>': 0 is not in 1.."), "{e}");
+        let e = refused(&["--scan-depth", "-3"]);
+        assert!(e.contains("invalid value '-3' for '--scan-depth"), "{e}");
     }
 }

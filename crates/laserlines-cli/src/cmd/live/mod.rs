@@ -5,7 +5,7 @@
 mod outputs;
 mod status;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
@@ -97,6 +97,18 @@ fn open_sensor(args: &LiveArgs, endpoint: &Endpoint, silence: Option<Duration>) 
         scanner = Scanner::open(endpoint, options).context("cannot start the sensor")?;
     }
     let info = scanner.info();
+    let period = info.scan_period_s() * f64::from(request.skip + 1);
+    if let Some(s) = silence
+        && s.as_secs_f64() < 2.0 * period
+    {
+        scanner.close()?;
+        bail!(
+            "--silence {} s is shorter than two of this sensor's scan periods (2 x {:.3} s): \
+             the link would seem lost between two scans",
+            s.as_secs_f64(),
+            period
+        );
+    }
     errln!(
         "laserlines: {} ({}, serial {}, firmware {}) on {endpoint}: {} beams, {:.2} scans/s{}",
         info.model,
@@ -104,7 +116,7 @@ fn open_sensor(args: &LiveArgs, endpoint: &Endpoint, silence: Option<Duration>) 
         info.serial,
         info.firmware,
         request.values(),
-        1.0 / (info.scan_period_s() * f64::from(request.skip + 1)),
+        1.0 / period,
         if scanner.stats().switched_from_scip11 {
             ", switched from SCIP 1.1"
         } else {
@@ -176,6 +188,18 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         .flatten()
     {
         super::output_folder_exists(path)?;
+    }
+    if let (Some(out), Some(record)) = (&args.output, &args.record) {
+        let folder = |p: &Path| p.parent().unwrap_or(Path::new("")).to_path_buf();
+        if out.file_name() == record.file_name()
+            && super::same_folder(&folder(out), &folder(record))
+        {
+            bail!(
+                "{}: -o and --record name one file; two writers would interleave in it, give \
+                 them different names",
+                record.display()
+            );
+        }
     }
     let mut extractor = super::make_extractor(&args.algorithm, &args.params)?;
     let stop = Arc::new(AtomicBool::new(false));
