@@ -144,18 +144,42 @@ pub struct LineNode {
 fn parse_name(name: &str) -> Result<Name, NodeError> {
     Name::parse(name).map_err(|e| NodeError::Name {
         name: name.to_owned(),
-        reason: name_problem(&e),
+        reason: name_problem(name, &e),
     })
 }
 
-/// What is wrong with a name, in words.
-fn name_problem(e: &NameError) -> String {
+/// The characters a ROS 2 name is made of, in words.
+const NAME_CHARS: &str = "letters, digits and underscores, parts separated by slashes, a \
+                          node name and each part from a letter or an underscore";
+
+/// What is wrong with `name`, in words: the first character the ROS 2 naming rules do not
+/// allow where it stands, as found here (the DDS library names some as `?`), else the
+/// library's `e`.
+fn name_problem(name: &str, e: &NameError) -> String {
+    if let Some(c) = name
+        .chars()
+        .find(|c| !(c.is_ascii_alphanumeric() || *c == '_' || *c == '/'))
+    {
+        return match c {
+            '~' | '{' | '}' => format!(
+                "{c:?} is not allowed: the private namespace (~) and substitutions ({{node}}) \
+                 are not resolved here, give the full name ({NAME_CHARS})"
+            ),
+            _ => format!("{c:?} is not allowed ({NAME_CHARS})"),
+        };
+    }
+    if name.contains("__") {
+        return format!("two underscores in a row are not allowed ({NAME_CHARS})");
+    }
+    if let Some(part) = name
+        .split('/')
+        .find(|p| p.starts_with(|c: char| c.is_ascii_digit()))
+    {
+        return format!("the part {part:?} starts with a digit ({NAME_CHARS})");
+    }
     match e {
         NameError::Empty => "it is empty".to_owned(),
-        NameError::BadChar(c) => format!(
-            "{c:?} is not allowed (letters, digits and underscores, parts separated by \
-             slashes, a node name and each part from a letter or an underscore)"
-        ),
+        NameError::BadChar(c) => format!("{c:?} is not allowed ({NAME_CHARS})"),
         NameError::BadSlash(ns, n) => {
             format!("a slash out of place (namespace {ns:?}, name {n:?})")
         }
@@ -189,15 +213,15 @@ impl LineNode {
         let participant = builder.build().map_err(|e| create_err("participant", e))?;
         let context = Context::from_domain_participant(participant)
             .map_err(|e| create_err("ROS 2 context", e))?;
-        let node_name =
-            NodeName::new(&config.namespace, &config.node_name).map_err(|e| NodeError::Name {
-                name: format!(
-                    "{}/{}",
-                    config.namespace.trim_end_matches('/'),
-                    config.node_name
-                ),
-                reason: name_problem(&e),
-            })?;
+        let node_name = NodeName::new(&config.namespace, &config.node_name).map_err(|e| {
+            let name = format!(
+                "{}/{}",
+                config.namespace.trim_end_matches('/'),
+                config.node_name
+            );
+            let reason = name_problem(&name, &e);
+            NodeError::Name { name, reason }
+        })?;
         let options = NodeOptions::new()
             .enable_rosout(false)
             .start_parameter_services(false);
@@ -377,6 +401,17 @@ mod tests {
             problem("/bad topic")
         );
         assert_eq!(problem(""), "bad ROS 2 name \"\": it is empty");
+        // The character at fault is named, not the library's `?`.
+        for (name, says) in [
+            ("~/scan", "'~' is not allowed: the private namespace"),
+            ("{node}/scan", "'{' is not allowed: the private namespace"),
+            ("/scan__x", "two underscores in a row are not allowed"),
+            ("/scan-x", "'-' is not allowed (letters"),
+            ("/robot/1scan", "the part \"1scan\" starts with a digit"),
+        ] {
+            let p = problem(name);
+            assert!(p.contains(says), "{name}: {p}");
+        }
         let slash = problem("/a//b");
         assert!(slash.contains("a slash out of place"), "{slash}");
     }
