@@ -10,12 +10,23 @@ use clap::Parser;
 use laserlines_ros2::args::Ros2Args;
 use laserlines_ros2::node::LineNode;
 use laserlines_ros2::process::Processor;
-use tracing::info;
+use tracing::{info, warn};
 
 fn run(args: &Ros2Args) -> Result<()> {
     let config = args.node_config()?;
     let limits = args.limits()?;
     let extractor = args.extractor()?;
+    // A table of the params file the node does not read is said, as `laserlines` says it.
+    if args.params.is_some() {
+        let file = args.params_file()?;
+        for table in file.tables().filter(|t| *t != args.algorithm) {
+            warn!(
+                "{}: [{table}] is not used by laserlines-ros2 (the algorithm is {})",
+                file.name(),
+                args.algorithm
+            );
+        }
+    }
     let stop = Arc::new(AtomicBool::new(false));
     let s = Arc::clone(&stop);
     ctrlc::set_handler(move || s.store(true, Ordering::Relaxed)).context("cannot catch Ctrl-C")?;

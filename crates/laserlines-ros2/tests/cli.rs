@@ -17,3 +17,23 @@ fn discovery_turned_off_is_refused_before_the_node_starts() {
         "{err}"
     );
 }
+
+#[test]
+fn a_params_table_the_node_does_not_read_is_said() {
+    let params = std::env::temp_dir().join(format!("laserlines-ros2-{}.toml", std::process::id()));
+    std::fs::write(&params, "[ransac]\nmax_iterations = 50\n").expect("a temporary file");
+    let o = Command::new(env!("CARGO_BIN_EXE_laserlines-ros2"))
+        .arg("--params")
+        .arg(&params)
+        .args(["--localhost-only", "--duration", "0.2"])
+        .env_remove("ROS_AUTOMATIC_DISCOVERY_RANGE")
+        .output()
+        .expect("the node runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("[ransac] is not used by laserlines-ros2 (the algorithm is hough-split)"),
+        "{err}"
+    );
+    let _ = std::fs::remove_file(&params);
+}
