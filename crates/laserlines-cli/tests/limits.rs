@@ -203,7 +203,13 @@ fn counts_and_seconds_beyond_their_bounds_are_refused_with_the_range() {
             "--duration must be seconds, more than 0 up to 1e9, got -2",
         ),
         (
-            &["hokuyo-emulator", "--down-for", "1e300"][..],
+            &[
+                "hokuyo-emulator",
+                "--drop-after",
+                "5",
+                "--down-for",
+                "1e300",
+            ][..],
             "--down-for must be seconds, from 0 up to 1e9, got 1e300",
         ),
         (

@@ -211,6 +211,34 @@ fn live_refuses_one_file_for_the_lines_and_the_recording() {
         "{err}"
     );
     std::fs::remove_dir_all(&dir).unwrap();
+    // Options that would do nothing, refused before the sensor is opened.
+    for (args, says) in [
+        (
+            &["live", "127.0.0.1:9", "--baud", "9600"][..],
+            "--baud 9600: 127.0.0.1:9 is a sensor on the network",
+        ),
+        (
+            &["live", "/dev/nonexistent-tty", "--baud", "0"][..],
+            "must be from 1 to 4294967295, got 0",
+        ),
+        (
+            &["live", "127.0.0.1:9", "--port", "9000"][..],
+            "required arguments were not provided",
+        ),
+        (
+            &["live", "127.0.0.1:9", "-o", "-", "--sectors"][..],
+            "--sectors prints the sector objects on standard output, which -o - takes",
+        ),
+        (
+            &["hokuyo-emulator", "--down-for", "3"][..],
+            "--drop-after <DROP_AFTER>",
+        ),
+    ] {
+        let o = bin().args(args).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
 }
 
 #[test]

@@ -61,8 +61,14 @@ pub struct HokuyoEmulatorArgs {
     /// Fault: after N scans on a connection, send half a scan and drop the connection.
     #[arg(long, default_value_t = 0, value_parser = super::whole::<u64>, allow_negative_numbers = true)]
     drop_after: u64,
-    /// Fault: stay unreachable this many seconds after dropping a connection.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    /// Fault: stay unreachable this many seconds after dropping a connection (with
+    /// --drop-after).
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        requires = "drop_after",
+        allow_negative_numbers = true
+    )]
     down_for: f64,
     /// Fault: start in SCIP 1.1 (the host must switch with SCIP2.0).
     #[arg(long)]

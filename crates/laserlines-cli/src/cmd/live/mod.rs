@@ -26,8 +26,8 @@ use status::Tally;
 pub struct LiveArgs {
     /// The sensor: a serial device (/dev/ttyACM0, COM3) or HOST:PORT (192.168.0.10:10940).
     device: String,
-    /// Fix the serial bit rate (default: try 115200, 19200, 38400).
-    #[arg(long, value_parser = super::whole::<u32>, allow_negative_numbers = true)]
+    /// Fix the serial bit rate (default: try 115200, 19200, 38400); serial devices only.
+    #[arg(long, value_parser = |s: &str| super::whole_in::<u32>(s, 1, i128::from(u32::MAX)), allow_negative_numbers = true)]
     baud: Option<u32>,
     /// Line extraction algorithm.
     #[arg(long, default_value = "hough-split")]
@@ -38,7 +38,7 @@ pub struct LiveArgs {
     #[arg(long)]
     view: bool,
     /// Port of the live view (0 picks a free one).
-    #[arg(long, default_value_t = 8765, value_parser = super::whole::<u16>, allow_negative_numbers = true)]
+    #[arg(long, requires = "view", default_value_t = 8765, value_parser = super::whole::<u16>, allow_negative_numbers = true)]
     port: u16,
     /// Record scans and lines to this MCAP file (`.mcap`).
     #[arg(long)]
@@ -163,8 +163,19 @@ fn stream(
 /// Runs the command.
 pub fn run(args: &LiveArgs) -> Result<()> {
     let mut endpoint: Endpoint = args.device.parse().map_err(|e| anyhow!("{e}"))?;
-    if let (Endpoint::Serial { baud, .. }, Some(b)) = (&mut endpoint, args.baud) {
-        *baud = Some(b);
+    match (&mut endpoint, args.baud) {
+        (Endpoint::Serial { baud, .. }, Some(b)) => *baud = Some(b),
+        (_, Some(b)) => bail!(
+            "--baud {b}: {endpoint} is a sensor on the network (HOST:PORT), which has no bit \
+             rate; --baud goes with a serial device"
+        ),
+        _ => {}
+    }
+    if args.sectors && args.output.as_deref() == Some(Path::new("-")) {
+        bail!(
+            "--sectors prints the sector objects on standard output, which -o - takes for the \
+             lines: give -o a file"
+        );
     }
     let silence = args
         .silence
