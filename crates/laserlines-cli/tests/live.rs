@@ -193,6 +193,29 @@ fn a_silence_shorter_than_two_scan_periods_is_refused() {
 }
 
 #[test]
+fn the_duration_ends_a_run_whose_sensor_is_still_starting() {
+    // Every reply a second late: starting the sensor takes many seconds; the duration ends
+    // the run there, and nothing is written.
+    let (_emulator, addr) = emulator_with(&["--reply-delay-ms", "1000"]);
+    let out =
+        std::env::temp_dir().join(format!("laserlines-starting-{}.jsonl", std::process::id()));
+    let o = bin()
+        .args(["live", &addr, "--duration", "1", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains(
+            "--duration ran out while the sensor was starting: no scan read, nothing written"
+        ),
+        "{err}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
 fn live_refuses_one_file_for_the_lines_and_the_recording() {
     let dir = std::env::temp_dir().join(format!("laserlines-live-one-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

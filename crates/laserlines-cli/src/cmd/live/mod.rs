@@ -4,10 +4,10 @@
 
 mod outputs;
 mod status;
+mod stop;
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow, bail};
@@ -20,6 +20,7 @@ use laserlines_io::ScanRecord;
 
 use outputs::Outputs;
 use status::Tally;
+use stop::Stop;
 
 /// Arguments of `laserlines live`.
 #[derive(Debug, Args)]
@@ -213,18 +214,7 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         }
     }
     let mut extractor = super::make_extractor(&args.algorithm, &args.params)?;
-    let stop = Arc::new(AtomicBool::new(false));
-    let s = stop.clone();
-    ctrlc::set_handler(move || s.store(true, Ordering::Relaxed)).context("cannot catch Ctrl-C")?;
-    // The duration ends the run even while the sensor is away (the scanner then waits to
-    // reconnect, and only `stop` ends its wait).
-    if let Some(d) = duration {
-        let s = stop.clone();
-        std::thread::spawn(move || {
-            std::thread::sleep(d);
-            s.store(true, Ordering::Relaxed);
-        });
-    }
+    let stop = Stop::install(duration)?;
 
     // A bare host name reads as a serial device: say what a network sensor looks like (not
     // on Windows, where a bare name is how serial ports are named: COM3, CNCA0).
@@ -239,6 +229,7 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         );
     }
     let mut scanner = open_sensor(args, &endpoint, silence)?;
+    stop.started();
     let mut outputs = Outputs::open(args)?;
     let start = Instant::now();
     let mut tally = Tally::start();
@@ -249,7 +240,7 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         &mut extractor,
         &mut outputs,
         &mut tally,
-        &stop,
+        stop.flag(),
     );
     // QT on every way out: the end of the run, Ctrl-C, an output error. Scans lost to an
     // outage still going on are counted first.
