@@ -70,12 +70,14 @@ impl Tally {
     }
 
     /// At the end of the run: the rate over the window since the last status line, for a run
-    /// shorter than a second or its last part.
+    /// shorter than a second or its last part (a window of a second or more counts even
+    /// with no scan after its first: a sensor gone at the end shows 0 scans/s, not the rate
+    /// from before).
     pub fn close_window(&mut self, now: Instant) {
         let Some(w0) = self.window_start else { return };
         let secs = now.duration_since(w0).as_secs_f64();
-        if self.window_scans > 1 && secs > 0.0 {
-            self.rate = (self.window_scans - 1) as f64 / secs;
+        if (self.window_scans > 1 && secs > 0.0) || secs >= 1.0 {
+            self.rate = self.window_scans.saturating_sub(1) as f64 / secs;
         }
     }
 
@@ -97,5 +99,32 @@ impl Tally {
             self.latency_us_sum / n,
             self.latency_us_max,
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sensor_gone_at_the_end_shows_no_rate_from_before() {
+        let t0 = Instant::now();
+        let at = |ms: u64| t0 + Duration::from_millis(ms);
+        let mut tally = Tally::start();
+        // 40 scans a second for a second: the window's rate is 40.
+        for k in 0..=40 {
+            tally.add(3, 100.0, 120.0, at(25 * k));
+        }
+        tally.close_window(at(1000));
+        assert!((tally.rate - 40.0).abs() < 1e-9, "{}", tally.rate);
+        // A status line opened a window at the last scan; then the sensor was gone 13 s.
+        tally.window_start = Some(at(1000));
+        tally.window_scans = 1;
+        tally.close_window(at(14_000));
+        assert_eq!(tally.rate, 0.0);
+        // A window shorter than a second with one scan keeps the rate it had.
+        tally.rate = 40.0;
+        tally.close_window(at(1_300));
+        assert_eq!(tally.rate, 40.0);
     }
 }
