@@ -194,25 +194,46 @@ fn a_silence_shorter_than_two_scan_periods_is_refused() {
 
 #[test]
 fn the_duration_ends_a_run_whose_sensor_is_still_starting() {
-    // Every reply a second late: starting the sensor takes many seconds; the duration ends
-    // the run there, and nothing is written.
+    let out = |tag: &str| {
+        std::env::temp_dir().join(format!(
+            "laserlines-starting-{tag}-{}.jsonl",
+            std::process::id()
+        ))
+    };
+    // Replies 40 ms late: the start takes most of a second, and the stop during it ends the
+    // run once it is done, with QT.
+    let (_emulator, addr) = emulator_with(&["--reply-delay-ms", "40"]);
+    let o = bin()
+        .args(["live", &addr, "--duration", "0.1", "-o"])
+        .arg(out("quick"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("--duration ran out while the sensor is starting: ending once it is done")
+            && err.contains("stopped while the sensor was starting: no scan read, nothing written"),
+        "{err}"
+    );
+    assert!(!out("quick").exists());
+    // Every reply a second late: the start takes many seconds; the run ends 2 s after the
+    // stop, without QT, and says so.
     let (_emulator, addr) = emulator_with(&["--reply-delay-ms", "1000"]);
-    let out =
-        std::env::temp_dir().join(format!("laserlines-starting-{}.jsonl", std::process::id()));
     let o = bin()
         .args(["live", &addr, "--duration", "1", "-o"])
-        .arg(&out)
+        .arg(out("slow"))
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert!(
         err.contains(
-            "--duration ran out while the sensor was starting: no scan read, nothing written"
+            "the sensor was not done starting 2 s after the stop: ended without QT, nothing \
+             written"
         ),
         "{err}"
     );
-    assert!(!out.exists());
+    assert!(!out("slow").exists());
 }
 
 #[test]

@@ -416,7 +416,9 @@ fn read_elements(text: &str, name: &str) -> Result<Vec<Element>, ArenaError> {
         let tag = tag.map_err(|(line, message)| ArenaError::Xml {
             name: name.to_owned(),
             line,
-            message: if !arena {
+            // Before any arena tag, and without one begun on the lines up to the fault (a
+            // file cut inside its `<elements` is an arena cut short).
+            message: if !arena && !text.lines().take(line).any(|l| l.contains("<element")) {
                 format!("{message} before any <elements> or <element> tag: {NOT_AN_ARENA}")
             } else if message == "unclosed tag" {
                 // A tag without its `>` runs to the end of the file: a file cut short.

@@ -229,7 +229,11 @@ pub fn run(args: &LiveArgs) -> Result<()> {
         );
     }
     let mut scanner = open_sensor(args, &endpoint, silence)?;
-    stop.started();
+    if stop.started() {
+        scanner.close().context("the sensor did not confirm QT")?;
+        errln!("laserlines: stopped while the sensor was starting: no scan read, nothing written");
+        return Ok(());
+    }
     let mut outputs = Outputs::open(args)?;
     let start = Instant::now();
     let mut tally = Tally::start();
