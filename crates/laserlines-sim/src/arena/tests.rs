@@ -209,7 +209,10 @@ fn bad_input_is_an_error_naming_the_line() {
     assert!(parse(&format!("{cut}</elements>\n")).is_ok());
     // Cut inside the `<elements` tag itself: an arena cut short too.
     let e = parse("<?xml version=\"1.0\"?>\n<elements").unwrap_err();
-    assert!(e.to_string().contains("after 0 elements (cut short?)"), "{e}");
+    assert!(
+        e.to_string().contains("after 0 elements (cut short?)"),
+        "{e}"
+    );
     // Not XML, or XML of something else: not an arena, rather than an empty one.
     for other in [
         "hello world\n",
