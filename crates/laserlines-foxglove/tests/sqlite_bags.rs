@@ -307,29 +307,35 @@ fn standard_input_is_refused_for_sqlite3_storage() {
 }
 
 /// Overwrites the type byte of the table leaf page (of `messages`) that holds the row whose
-/// timestamp is `stamp` (found by its 8 big-endian bytes in the record; the timestamp index
-/// holds them too, on an index page), so that SQLite cannot read that page. Returns the
+/// timestamp is `stamp` ([`leaf_of`]), so that SQLite cannot read that page. Returns the
 /// page's number (from 1).
 fn damage_page_of(path: &Path, stamp: i64) -> usize {
     let mut bytes = std::fs::read(path).unwrap();
+    let page = page_size(&bytes);
+    let n = leaf_of(&bytes, page, stamp);
+    bytes[n * page] = 0x42;
+    std::fs::write(path, bytes).unwrap();
+    n + 1
+}
+
+/// The page size of the database `bytes` (its header's bytes 16-17).
+fn page_size(bytes: &[u8]) -> usize {
     let page = usize::from(u16::from_be_bytes([bytes[16], bytes[17]]));
     assert!(page >= 512, "page size {page}");
+    page
+}
+
+/// The number (from 0) of the table leaf page of `messages` in `bytes` that holds the row
+/// whose timestamp is `stamp` (found by its 8 big-endian bytes in the record; the timestamp
+/// index holds them too, on an index page; page 1, the schema's, is never a leaf of it).
+fn leaf_of(bytes: &[u8], page: usize, stamp: i64) -> usize {
     let key = stamp.to_be_bytes();
-    let mut found = None;
-    for at in 0..bytes.len() - 8 {
-        if bytes[at..at + 8] == key {
-            let n = at / page;
-            // The page header: after the file header on page 1; 0x0d is a table leaf.
-            let head = n * page + if n == 0 { 100 } else { 0 };
-            if bytes[head] == 0x0d {
-                found = Some(head);
-            }
-        }
-    }
-    let head = found.expect("the row's table leaf page");
-    bytes[head] = 0x42;
-    std::fs::write(path, bytes).unwrap();
-    head / page + 1
+    (0..bytes.len() / page)
+        .find(|&n| {
+            let p = &bytes[n * page..(n + 1) * page];
+            p[0] == 0x0d && p.windows(8).any(|w| w == key)
+        })
+        .expect("the row's table leaf page")
 }
 
 /// The id of the message of timestamp `stamp` in the database at `path` (read before it is
@@ -465,7 +471,7 @@ fn a_damaged_overflow_page_loses_only_its_message() {
     drop(db);
     let id = db_id(&path, STAMP0 + 50);
     let mut bytes = std::fs::read(&path).unwrap();
-    let page = usize::from(u16::from_be_bytes([bytes[16], bytes[17]]));
+    let page = page_size(&bytes);
     let full = vec![b'Q'; page - 4];
     let overflow = (0..bytes.len() / page)
         .find(|&n| bytes[n * page + 4..(n + 1) * page] == full[..])
@@ -556,18 +562,6 @@ fn a_message_at_the_largest_id_is_read_once() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// The number (from 0) of the table leaf page of `messages` in `bytes` that holds the row
-/// whose timestamp is `stamp`.
-fn leaf_of(bytes: &[u8], page: usize, stamp: i64) -> usize {
-    let key = stamp.to_be_bytes();
-    (0..bytes.len() / page)
-        .find(|&n| {
-            let p = &bytes[n * page..(n + 1) * page];
-            p[0] == 0x0d && p.windows(8).any(|w| w == key)
-        })
-        .expect("the row's table leaf page")
-}
-
 /// Two leaf pages swapped: the pages read whole, but the interior pages lead to rows out of
 /// order, or past rows they hold. The reading goes forward only: it ends, gives no message
 /// twice, and says where the order broke.
@@ -577,7 +571,7 @@ fn swapped_pages_end_the_reading_without_going_back() {
     let path = dir.join("bag_0.db3");
     drop(with_scans(&path, 400));
     let clean = std::fs::read(&path).unwrap();
-    let page = usize::from(u16::from_be_bytes([clean[16], clean[17]]));
+    let page = page_size(&clean);
     let (a, b) = (
         leaf_of(&clean, page, STAMP0 + 50),
         leaf_of(&clean, page, STAMP0 + 200),

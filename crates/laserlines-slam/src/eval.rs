@@ -113,6 +113,70 @@ pub struct UnmatchedTime {
     pub why: Unpaired,
 }
 
+/// The poses of a trajectory (`(stamp, pose)` in the order the robot went) by time: a time
+/// pairs with the pose nearest in time, within [`MAX_TIME_GAP_S`], unless that pose's stamp
+/// is one the trajectory's stamps pass more than once (where they go back or stand still:
+/// broken stamps of some logs), as the time then cannot tell which pose is meant. Built once
+/// for any number of times.
+#[derive(Debug, Clone)]
+pub struct Pairing {
+    /// The poses with a finite stamp, by stamp.
+    sorted: Vec<(f64, Se2)>,
+    /// The stretches of times that occur more than once, merged, in order.
+    repeated: Vec<(f64, f64)>,
+}
+
+impl Pairing {
+    /// The pairing of `trajectory`'s poses.
+    #[must_use]
+    pub fn new(trajectory: &[(f64, Se2)]) -> Self {
+        let mut sorted: Vec<(f64, Se2)> = trajectory
+            .iter()
+            .copied()
+            .filter(|(t, _)| t.is_finite())
+            .collect();
+        sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+        Self {
+            sorted,
+            repeated: repeated_times(trajectory),
+        }
+    }
+
+    /// The pose time `t` pairs with.
+    ///
+    /// # Errors
+    /// Why it pairs with none, or with no single one.
+    pub fn pose_at(&self, t: f64) -> Result<Se2, Unpaired> {
+        let i = self.sorted.partition_point(|(s, _)| *s < t);
+        let best = [i.checked_sub(1), Some(i)]
+            .into_iter()
+            .flatten()
+            .filter_map(|k| self.sorted.get(k))
+            .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()));
+        let (s, p) = match best {
+            Some((s, p)) if (s - t).abs() <= MAX_TIME_GAP_S => (*s, *p),
+            _ => return Err(Unpaired::NoPose),
+        };
+        let k = self.repeated.partition_point(|span| span.1 < s);
+        match self.repeated.get(k) {
+            Some(&(lo, hi)) if lo <= s => Err(Unpaired::StampsRepeat { lo, hi }),
+            _ => Ok(p),
+        }
+    }
+
+    /// The poses relation `r` (the `index`-th) pairs with, at `t1` and at `t2`.
+    ///
+    /// # Errors
+    /// [`UnmatchedTime`] for the first of its times that pairs with no single pose.
+    pub fn poses_of(&self, r: &Relation, index: usize) -> Result<(Se2, Se2), UnmatchedTime> {
+        let at = |time: f64| {
+            self.pose_at(time)
+                .map_err(|why| UnmatchedTime { index, time, why })
+        };
+        Ok((at(r.t1)?, at(r.t2)?))
+    }
+}
+
 /// The stretches of times that occur more than once along `trajectory` (in its order):
 /// wherever a stamp is not above the one before, the times from it to that one, merged
 /// where they overlap, in order.
@@ -141,10 +205,8 @@ pub fn relation_error(from: &Se2, to: &Se2, reference: &Se2) -> (f64, f64) {
     (e.translation().norm(), wrap_angle(e.theta).abs())
 }
 
-/// Scores a trajectory (`(stamp, pose)` in the order the robot went) against relations.
-/// Each time pairs with the pose nearest in time, unless that pose's stamp is one the
-/// trajectory's stamps pass more than once (where they go back or stand still: broken stamps
-/// of some logs), as the time then cannot tell which pose is meant.
+/// Scores a trajectory (`(stamp, pose)` in the order the robot went) against relations, each
+/// time paired with a pose as [`Pairing`] pairs it.
 ///
 /// # Errors
 /// [`UnmatchedTime`] for the first relation with a time stamp that pairs with no pose, or
@@ -153,45 +215,10 @@ pub fn score_relations(
     trajectory: &[(f64, Se2)],
     relations: &[Relation],
 ) -> Result<RelationsScore, UnmatchedTime> {
-    let mut sorted: Vec<(f64, Se2)> = trajectory
-        .iter()
-        .copied()
-        .filter(|(t, _)| t.is_finite())
-        .collect();
-    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let repeated = repeated_times(trajectory);
-    let find = |t: f64, index: usize| -> Result<Se2, UnmatchedTime> {
-        let i = sorted.partition_point(|(s, _)| *s < t);
-        let best = [i.checked_sub(1), Some(i)]
-            .into_iter()
-            .flatten()
-            .filter_map(|k| sorted.get(k))
-            .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()));
-        let (s, p) = match best {
-            Some((s, p)) if (s - t).abs() <= MAX_TIME_GAP_S => (*s, *p),
-            _ => {
-                let why = Unpaired::NoPose;
-                return Err(UnmatchedTime {
-                    index,
-                    time: t,
-                    why,
-                });
-            }
-        };
-        let k = repeated.partition_point(|span| span.1 < s);
-        match repeated.get(k) {
-            Some(&(lo, hi)) if lo <= s => Err(UnmatchedTime {
-                index,
-                time: t,
-                why: Unpaired::StampsRepeat { lo, hi },
-            }),
-            _ => Ok(p),
-        }
-    };
+    let pairing = Pairing::new(trajectory);
     let mut errors = Vec::with_capacity(relations.len());
     for (k, r) in relations.iter().enumerate() {
-        let a = find(r.t1, k)?;
-        let b = find(r.t2, k)?;
+        let (a, b) = pairing.poses_of(r, k)?;
         let (t, rot) = relation_error(&a, &b, &r.delta);
         errors.push((t, rot.to_degrees()));
     }

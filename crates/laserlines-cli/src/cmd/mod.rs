@@ -84,8 +84,9 @@ pub fn refuse_recording_over(
     Ok(())
 }
 
-/// True when folders `a` and `b` are one, whether or not they exist yet ([`resolve`]).
-pub fn same_folder(a: &Path, b: &Path) -> bool {
+/// True when paths `a` and `b` (folders or files) name one place, whether or not it exists
+/// yet ([`resolve`]).
+pub fn same_path(a: &Path, b: &Path) -> bool {
     same_place(&resolve(a), &resolve(b))
 }
 

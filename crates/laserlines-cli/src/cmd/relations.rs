@@ -13,7 +13,7 @@ use clap::Args;
 use laserlines_io::trajectory::{StampedPose, read_relations, read_tum};
 use laserlines_slam::Se2;
 use laserlines_slam::eval::{
-    MAX_TIME_GAP_S, Relation, Summary, UnmatchedTime, Unpaired, relations_from_trajectory,
+    MAX_TIME_GAP_S, Pairing, Relation, Summary, UnmatchedTime, Unpaired, relations_from_trajectory,
     score_relations,
 };
 
@@ -210,21 +210,22 @@ fn covered_only(
 ) -> Result<Vec<Relation>> {
     let all = relations.len();
     let (mut outside, mut repeated) = (0, 0);
+    let pairing = Pairing::new(traj);
     let covered: Vec<Relation> = relations
         .into_iter()
-        .filter(
-            |r| match score_relations(traj, std::slice::from_ref(r)).map_err(|e| e.why) {
-                Ok(_) => true,
-                Err(Unpaired::NoPose) => {
-                    outside += 1;
-                    false
-                }
-                Err(Unpaired::StampsRepeat { .. }) => {
-                    repeated += 1;
-                    false
-                }
-            },
-        )
+        .enumerate()
+        .filter(|(k, r)| match pairing.poses_of(r, *k).map_err(|e| e.why) {
+            Ok(_) => true,
+            Err(Unpaired::NoPose) => {
+                outside += 1;
+                false
+            }
+            Err(Unpaired::StampsRepeat { .. }) => {
+                repeated += 1;
+                false
+            }
+        })
+        .map(|(_, r)| r)
         .collect();
     let name = args.trajectory.display();
     if covered.is_empty() {

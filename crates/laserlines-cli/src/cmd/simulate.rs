@@ -177,7 +177,7 @@ pub fn run(args: &SimulateArgs) -> Result<()> {
         super::refuse_recording_over(path, &inputs, &args.output, &OUTPUT_FILES)?;
         if !path
             .parent()
-            .is_some_and(|p| super::same_folder(p, &args.output))
+            .is_some_and(|p| super::same_path(p, &args.output))
         {
             super::output_folder_exists(path)?;
         }

@@ -201,17 +201,14 @@ pub fn run(args: &LiveArgs) -> Result<()> {
     {
         super::output_folder_exists(path)?;
     }
-    if let (Some(out), Some(record)) = (&args.output, &args.record) {
-        let folder = |p: &Path| p.parent().unwrap_or(Path::new("")).to_path_buf();
-        if out.file_name() == record.file_name()
-            && super::same_folder(&folder(out), &folder(record))
-        {
-            bail!(
-                "{}: -o and --record name one file; two writers would interleave in it, give \
-                 them different names",
-                record.display()
-            );
-        }
+    if let (Some(out), Some(record)) = (&args.output, &args.record)
+        && super::same_path(out, record)
+    {
+        bail!(
+            "{}: -o and --record name one file; two writers would interleave in it, give them \
+             different names",
+            record.display()
+        );
     }
     let mut extractor = super::make_extractor(&args.algorithm, &args.params)?;
     let stop = Stop::install(duration)?;

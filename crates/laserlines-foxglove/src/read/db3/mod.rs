@@ -279,7 +279,7 @@ impl Db3File {
         let Some((id, values)) = self.page.pop_front() else {
             if let Some((e, at)) = self.passed.take() {
                 skipped.add_n(SKIP_UNREADABLE_IDS, resume::passed_over(self.after, at));
-                let error = self.passed_over(&e, at);
+                let error = self.damage_passed(&e, at);
                 self.after = at - 1;
                 return Some(Err(error));
             }
@@ -296,14 +296,18 @@ impl Db3File {
         })
     }
 
-    /// The bad record of damage that the reading goes on past, at id `at`.
-    fn passed_over(&self, e: &rusqlite::Error, at: i64) -> ReadError {
-        let pos = if self.after == i64::MIN {
+    /// Where the last message read is: the message, or byte 0 before the first.
+    fn last_read(&self) -> SourcePos {
+        if self.after == i64::MIN {
             SourcePos::byte(&self.name, 0)
         } else {
             SourcePos::message(&self.name, self.after)
-        };
-        let from = self.after.saturating_add(1).max(1);
+        }
+    }
+
+    /// The bad record of damage that the reading goes on past, at id `at`.
+    fn damage_passed(&self, e: &rusqlite::Error, at: i64) -> ReadError {
+        let from = resume::first_passed(self.after);
         let ids = match (at - 1).cmp(&from) {
             Ordering::Greater => format!("message ids {from} to {} cannot be read", at - 1),
             Ordering::Equal => format!("message id {from} cannot be read"),
@@ -315,7 +319,7 @@ impl Db3File {
             Ordering::Less => format!("the message ids below {at} cannot be read"),
         };
         ReadError::Syntax {
-            pos,
+            pos: self.last_read(),
             expected: "the messages after it on pages SQLite can read".to_owned(),
             found: format!("a damaged page ({e}); {ids}, those from {at} on can"),
         }
@@ -324,16 +328,13 @@ impl Db3File {
     /// The error of a database SQLite cannot read past the last message read: not a bad
     /// record, as nothing after it can be read.
     fn read_failed(&self, e: &rusqlite::Error) -> ReadError {
-        let (pos, what) = if self.after == i64::MIN {
-            (SourcePos::byte(&self.name, 0), "the bag's messages")
+        let what = if self.after == i64::MIN {
+            "the bag's messages"
         } else {
-            (
-                SourcePos::message(&self.name, self.after),
-                "the messages after this one",
-            )
+            "the messages after this one"
         };
         ReadError::Io {
-            pos,
+            pos: self.last_read(),
             source: std::io::Error::other(format!("SQLite cannot read {what} ({e})")),
         }
     }

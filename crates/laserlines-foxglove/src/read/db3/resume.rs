@@ -67,16 +67,19 @@ pub(super) fn resume_point(
             bad = mid;
         }
     }
-    let good = good as i64;
-    Some(good)
+    Some(good as i64)
+}
+
+/// The first id passed over after message `after`: the next one, or 1 (rosbag2 numbers its
+/// messages from 1) when nothing was read before.
+pub(super) fn first_passed(after: i64) -> i64 {
+    after.saturating_add(1).max(1)
 }
 
 /// The message ids passed over when the reading goes on at `resume` after message `after`:
-/// `after + 1 .. resume`, counted from 1 (rosbag2 numbers its messages from 1) when nothing
-/// was read before.
+/// [`first_passed`]`(after) .. resume`.
 pub(super) fn passed_over(after: i64, resume: i64) -> u64 {
-    let from = after.saturating_add(1).max(1);
-    u64::try_from(resume.saturating_sub(from)).unwrap_or(0)
+    u64::try_from(resume.saturating_sub(first_passed(after))).unwrap_or(0)
 }
 
 #[cfg(test)]
